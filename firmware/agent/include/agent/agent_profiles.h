@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: static storage for the agent profiles, with their RAM budgets checked at compile time.
+#ifndef AGENT_PROFILES_H
+#define AGENT_PROFILES_H
+
+#include "agent/agent.h"
+#include "fw/fw_base.h"
+#include "fw_config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// The storage of one agent: the Q store, and an overlay of Dyna-QPC's models and queue with
+/// Dyna-Q's table (an agent runs one algorithm, so both get the same memory).
+#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES)                                \
+    struct {                                                                                   \
+        float q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                                \
+        uint32_t q_keys[Q_STATES];                                                             \
+        union {                                                                                \
+            struct {                                                                           \
+                uint32_t fwd_keys[CELLS];                                                      \
+                int16_t fwd_weights[(CELLS) * (FW_CFG_MAX_COMPONENTS + 2)];                    \
+                uint32_t inv_keys[CELLS];                                                      \
+                int16_t inv_weights[(CELLS)*FW_CFG_MAX_COMPONENTS];                            \
+                uint8_t fwd_counts[CELLS];                                                     \
+                uint8_t inv_counts[CELLS];                                                     \
+                pq_item_t pq_heap[PQ_CAP];                                                     \
+                uint32_t pq_index_keys[PQ_INDEX_SLOTS(PQ_CAP)];                                \
+                uint32_t pq_index_pos[PQ_INDEX_SLOTS(PQ_CAP)];                                 \
+            } qpc;                                                                             \
+            struct {                                                                           \
+                dynaq_record_t records[TABLE_STATES];                                          \
+                uint32_t index_keys[DYNAQ_INDEX_SLOTS(TABLE_STATES)];                          \
+                uint32_t index_rec[DYNAQ_INDEX_SLOTS(TABLE_STATES)];                           \
+            } dynaq;                                                                           \
+        } model;                                                                               \
+    }
+
+#define AGENT_COUNT_OF(a) ((uint32_t)(sizeof(a) / sizeof((a)[0])))
+
+/// An agent_storage_t initializer pointing into a variable of an AGENT_MEMORY_STRUCT type.
+#define AGENT_STORAGE_OF(mem)                                                                  \
+    {                                                                                          \
+        (mem).q, (mem).q_keys, AGENT_COUNT_OF((mem).q_keys),                                   \
+            {(mem).model.qpc.fwd_keys, (mem).model.qpc.fwd_counts,                             \
+             (mem).model.qpc.fwd_weights, AGENT_COUNT_OF((mem).model.qpc.fwd_keys)},           \
+            {(mem).model.qpc.inv_keys, (mem).model.qpc.inv_counts,                             \
+             (mem).model.qpc.inv_weights, AGENT_COUNT_OF((mem).model.qpc.inv_keys)},           \
+            (mem).model.qpc.pq_heap, (mem).model.qpc.pq_index_keys,                            \
+            (mem).model.qpc.pq_index_pos, AGENT_COUNT_OF((mem).model.qpc.pq_heap),             \
+            (mem).model.dynaq.records, (mem).model.dynaq.index_keys,                           \
+            (mem).model.dynaq.index_rec, AGENT_COUNT_OF((mem).model.dynaq.records)             \
+    }
+
+typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
+                            FW_CFG_MAZE_TABLE_STATES) agent_memory_maze_t;
+typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
+                            FW_CFG_LAB_TABLE_STATES) agent_memory_paper_lab_t;
+typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
+                            FW_CFG_SIM_TABLE_STATES) agent_memory_paper_sim_t;
+
+// Each profile's agent (its storage plus the agent_t that manages it) must fit its budget.
+FW_STATIC_ASSERT(sizeof(agent_memory_maze_t) + sizeof(agent_t) <= FW_CFG_MAZE_BUDGET_BYTES,
+                 maze_agent_fits_budget);
+FW_STATIC_ASSERT(sizeof(agent_memory_paper_lab_t) + sizeof(agent_t) <= FW_CFG_LAB_BUDGET_BYTES,
+                 paper_lab_agent_fits_budget);
+FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SIM_BUDGET_BYTES,
+                 paper_sim_agent_fits_budget);
+
+// Every table is a power of two (hashing masks the index).
+FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_CELLS) &&
+                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_LAB_TABLE_STATES),
+                 paper_lab_tables_pow2);
+FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_CMAC_CELLS) &&
+                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_TABLE_STATES),
+                 paper_sim_tables_pow2);
+FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC_CELLS) &&
+                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TABLE_STATES),
+                 maze_tables_pow2);
+
+/// The storage of each profile, one static instance each, defined in its own object file so that
+/// an image links only the profile it uses.
+extern const agent_storage_t agent_storage_maze;
+extern const agent_storage_t agent_storage_paper_lab;
+extern const agent_storage_t agent_storage_paper_sim;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_PROFILES_H

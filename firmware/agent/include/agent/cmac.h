@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: a CMAC (tile-coding) function approximator over a static, exact hash table.
+#ifndef AGENT_CMAC_H
+#define AGENT_CMAC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fw_config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Weights and outputs are fixed point with this many fractional bits: 1.0 is 256.
+#define CMAC_FRAC_BITS 8
+#define CMAC_ONE (1 << CMAC_FRAC_BITS)
+/// The most outputs one CMAC predicts (the forward model: every component, reward, terminal).
+#define CMAC_MAX_OUTPUTS (FW_CFG_MAX_COMPONENTS + 2)
+/// Marks an empty cell. No tile key can take this value (keys use at most 31 bits).
+#define CMAC_EMPTY UINT32_MAX
+
+/// What a CMAC approximates: a function of a few small integer inputs and an action.
+typedef struct cmac_config {
+    uint8_t n_inputs;                           ///< 1..FW_CFG_MAX_COMPONENTS
+    uint8_t input_bits[FW_CFG_MAX_COMPONENTS];  ///< input k takes values 0 .. 2^bits - 1
+    /// Tile width of input k is 2^tile_shift[k] values; 0 makes the input exact (no
+    /// generalisation across its values), which suits categorical inputs.
+    uint8_t tile_shift[FW_CFG_MAX_COMPONENTS];
+    uint8_t circular_mask;   ///< bit k set: input k wraps around (a heading)
+    uint8_t n_actions;       ///< 1..FW_CFG_MAX_ACTIONS; the action is an exact input
+    uint8_t n_tilings;       ///< power of two, 1..FW_CFG_MAX_TILINGS (c in the paper's Fig. 7)
+    uint8_t n_outputs;       ///< 1..CMAC_MAX_OUTPUTS
+    float learning_rate;     ///< the paper's gamma in Fig. 7, in (0, 1]
+} cmac_config_t;
+
+/// Counters; they only grow, until cmac_clear().
+typedef struct cmac_stats {
+    uint32_t cells_used;  ///< cells holding a tile
+    uint32_t dropped;     ///< tiles that found no free cell within the probe limit (table full)
+    uint32_t saturated;   ///< weight updates clipped to the int16 range
+    uint32_t trained;     ///< calls to cmac_train()
+} cmac_stats_t;
+
+/// The T tile keys of one input (state components and action), computed once and reused for
+/// prediction and training.
+typedef struct cmac_tiles {
+    uint32_t key[FW_CFG_MAX_TILINGS];
+} cmac_tiles_t;
+
+/// A CMAC in caller-owned storage.
+///
+/// Collision policy: the table stores each tile's full key beside its weights, so two tiles
+/// never share a cell: the approximation is exact until the table is full. A tile that finds
+/// no free cell within FW_CFG_MAX_PROBE slots is not stored and counts as `dropped`; it reads
+/// as untrained. Cells are never evicted.
+typedef struct cmac {
+    cmac_config_t cfg;
+    uint32_t *keys;     // capacity
+    uint8_t *counts;    // capacity: training hits per cell, saturating at 255 (the confidence)
+    int16_t *weights;   // capacity * n_outputs
+    uint32_t capacity;
+    uint8_t capacity_shift;
+    uint8_t tiling_shift;  // log2(n_tilings)
+    uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
+    uint8_t action_shift;
+    uint8_t offset[FW_CFG_MAX_TILINGS][FW_CFG_MAX_COMPONENTS];  // tiling displacements
+    int32_t rate_q;  // learning_rate in 1/256
+    cmac_stats_t stats;
+} cmac_t;
+
+/// Prepares an empty CMAC. `capacity` (cells) must be a power of two; `keys` and `counts` hold
+/// `capacity` entries and `weights` holds `capacity * cfg->n_outputs`. The packed tile key (all
+/// inputs' tile indices, the action and the tiling number) must fit in 31 bits.
+/// Returns FW_OK or FW_ERR_INVAL.
+int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *counts,
+              int16_t *weights, uint32_t capacity);
+
+/// Forgets everything learned and zeroes the counters.
+void cmac_clear(cmac_t *cmac);
+
+/// Computes the tile keys of `inputs` (n_inputs values, each within its bit range) for
+/// `action`.
+void cmac_tiles(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles);
+
+/// Re-targets tiles computed by cmac_tiles() to another action, without recomputing them.
+void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action);
+
+/// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0).
+/// Returns the confidence: the smallest training count among the T cells, 0 if any tile has
+/// never been trained. Missing tiles contribute nothing.
+uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out);
+
+/// Like cmac_predict(), but gives up at the first cell trained fewer than `min_count` times
+/// (min_count >= 1): the planner's fast path. Returns true, with out[] filled, when every cell
+/// qualifies.
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
+                          int32_t *out);
+
+/// The paper's learning rule (Fig. 7, step d): each of the T cells moves by
+/// learning_rate / T * (desired - actual). Cells are created on first training.
+/// `desired` holds n_outputs fixed-point values.
+void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_CMAC_H

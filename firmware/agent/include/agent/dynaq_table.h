@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: the table model of table-based Dyna-Q (the paper's Fig. 5).
+#ifndef AGENT_DYNAQ_TABLE_H
+#define AGENT_DYNAQ_TABLE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/prng.h"
+#include "agent/space.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Everything observed in one state: for each action tried there, the last outcome (the model
+/// assumes a deterministic environment, as Fig. 5 does).
+typedef struct dynaq_record {
+    agent_state_t state;                        // 4
+    uint8_t tried;                              // 1: bit a set when action a was observed
+    uint8_t terminal;                           // 1: bit a set when a ended the episode
+    uint8_t pad_[2];                            // 2
+    agent_state_t next[FW_CFG_MAX_ACTIONS];     // 16
+    float reward[FW_CFG_MAX_ACTIONS];           // 16
+} dynaq_record_t;
+
+/// Records live in a dense array (so a uniformly random observed state is one index) and an
+/// open-addressing index maps a state to its record. When the array is full, transitions from
+/// new states are not stored and are counted.
+typedef struct dynaq_table {
+    dynaq_record_t *records;  // capacity
+    uint32_t *index_keys;     // 2 * capacity slots, DYNAQ_EMPTY when empty
+    uint32_t *index_rec;      // record number of the key in the same slot
+    uint32_t capacity;
+    uint32_t count;
+    uint32_t index_mask;
+    uint8_t n_actions;
+    uint32_t dropped;  ///< transitions lost because the table was full
+} dynaq_table_t;
+
+#define DYNAQ_EMPTY UINT32_MAX
+#define DYNAQ_INDEX_SLOTS(cap) (2u * (cap))
+
+/// Prepares an empty table; `capacity` must be a power of two. Returns FW_OK or FW_ERR_INVAL.
+int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
+               uint32_t *index_rec, uint32_t capacity, uint8_t n_actions);
+
+/// Forgets everything.
+void dynaq_clear(dynaq_table_t *t);
+
+/// Model(s, a) <- s', r (Fig. 5 step e).
+void dynaq_record(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                  bool terminal);
+
+/// Fig. 5 step f: a random previously observed state, then a random action previously taken in
+/// it, and its recorded outcome. Returns false if nothing has been observed.
+bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t *a, float *r,
+                  agent_state_t *s_next, bool *terminal);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_DYNAQ_TABLE_H

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: the action-value table Q(s, a), dense or hashed, in static storage.
+#ifndef AGENT_QSTORE_H
+#define AGENT_QSTORE_H
+
+#include <stdint.h>
+
+#include "agent/space.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Q values are single-precision floats: the Cortex-M4F has a single-precision FPU, and
+/// docs/agent.md records why fixed point lost (gridworld values of 1e-4 vanish in 16 bits).
+///
+/// Dense when every state fits (2^state_bits <= capacity): row s is at s * n_actions, no keys.
+/// Hashed otherwise: open addressing with linear probing over `capacity` rows, each row tagged
+/// with its state. A row is created the first time its state's Q is written; an unwritten state
+/// reads as all zeros. When no row is free within the probe limit the write is dropped and
+/// counted. Rows are never evicted.
+typedef struct qstore {
+    float *q;            // capacity * n_actions
+    uint32_t *keys;      // capacity (hashed mode only; may be NULL when dense)
+    uint32_t capacity;   // rows
+    uint8_t n_actions;
+    uint8_t dense;
+    uint8_t capacity_shift;
+    uint32_t rows_used;  ///< rows holding a state (hashed) or written at least once (dense: 0)
+    uint32_t dropped;    ///< writes lost because the table was full
+} qstore_t;
+
+/// Marks an empty row in hashed mode.
+#define QSTORE_EMPTY UINT32_MAX
+
+/// Prepares an all-zero table. `capacity` must be a power of two; `q` holds capacity *
+/// n_actions floats; `keys` holds capacity words (unused, may be NULL, if the table is dense).
+/// Returns FW_OK or FW_ERR_INVAL.
+int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8_t n_actions,
+                uint32_t state_bits);
+
+/// Zeroes every value.
+void qstore_clear(qstore_t *qs);
+
+/// The n_actions values of state s, read-only. An unknown state gives a row of zeros.
+const float *qstore_row(const qstore_t *qs, agent_state_t s);
+
+/// The row of state s for writing, created if needed; NULL (and counted) if the table is full.
+float *qstore_row_for_update(qstore_t *qs, agent_state_t s);
+
+/// max over a of Q(s, a).
+float qstore_max(const qstore_t *qs, agent_state_t s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_QSTORE_H

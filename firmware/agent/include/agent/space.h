@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: the shape of a discrete state: a few small integer components packed into one word.
+#ifndef AGENT_SPACE_H
+#define AGENT_SPACE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fw_config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// A state is an integer whose bit fields are its components: component 0 in the lowest bits.
+/// The paper's robot: x, y, heading and a range-sensor code in 5, 5, 4, 4 bits (paper-sim) or
+/// 3, 3, 4, 3 bits (paper-lab). A gridworld: row, column.
+typedef uint32_t agent_state_t;
+
+/// The most state bits any space may use (states and actions pack into one 32-bit queue key).
+#define SPACE_MAX_STATE_BITS 24
+
+typedef struct agent_space {
+    uint8_t n_components;                    ///< 1..FW_CFG_MAX_COMPONENTS
+    uint8_t bits[FW_CFG_MAX_COMPONENTS];     ///< width of each component, 1..16
+    /// CMAC tile width of each component is 2^tile_shift (0: exact, no generalisation).
+    uint8_t tile_shift[FW_CFG_MAX_COMPONENTS];
+    uint8_t circular_mask;  ///< bit k: component k wraps around (a heading)
+    /// bit k: the model predicts component k's next value itself (a sensor reading); otherwise
+    /// it predicts the change (a position), which generalises across neighbouring states.
+    uint8_t absolute_mask;
+    uint8_t n_actions;      ///< 1..FW_CFG_MAX_ACTIONS
+} agent_space_t;
+
+/// Total bits of a state.
+uint32_t space_state_bits(const agent_space_t *sp);
+
+/// Checks a space's limits. Returns FW_OK or FW_ERR_INVAL.
+int space_validate(const agent_space_t *sp);
+
+/// Splits a state into its components.
+void space_unpack(const agent_space_t *sp, agent_state_t s, uint32_t *comp);
+
+/// Packs components (each already within its bit range) into a state.
+agent_state_t space_pack(const agent_space_t *sp, const uint32_t *comp);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_SPACE_H

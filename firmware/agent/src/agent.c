@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: Q-learning (Fig. 1), table-based Dyna-Q (Fig. 5) and Dyna-QPC (Figs. 3, 7, 10).
+#include "agent/agent.h"
+
+#include <stddef.h>
+
+#include "fw/fw_base.h"
+
+agent_params_t agent_default_params(void)
+{
+    agent_params_t p;
+    p.alpha = 0.1f;
+    p.plan_alpha = 1.0f;
+    p.gamma = 0.95f;
+    p.epsilon = 0.1f;
+    p.theta = 1e-4f;
+    p.model_rate = 0.999f;
+    p.tilings = 16;
+    p.min_count = 1;
+    return p;
+}
+
+static bool params_valid_(const agent_params_t *p)
+{
+    return p->alpha > 0.0f && p->alpha <= 1.0f &&      //
+           p->plan_alpha > 0.0f && p->plan_alpha <= 1.0f && //
+           p->gamma >= 0.0f && p->gamma <= 1.0f &&     //
+           p->epsilon >= 0.0f && p->epsilon <= 1.0f && //
+           p->theta >= 0.0f &&                         //
+           p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
+           p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u;
+}
+
+int agent_init(agent_t *ag, const agent_config_t *cfg)
+{
+    if (ag == NULL || cfg == NULL || cfg->storage == NULL || space_validate(cfg->space) != FW_OK ||
+        !params_valid_(&cfg->params) || cfg->kind > AGENT_DYNA_QPC) {
+        return FW_ERR_INVAL;
+    }
+    const agent_storage_t *st = cfg->storage;
+    const agent_space_t *sp = cfg->space;
+    ag->kind = cfg->kind;
+    ag->space = sp;
+    ag->params = cfg->params;
+    int err = qstore_init(&ag->q, st->q, st->q_keys, st->q_states, sp->n_actions,
+                          space_state_bits(sp));
+    if (err) {
+        return err;
+    }
+    if (cfg->kind == AGENT_DYNA_QPC) {
+        err = model_init(&ag->model, sp, cfg->params.tilings, cfg->params.model_rate,
+                         cfg->params.min_count, &st->forward, &st->inverse);
+        if (err) {
+            return err;
+        }
+        if (st->pq_heap == NULL) {
+            return FW_ERR_INVAL;
+        }
+        err = pq_init(&ag->pq, st->pq_heap, st->pq_index_keys, st->pq_index_pos, st->pq_capacity);
+    } else if (cfg->kind == AGENT_DYNA_Q) {
+        err = dynaq_init(&ag->table, st->table, st->table_index_keys, st->table_index_rec,
+                         st->table_states, sp->n_actions);
+    }
+    if (err) {
+        return err;
+    }
+    prng_seed(&ag->rng, cfg->seed);
+    ag->stats = (agent_stats_t){0};
+    return FW_OK;
+}
+
+void agent_reset(agent_t *ag, uint32_t seed)
+{
+    qstore_clear(&ag->q);
+    if (ag->kind == AGENT_DYNA_QPC) {
+        model_clear(&ag->model);
+        pq_clear(&ag->pq);
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        dynaq_clear(&ag->table);
+    }
+    prng_seed(&ag->rng, seed);
+    ag->stats = (agent_stats_t){0};
+}
+
+uint8_t agent_act(agent_t *ag, agent_state_t s)
+{
+    const uint32_t n = ag->space->n_actions;
+    if (prng_unit(&ag->rng) < ag->params.epsilon) {
+        return (uint8_t)prng_below(&ag->rng, n);
+    }
+    // Greedy, with ties broken uniformly: while every value is still 0 the robot must not
+    // always pick action 0.
+    const float *row = qstore_row(&ag->q, s);
+    uint32_t best = 0;
+    uint32_t ties = 1;
+    for (uint32_t a = 1; a < n; a++) {
+        if (row[a] > row[best]) {
+            best = a;
+            ties = 1;
+        } else if (row[a] == row[best]) {
+            ties++;
+            if (prng_below(&ag->rng, ties) == 0u) {
+                best = a;
+            }
+        }
+    }
+    return (uint8_t)best;
+}
+
+uint8_t agent_greedy(const agent_t *ag, agent_state_t s)
+{
+    const float *row = qstore_row(&ag->q, s);
+    uint32_t best = 0;
+    for (uint32_t a = 1; a < ag->space->n_actions; a++) {
+        if (row[a] > row[best]) {
+            best = a;
+        }
+    }
+    return (uint8_t)best;
+}
+
+float agent_q(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return qstore_row(&ag->q, s)[a];
+}
+
+static float target_(const agent_t *ag, float r, agent_state_t s_next, bool terminal)
+{
+    return terminal ? r : r + ag->params.gamma * qstore_max(&ag->q, s_next);
+}
+
+static float abs_(float x)
+{
+    return x < 0.0f ? -x : x;
+}
+
+// Q(s, a) += alpha * (target - Q(s, a)). False when the Q store is full and s has no row.
+static bool q_update_(agent_t *ag, agent_state_t s, uint8_t a, float target, float alpha)
+{
+    float *row = qstore_row_for_update(&ag->q, s);
+    if (row == NULL) {
+        return false;
+    }
+    row[a] += alpha * (target - row[a]);
+    return true;
+}
+
+static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return s * ag->space->n_actions + a;
+}
+
+void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                   bool terminal)
+{
+    const float target = target_(ag, r, s_next, terminal);
+    const float priority = abs_(target - agent_q(ag, s, a));
+    ag->stats.real_steps++;
+    if (q_update_(ag, s, a, target, ag->params.alpha)) {
+        ag->stats.real_updates++;
+    }
+    if (ag->kind == AGENT_DYNA_QPC) {
+        model_learn(&ag->model, s, a, r, s_next, terminal);
+        if (priority > ag->params.theta) {
+            (void)pq_push(&ag->pq, pq_key_(ag, s, a), priority);
+        }
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        dynaq_record(&ag->table, s, a, r, s_next, terminal);
+    }
+}
+
+// Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
+// model knows is queued by how much this change matters to it.
+static bool plan_qpc_(agent_t *ag)
+{
+    uint32_t key;
+    float priority;
+    if (!pq_pop(&ag->pq, &key, &priority)) {
+        return false;
+    }
+    const uint32_t n_actions = ag->space->n_actions;
+    const agent_state_t s = key / n_actions;
+    const uint8_t a = (uint8_t)(key % n_actions);
+    model_step_t step;
+    if (!model_predict(&ag->model, s, a, &step)) {
+        ag->stats.planning_skipped++;
+        return true;
+    }
+    const float target = target_(ag, step.reward, step.next, step.terminal);
+    if (q_update_(ag, s, a, target, ag->params.plan_alpha)) {
+        ag->stats.planning_updates++;
+    }
+    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
+    // the queue with what is left, so planning keeps working on it while it is the most urgent.
+    const float left = abs_(target - agent_q(ag, s, a));
+    if (left > ag->params.theta) {
+        (void)pq_push(&ag->pq, key, left);
+    }
+
+    model_pred_t preds[FW_CFG_MAX_ACTIONS];
+    const uint32_t n = model_predecessors(&ag->model, s, preds);
+    const float value_here = ag->params.gamma * qstore_max(&ag->q, s);
+    for (uint32_t i = 0; i < n; i++) {
+        const float p = abs_(preds[i].reward + value_here - agent_q(ag, preds[i].state, preds[i].action));
+        if (p > ag->params.theta) {
+            (void)pq_push(&ag->pq, pq_key_(ag, preds[i].state, preds[i].action), p);
+        }
+    }
+    return true;
+}
+
+// Fig. 5 (f): a random observed state, a random action tried there, its recorded outcome.
+static bool plan_dynaq_(agent_t *ag)
+{
+    agent_state_t s;
+    agent_state_t s_next;
+    uint8_t a;
+    float r;
+    bool terminal;
+    if (!dynaq_sample(&ag->table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
+        return false;
+    }
+    if (q_update_(ag, s, a, target_(ag, r, s_next, terminal), ag->params.plan_alpha)) {
+        ag->stats.planning_updates++;
+    }
+    return true;
+}
+
+bool agent_plan_step(agent_t *ag)
+{
+    switch (ag->kind) {
+    case AGENT_DYNA_QPC:
+        return plan_qpc_(ag);
+    case AGENT_DYNA_Q:
+        return plan_dynaq_(ag);
+    case AGENT_Q_LEARNING:
+    default:
+        return false;
+    }
+}
+
+uint32_t agent_plan(agent_t *ag, uint32_t n)
+{
+    uint32_t done = 0;
+    while (done < n && agent_plan_step(ag)) {
+        done++;
+    }
+    return done;
+}

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: the transition table of table-based Dyna-Q.
+#include "agent/dynaq_table.h"
+
+#include <stddef.h>
+
+#include "fw/fw_base.h"
+
+int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
+               uint32_t *index_rec, uint32_t capacity, uint8_t n_actions)
+{
+    if (t == NULL || records == NULL || index_keys == NULL || index_rec == NULL ||
+        !FW_IS_POW2(capacity) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS) {
+        return FW_ERR_INVAL;
+    }
+    t->records = records;
+    t->index_keys = index_keys;
+    t->index_rec = index_rec;
+    t->capacity = capacity;
+    t->index_mask = DYNAQ_INDEX_SLOTS(capacity) - 1u;
+    t->n_actions = n_actions;
+    dynaq_clear(t);
+    return FW_OK;
+}
+
+void dynaq_clear(dynaq_table_t *t)
+{
+    for (uint32_t i = 0; i <= t->index_mask; i++) {
+        t->index_keys[i] = DYNAQ_EMPTY;
+    }
+    t->count = 0;
+    t->dropped = 0;
+}
+
+void dynaq_record(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                  bool terminal)
+{
+    // The index has twice as many slots as there are records, so its load stays at or below
+    // one half and a probe always ends at the key or at an empty slot.
+    uint32_t slot = (s * 0x9E3779B1u) & t->index_mask;
+    while (t->index_keys[slot] != s && t->index_keys[slot] != DYNAQ_EMPTY) {
+        slot = (slot + 1u) & t->index_mask;
+    }
+    if (t->index_keys[slot] == DYNAQ_EMPTY) {
+        if (t->count == t->capacity) {
+            t->dropped++;
+            return;
+        }
+        dynaq_record_t *fresh = &t->records[t->count];
+        fresh->state = s;
+        fresh->tried = 0;
+        fresh->terminal = 0;
+        t->index_keys[slot] = s;
+        t->index_rec[slot] = t->count++;
+    }
+    dynaq_record_t *rec = &t->records[t->index_rec[slot]];
+    const uint8_t bit = (uint8_t)(1u << a);
+    rec->tried |= bit;
+    rec->terminal = (uint8_t)(terminal ? (rec->terminal | bit) : (rec->terminal & ~bit));
+    rec->next[a] = s_next;
+    rec->reward[a] = r;
+}
+
+bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t *a, float *r,
+                  agent_state_t *s_next, bool *terminal)
+{
+    if (t->count == 0) {
+        return false;
+    }
+    const dynaq_record_t *rec = &t->records[prng_below(rng, t->count)];
+    uint32_t tried = 0;
+    for (uint32_t b = 0; b < t->n_actions; b++) {
+        tried += (rec->tried >> b) & 1u;
+    }
+    uint32_t pick = prng_below(rng, tried);
+    uint32_t action = 0;
+    for (; action < t->n_actions; action++) {
+        if ((rec->tried >> action) & 1u) {
+            if (pick == 0u) {
+                break;
+            }
+            pick--;
+        }
+    }
+    *s = rec->state;
+    *a = (uint8_t)action;
+    *r = rec->reward[action];
+    *s_next = rec->next[action];
+    *terminal = (rec->terminal >> action) & 1u;
+    return true;
+}

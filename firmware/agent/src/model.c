@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: CMAC-Model and CMAC-R, and what makes their predictions trustworthy.
+#include "agent/model.h"
+
+#include <stddef.h>
+
+#include "fw/fw_base.h"
+
+static void cmac_config_for_(cmac_config_t *c, const agent_space_t *sp, uint8_t tilings,
+                             float rate, uint8_t n_outputs)
+{
+    *c = (cmac_config_t){0};
+    c->n_inputs = sp->n_components;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        c->input_bits[k] = sp->bits[k];
+        c->tile_shift[k] = sp->tile_shift[k];
+    }
+    c->circular_mask = sp->circular_mask;
+    c->n_actions = sp->n_actions;
+    c->n_tilings = tilings;
+    c->n_outputs = n_outputs;
+    c->learning_rate = rate;
+}
+
+int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
+               float learning_rate, uint8_t min_count, const model_cmac_storage_t *fwd,
+               const model_cmac_storage_t *inv)
+{
+    if (m == NULL || fwd == NULL || inv == NULL || space_validate(space) != FW_OK ||
+        min_count < 1u) {
+        return FW_ERR_INVAL;
+    }
+    m->space = space;
+    m->min_count = min_count;
+    cmac_config_t c;
+    cmac_config_for_(&c, space, tilings, learning_rate, (uint8_t)(space->n_components + 2u));
+    int err = cmac_init(&m->forward, &c, fwd->keys, fwd->counts, fwd->weights, fwd->cells);
+    if (err) {
+        return err;
+    }
+    cmac_config_for_(&c, space, tilings, learning_rate, space->n_components);
+    err = cmac_init(&m->inverse, &c, inv->keys, inv->counts, inv->weights, inv->cells);
+    if (err) {
+        return err;
+    }
+    m->untrusted = 0;
+    m->rejected = 0;
+    return FW_OK;
+}
+
+void model_clear(world_model_t *m)
+{
+    cmac_clear(&m->forward);
+    cmac_clear(&m->inverse);
+    m->untrusted = 0;
+    m->rejected = 0;
+}
+
+// ---- Encoding states as CMAC outputs ------------------------------------------------------------
+
+static int32_t to_fixed_(float x)
+{
+    const float scaled = x * (float)CMAC_ONE;
+    return (int32_t)(scaled >= 0.0f ? scaled + 0.5f : scaled - 0.5f);
+}
+
+// Nearest integer of a fixed-point value, halves away from zero; written with division because
+// right-shifting a negative number is implementation-defined in C99.
+static int32_t round_fixed_(int32_t x)
+{
+    return x >= 0 ? (x + CMAC_ONE / 2) / CMAC_ONE : -((-x + CMAC_ONE / 2) / CMAC_ONE);
+}
+
+// The desired output for moving from `from` to `to`: per component, the change (wrapped to the
+// shorter way round for a circular one) or, for an absolute component, the new value.
+static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_t *to,
+                    int32_t *out)
+{
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        int32_t v;
+        if ((sp->absolute_mask >> k) & 1u) {
+            v = (int32_t)to[k];
+        } else {
+            v = (int32_t)to[k] - (int32_t)from[k];
+            if ((sp->circular_mask >> k) & 1u) {
+                const int32_t range = (int32_t)1 << sp->bits[k];
+                if (v >= range / 2) {
+                    v -= range;
+                } else if (v < -range / 2) {
+                    v += range;
+                }
+            }
+        }
+        out[k] = v * CMAC_ONE;
+    }
+}
+
+// The inverse of encode_(): false if a component falls outside its range.
+static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t *pred,
+                    uint32_t *to)
+{
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        const int32_t range = (int32_t)1 << sp->bits[k];
+        int32_t v = round_fixed_(pred[k]);
+        if (!((sp->absolute_mask >> k) & 1u)) {
+            v += (int32_t)from[k];
+            if ((sp->circular_mask >> k) & 1u) {
+                v &= range - 1;
+            }
+        }
+        if (v < 0 || v >= range) {
+            return false;
+        }
+        to[k] = (uint32_t)v;
+    }
+    return true;
+}
+
+// ---- Learning and predicting ---------------------------------------------------------------------
+
+void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                 bool terminal)
+{
+    const agent_space_t *sp = m->space;
+    uint32_t from[FW_CFG_MAX_COMPONENTS];
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
+    int32_t desired[CMAC_MAX_OUTPUTS];
+    cmac_tiles_t tiles;
+
+    space_unpack(sp, s, from);
+    space_unpack(sp, s_next, to);
+
+    encode_(sp, from, to, desired);
+    desired[sp->n_components] = to_fixed_(r);
+    desired[sp->n_components + 1u] = terminal ? CMAC_ONE : 0;
+    cmac_tiles(&m->forward, from, a, &tiles);
+    cmac_train(&m->forward, &tiles, desired);
+
+    // A step that leaves the state as it was (a bump into a wall) is no route from anywhere;
+    // teaching it to CMAC-R would overwrite the real predecessor that arrives by the same action.
+    if (s_next == s) {
+        return;
+    }
+    encode_(sp, to, from, desired);
+    cmac_tiles(&m->inverse, to, a, &tiles);
+    cmac_train(&m->inverse, &tiles, desired);
+}
+
+// Forward prediction from unpacked components; the next state's components go to `to`.
+static bool predict_(world_model_t *m, const uint32_t *from, uint8_t a, uint32_t *to,
+                     model_step_t *out)
+{
+    const agent_space_t *sp = m->space;
+    int32_t pred[CMAC_MAX_OUTPUTS];
+    cmac_tiles_t tiles;
+
+    cmac_tiles(&m->forward, from, a, &tiles);
+    if (!cmac_predict_trusted(&m->forward, &tiles, m->min_count, pred) ||
+        !decode_(sp, from, pred, to)) {
+        m->untrusted++;
+        return false;
+    }
+    out->next = space_pack(sp, to);
+    out->reward = (float)pred[sp->n_components] / (float)CMAC_ONE;
+    out->terminal = (uint8_t)(pred[sp->n_components + 1u] >= CMAC_ONE / 2);
+    return true;
+}
+
+bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out)
+{
+    uint32_t from[FW_CFG_MAX_COMPONENTS];
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
+    space_unpack(m->space, s, from);
+    return predict_(m, from, a, to, out);
+}
+
+uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out)
+{
+    const agent_space_t *sp = m->space;
+    uint32_t here[FW_CFG_MAX_COMPONENTS];
+    uint32_t prev[FW_CFG_MAX_COMPONENTS];
+    uint32_t back[FW_CFG_MAX_COMPONENTS];
+    int32_t pred[CMAC_MAX_OUTPUTS];
+    cmac_tiles_t tiles;
+    uint32_t n = 0;
+
+    space_unpack(sp, s, here);
+    cmac_tiles(&m->inverse, here, 0, &tiles);
+    for (uint32_t a = 0; a < sp->n_actions; a++) {
+        cmac_tiles_set_action(&m->inverse, &tiles, a);
+        if (!cmac_predict_trusted(&m->inverse, &tiles, m->min_count, pred) ||
+            !decode_(sp, here, pred, prev)) {
+            continue;  // nothing trained arrives here by a: the common case, not worth counting
+        }
+        // CMAC-R averages when several states lead here by the same action; only a predecessor
+        // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
+        model_step_t step;
+        if (!predict_(m, prev, (uint8_t)a, back, &step) || step.next != s || step.terminal) {
+            m->rejected++;
+            continue;
+        }
+        out[n].state = space_pack(sp, prev);
+        out[n].action = (uint8_t)a;
+        out[n].reward = step.reward;
+        n++;
+    }
+    return n;
+}

@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: Q(s, a) in a dense array or an open-addressing hash table.
+#include "agent/qstore.h"
+
+#include <stddef.h>
+
+#include "fw/fw_base.h"
+
+// What an unknown state reads as. Large enough for any action count.
+static const float zero_row_[FW_CFG_MAX_ACTIONS];
+
+static uint32_t log2_(uint32_t x)
+{
+    uint32_t n = 0;
+    while ((1u << n) < x) {
+        n++;
+    }
+    return n;
+}
+
+int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8_t n_actions,
+                uint32_t state_bits)
+{
+    if (qs == NULL || q == NULL || !FW_IS_POW2(capacity) || n_actions < 1u ||
+        n_actions > FW_CFG_MAX_ACTIONS || state_bits > 31u) {
+        return FW_ERR_INVAL;
+    }
+    qs->q = q;
+    qs->keys = keys;
+    qs->capacity = capacity;
+    qs->n_actions = n_actions;
+    qs->capacity_shift = (uint8_t)log2_(capacity);
+    qs->dense = (uint8_t)((1u << state_bits) <= capacity);
+    if (!qs->dense && keys == NULL) {
+        return FW_ERR_INVAL;
+    }
+    qstore_clear(qs);
+    return FW_OK;
+}
+
+void qstore_clear(qstore_t *qs)
+{
+    const uint32_t n = qs->capacity * qs->n_actions;
+    for (uint32_t i = 0; i < n; i++) {
+        qs->q[i] = 0.0f;
+    }
+    if (!qs->dense) {
+        for (uint32_t i = 0; i < qs->capacity; i++) {
+            qs->keys[i] = QSTORE_EMPTY;
+        }
+    }
+    qs->rows_used = 0;
+    qs->dropped = 0;
+}
+
+// Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive states,
+// which neighbouring robot poses are, evenly over the table.
+static uint32_t home_(const qstore_t *qs, agent_state_t s)
+{
+    return (s * 0x9E3779B1u) >> (32u - qs->capacity_shift);
+}
+
+// The slot holding s, or the first empty slot where it would go, or capacity if neither is
+// within the probe limit.
+static uint32_t find_(const qstore_t *qs, agent_state_t s)
+{
+    const uint32_t mask = qs->capacity - 1u;
+    uint32_t slot = qs->capacity_shift ? home_(qs, s) : 0u;
+    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE && probe < qs->capacity; probe++) {
+        const uint32_t key = qs->keys[slot];
+        if (key == s || key == QSTORE_EMPTY) {
+            return slot;
+        }
+        slot = (slot + 1u) & mask;
+    }
+    return qs->capacity;
+}
+
+const float *qstore_row(const qstore_t *qs, agent_state_t s)
+{
+    if (qs->dense) {
+        return &qs->q[s * qs->n_actions];
+    }
+    const uint32_t slot = find_(qs, s);
+    if (slot == qs->capacity || qs->keys[slot] != s) {
+        return zero_row_;
+    }
+    return &qs->q[slot * qs->n_actions];
+}
+
+float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
+{
+    if (qs->dense) {
+        return &qs->q[s * qs->n_actions];
+    }
+    const uint32_t slot = find_(qs, s);
+    if (slot == qs->capacity) {
+        qs->dropped++;
+        return NULL;
+    }
+    if (qs->keys[slot] == QSTORE_EMPTY) {
+        qs->keys[slot] = s;
+        qs->rows_used++;
+    }
+    return &qs->q[slot * qs->n_actions];
+}
+
+float qstore_max(const qstore_t *qs, agent_state_t s)
+{
+    const float *row = qstore_row(qs, s);
+    float best = row[0];
+    for (uint32_t a = 1; a < qs->n_actions; a++) {
+        if (row[a] > best) {
+            best = row[a];
+        }
+    }
+    return best;
+}

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: packing and unpacking state components.
+#include "agent/space.h"
+
+#include <stddef.h>
+
+#include "fw/fw_base.h"
+
+uint32_t space_state_bits(const agent_space_t *sp)
+{
+    uint32_t total = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        total += sp->bits[k];
+    }
+    return total;
+}
+
+int space_validate(const agent_space_t *sp)
+{
+    if (sp == NULL || sp->n_components < 1u || sp->n_components > FW_CFG_MAX_COMPONENTS) {
+        return FW_ERR_INVAL;
+    }
+    if (sp->n_actions < 1u || sp->n_actions > FW_CFG_MAX_ACTIONS) {
+        return FW_ERR_INVAL;
+    }
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        if (sp->bits[k] < 1u || sp->bits[k] > 16u || sp->tile_shift[k] > sp->bits[k]) {
+            return FW_ERR_INVAL;
+        }
+    }
+    if ((sp->circular_mask | sp->absolute_mask) >> sp->n_components) {
+        return FW_ERR_INVAL;
+    }
+    if (space_state_bits(sp) > SPACE_MAX_STATE_BITS) {
+        return FW_ERR_INVAL;
+    }
+    return FW_OK;
+}
+
+void space_unpack(const agent_space_t *sp, agent_state_t s, uint32_t *comp)
+{
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        comp[k] = s & ((1u << sp->bits[k]) - 1u);
+        s >>= sp->bits[k];
+    }
+}
+
+agent_state_t space_pack(const agent_space_t *sp, const uint32_t *comp)
+{
+    agent_state_t s = 0;
+    uint32_t shift = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        s |= comp[k] << shift;
+        shift += sp->bits[k];
+    }
+    return s;
+}

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: compile-time capacities. Replace with -DFW_CONFIG_FILE="my_config.h".
+//
+// Every table in the firmware is a static array whose size is set here. The agent profiles
+// (agent/agent_profiles.h) turn these numbers into storage types and check each profile's total
+// against its RAM budget at compile time; `dynaqpc-mem` and the cross build's size report print
+// the figures.
+#ifndef FW_CONFIG_H
+#define FW_CONFIG_H
+
+#ifdef FW_CONFIG_FILE
+#include FW_CONFIG_FILE
+#endif
+
+// ---- Shape limits shared by every profile ------------------------------------------------------
+
+/// Actions per state. The paper's robot has four: forward, backward, turn left, turn right.
+#ifndef FW_CFG_MAX_ACTIONS
+#define FW_CFG_MAX_ACTIONS 4
+#endif
+/// Components of a state (x, y, heading, range sensor).
+#ifndef FW_CFG_MAX_COMPONENTS
+#define FW_CFG_MAX_COMPONENTS 4
+#endif
+/// CMAC tilings. The paper uses 16 (its parameter c in Fig. 7).
+#ifndef FW_CFG_MAX_TILINGS
+#define FW_CFG_MAX_TILINGS 16
+#endif
+/// Linear-probe limit of every open-addressing table: a lookup or insert never looks at more
+/// slots than this, so its cost is bounded whatever the load.
+#ifndef FW_CFG_MAX_PROBE
+#define FW_CFG_MAX_PROBE 16
+#endif
+
+// ---- Profile "maze": host gridworlds (up to 4,096 cells) ----------------------------------------
+#ifndef FW_CFG_MAZE_Q_STATES
+#define FW_CFG_MAZE_Q_STATES 4096
+#endif
+#ifndef FW_CFG_MAZE_CMAC_CELLS
+#define FW_CFG_MAZE_CMAC_CELLS 65536
+#endif
+#ifndef FW_CFG_MAZE_PQ_CAPACITY
+#define FW_CFG_MAZE_PQ_CAPACITY 4096
+#endif
+#ifndef FW_CFG_MAZE_TABLE_STATES
+#define FW_CFG_MAZE_TABLE_STATES 4096
+#endif
+#ifndef FW_CFG_MAZE_BUDGET_BYTES
+#define FW_CFG_MAZE_BUDGET_BYTES (4u * 1024u * 1024u)
+#endif
+
+// ---- Profile "paper-lab": 8,192 states (x, y, heading, IR in 3, 3, 4, 3 bits) ------------------
+#ifndef FW_CFG_LAB_Q_STATES
+#define FW_CFG_LAB_Q_STATES 1024
+#endif
+#ifndef FW_CFG_LAB_CMAC_CELLS
+#define FW_CFG_LAB_CMAC_CELLS 1024
+#endif
+#ifndef FW_CFG_LAB_PQ_CAPACITY
+#define FW_CFG_LAB_PQ_CAPACITY 256
+#endif
+#ifndef FW_CFG_LAB_TABLE_STATES
+#define FW_CFG_LAB_TABLE_STATES 512
+#endif
+#ifndef FW_CFG_LAB_BUDGET_BYTES
+#define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
+#endif
+
+// ---- Profile "paper-sim": 262,144 states (x, y, heading, sonar in 5, 5, 4, 4 bits) -------------
+#ifndef FW_CFG_SIM_Q_STATES
+#define FW_CFG_SIM_Q_STATES 4096
+#endif
+#ifndef FW_CFG_SIM_CMAC_CELLS
+#define FW_CFG_SIM_CMAC_CELLS 2048
+#endif
+#ifndef FW_CFG_SIM_PQ_CAPACITY
+#define FW_CFG_SIM_PQ_CAPACITY 512
+#endif
+#ifndef FW_CFG_SIM_TABLE_STATES
+#define FW_CFG_SIM_TABLE_STATES 1024
+#endif
+#ifndef FW_CFG_SIM_BUDGET_BYTES
+#define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)
+#endif
+
+#endif // FW_CONFIG_H

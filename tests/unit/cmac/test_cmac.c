@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: MIT
+// Tests of the CMAC: tiling, exactness, approximation, the learning rule, overflow policy.
+#include "test_common.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "agent/cmac.h"
+#include "agent/prng.h"
+#include "fw/fw_base.h"
+
+#define CELLS 8192u
+static uint32_t keys_[CELLS];
+static uint8_t counts_[CELLS];
+static int16_t weights_[CELLS * CMAC_MAX_OUTPUTS];
+
+static cmac_config_t config_2d(uint8_t bits, uint8_t shift, uint8_t outputs)
+{
+    cmac_config_t c;
+    memset(&c, 0, sizeof c);
+    c.n_inputs = 2;
+    c.input_bits[0] = bits;
+    c.input_bits[1] = bits;
+    c.tile_shift[0] = shift;
+    c.tile_shift[1] = shift;
+    c.n_actions = 4;
+    c.n_tilings = 16;
+    c.n_outputs = outputs;
+    c.learning_rate = 1.0f;
+    return c;
+}
+
+static void init_rejects_bad_configs(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, 1000), FW_ERR_INVAL);
+    c.n_tilings = 12;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_ERR_INVAL);
+    c = config_2d(16, 0, 1);
+    c.n_inputs = 3;  // 16 + 16 + 16 bits of tile index cannot fit a 31-bit key
+    c.input_bits[2] = 16;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_ERR_INVAL);
+    c = config_2d(5, 1, 1);
+    c.learning_rate = 0.0f;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_ERR_INVAL);
+    c = config_2d(5, 1, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+}
+
+static void untrained_predicts_zero_with_no_confidence(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 2);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {3, 4};
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles(&m, in, 1, &t);
+    assert_int_equal(cmac_predict(&m, &t, out), 0);
+    assert_int_equal(out[0], 0);
+    assert_int_equal(out[1], 0);
+    assert_false(cmac_predict_trusted(&m, &t, 1, out));
+}
+
+// Fig. 7 with rate 1: one training makes the output equal the target (to rounding).
+static void one_training_at_rate_one_hits_the_target(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 3);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {10, 20};
+    const int32_t desired[3] = {3 * CMAC_ONE, -100 * CMAC_ONE, CMAC_ONE / 2};
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles(&m, in, 2, &t);
+    cmac_train(&m, &t, desired);
+    assert_int_equal(cmac_predict(&m, &t, out), 1);
+    for (int j = 0; j < 3; j++) {
+        assert_true(labs((long)(out[j] - desired[j])) <= 16);  // one rounding per tiling
+    }
+    assert_int_equal(m.stats.cells_used, 16);
+    assert_true(cmac_predict_trusted(&m, &t, 1, out));
+    assert_false(cmac_predict_trusted(&m, &t, 2, out));
+}
+
+// The rule moves every hit cell by rate / T of the error: at rate 1/2 the error halves.
+static void learning_rule_scales_the_error(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 1);
+    c.learning_rate = 0.5f;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {1, 2};
+    const int32_t desired[1] = {64 * CMAC_ONE};
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles(&m, in, 0, &t);
+    cmac_train(&m, &t, desired);
+    cmac_predict(&m, &t, out);
+    assert_int_equal(out[0], 32 * CMAC_ONE);
+    cmac_train(&m, &t, desired);
+    cmac_predict(&m, &t, out);
+    assert_int_equal(out[0], 48 * CMAC_ONE);
+}
+
+// f(x, y) = x * y / 64 + x / 4 on a 32 x 32 grid, tiles 4 wide: after training on random
+// samples the CMAC is within 0.25 everywhere and within 0.08 RMS.
+static void approximates_a_smooth_function(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 2, 1);
+    c.learning_rate = 0.5f;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    prng_t r;
+    prng_seed(&r, 11);
+    cmac_tiles_t t;
+    for (int i = 0; i < 60000; i++) {
+        const uint32_t in[2] = {prng_below(&r, 32), prng_below(&r, 32)};
+        const float f = (float)(in[0] * in[1]) / 64.0f + (float)in[0] / 4.0f;
+        const int32_t desired[1] = {(int32_t)(f * CMAC_ONE)};
+        cmac_tiles(&m, in, 0, &t);
+        cmac_train(&m, &t, desired);
+    }
+    double worst = 0.0;
+    double sq = 0.0;
+    for (uint32_t x = 0; x < 32; x++) {
+        for (uint32_t y = 0; y < 32; y++) {
+            const uint32_t in[2] = {x, y};
+            int32_t out[CMAC_MAX_OUTPUTS];
+            cmac_tiles(&m, in, 0, &t);
+            assert_true(cmac_predict(&m, &t, out) > 0);
+            const double err = fabs((double)out[0] / CMAC_ONE - (x * y / 64.0 + x / 4.0));
+            worst = err > worst ? err : worst;
+            sq += err * err;
+        }
+    }
+    print_message("max error %.3f, rms %.3f, cells %u\n", worst, sqrt(sq / 1024), m.stats.cells_used);
+    assert_true(worst < 0.25);
+    assert_true(sqrt(sq / 1024) < 0.08);
+    assert_int_equal(m.stats.dropped, 0);
+}
+
+// Neighbours inside a tile share cells: training one point moves its neighbour's output, but the
+// neighbour is not trusted until all of its own cells are trained.
+static void neighbours_generalise_but_are_not_trusted(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 2, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t a[2] = {8, 8};
+    const uint32_t b[2] = {9, 8};
+    const int32_t desired[1] = {16 * CMAC_ONE};
+    cmac_tiles_t ta;
+    cmac_tiles_t tb;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles(&m, a, 0, &ta);
+    cmac_tiles(&m, b, 0, &tb);
+    cmac_train(&m, &ta, desired);
+    assert_int_equal(cmac_predict(&m, &tb, out), 0);
+    assert_true(out[0] > 0 && out[0] < desired[0]);
+}
+
+// With tile width 1 every input has its own cells: a table, exact, with no collisions at all.
+static void exact_inputs_never_collide(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 0, 1);
+    c.n_tilings = 1;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    cmac_tiles_t t;
+    for (uint32_t a = 0; a < 4; a++) {
+        for (uint32_t i = 0; i < 1024; i++) {
+            const uint32_t in[2] = {i & 31u, i >> 5};
+            const int32_t desired[1] = {(int32_t)(i * 4 + a)};
+            cmac_tiles(&m, in, a, &t);
+            cmac_train(&m, &t, desired);
+        }
+    }
+    assert_int_equal(m.stats.cells_used, 4096);
+    assert_int_equal(m.stats.dropped, 0);
+    for (uint32_t a = 0; a < 4; a++) {
+        for (uint32_t i = 0; i < 1024; i++) {
+            const uint32_t in[2] = {i & 31u, i >> 5};
+            int32_t out[CMAC_MAX_OUTPUTS];
+            cmac_tiles(&m, in, a, &t);
+            assert_int_equal(cmac_predict(&m, &t, out), 1);
+            assert_int_equal(out[0], (int32_t)(i * 4 + a));
+        }
+    }
+}
+
+// A full table drops new tiles, counts them, and leaves what it holds intact.
+static void full_table_drops_and_counts(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 0, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, 64), FW_OK);
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    const uint32_t first[2] = {0, 0};
+    const int32_t desired[1] = {5 * CMAC_ONE};
+    cmac_tiles(&m, first, 0, &t);
+    cmac_train(&m, &t, desired);
+    for (uint32_t i = 1; i < 200; i++) {
+        const uint32_t in[2] = {i & 31u, (i >> 5) & 31u};
+        cmac_tiles(&m, in, 0, &t);
+        cmac_train(&m, &t, desired);
+    }
+    assert_true(m.stats.cells_used <= 64);
+    assert_true(m.stats.dropped > 0);
+    assert_int_equal(m.stats.cells_used + m.stats.dropped, 200u * 16u);
+    cmac_tiles(&m, first, 0, &t);
+    assert_true(cmac_predict(&m, &t, out) >= 1);
+    assert_true(labs((long)(out[0] - desired[0])) <= 16);
+}
+
+static void circular_inputs_wrap(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(4, 2, 1);
+    c.circular_mask = 2;  // input 1 is a heading
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    cmac_tiles_t t15;
+    cmac_tiles_t t0;
+    const uint32_t a[2] = {5, 15};
+    const uint32_t b[2] = {5, 0};
+    cmac_tiles(&m, a, 0, &t15);
+    cmac_tiles(&m, b, 0, &t0);
+    int shared = 0;
+    for (int i = 0; i < 16; i++) {
+        shared += t15.key[i] == t0.key[i];
+    }
+    assert_true(shared > 0 && shared < 16);  // 15 and 0 are neighbours on a circle
+}
+
+static void set_action_matches_recomputing(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {17, 30};
+    cmac_tiles_t a;
+    cmac_tiles_t b;
+    cmac_tiles(&m, in, 0, &a);
+    for (uint32_t act = 0; act < 4; act++) {
+        cmac_tiles_set_action(&m, &a, act);
+        cmac_tiles(&m, in, act, &b);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+}
+
+static void weights_saturate_and_count(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 0, 1);
+    c.n_tilings = 1;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {1, 1};
+    const int32_t desired[1] = {1000 * CMAC_ONE};  // beyond what one int16 cell holds
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles(&m, in, 0, &t);
+    for (int i = 0; i < 300; i++) {
+        cmac_train(&m, &t, desired);
+    }
+    assert_true(m.stats.saturated > 0);
+    assert_int_equal(cmac_predict(&m, &t, out), 255);  // the count saturates too
+    assert_int_equal(out[0], INT16_MAX);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(init_rejects_bad_configs),
+        cmocka_unit_test(untrained_predicts_zero_with_no_confidence),
+        cmocka_unit_test(one_training_at_rate_one_hits_the_target),
+        cmocka_unit_test(learning_rule_scales_the_error),
+        cmocka_unit_test(approximates_a_smooth_function),
+        cmocka_unit_test(neighbours_generalise_but_are_not_trusted),
+        cmocka_unit_test(exact_inputs_never_collide),
+        cmocka_unit_test(full_table_drops_and_counts),
+        cmocka_unit_test(circular_inputs_wrap),
+        cmocka_unit_test(set_action_matches_recomputing),
+        cmocka_unit_test(weights_saturate_and_count),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
