@@ -1,0 +1,197 @@
+// SPDX-License-Identifier: MIT
+// Tests of the agent: the Q update arithmetic, action selection, and each algorithm's planning.
+#include "test_common.h"
+
+#include <math.h>
+
+#include "agent/agent.h"
+#include "agent/agent_profiles.h"
+#include "fw/fw_base.h"
+
+// A corridor of 16 cells: action 0 moves left, action 1 right; the goal is cell 15.
+static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2};
+
+static agent_t agent_;
+
+static agent_config_t config(agent_kind_t kind)
+{
+    agent_config_t c;
+    c.kind = kind;
+    c.space = &corridor_;
+    c.params = agent_default_params();
+    c.storage = &agent_storage_maze;
+    c.seed = 1;
+    return c;
+}
+
+static void init_rejects_bad_configurations(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.params.alpha = 0.0f;
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_DYNA_QPC);
+    c.params.epsilon = 1.5f;
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_DYNA_QPC);
+    c.params.tilings = 32;
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_DYNA_QPC);
+    c.storage = NULL;
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config((agent_kind_t)7);
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_Q_LEARNING);
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+}
+
+// Eq. (1): Q(s, a) += alpha (r + gamma max_a' Q(s', a') - Q(s, a)).
+static void q_update_arithmetic(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_Q_LEARNING);
+    c.params.alpha = 0.5f;
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    agent_observe(&agent_, 14, 1, 10.0f, 15, true);  // terminal: no bootstrap
+    assert_float_equal(agent_q(&agent_, 14, 1), 5.0f, 1e-6f);
+    agent_observe(&agent_, 14, 1, 10.0f, 15, true);
+    assert_float_equal(agent_q(&agent_, 14, 1), 7.5f, 1e-6f);
+    agent_observe(&agent_, 13, 1, -1.0f, 14, false);  // -1 + 0.9 * 7.5 = 5.75, half of it
+    assert_float_equal(agent_q(&agent_, 13, 1), 2.875f, 1e-6f);
+    agent_observe(&agent_, 13, 0, -1.0f, 12, false);  // Q(12) = 0: -0.5
+    assert_float_equal(agent_q(&agent_, 13, 0), -0.5f, 1e-6f);
+    assert_int_equal(agent_.stats.real_updates, 4);
+    assert_int_equal(agent_updates(&agent_), 4);
+    assert_false(agent_plan_step(&agent_));  // Q-learning never plans
+}
+
+static void greedy_breaks_ties_low_and_act_breaks_them_randomly(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_Q_LEARNING);
+    c.params.epsilon = 0.0f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    assert_int_equal(agent_greedy(&agent_, 5), 0);
+    uint32_t picks[2] = {0, 0};
+    for (int i = 0; i < 1000; i++) {
+        picks[agent_act(&agent_, 5)]++;
+    }
+    assert_in_range(picks[0], 400, 600);
+    agent_observe(&agent_, 5, 1, 1.0f, 6, true);
+    assert_int_equal(agent_greedy(&agent_, 5), 1);
+    for (int i = 0; i < 100; i++) {
+        assert_int_equal(agent_act(&agent_, 5), 1);
+    }
+}
+
+static void epsilon_explores_at_its_rate(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_Q_LEARNING);
+    c.params.epsilon = 0.2f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    agent_observe(&agent_, 5, 1, 1.0f, 6, true);
+    uint32_t left = 0;
+    for (int i = 0; i < 10000; i++) {
+        left += agent_act(&agent_, 5) == 0;
+    }
+    assert_in_range(left, 900, 1100);  // half of the 20% random picks
+}
+
+// Walk the corridor once, left to right. Only the last step meets a reward; Dyna-QPC's planning
+// must carry it back to cell 0 through CMAC-R's predecessors, with no further real step.
+static void dyna_qpc_plans_back_through_predecessors(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    for (agent_state_t s = 0; s < 15; s++) {
+        agent_observe(&agent_, s, 1, s == 14 ? 1.0f : 0.0f, s + 1, s == 14);
+    }
+    assert_float_equal(agent_q(&agent_, 0, 1), 0.0f, 0.0f);
+    const uint32_t done = agent_plan(&agent_, 1000);
+    assert_true(done < 1000);  // the queue ran dry
+    assert_false(agent_plan_step(&agent_));
+    for (agent_state_t s = 0; s < 15; s++) {
+        assert_float_equal(agent_q(&agent_, s, 1), powf(0.9f, (float)(14 - s)), 1e-3f);
+    }
+    assert_true(agent_.stats.planning_updates >= 15);
+    assert_int_equal(agent_.pq.stats.dropped, 0);
+}
+
+// Dyna-Q replays observed transitions at random; enough of them converge the same corridor.
+static void dyna_q_replays_observed_transitions(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_Q);
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    assert_false(agent_plan_step(&agent_));  // nothing observed yet
+    for (agent_state_t s = 0; s < 15; s++) {
+        agent_observe(&agent_, s, 1, s == 14 ? 1.0f : 0.0f, s + 1, s == 14);
+    }
+    assert_int_equal(agent_plan(&agent_, 5000), 5000);
+    assert_float_equal(agent_q(&agent_, 0, 1), powf(0.9f, 14.0f), 1e-3f);
+    assert_float_equal(agent_q(&agent_, 0, 0), 0.0f, 0.0f);  // never tried, never replayed
+    assert_int_equal(agent_.stats.planning_updates, 5000);
+}
+
+// Without a model nothing is trusted: a queued pair whose prediction is untrained is skipped.
+static void dyna_qpc_skips_what_the_model_cannot_predict(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.params.min_count = 2;  // one visit is not enough to plan on
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    agent_observe(&agent_, 3, 1, 1.0f, 4, true);
+    assert_true(agent_plan_step(&agent_));
+    assert_int_equal(agent_.stats.planning_skipped, 1);
+    assert_int_equal(agent_.stats.planning_updates, 0);
+}
+
+static void same_seed_same_behaviour_and_reset_forgets(void **state)
+{
+    (void)state;
+    uint8_t first[200];
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.params.epsilon = 0.3f;
+    for (int pass = 0; pass < 2; pass++) {
+        assert_int_equal(agent_init(&agent_, &c), FW_OK);
+        agent_state_t s = 0;
+        for (int i = 0; i < 200; i++) {
+            const uint8_t a = agent_act(&agent_, s);
+            const agent_state_t next = a ? (s < 15 ? s + 1 : s) : (s > 0 ? s - 1 : s);
+            agent_observe(&agent_, s, a, next == 15 ? 1.0f : 0.0f, next, next == 15);
+            agent_plan(&agent_, 5);
+            s = next == 15 ? 0 : next;
+            if (pass == 0) {
+                first[i] = a;
+            } else {
+                assert_int_equal(a, first[i]);
+            }
+        }
+    }
+    agent_reset(&agent_, 1);
+    assert_int_equal(agent_updates(&agent_), 0);
+    for (agent_state_t s = 0; s < 16; s++) {
+        assert_float_equal(agent_q(&agent_, s, 1), 0.0f, 0.0f);
+    }
+    assert_false(agent_plan_step(&agent_));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(init_rejects_bad_configurations),
+        cmocka_unit_test(q_update_arithmetic),
+        cmocka_unit_test(greedy_breaks_ties_low_and_act_breaks_them_randomly),
+        cmocka_unit_test(epsilon_explores_at_its_rate),
+        cmocka_unit_test(dyna_qpc_plans_back_through_predecessors),
+        cmocka_unit_test(dyna_q_replays_observed_transitions),
+        cmocka_unit_test(dyna_qpc_skips_what_the_model_cannot_predict),
+        cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+// Tests of table-based Dyna-Q's model: what it records and how it samples (Fig. 5).
+#include "test_common.h"
+
+#include "agent/dynaq_table.h"
+#include "fw/fw_base.h"
+
+static dynaq_record_t records_[64];
+static uint32_t index_keys_[DYNAQ_INDEX_SLOTS(64)];
+static uint32_t index_rec_[DYNAQ_INDEX_SLOTS(64)];
+
+static void setup_table(dynaq_table_t *t)
+{
+    assert_int_equal(dynaq_init(t, records_, index_keys_, index_rec_, 64, 4), FW_OK);
+}
+
+static void empty_table_has_nothing_to_sample(void **state)
+{
+    (void)state;
+    dynaq_table_t t;
+    setup_table(&t);
+    prng_t r;
+    prng_seed(&r, 1);
+    agent_state_t s;
+    agent_state_t s2;
+    uint8_t a;
+    float rew;
+    bool term;
+    assert_false(dynaq_sample(&t, &r, &s, &a, &rew, &s2, &term));
+}
+
+static void samples_only_what_was_observed_and_the_latest_outcome(void **state)
+{
+    (void)state;
+    dynaq_table_t t;
+    setup_table(&t);
+    dynaq_record(&t, 100, 2, 0.0f, 101, false);
+    dynaq_record(&t, 100, 2, 1.0f, 7, true);  // the same pair again: the latest outcome wins
+    prng_t r;
+    prng_seed(&r, 2);
+    for (int i = 0; i < 50; i++) {
+        agent_state_t s;
+        agent_state_t s2;
+        uint8_t a;
+        float rew;
+        bool term;
+        assert_true(dynaq_sample(&t, &r, &s, &a, &rew, &s2, &term));
+        assert_int_equal(s, 100);
+        assert_int_equal(a, 2);
+        assert_int_equal(s2, 7);
+        assert_float_equal(rew, 1.0f, 0.0f);
+        assert_true(term);
+    }
+    assert_int_equal(t.count, 1);
+}
+
+// Fig. 5: a uniformly random observed state, then a uniformly random action tried there. State 1
+// has three actions tried and state 2 one: each state is drawn half the time, each of state 1's
+// actions a sixth.
+static void samples_states_then_actions_uniformly(void **state)
+{
+    (void)state;
+    dynaq_table_t t;
+    setup_table(&t);
+    dynaq_record(&t, 1, 0, 0.0f, 2, false);
+    dynaq_record(&t, 1, 1, 0.0f, 2, false);
+    dynaq_record(&t, 1, 3, 0.0f, 2, false);
+    dynaq_record(&t, 2, 1, 0.0f, 1, false);
+    prng_t r;
+    prng_seed(&r, 3);
+    uint32_t hits[3][4] = {{0}};
+    for (int i = 0; i < 60000; i++) {
+        agent_state_t s;
+        agent_state_t s2;
+        uint8_t a;
+        float rew;
+        bool term;
+        assert_true(dynaq_sample(&t, &r, &s, &a, &rew, &s2, &term));
+        hits[s][a]++;
+    }
+    assert_int_equal(hits[1][2], 0);
+    assert_in_range(hits[2][1], 29000, 31000);
+    assert_in_range(hits[1][0], 9500, 10500);
+    assert_in_range(hits[1][1], 9500, 10500);
+    assert_in_range(hits[1][3], 9500, 10500);
+}
+
+static void full_table_drops_new_states_and_counts(void **state)
+{
+    (void)state;
+    dynaq_table_t t;
+    setup_table(&t);
+    for (uint32_t s = 0; s < 100; s++) {
+        dynaq_record(&t, s * 7919u, 0, 0.0f, 0, false);
+    }
+    assert_int_equal(t.count, 64);
+    assert_int_equal(t.dropped, 36);
+    dynaq_record(&t, 0, 1, 0.0f, 0, false);  // a known state still takes new actions
+    assert_int_equal(t.dropped, 36);
+    dynaq_clear(&t);
+    assert_int_equal(t.count, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(empty_table_has_nothing_to_sample),
+        cmocka_unit_test(samples_only_what_was_observed_and_the_latest_outcome),
+        cmocka_unit_test(samples_states_then_actions_uniformly),
+        cmocka_unit_test(full_table_drops_new_states_and_counts),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

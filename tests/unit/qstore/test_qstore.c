@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// Tests of the Q store: dense and hashed layouts, unknown states, a full table.
+#include "test_common.h"
+
+#include "agent/qstore.h"
+#include "fw/fw_base.h"
+
+static float q_[256 * FW_CFG_MAX_ACTIONS];
+static uint32_t keys_[256];
+
+static void small_spaces_are_dense(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 8), FW_OK);
+    assert_true(qs.dense);
+    float *row = qstore_row_for_update(&qs, 255);
+    assert_non_null(row);
+    row[2] = 3.5f;
+    assert_float_equal(qstore_row(&qs, 255)[2], 3.5f, 0.0f);
+    assert_float_equal(qstore_max(&qs, 255), 3.5f, 0.0f);
+    assert_ptr_equal(row, &q_[255 * 4]);
+}
+
+static void large_spaces_are_hashed_and_unknown_states_read_zero(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 18), FW_ERR_INVAL);  // needs keys
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    assert_false(qs.dense);
+    const float *unknown = qstore_row(&qs, 123456);
+    for (int a = 0; a < 4; a++) {
+        assert_float_equal(unknown[a], 0.0f, 0.0f);
+    }
+    assert_int_equal(qs.rows_used, 0);
+    float *row = qstore_row_for_update(&qs, 123456);
+    row[1] = -2.0f;
+    row[3] = -1.0f;
+    assert_int_equal(qs.rows_used, 1);
+    assert_float_equal(qstore_row(&qs, 123456)[1], -2.0f, 0.0f);
+    assert_float_equal(qstore_max(&qs, 123456), 0.0f, 0.0f);
+    assert_ptr_equal(qstore_row_for_update(&qs, 123456), row);  // the same row, not a new one
+}
+
+static void distinct_states_keep_distinct_values(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    for (uint32_t s = 0; s < 150; s++) {
+        float *row = qstore_row_for_update(&qs, s * 1021u);
+        assert_non_null(row);
+        row[s % 4] = (float)s;
+    }
+    assert_int_equal(qs.dropped, 0);
+    for (uint32_t s = 0; s < 150; s++) {
+        assert_float_equal(qstore_row(&qs, s * 1021u)[s % 4], (float)s, 0.0f);
+    }
+}
+
+static void full_table_drops_writes_and_counts(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 20), FW_OK);
+    uint32_t stored = 0;
+    for (uint32_t s = 0; s < 1000; s++) {
+        stored += qstore_row_for_update(&qs, s) != NULL;
+    }
+    assert_int_equal(stored, qs.rows_used);
+    assert_true(qs.rows_used <= 256 && qs.rows_used > 200);
+    assert_int_equal(qs.dropped, 1000 - stored);
+    qstore_clear(&qs);
+    assert_int_equal(qs.rows_used, 0);
+    assert_non_null(qstore_row_for_update(&qs, 999));
+}
+
+static void init_rejects_bad_arguments(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, keys_, 100, 4, 8), FW_ERR_INVAL);
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 0, 8), FW_ERR_INVAL);
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, FW_CFG_MAX_ACTIONS + 1, 8), FW_ERR_INVAL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(small_spaces_are_dense),
+        cmocka_unit_test(large_spaces_are_hashed_and_unknown_states_read_zero),
+        cmocka_unit_test(distinct_states_keep_distinct_values),
+        cmocka_unit_test(full_table_drops_writes_and_counts),
+        cmocka_unit_test(init_rejects_bad_arguments),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
