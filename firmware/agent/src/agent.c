@@ -165,7 +165,7 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
             (void)pq_push(&ag->pq, pq_key_(ag, s, a), priority);
         }
     } else if (ag->kind == AGENT_DYNA_Q) {
-        dynaq_record(&ag->table, s, a, r, s_next, terminal);
+        dynaq_remember(&ag->table, s, a, r, s_next, terminal);
     }
 }
 

@@ -29,42 +29,70 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         !FW_IS_POW2(capacity) || capacity < 16u || (cfg->circular_mask >> cfg->n_inputs)) {
         return FW_ERR_INVAL;
     }
+    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+        if (cfg->input_bits[k] < 1u || cfg->input_bits[k] > 16u ||
+            cfg->tile_shift[k] > cfg->input_bits[k]) {
+            return FW_ERR_INVAL;
+        }
+    }
     cmac->cfg = *cfg;
     cmac->keys = keys;
     cmac->counts = counts;
     cmac->weights = weights;
     cmac->capacity = capacity;
     cmac->capacity_shift = (uint8_t)log2_(capacity);
-    cmac->tiling_shift = (uint8_t)log2_(cfg->n_tilings);
-
-    // Key layout, low bits first: tiling number, action, then each input's tile index. A
-    // circular input of b bits and tile width 2^w has 2^(b-w) tiles; an ordinal one has one more,
-    // because the tiling offsets push the last values into an extra tile.
-    uint32_t shift = cmac->tiling_shift;
-    cmac->action_shift = (uint8_t)shift;
-    shift += log2_(cfg->n_actions);
-    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
-        if (cfg->input_bits[k] < 1u || cfg->input_bits[k] > 16u ||
-            cfg->tile_shift[k] > cfg->input_bits[k]) {
-            return FW_ERR_INVAL;
-        }
-        cmac->key_shift[k] = (uint8_t)shift;
-        const uint32_t tile_bits = (uint32_t)(cfg->input_bits[k] - cfg->tile_shift[k]);
-        const uint32_t circular = (cfg->circular_mask >> k) & 1u;
-        shift += (cfg->tile_shift[k] == 0u || circular) ? tile_bits : tile_bits + 1u;
-    }
-    if (shift > 31u) {
-        return FW_ERR_INVAL;
-    }
+    const uint32_t tiling_bits = log2_(cfg->n_tilings);
 
     // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
     // factors (Miller and Glanz's asymmetric displacement) keep the tilings from sliding along
-    // the diagonal together.
+    // the diagonal together. On integer inputs that is a whole number of values, and tilings
+    // with equal displacements are the same tiling: keep one pattern per distinct displacement.
+    cmac->n_patterns = 0;
     for (uint32_t t = 0; t < cfg->n_tilings; t++) {
+        uint8_t off[FW_CFG_MAX_COMPONENTS];
         for (uint32_t k = 0; k < cfg->n_inputs; k++) {
             const uint32_t step = (t * (2u * k + 1u)) & (cfg->n_tilings - 1u);
-            cmac->offset[t][k] = (uint8_t)((step << cfg->tile_shift[k]) >> cmac->tiling_shift);
+            off[k] = (uint8_t)((step << cfg->tile_shift[k]) >> tiling_bits);
         }
+        uint32_t p = 0;
+        for (; p < cmac->n_patterns; p++) {
+            uint32_t k = 0;
+            while (k < cfg->n_inputs && cmac->offset[k][p] == off[k]) {
+                k++;
+            }
+            if (k == cfg->n_inputs) {
+                break;
+            }
+        }
+        if (p == cmac->n_patterns) {
+            for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+                cmac->offset[k][p] = off[k];
+            }
+            cmac->copies[p] = 0;
+            cmac->n_patterns++;
+        }
+        cmac->copies[p]++;
+    }
+
+    // Key layout, low bits first: pattern number, action, then each input's tile index. A
+    // circular input of b bits and tile width 2^w has 2^(b-w) tiles; an ordinal one has one more,
+    // because the displacements push the last values into an extra tile.
+    uint32_t shift = tiling_bits;
+    cmac->action_shift = (uint8_t)shift;
+    shift += log2_(cfg->n_actions);
+    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+        cmac->key_shift[k] = (uint8_t)shift;
+        const uint32_t tile_bits = (uint32_t)(cfg->input_bits[k] - cfg->tile_shift[k]);
+        if ((cfg->circular_mask >> k) & 1u) {
+            cmac->tile_mask[k] = (1u << tile_bits) - 1u;
+            shift += tile_bits;
+        } else {
+            cmac->tile_mask[k] = UINT32_MAX;
+            shift += cfg->tile_shift[k] == 0u ? tile_bits : tile_bits + 1u;
+        }
+    }
+    if (shift > 31u) {
+        return FW_ERR_INVAL;
     }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
@@ -84,19 +112,22 @@ void cmac_clear(cmac_t *cmac)
     cmac->stats = (cmac_stats_t){0};
 }
 
-void cmac_tiles(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles)
+void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles)
 {
-    const cmac_config_t *cfg = &cmac->cfg;
-    for (uint32_t t = 0; t < cfg->n_tilings; t++) {
-        uint32_t key = t | (action << cmac->action_shift);
-        for (uint32_t k = 0; k < cfg->n_inputs; k++) {
-            uint32_t tile = (inputs[k] + cmac->offset[t][k]) >> cfg->tile_shift[k];
-            if ((cfg->circular_mask >> k) & 1u) {
-                tile &= (1u << (cfg->input_bits[k] - cfg->tile_shift[k])) - 1u;
-            }
-            key |= tile << cmac->key_shift[k];
+    const uint32_t n = cmac->n_patterns;
+    for (uint32_t p = 0; p < n; p++) {
+        tiles->key[p] = p | (action << cmac->action_shift);
+    }
+    // Input by input, so the inner loop over patterns is straight-line arithmetic.
+    for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
+        const uint32_t v = inputs[k];
+        const uint32_t sh = cmac->cfg.tile_shift[k];
+        const uint32_t mask = cmac->tile_mask[k];
+        const uint32_t ks = cmac->key_shift[k];
+        const uint8_t *off = cmac->offset[k];
+        for (uint32_t p = 0; p < n; p++) {
+            tiles->key[p] |= (((v + off[p]) >> sh) & mask) << ks;
         }
-        tiles->key[t] = key;
     }
 }
 
@@ -104,8 +135,8 @@ void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t act
 {
     const uint32_t field = ((1u << (cmac->key_shift[0] - cmac->action_shift)) - 1u)
                            << cmac->action_shift;
-    for (uint32_t t = 0; t < cmac->cfg.n_tilings; t++) {
-        tiles->key[t] = (tiles->key[t] & ~field) | (action << cmac->action_shift);
+    for (uint32_t p = 0; p < cmac->n_patterns; p++) {
+        tiles->key[p] = (tiles->key[p] & ~field) | (action << cmac->action_shift);
     }
 }
 
@@ -132,7 +163,7 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
     for (uint32_t j = 0; j < n_out; j++) {
         out[j] = 0;
     }
-    for (uint32_t t = 0; t < cmac->cfg.n_tilings; t++) {
+    for (uint32_t t = 0; t < cmac->n_patterns; t++) {
         const uint32_t slot = find_(cmac, tiles->key[t]);
         if (slot == cmac->capacity || cmac->keys[slot] == CMAC_EMPTY) {
             confidence = 0;
@@ -156,7 +187,7 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
     for (uint32_t j = 0; j < n_out; j++) {
         out[j] = 0;
     }
-    for (uint32_t t = 0; t < cmac->cfg.n_tilings; t++) {
+    for (uint32_t t = 0; t < cmac->n_patterns; t++) {
         const uint32_t slot = find_(cmac, tiles->key[t]);
         if (slot == cmac->capacity || cmac->keys[slot] == CMAC_EMPTY ||
             cmac->counts[slot] < min_count) {
@@ -168,6 +199,12 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
         }
     }
     return true;
+}
+
+// num / den rounded to nearest, halves away from zero (den > 0).
+static int32_t round_div_(int32_t num, int32_t den)
+{
+    return (num >= 0 ? num + den / 2 : num - den / 2) / den;
 }
 
 static int16_t saturate_(cmac_t *cmac, int32_t v)
@@ -186,7 +223,7 @@ static int16_t saturate_(cmac_t *cmac, int32_t v)
 void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;
-    const uint32_t n_tiles = cmac->cfg.n_tilings;
+    const uint32_t n_tiles = cmac->n_patterns;
     uint32_t slots[FW_CFG_MAX_TILINGS];
     int32_t actual[CMAC_MAX_OUTPUTS] = {0};
 
@@ -207,14 +244,14 @@ void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
         slots[t] = slot;
     }
 
-    // Fig. 7 (d): every hit cell moves by rate / T of the output error, rounded to nearest so
-    // small errors are not lost to truncation.
-    const int32_t den = (int32_t)n_tiles << CMAC_FRAC_BITS;
-    int32_t delta[CMAC_MAX_OUTPUTS];
+    // Fig. 7 (d): every one of the T cells moves by rate / T of the output error; a pattern
+    // standing for c tilings moves c times as far. Both steps round to nearest so that small
+    // errors are not lost to truncation, and neither can overflow 32 bits.
+    int32_t step[CMAC_MAX_OUTPUTS];
     for (uint32_t j = 0; j < n_out; j++) {
-        const int32_t num = (desired[j] - actual[j]) * cmac->rate_q;
-        delta[j] = (num >= 0 ? num + den / 2 : num - den / 2) / den;
+        step[j] = round_div_((desired[j] - actual[j]) * cmac->rate_q, CMAC_ONE);
     }
+    const int32_t n_tilings = cmac->cfg.n_tilings;
     for (uint32_t t = 0; t < n_tiles; t++) {
         const uint32_t slot = slots[t];
         if (slot == cmac->capacity) {
@@ -222,7 +259,8 @@ void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
         }
         int16_t *w = &cmac->weights[slot * n_out];
         for (uint32_t j = 0; j < n_out; j++) {
-            w[j] = saturate_(cmac, (int32_t)w[j] + delta[j]);
+            const int32_t delta = round_div_(step[j] * cmac->copies[t], n_tilings);
+            w[j] = saturate_(cmac, (int32_t)w[j] + delta);
         }
         if (cmac->counts[slot] < UINT8_MAX) {
             cmac->counts[slot]++;

@@ -32,7 +32,7 @@ void dynaq_clear(dynaq_table_t *t)
     t->dropped = 0;
 }
 
-void dynaq_record(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                   bool terminal)
 {
     // The index has twice as many slots as there are records, so its load stays at or below

@@ -133,7 +133,7 @@ void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     encode_(sp, from, to, desired);
     desired[sp->n_components] = to_fixed_(r);
     desired[sp->n_components + 1u] = terminal ? CMAC_ONE : 0;
-    cmac_tiles(&m->forward, from, a, &tiles);
+    cmac_tiles_of(&m->forward, from, a, &tiles);
     cmac_train(&m->forward, &tiles, desired);
 
     // A step that leaves the state as it was (a bump into a wall) is no route from anywhere;
@@ -142,7 +142,7 @@ void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
         return;
     }
     encode_(sp, to, from, desired);
-    cmac_tiles(&m->inverse, to, a, &tiles);
+    cmac_tiles_of(&m->inverse, to, a, &tiles);
     cmac_train(&m->inverse, &tiles, desired);
 }
 
@@ -154,7 +154,7 @@ static bool predict_(world_model_t *m, const uint32_t *from, uint8_t a, uint32_t
     int32_t pred[CMAC_MAX_OUTPUTS];
     cmac_tiles_t tiles;
 
-    cmac_tiles(&m->forward, from, a, &tiles);
+    cmac_tiles_of(&m->forward, from, a, &tiles);
     if (!cmac_predict_trusted(&m->forward, &tiles, m->min_count, pred) ||
         !decode_(sp, from, pred, to)) {
         m->untrusted++;
@@ -185,7 +185,7 @@ uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out
     uint32_t n = 0;
 
     space_unpack(sp, s, here);
-    cmac_tiles(&m->inverse, here, 0, &tiles);
+    cmac_tiles_of(&m->inverse, here, 0, &tiles);
     for (uint32_t a = 0; a < sp->n_actions; a++) {
         cmac_tiles_set_action(&m->inverse, &tiles, a);
         if (!cmac_predict_trusted(&m->inverse, &tiles, m->min_count, pred) ||

@@ -59,7 +59,7 @@ static void untrained_predicts_zero_with_no_confidence(void **state)
     const uint32_t in[2] = {3, 4};
     cmac_tiles_t t;
     int32_t out[CMAC_MAX_OUTPUTS];
-    cmac_tiles(&m, in, 1, &t);
+    cmac_tiles_of(&m, in, 1, &t);
     assert_int_equal(cmac_predict(&m, &t, out), 0);
     assert_int_equal(out[0], 0);
     assert_int_equal(out[1], 0);
@@ -77,13 +77,15 @@ static void one_training_at_rate_one_hits_the_target(void **state)
     const int32_t desired[3] = {3 * CMAC_ONE, -100 * CMAC_ONE, CMAC_ONE / 2};
     cmac_tiles_t t;
     int32_t out[CMAC_MAX_OUTPUTS];
-    cmac_tiles(&m, in, 2, &t);
+    cmac_tiles_of(&m, in, 2, &t);
     cmac_train(&m, &t, desired);
     assert_int_equal(cmac_predict(&m, &t, out), 1);
     for (int j = 0; j < 3; j++) {
         assert_true(labs((long)(out[j] - desired[j])) <= 16);  // one rounding per tiling
     }
-    assert_int_equal(m.stats.cells_used, 16);
+    // Two inputs two values wide: of the 16 tilings only 2 x 2 are distinct.
+    assert_int_equal(m.n_patterns, 4);
+    assert_int_equal(m.stats.cells_used, 4);
     assert_true(cmac_predict_trusted(&m, &t, 1, out));
     assert_false(cmac_predict_trusted(&m, &t, 2, out));
 }
@@ -100,7 +102,7 @@ static void learning_rule_scales_the_error(void **state)
     const int32_t desired[1] = {64 * CMAC_ONE};
     cmac_tiles_t t;
     int32_t out[CMAC_MAX_OUTPUTS];
-    cmac_tiles(&m, in, 0, &t);
+    cmac_tiles_of(&m, in, 0, &t);
     cmac_train(&m, &t, desired);
     cmac_predict(&m, &t, out);
     assert_int_equal(out[0], 32 * CMAC_ONE);
@@ -125,7 +127,7 @@ static void approximates_a_smooth_function(void **state)
         const uint32_t in[2] = {prng_below(&r, 32), prng_below(&r, 32)};
         const float f = (float)(in[0] * in[1]) / 64.0f + (float)in[0] / 4.0f;
         const int32_t desired[1] = {(int32_t)(f * CMAC_ONE)};
-        cmac_tiles(&m, in, 0, &t);
+        cmac_tiles_of(&m, in, 0, &t);
         cmac_train(&m, &t, desired);
     }
     double worst = 0.0;
@@ -134,7 +136,7 @@ static void approximates_a_smooth_function(void **state)
         for (uint32_t y = 0; y < 32; y++) {
             const uint32_t in[2] = {x, y};
             int32_t out[CMAC_MAX_OUTPUTS];
-            cmac_tiles(&m, in, 0, &t);
+            cmac_tiles_of(&m, in, 0, &t);
             assert_true(cmac_predict(&m, &t, out) > 0);
             const double err = fabs((double)out[0] / CMAC_ONE - (x * y / 64.0 + x / 4.0));
             worst = err > worst ? err : worst;
@@ -161,8 +163,8 @@ static void neighbours_generalise_but_are_not_trusted(void **state)
     cmac_tiles_t ta;
     cmac_tiles_t tb;
     int32_t out[CMAC_MAX_OUTPUTS];
-    cmac_tiles(&m, a, 0, &ta);
-    cmac_tiles(&m, b, 0, &tb);
+    cmac_tiles_of(&m, a, 0, &ta);
+    cmac_tiles_of(&m, b, 0, &tb);
     cmac_train(&m, &ta, desired);
     assert_int_equal(cmac_predict(&m, &tb, out), 0);
     assert_true(out[0] > 0 && out[0] < desired[0]);
@@ -181,7 +183,7 @@ static void exact_inputs_never_collide(void **state)
         for (uint32_t i = 0; i < 1024; i++) {
             const uint32_t in[2] = {i & 31u, i >> 5};
             const int32_t desired[1] = {(int32_t)(i * 4 + a)};
-            cmac_tiles(&m, in, a, &t);
+            cmac_tiles_of(&m, in, a, &t);
             cmac_train(&m, &t, desired);
         }
     }
@@ -191,7 +193,7 @@ static void exact_inputs_never_collide(void **state)
         for (uint32_t i = 0; i < 1024; i++) {
             const uint32_t in[2] = {i & 31u, i >> 5};
             int32_t out[CMAC_MAX_OUTPUTS];
-            cmac_tiles(&m, in, a, &t);
+            cmac_tiles_of(&m, in, a, &t);
             assert_int_equal(cmac_predict(&m, &t, out), 1);
             assert_int_equal(out[0], (int32_t)(i * 4 + a));
         }
@@ -209,17 +211,18 @@ static void full_table_drops_and_counts(void **state)
     int32_t out[CMAC_MAX_OUTPUTS];
     const uint32_t first[2] = {0, 0};
     const int32_t desired[1] = {5 * CMAC_ONE};
-    cmac_tiles(&m, first, 0, &t);
+    cmac_tiles_of(&m, first, 0, &t);
     cmac_train(&m, &t, desired);
     for (uint32_t i = 1; i < 200; i++) {
         const uint32_t in[2] = {i & 31u, (i >> 5) & 31u};
-        cmac_tiles(&m, in, 0, &t);
+        cmac_tiles_of(&m, in, 0, &t);
         cmac_train(&m, &t, desired);
     }
     assert_true(m.stats.cells_used <= 64);
     assert_true(m.stats.dropped > 0);
-    assert_int_equal(m.stats.cells_used + m.stats.dropped, 200u * 16u);
-    cmac_tiles(&m, first, 0, &t);
+    assert_int_equal(m.n_patterns, 1);  // exact inputs: the CMAC is a table
+    assert_int_equal(m.stats.cells_used + m.stats.dropped, 200u);
+    cmac_tiles_of(&m, first, 0, &t);
     assert_true(cmac_predict(&m, &t, out) >= 1);
     assert_true(labs((long)(out[0] - desired[0])) <= 16);
 }
@@ -235,13 +238,13 @@ static void circular_inputs_wrap(void **state)
     cmac_tiles_t t0;
     const uint32_t a[2] = {5, 15};
     const uint32_t b[2] = {5, 0};
-    cmac_tiles(&m, a, 0, &t15);
-    cmac_tiles(&m, b, 0, &t0);
+    cmac_tiles_of(&m, a, 0, &t15);
+    cmac_tiles_of(&m, b, 0, &t0);
     int shared = 0;
-    for (int i = 0; i < 16; i++) {
+    for (int i = 0; i < m.n_patterns; i++) {
         shared += t15.key[i] == t0.key[i];
     }
-    assert_true(shared > 0 && shared < 16);  // 15 and 0 are neighbours on a circle
+    assert_true(shared > 0 && shared < m.n_patterns);  // 15 and 0 are neighbours on a circle
 }
 
 static void set_action_matches_recomputing(void **state)
@@ -253,11 +256,11 @@ static void set_action_matches_recomputing(void **state)
     const uint32_t in[2] = {17, 30};
     cmac_tiles_t a;
     cmac_tiles_t b;
-    cmac_tiles(&m, in, 0, &a);
+    cmac_tiles_of(&m, in, 0, &a);
     for (uint32_t act = 0; act < 4; act++) {
         cmac_tiles_set_action(&m, &a, act);
-        cmac_tiles(&m, in, act, &b);
-        assert_memory_equal(&a, &b, sizeof a);
+        cmac_tiles_of(&m, in, act, &b);
+        assert_memory_equal(a.key, b.key, m.n_patterns * sizeof a.key[0]);
     }
 }
 
@@ -272,13 +275,40 @@ static void weights_saturate_and_count(void **state)
     const int32_t desired[1] = {1000 * CMAC_ONE};  // beyond what one int16 cell holds
     cmac_tiles_t t;
     int32_t out[CMAC_MAX_OUTPUTS];
-    cmac_tiles(&m, in, 0, &t);
+    cmac_tiles_of(&m, in, 0, &t);
     for (int i = 0; i < 300; i++) {
         cmac_train(&m, &t, desired);
     }
     assert_true(m.stats.saturated > 0);
     assert_int_equal(cmac_predict(&m, &t, out), 255);  // the count saturates too
     assert_int_equal(out[0], INT16_MAX);
+}
+
+// Merging duplicate tilings changes nothing a caller can see. Over inputs four values wide
+// 12 of the 16 tilings are distinct; over exact inputs only one is, and it learns as far as 16
+// separate tilings would.
+static void duplicate_tilings_are_merged_exactly(void **state)
+{
+    (void)state;
+    cmac_t wide;
+    cmac_t exact;
+    cmac_config_t c = config_2d(5, 2, 1);
+    assert_int_equal(cmac_init(&wide, &c, keys_, counts_, weights_, 4096), FW_OK);
+    assert_int_equal(wide.n_patterns, 12);
+    c = config_2d(5, 0, 1);
+    c.learning_rate = 0.5f;
+    assert_int_equal(cmac_init(&exact, &c, keys_ + 4096, counts_ + 4096, weights_ + 4096, 4096),
+                     FW_OK);
+    assert_int_equal(exact.n_patterns, 1);
+    assert_int_equal(exact.copies[0], 16);
+    const uint32_t in[2] = {3, 9};
+    const int32_t desired[1] = {40 * CMAC_ONE};
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles_of(&exact, in, 1, &t);
+    cmac_train(&exact, &t, desired);  // rate 1/2: half way, as 16 separate tilings would go
+    assert_int_equal(cmac_predict(&exact, &t, out), 1);
+    assert_int_equal(out[0], 20 * CMAC_ONE);
 }
 
 int main(void)
@@ -295,6 +325,7 @@ int main(void)
         cmocka_unit_test(circular_inputs_wrap),
         cmocka_unit_test(set_action_matches_recomputing),
         cmocka_unit_test(weights_saturate_and_count),
+        cmocka_unit_test(duplicate_tilings_are_merged_exactly),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -34,8 +34,8 @@ static void samples_only_what_was_observed_and_the_latest_outcome(void **state)
     (void)state;
     dynaq_table_t t;
     setup_table(&t);
-    dynaq_record(&t, 100, 2, 0.0f, 101, false);
-    dynaq_record(&t, 100, 2, 1.0f, 7, true);  // the same pair again: the latest outcome wins
+    dynaq_remember(&t, 100, 2, 0.0f, 101, false);
+    dynaq_remember(&t, 100, 2, 1.0f, 7, true);  // the same pair again: the latest outcome wins
     prng_t r;
     prng_seed(&r, 2);
     for (int i = 0; i < 50; i++) {
@@ -62,10 +62,10 @@ static void samples_states_then_actions_uniformly(void **state)
     (void)state;
     dynaq_table_t t;
     setup_table(&t);
-    dynaq_record(&t, 1, 0, 0.0f, 2, false);
-    dynaq_record(&t, 1, 1, 0.0f, 2, false);
-    dynaq_record(&t, 1, 3, 0.0f, 2, false);
-    dynaq_record(&t, 2, 1, 0.0f, 1, false);
+    dynaq_remember(&t, 1, 0, 0.0f, 2, false);
+    dynaq_remember(&t, 1, 1, 0.0f, 2, false);
+    dynaq_remember(&t, 1, 3, 0.0f, 2, false);
+    dynaq_remember(&t, 2, 1, 0.0f, 1, false);
     prng_t r;
     prng_seed(&r, 3);
     uint32_t hits[3][4] = {{0}};
@@ -91,11 +91,11 @@ static void full_table_drops_new_states_and_counts(void **state)
     dynaq_table_t t;
     setup_table(&t);
     for (uint32_t s = 0; s < 100; s++) {
-        dynaq_record(&t, s * 7919u, 0, 0.0f, 0, false);
+        dynaq_remember(&t, s * 7919u, 0, 0.0f, 0, false);
     }
     assert_int_equal(t.count, 64);
     assert_int_equal(t.dropped, 36);
-    dynaq_record(&t, 0, 1, 0.0f, 0, false);  // a known state still takes new actions
+    dynaq_remember(&t, 0, 1, 0.0f, 0, false);  // a known state still takes new actions
     assert_int_equal(t.dropped, 36);
     dynaq_clear(&t);
     assert_int_equal(t.count, 0);

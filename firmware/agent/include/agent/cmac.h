@@ -42,8 +42,8 @@ typedef struct cmac_stats {
     uint32_t trained;     ///< calls to cmac_train()
 } cmac_stats_t;
 
-/// The T tile keys of one input (state components and action), computed once and reused for
-/// prediction and training.
+/// The tile keys of one input (state components and action), computed once and reused for
+/// prediction and training. Only the first `n_patterns` entries are used (see cmac_t).
 typedef struct cmac_tiles {
     uint32_t key[FW_CFG_MAX_TILINGS];
 } cmac_tiles_t;
@@ -54,6 +54,13 @@ typedef struct cmac_tiles {
 /// never share a cell: the approximation is exact until the table is full. A tile that finds
 /// no free cell within FW_CFG_MAX_PROBE slots is not stored and counts as `dropped`; it reads
 /// as untrained. Cells are never evicted.
+///
+/// Duplicate tilings are merged. The inputs are integers, so an input whose tiles are w values
+/// wide can only be split w ways, and of the T tilings at most the product of the widths are
+/// distinct: the rest repeat one of them exactly. Each distinct tiling (a "pattern") is stored
+/// once and carries the weight of all its copies, and learns as much as they would together,
+/// so predictions and training are exactly those of the T-tiling CMAC with less memory and
+/// work. With every input exact (width 1) the CMAC is a table: one pattern.
 typedef struct cmac {
     cmac_config_t cfg;
     uint32_t *keys;     // capacity
@@ -61,10 +68,12 @@ typedef struct cmac {
     int16_t *weights;   // capacity * n_outputs
     uint32_t capacity;
     uint8_t capacity_shift;
-    uint8_t tiling_shift;  // log2(n_tilings)
+    uint8_t n_patterns;  // distinct tilings, <= n_tilings
     uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
     uint8_t action_shift;
-    uint8_t offset[FW_CFG_MAX_TILINGS][FW_CFG_MAX_COMPONENTS];  // tiling displacements
+    uint32_t tile_mask[FW_CFG_MAX_COMPONENTS];  // all ones, or the wrap of a circular input
+    uint8_t offset[FW_CFG_MAX_COMPONENTS][FW_CFG_MAX_TILINGS];  // per pattern displacement
+    uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for
     int32_t rate_q;  // learning_rate in 1/256
     cmac_stats_t stats;
 } cmac_t;
@@ -81,13 +90,14 @@ void cmac_clear(cmac_t *cmac);
 
 /// Computes the tile keys of `inputs` (n_inputs values, each within its bit range) for
 /// `action`.
-void cmac_tiles(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles);
+void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles);
 
-/// Re-targets tiles computed by cmac_tiles() to another action, without recomputing them.
+/// Re-targets tiles computed by cmac_tiles_of() to another action, without recomputing them.
 void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action);
 
-/// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0).
-/// Returns the confidence: the smallest training count among the T cells, 0 if any tile has
+/// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0). Each sum
+/// must stay within +-128 * n_patterns for its cells not to saturate.
+/// Returns the confidence: the smallest training count among the cells, 0 if any tile has
 /// never been trained. Missing tiles contribute nothing.
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out);
 

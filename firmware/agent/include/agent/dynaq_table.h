@@ -49,7 +49,7 @@ int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
 void dynaq_clear(dynaq_table_t *t);
 
 /// Model(s, a) <- s', r (Fig. 5 step e).
-void dynaq_record(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                   bool terminal);
 
 /// Fig. 5 step f: a random previously observed state, then a random action previously taken in

@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: a gridworld (Sutton & Barto's Dyna maze and friends): map parser, moves, shortest paths.
+#ifndef MAZE_MAZE_H
+#define MAZE_MAZE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "agent/space.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Map text format, one row per line:
+///   `#` blocked, `.` free, `S` a start (one or more), `G` a goal (terminal; one or more).
+/// Lines end in '\n' or "\r\n"; the last line's ending is optional; empty lines at the end are
+/// ignored. Every row must have the same width. Every start must reach some goal.
+///
+/// Limits, so that garbage can never make the parser crash, hang or overflow: at most
+/// MAZE_MAX_ROWS x MAZE_MAX_COLS cells and MAZE_MAX_FILE_BYTES bytes. 64 x 64 is 12 state
+/// bits: exactly the 4,096 dense Q rows of the "maze" agent profile.
+#define MAZE_MAX_ROWS 64
+#define MAZE_MAX_COLS 64
+#define MAZE_MAX_CELLS (MAZE_MAX_ROWS * MAZE_MAX_COLS)
+#define MAZE_MAX_FILE_BYTES 16384u
+
+/// The four actions, numbered as the agent sees them.
+typedef enum maze_action {
+    MAZE_UP = 0,     ///< row - 1
+    MAZE_DOWN = 1,   ///< row + 1
+    MAZE_LEFT = 2,   ///< column - 1
+    MAZE_RIGHT = 3,  ///< column + 1
+    MAZE_N_ACTIONS = 4
+} maze_action_t;
+
+/// What a cell holds.
+typedef enum maze_cell {
+    MAZE_FREE = 0,
+    MAZE_WALL = 1,
+    MAZE_START = 2,  ///< free, and an episode may begin here
+    MAZE_GOAL = 3    ///< free and terminal
+} maze_cell_t;
+
+/// A cell's position, both counted from 0: row 0 is the file's first line, column 0 its first
+/// character.
+typedef struct maze_pos {
+    uint8_t row;
+    uint8_t col;
+} maze_pos_t;
+
+/// Distance of a cell from which no goal can be reached (a wall, or a walled-off cell).
+#define MAZE_UNREACHABLE UINT16_MAX
+
+/// A parsed map. Fixed size (about 45 KB), no pointers: copy it, keep it static or on the heap.
+typedef struct maze {
+    uint16_t rows;  ///< 1..MAZE_MAX_ROWS
+    uint16_t cols;  ///< 1..MAZE_MAX_COLS
+    uint8_t cell[MAZE_MAX_ROWS][MAZE_MAX_COLS];  ///< maze_cell_t
+    /// Steps of a shortest path from each cell to the nearest goal (0 on a goal), or
+    /// MAZE_UNREACHABLE.
+    uint16_t dist[MAZE_MAX_ROWS][MAZE_MAX_COLS];
+    uint16_t n_starts;
+    uint16_t n_goals;
+    maze_pos_t starts[MAZE_MAX_CELLS];  ///< in reading order
+} maze_t;
+
+/// Where and why a map was refused.
+typedef struct maze_error {
+    int line;           ///< 1-based line of the offending character or cell; 1 for the whole file
+    int column;         ///< 1-based column (byte) on that line; 1 for the whole file
+    char what[128];     ///< the reason alone, e.g. "unknown character 'x'"
+    char message[512];  ///< the whole one-line report: "<file>:<line>:<column>: <what>"
+} maze_error_t;
+
+/// Parses `len` bytes of map text (any bytes: NULs, binary, no terminator needed). `file` names
+/// the map in the error report (NULL: "<map>").
+/// Returns 0 with *m filled in, or -1 with *err filled in (and *m unspecified).
+int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_error_t *err);
+
+/// One move from `pos` (which must be a free cell). A move into a wall or off the map leaves the
+/// agent where it was. Returns true when the new cell is a goal (the episode ends there).
+bool maze_move(const maze_t *m, maze_pos_t pos, uint8_t action, maze_pos_t *next);
+
+/// One environment step: maze_move() plus the reward, `goal_reward` for the step that enters a
+/// goal and `step_reward` for every other step (Sutton & Barto: 0 and +1).
+/// Returns true when the episode ends (a goal was reached).
+bool maze_step(const maze_t *m, maze_pos_t pos, uint8_t action, float step_reward,
+               float goal_reward, maze_pos_t *next, float *reward);
+
+/// True if `pos` is a goal.
+bool maze_is_goal(const maze_t *m, maze_pos_t pos);
+
+/// Shortest path length from `pos` to the nearest goal, or MAZE_UNREACHABLE.
+uint16_t maze_shortest_from(const maze_t *m, maze_pos_t pos);
+
+/// The longest and the mean, over the starts, of their shortest paths to a goal: with one start
+/// (the Dyna maze: 14) both are that start's.
+uint16_t maze_shortest_max(const maze_t *m);
+double maze_shortest_mean(const maze_t *m);
+
+/// Bits of the row and column components: ceil(log2(n)), at least 1.
+uint8_t maze_row_bits(const maze_t *m);
+uint8_t maze_col_bits(const maze_t *m);
+
+/// The agent's view of the maze: component 0 the row, component 1 the column, exact tiles
+/// (tile_shift 0: a wall makes neighbouring cells unlike each other), nothing circular or
+/// absolute, four actions.
+void maze_space(const maze_t *m, agent_space_t *sp);
+
+/// The packed agent state of a cell under maze_space(): the row in the low bits, the column
+/// above them (space.h's layout: component 0 in the lowest bits).
+agent_state_t maze_state(const maze_t *m, maze_pos_t pos);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // MAZE_MAZE_H

@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim: the subcommands main() dispatches to, one file each (cmd_<name>.cpp).
+#ifndef DYNAQPC_SIM_COMMANDS_H
+#define DYNAQPC_SIM_COMMANDS_H
+
+#include <string>
+#include <vector>
+
+namespace dynaqpc {
+
+/// A subcommand: `program` is argv[0]'s name for messages, `args` what follows the subcommand's
+/// name. Returns the process exit status (options.h's ExitStatus). Usage problems print one line
+/// on stderr and return kExitUsage; `--help` prints usage on stdout and returns kExitOk.
+using CommandFn = int (*)(const std::string &program, const std::vector<std::string> &args);
+
+struct Command {
+    const char *name;
+    const char *summary;
+    CommandFn run;
+};
+
+/// `maze`: gridworld experiments (cmd_maze.cpp).
+int cmd_maze(const std::string &program, const std::vector<std::string> &args);
+
+}  // namespace dynaqpc
+
+#endif  // DYNAQPC_SIM_COMMANDS_H
