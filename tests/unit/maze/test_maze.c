@@ -156,7 +156,7 @@ static void test_error_unknown_character(void **state)
     (void)state;
     assert_error_at_("S........\n.........\n......x..\n........G\n", 3, 7,
                      "unknown character 'x'");
-    assert(strncmp(err_.message, "maps/x.txt:3:7: unknown character 'x'", 37) == 0);
+    assert_true(strncmp(err_.message, "maps/x.txt:3:7: unknown character 'x'", 37) == 0);
     assert_error_at_("S. G\n", 1, 3, "unknown character ' '");
     assert_error_at_("S.\t.G\n", 1, 3, "'\\t'");
     assert_error_at_("S.G\n.\xc3\xa9.\n", 2, 2, "'\\xc3'");

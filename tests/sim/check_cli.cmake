@@ -1,0 +1,122 @@
+# SPDX-License-Identifier: MIT
+# Runs dynaqpc-sim and checks what it did. Used by the sim.* tests (tests/sim/CMakeLists.txt):
+#
+#   cmake -DSIM=<exe> -DWORK=<scratch dir> -DMODE=<mode> [checks] -P check_cli.cmake -- <args>...
+#
+# "@WORK@" in an argument becomes the scratch directory, which starts empty. Modes:
+#   same  run the arguments twice, adding "--csv @WORK@/a.csv" and then "--csv @WORK@/b.csv":
+#         both succeed, the CSVs are byte-identical (and so is stdout), LINES lines each.
+#   ok    run once: exit 0; STDOUT / STDERR regexes match; with CSV=<name>, @WORK@/<name> has
+#         LINES lines.
+#   fail  run once: exit EXIT (default 2), stdout empty, stderr exactly one line matching STDERR,
+#         and nothing left in @WORK@ (no half-written CSV).
+cmake_minimum_required(VERSION 3.25)
+
+foreach(var SIM WORK MODE)
+    if(NOT DEFINED ${var})
+        message(FATAL_ERROR "check_cli.cmake: -D${var}=... missing")
+    endif()
+endforeach()
+
+set(args "")
+set(after_dashes FALSE)
+math(EXPR last "${CMAKE_ARGC} - 1")
+foreach(i RANGE ${last})
+    if(after_dashes)
+        string(REPLACE "@WORK@" "${WORK}" arg "${CMAKE_ARGV${i}}")
+        list(APPEND args "${arg}")
+    elseif("${CMAKE_ARGV${i}}" STREQUAL "--")
+        set(after_dashes TRUE)
+    endif()
+endforeach()
+
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+
+function(count_lines text out)
+    string(REGEX MATCHALL "\n" newlines "${text}")
+    list(LENGTH newlines n)
+    set(${out} ${n} PARENT_SCOPE)
+endfunction()
+
+# run(<prefix> <extra args>...): sets <prefix>_rc, <prefix>_out, <prefix>_err.
+function(run prefix)
+    execute_process(COMMAND "${SIM}" ${args} ${ARGN}
+        RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+    string(REPLACE ";" "," shown "${args};${ARGN}")
+    message(STATUS "dynaqpc-sim ${shown}\n  -> exit ${rc}\n  stderr: ${err}")
+    set(${prefix}_rc "${rc}" PARENT_SCOPE)
+    set(${prefix}_out "${out}" PARENT_SCOPE)
+    set(${prefix}_err "${err}" PARENT_SCOPE)
+endfunction()
+
+function(expect_lines file n)
+    if(NOT EXISTS "${file}")
+        message(FATAL_ERROR "no file ${file}")
+    endif()
+    if(DEFINED LINES)
+        file(READ "${file}" text)
+        count_lines("${text}" got)
+        if(NOT got EQUAL n)
+            message(FATAL_ERROR "${file}: ${got} lines, expected ${n}")
+        endif()
+    endif()
+endfunction()
+
+function(expect_match what text regex)
+    if(DEFINED regex AND NOT "${regex}" STREQUAL "")
+        if(NOT "${text}" MATCHES "${regex}")
+            message(FATAL_ERROR "${what} does not match '${regex}':\n${text}")
+        endif()
+    endif()
+endfunction()
+
+if(MODE STREQUAL "same")
+    run(a --csv "${WORK}/a.csv")
+    run(b --csv "${WORK}/b.csv")
+    if(NOT a_rc EQUAL 0 OR NOT b_rc EQUAL 0)
+        message(FATAL_ERROR "exit ${a_rc} and ${b_rc}, expected 0")
+    endif()
+    expect_lines("${WORK}/a.csv" "${LINES}")
+    execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${WORK}/a.csv" "${WORK}/b.csv"
+        RESULT_VARIABLE same)
+    if(NOT same EQUAL 0)
+        message(FATAL_ERROR "same seed, different CSVs: ${WORK}/a.csv ${WORK}/b.csv")
+    endif()
+    if(NOT "${a_out}" STREQUAL "${b_out}")
+        message(FATAL_ERROR "same seed, different summaries:\n${a_out}\n---\n${b_out}")
+    endif()
+    expect_match("stdout" "${a_out}" "${STDOUT}")
+elseif(MODE STREQUAL "ok")
+    run(a)
+    if(NOT a_rc EQUAL 0)
+        message(FATAL_ERROR "exit ${a_rc}, expected 0")
+    endif()
+    expect_match("stdout" "${a_out}" "${STDOUT}")
+    expect_match("stderr" "${a_err}" "${STDERR}")
+    if(DEFINED CSV)
+        expect_lines("${WORK}/${CSV}" "${LINES}")
+    endif()
+elseif(MODE STREQUAL "fail")
+    if(NOT DEFINED EXIT)
+        set(EXIT 2)
+    endif()
+    run(a)
+    if(NOT a_rc EQUAL EXIT)
+        message(FATAL_ERROR "exit ${a_rc}, expected ${EXIT}")
+    endif()
+    if(NOT "${a_out}" STREQUAL "")
+        message(FATAL_ERROR "expected nothing on stdout, got:\n${a_out}")
+    endif()
+    count_lines("${a_err}" n)
+    if(NOT n EQUAL 1 OR NOT "${a_err}" MATCHES "\n$")
+        message(FATAL_ERROR "expected exactly one line on stderr, got ${n}:\n${a_err}")
+    endif()
+    expect_match("stderr" "${a_err}" "${STDERR}")
+    file(GLOB left "${WORK}/*")
+    if(left)
+        message(FATAL_ERROR "files left behind: ${left}")
+    endif()
+else()
+    message(FATAL_ERROR "check_cli.cmake: unknown MODE '${MODE}'")
+endif()
