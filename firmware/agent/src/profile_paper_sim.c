@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: the static storage of the "paper-sim" agent profile (its size is the agent's RAM).
+// dynaqpc: the static storage of the "paper-sim" agent profile and its agent: this object's size is the agent's RAM.
 #include "agent/agent_profiles.h"
 
 static agent_memory_paper_sim_t memory_;
 
 const agent_storage_t agent_storage_paper_sim = AGENT_STORAGE_OF(memory_);
+
+agent_t agent_paper_sim;

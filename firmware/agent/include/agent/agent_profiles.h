@@ -79,11 +79,15 @@ FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC
                      FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TABLE_STATES),
                  maze_tables_pow2);
 
-/// The storage of each profile, one static instance each, defined in its own object file so that
-/// an image links only the profile it uses.
+/// The storage of each profile and an agent to run on it, one static instance each, defined in
+/// its own object file so that an image links only the profile it uses and the size report of
+/// that object is the whole agent's RAM.
 extern const agent_storage_t agent_storage_maze;
 extern const agent_storage_t agent_storage_paper_lab;
 extern const agent_storage_t agent_storage_paper_sim;
+extern agent_t agent_maze;
+extern agent_t agent_paper_lab;
+extern agent_t agent_paper_sim;
 
 #ifdef __cplusplus
 }
