@@ -61,6 +61,12 @@ demo() {
         "$bin/dynaqpc-sim" maze --map dyna-maze --agent "$agent" --runs 30 --episodes 50 \
             --planning 5 --seed 1 --csv "results/dyna-maze-$agent.csv"
     done
+    log "first episode whose mean over the 30 runs is <= 20 steps (optimal: 14; Sutton & Barto's Dyna-Q reference: 6)"
+    for agent in q dyna-q dyna-qpc; do
+        awk -F, -v agent="$agent" 'NR > 1 { sum[$3] += $4; n[$3]++ }
+            END { for (e = 1; e in sum; e++) if (sum[e] / n[e] <= 20) { printf "  %-9s %d\n", agent, e; exit }
+                  printf "  %-9s never\n", agent }' "results/dyna-maze-$agent.csv"
+    done
     log "CSV files are in results/"
 }
 

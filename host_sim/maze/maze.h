@@ -53,7 +53,7 @@ typedef struct maze_pos {
 /// Distance of a cell from which no goal can be reached (a wall, or a walled-off cell).
 #define MAZE_UNREACHABLE UINT16_MAX
 
-/// A parsed map. Fixed size (about 45 KB), no pointers: copy it, keep it static or on the heap.
+/// A parsed map. Fixed size (about 20 KB), no pointers: copy it, keep it static or on the heap.
 typedef struct maze {
     uint16_t rows;  ///< 1..MAZE_MAX_ROWS
     uint16_t cols;  ///< 1..MAZE_MAX_COLS

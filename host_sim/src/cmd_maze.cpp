@@ -43,6 +43,7 @@ struct MazeSettings {
     std::uint32_t planning = 5;
     std::uint32_t seed = 1;
     double alpha = 0.0;
+    double plan_alpha = 0.0;
     double gamma = 0.0;
     double epsilon = 0.0;
     double theta = 0.0;
@@ -64,6 +65,7 @@ void declare(Options &o, MazeSettings &s)
 {
     const agent_params_t d = agent_default_params();
     s.alpha = d.alpha;
+    s.plan_alpha = d.plan_alpha;
     s.gamma = d.gamma;
     s.epsilon = d.epsilon;
     s.theta = d.theta;
@@ -87,6 +89,10 @@ void declare(Options &o, MazeSettings &s)
                &s.seed, 0, UINT32_MAX);
     o.add_double("--alpha", "A", "learning rate, (0, 1] (default " + fmt("%g", s.alpha) + ")",
                  &s.alpha, 0.0, 1.0, true, false);
+    o.add_double("--plan-alpha", "A",
+                 "learning rate of planning updates, (0, 1] (default " + fmt("%g", s.plan_alpha) +
+                     "; Sutton & Barto's reference uses --alpha)",
+                 &s.plan_alpha, 0.0, 1.0, true, false);
     o.add_double("--gamma", "G", "discount, [0, 1] (default " + fmt("%g", s.gamma) + ")", &s.gamma,
                  0.0, 1.0);
     o.add_double("--epsilon", "EPS",
@@ -255,21 +261,26 @@ double mean(const std::vector<double> &v)
     return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 
-// At most `most` episode numbers, evenly spread, always the first and the last.
+// At most `most` episode numbers: the first ten (where the curves differ), then the rest evenly
+// spread, the last always included.
 std::vector<std::size_t> sample_episodes(std::size_t n, std::size_t most)
 {
+    const std::size_t head = std::min<std::size_t>(10, most / 2);
     std::vector<std::size_t> out;
+    for (std::size_t e = 1; e <= n && (n <= most || e <= head); e++) {
+        out.push_back(e);
+    }
     if (n <= most) {
-        for (std::size_t e = 1; e <= n; e++) {
-            out.push_back(e);
-        }
         return out;
     }
-    for (std::size_t i = 0; i < most; i++) {
-        const std::size_t e = 1u + static_cast<std::size_t>(std::llround(
-                                       static_cast<double>(i) * static_cast<double>(n - 1u) /
-                                       static_cast<double>(most - 1u)));
-        if (out.empty() || out.back() != e) {
+    const std::size_t tail = most - head;  // spread over head + 1 .. n
+    const double span = static_cast<double>(n - head - 1u);
+    for (std::size_t i = 1; i <= tail; i++) {
+        const std::size_t e =
+            head + 1u +
+            static_cast<std::size_t>(std::llround(span * static_cast<double>(i) /
+                                                   static_cast<double>(tail)));
+        if (out.back() != e) {
             out.push_back(e);
         }
     }
@@ -327,7 +338,8 @@ void print_summary(std::ostream &out, const MazeSettings &s, const std::string &
             updates.push_back(static_cast<double>(r.updates));
             capped += r.optimal ? 0u : 1u;
         }
-        out << "              mean        median\n";
+        std::snprintf(buf, sizeof buf, "%-10s  %12s  %12s\n", "", "mean", "median");
+        out << buf;
         const std::pair<const char *, const std::vector<double> *> rows[] = {
             {"episodes", &eps}, {"real_steps", &steps}, {"updates", &updates}};
         for (const auto &r : rows) {
@@ -436,7 +448,7 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
     // Everything is checked before the CSV is opened.
     const std::string map_path = resolve_map(s.map);
     const std::string text = read_map(map_path);
-    // maze_t is ~45 KB: keep it off the stack.
+    // maze_t is ~20 KB: keep it off the stack.
     auto maze = std::make_unique<maze_t>();
     maze_error_t err;
     if (maze_parse(maze.get(), text.data(), text.size(), map_path.c_str(), &err) != 0) {
@@ -448,6 +460,7 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
     cfg.maze = maze.get();
     cfg.kind = kind_of(s.agent);
     cfg.params.alpha = static_cast<float>(s.alpha);
+    cfg.params.plan_alpha = static_cast<float>(s.plan_alpha);
     cfg.params.gamma = static_cast<float>(s.gamma);
     cfg.params.epsilon = static_cast<float>(s.epsilon);
     cfg.params.theta = static_cast<float>(s.theta);

@@ -201,17 +201,36 @@ void Options::parse(const std::vector<std::string> &args)
 void Options::print_usage(std::ostream &out, const std::string &program) const
 {
     out << "Usage: " << program << ' ' << command_ << " [options]\n" << summary_ << "\n\nOptions:\n";
+    std::vector<std::pair<std::string, std::string>> rows;
     std::size_t width = 0;
-    std::vector<std::string> heads;
     for (const Spec &s : specs_) {
-        heads.push_back(s.name + (s.metavar.empty() ? "" : " " + s.metavar));
-        width = std::max(width, heads.back().size());
+        rows.emplace_back(s.name + (s.metavar.empty() ? "" : " " + s.metavar), s.help);
+        width = std::max(width, rows.back().first.size());
     }
-    heads.push_back("--help");
-    for (std::size_t i = 0; i < heads.size(); i++) {
-        const std::string &help = i < specs_.size() ? specs_[i].help : "print this help and exit";
-        out << "  " << heads[i] << std::string(width + 2 - std::min(width, heads[i].size()), ' ')
-            << help << '\n';
+    rows.emplace_back("--help", "print this help and exit");
+    // Help text wrapped to 100 columns, continuation lines under the text.
+    const std::size_t indent = 2 + width + 2;
+    const std::size_t text_width = indent < 60 ? 100 - indent : 40;
+    for (const auto &row : rows) {
+        out << "  " << row.first << std::string(width + 2 - row.first.size(), ' ');
+        std::size_t col = 0;
+        std::size_t i = 0;
+        const std::string &help = row.second;
+        while (i < help.size()) {
+            const std::size_t end = std::min(help.find(' ', i), help.size());
+            const std::string word = help.substr(i, end - i);
+            if (col != 0 && col + 1 + word.size() > text_width) {
+                out << '\n' << std::string(indent, ' ');
+                col = 0;
+            } else if (col != 0) {
+                out << ' ';
+                col++;
+            }
+            out << word;
+            col += word.size();
+            i = end + 1;
+        }
+        out << '\n';
     }
 }
 
