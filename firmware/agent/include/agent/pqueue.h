@@ -49,7 +49,8 @@ typedef struct pqueue {
 /// Storage for a queue of `cap` items; the index has 2 * cap slots (load factor <= 0.5).
 #define PQ_INDEX_SLOTS(cap) (2u * (cap))
 
-/// Prepares an empty queue over the given arrays. `capacity` must be a power of two >= 2;
+/// Prepares an empty queue over the given arrays. `capacity` must be a power of two in
+/// [2, 2^30];
 /// `index_keys` and `index_pos` must each hold PQ_INDEX_SLOTS(capacity) entries.
 /// Returns FW_OK or FW_ERR_INVAL.
 int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index_pos,
@@ -58,12 +59,15 @@ int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index
 /// Empties the queue and zeroes its counters.
 void pq_clear(pqueue_t *pq);
 
-/// Queues `key` with `priority`, or raises the priority of the queued `key` if `priority` is
-/// higher (a lower priority leaves it unchanged). On a full queue the lowest-priority item, which
-/// may be the new one, is dropped and counted. Returns true if `key` is queued afterwards.
+/// Queues `key` with `priority` (>= 0), or raises the priority of the queued `key` if `priority`
+/// is higher (a lower or equal one leaves it unchanged). On a full queue the lowest-priority
+/// item is dropped and counted; on a tie with the lowest, the new item is the one dropped.
+/// PQ_NO_KEY and a NaN priority are refused with no counter changed.
+/// Returns true if `key` is queued afterwards.
 bool pq_push(pqueue_t *pq, uint32_t key, float priority);
 
-/// Takes out the highest-priority item. Returns false if the queue is empty.
+/// Takes out the highest-priority item; either output may be NULL. Returns false, leaving the
+/// outputs untouched, if the queue is empty.
 bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority);
 
 /// The priority of `key` if queued, else a negative number. O(1) expected.
