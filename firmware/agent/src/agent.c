@@ -247,3 +247,70 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
     }
     return done;
 }
+
+// ---- Saving and restoring what was learned ----------------------------------------------------
+
+static uint32_t add_region_(agent_region_t *out, uint32_t n, void *data, uint32_t size)
+{
+    if (data != NULL && size > 0u) {
+        out[n].data = data;
+        out[n].size = size;
+        n++;
+    }
+    return n;
+}
+
+static uint32_t add_cmac_(agent_region_t *out, uint32_t n, const cmac_t *c)
+{
+    n = add_region_(out, n, c->keys, c->capacity * (uint32_t)sizeof(uint32_t));
+    n = add_region_(out, n, c->counts, c->capacity);
+    return add_region_(out, n, c->weights,
+                       c->capacity * c->cfg.n_outputs * (uint32_t)sizeof(int16_t));
+}
+
+uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS])
+{
+    uint32_t n = 0;
+    const qstore_t *q = &ag->q;
+    n = add_region_(out, n, q->q, q->capacity * q->n_actions * (uint32_t)sizeof(float));
+    if (!q->dense) {
+        n = add_region_(out, n, q->keys, q->capacity * (uint32_t)sizeof(uint32_t));
+    }
+    if (ag->kind == AGENT_DYNA_QPC) {
+        n = add_cmac_(out, n, &ag->model.forward);
+        n = add_cmac_(out, n, &ag->model.inverse);
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        const dynaq_table_t *t = &ag->table;
+        n = add_region_(out, n, t->records, t->capacity * (uint32_t)sizeof(dynaq_record_t));
+        n = add_region_(out, n, t->index_keys,
+                        DYNAQ_INDEX_SLOTS(t->capacity) * (uint32_t)sizeof(uint32_t));
+        n = add_region_(out, n, t->index_rec,
+                        DYNAQ_INDEX_SLOTS(t->capacity) * (uint32_t)sizeof(uint32_t));
+    }
+    return n;
+}
+
+static uint32_t count_used_(const uint32_t *keys, uint32_t n)
+{
+    uint32_t used = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        used += keys[i] != UINT32_MAX;
+    }
+    return used;
+}
+
+void agent_learned_restored(agent_t *ag)
+{
+    if (!ag->q.dense) {
+        ag->q.rows_used = count_used_(ag->q.keys, ag->q.capacity);
+    }
+    if (ag->kind == AGENT_DYNA_QPC) {
+        ag->model.forward.stats.cells_used =
+            count_used_(ag->model.forward.keys, ag->model.forward.capacity);
+        ag->model.inverse.stats.cells_used =
+            count_used_(ag->model.inverse.keys, ag->model.inverse.capacity);
+        pq_clear(&ag->pq);
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        ag->table.count = count_used_(ag->table.index_keys, DYNAQ_INDEX_SLOTS(ag->table.capacity));
+    }
+}

@@ -124,6 +124,27 @@ uint32_t agent_plan(agent_t *ag, uint32_t n);
 /// Q(s, a).
 float agent_q(const agent_t *ag, agent_state_t s, uint8_t a);
 
+/// A piece of memory that holds part of what the agent learned.
+typedef struct agent_region {
+    void *data;
+    uint32_t size;  ///< bytes
+} agent_region_t;
+
+/// The most regions agent_learned_regions() lists.
+#define AGENT_MAX_REGIONS 8u
+
+/// Lists, in a fixed order for the agent's kind and storage, the memory that holds what it
+/// learned: the Q values (and their keys when hashed), and CMAC-Model and CMAC-R (Dyna-QPC) or
+/// the transition table (Dyna-Q). The priority queue is not listed: it is work in progress, not
+/// knowledge. Saving these bytes and, into an agent initialised with the same configuration,
+/// restoring them and calling agent_learned_restored() gives back the same agent.
+/// Returns the number of regions written to `out`.
+uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS]);
+
+/// Call after the regions' bytes were restored: recomputes the tables' fill counters from the
+/// restored keys and empties the priority queue. Statistics are not restored.
+void agent_learned_restored(agent_t *ag);
+
 /// Real plus planning Q updates so far.
 static inline uint64_t agent_updates(const agent_t *ag)
 {

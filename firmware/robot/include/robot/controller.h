@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the control loop's logic — episodes, real steps, rewards, safety.
+//
+// Pure logic, no I/O: each control period the application hands it what the sensors say and gets
+// back the wheel speeds to command. One real step of the agent is: observe the state, pick an
+// action, drive it for cfg->action_periods periods, (paper-lab) stop and wait for a fresh pose
+// fix, observe the outcome and its reward, learn, and pick the next action.
+#ifndef ROBOT_CONTROLLER_H
+#define ROBOT_CONTROLLER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/agent.h"
+#include "robot/robot_config.h"
+#include "robot/state_encoder.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// What the sensors say at the start of a control period.
+typedef struct robot_sense {
+    uint64_t now_us;
+    bool pose_ok;            ///< `pose` is a usable fix (Cricket: fresh and taken while still)
+    robot_pose_t pose;
+    uint64_t pose_time_us;   ///< when the pose was measured
+    float range_m[ROBOT_MAX_RANGES];
+    uint8_t n_ranges;
+    bool bump;               ///< a bumper touched something during the last period
+    bool bus_ok;             ///< the motor controller has been heard within cfg->bus_timeout_us
+} robot_sense_t;
+
+typedef enum robot_mode {
+    ROBOT_MODE_IDLE = 0,       ///< stopped, waiting for the start of an episode
+    ROBOT_MODE_ACTING = 1,     ///< driving the current action
+    ROBOT_MODE_WAIT_FIX = 2,   ///< stopped after an action (or at the start), waiting for a pose fix
+    ROBOT_MODE_SAFE_STOP = 3,  ///< stopped: the pose or the bus went silent; resumes when back
+} robot_mode_t;
+
+/// One finished episode.
+typedef struct robot_episode_report {
+    uint32_t episode;       ///< counting from 1
+    uint32_t steps;         ///< real steps
+    float reward;           ///< total
+    bool reached_goal;
+    uint32_t bumps;
+    uint64_t start_us, end_us;
+} robot_episode_report_t;
+
+/// The last real step, for telemetry.
+typedef struct robot_step_report {
+    agent_state_t state;    ///< the state observed
+    uint8_t action;         ///< the action chosen there
+    float reward;           ///< the reward that led into it
+    uint32_t step;          ///< within the episode, from 1
+} robot_step_report_t;
+
+typedef struct robot_ctrl {
+    const robot_config_t *cfg;
+    agent_t *agent;
+    robot_mode_t mode;
+    robot_mode_t resume_mode;  // the mode a safe stop interrupted
+    bool have_s;               // s and a are the pending step
+    agent_state_t s;
+    uint8_t a;
+    uint8_t periods_left;
+    bool bump_latched;
+    uint64_t stopped_at_us;    // when the wheels stopped after the last action
+    uint32_t step, episode, bumps;
+    float episode_reward;
+    uint64_t episode_start_us;
+    float v_left, v_right;     // the wheel speeds being commanded
+    uint32_t safe_stops;       ///< times a safe stop was entered
+    bool step_done;            ///< a real step happened in the last period (see last_step)
+    robot_step_report_t last_step;
+    bool episode_done;         ///< an episode ended in the last period (see last_episode)
+    robot_episode_report_t last_episode;
+} robot_ctrl_t;
+
+/// Prepares the controller, idle. The agent must be initialised for cfg's space.
+void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent);
+
+/// Starts an episode at the next control period (the robot stands at its start pose). If an
+/// episode is running it is abandoned without a final update. Context: thread.
+void robot_ctrl_start_episode(robot_ctrl_t *c);
+
+/// Ends any episode without learning from its last step and stops the wheels.
+void robot_ctrl_stop(robot_ctrl_t *c);
+
+/// One control period: reads the sensors, advances the episode, returns the wheel speeds.
+void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *sense, float *v_left, float *v_right);
+
+/// One planning update in idle time, when cfg->planning is 0 ("as many as idle allows"). With a
+/// fixed planning number the updates run right after each real step's learning, as in the
+/// paper's Fig. 3, and this returns false. Returns false when there is nothing to plan on.
+bool robot_ctrl_plan(robot_ctrl_t *c);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // ROBOT_CONTROLLER_H

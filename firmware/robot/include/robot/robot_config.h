@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: what one robot and its task look like to the firmware.
+//
+// One const robot_config_t per scenario. On the MCU it is compiled in (robot_config_paper_lab,
+// robot_config_paper_sim); the simulator builds one from a scenario file. Everything the
+// firmware needs to turn sensor readings into the agent's state and actions into wheel speeds
+// is here, so the same code runs both scenarios.
+#ifndef ROBOT_CONFIG_H
+#define ROBOT_CONFIG_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/agent.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Range sensors on the robot (the IR board's 3, the sonar ring's 16).
+#define ROBOT_MAX_RANGES 16u
+/// Bits of the range-sensor code in the state.
+#define ROBOT_MAX_CODE_BITS 4u
+/// Cricket beacons the firmware knows the positions of.
+#define ROBOT_MAX_BEACONS 8u
+
+/// The actions, in the agent's numbering.
+typedef enum robot_action {
+    ROBOT_FORWARD = 0,
+    ROBOT_BACKWARD = 1,
+    ROBOT_TURN_LEFT = 2,   ///< counter-clockwise
+    ROBOT_TURN_RIGHT = 3,
+    ROBOT_N_ACTIONS = 4,
+} robot_action_t;
+
+/// Where the pose comes from.
+typedef enum robot_pose_source {
+    ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle
+    ROBOT_POSE_CRICKET = 1,  ///< paper-lab: x, y trilaterated from Cricket ranges; heading from the gyro
+} robot_pose_source_t;
+
+typedef struct robot_beacon {
+    uint32_t id;     ///< the low 32 bits of the beacon's ID field
+    float x, y, z;   ///< metres, arena frame
+} robot_beacon_t;
+
+typedef struct robot_config {
+    const char *name;  ///< "paper-sim", "paper-lab", or the scenario file's name
+
+    // The arena and the goal (metres, arena frame: origin at a corner, x along the width).
+    float arena_w, arena_h;
+    float goal_x, goal_y, goal_r;
+
+    // State encoding: x, y, heading and the range code, in this many bits each (component 0 is x).
+    uint8_t bits_x, bits_y, bits_heading, bits_code;
+    /// Code bit k is set when any range in rays_of_bit[k] (a bit mask of sensors) reads below
+    /// code_threshold_m[k]: an obstacle is near on that side.
+    uint32_t rays_of_bit[ROBOT_MAX_CODE_BITS];
+    float code_threshold_m[ROBOT_MAX_CODE_BITS];
+    uint8_t n_ranges;
+    /// CMAC tile width of x, y, heading, code as a power of two (0: exact). Wider tiles let the
+    /// models generalise a step's effect to neighbouring cells at the cost of more cells.
+    uint8_t tile_shift[4];
+
+    // Actions: one real step drives the wheels for action_periods control periods.
+    float step_m;          ///< forward / backward distance of one step
+    float turn_rad;        ///< turn of one step
+    float track_m;         ///< wheel separation
+    uint8_t action_periods;
+    /// After the action, wait with the wheels stopped for a fresh pose fix before observing
+    /// (the paper's lab robot waited for a stable Cricket fix). 0: observe at once.
+    uint8_t wait_for_fix;
+    uint32_t period_us;    ///< control period, 192,000 in the paper
+
+    // Rewards.
+    float reward_goal, reward_bump, reward_step;
+
+    // Learning.
+    agent_kind_t agent;
+    agent_params_t params;
+    /// Planning updates per real step; 0 = as many as the idle time allows (the firmware default).
+    uint32_t planning;
+    uint32_t step_cap;     ///< real steps after which an episode ends without the goal
+
+    // Pose source and its sensors.
+    robot_pose_source_t pose_source;
+    uint8_t n_beacons;
+    robot_beacon_t beacons[ROBOT_MAX_BEACONS];
+    float listener_z;      ///< height of the robot's Cricket listener
+
+    // Safety: stop the wheels when the pose or the bus has been silent this long.
+    uint32_t pose_timeout_us;
+    uint32_t bus_timeout_us;
+} robot_config_t;
+
+/// The paper's two scenarios, as shipped in host_sim/scenarios/ (docs/scenarios.md).
+extern const robot_config_t robot_config_paper_sim;
+extern const robot_config_t robot_config_paper_lab;
+
+/// Checks a configuration's ranges and relations. Returns FW_OK or FW_ERR_INVAL.
+int robot_config_check(const robot_config_t *cfg);
+
+/// The agent's state space for this robot: x, y, heading (circular), range code (absolute).
+void robot_config_space(const robot_config_t *cfg, agent_space_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // ROBOT_CONFIG_H

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: episodes and real steps.
+#include "robot/controller.h"
+
+#include <stddef.h>
+
+void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
+{
+    *c = (robot_ctrl_t){0};
+    c->cfg = cfg;
+    c->agent = agent;
+    c->mode = ROBOT_MODE_IDLE;
+}
+
+static void wheels_(robot_ctrl_t *c, float vl, float vr)
+{
+    c->v_left = vl;
+    c->v_right = vr;
+}
+
+void robot_ctrl_start_episode(robot_ctrl_t *c)
+{
+    c->episode++;
+    c->step = 0;
+    c->bumps = 0;
+    c->episode_reward = 0.0f;
+    c->have_s = false;
+    c->bump_latched = false;
+    c->episode_start_us = UINT64_MAX;  // set at the first period
+    c->stopped_at_us = 0;
+    c->mode = ROBOT_MODE_WAIT_FIX;
+    wheels_(c, 0.0f, 0.0f);
+}
+
+void robot_ctrl_stop(robot_ctrl_t *c)
+{
+    c->mode = ROBOT_MODE_IDLE;
+    c->have_s = false;
+    wheels_(c, 0.0f, 0.0f);
+}
+
+static void start_action_(robot_ctrl_t *c, agent_state_t s)
+{
+    c->s = s;
+    c->a = agent_act(c->agent, s);
+    c->have_s = true;
+    c->bump_latched = false;
+    c->periods_left = c->cfg->action_periods;
+    c->mode = ROBOT_MODE_ACTING;
+    float vl, vr;
+    robot_action_wheels(c->cfg, c->a, &vl, &vr);
+    wheels_(c, vl, vr);
+}
+
+static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
+{
+    c->episode_done = true;
+    c->last_episode = (robot_episode_report_t){
+        .episode = c->episode,
+        .steps = c->step,
+        .reward = c->episode_reward,
+        .reached_goal = reached_goal,
+        .bumps = c->bumps,
+        .start_us = c->episode_start_us,
+        .end_us = now,
+    };
+    robot_ctrl_stop(c);
+}
+
+// The outcome of the pending step (or, at an episode's start, the first state) is observable.
+static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
+{
+    const robot_config_t *cfg = c->cfg;
+    const agent_state_t s_next =
+        robot_encode_state(cfg, &in->pose, robot_range_code(cfg, in->range_m, in->n_ranges));
+    if (!c->have_s) {
+        start_action_(c, s_next);  // the episode's first state: nothing to learn yet
+        c->last_step = (robot_step_report_t){s_next, c->a, 0.0f, 0};
+        c->step_done = true;
+        return;
+    }
+    const bool goal = robot_in_goal(cfg, &in->pose);
+    // The goal outranks a bump on the way in: reaching it ends the episode either way.
+    const float r = goal ? cfg->reward_goal : c->bump_latched ? cfg->reward_bump : cfg->reward_step;
+    c->bumps += c->bump_latched ? 1u : 0u;
+    agent_observe(c->agent, c->s, c->a, r, s_next, goal);
+    c->step++;
+    c->episode_reward += r;
+    if (cfg->planning > 0u) {
+        (void)agent_plan(c->agent, cfg->planning);  // Fig. 3: N updates, then the next action
+    }
+    if (goal || c->step >= cfg->step_cap) {
+        c->last_step = (robot_step_report_t){s_next, 0, r, c->step};
+        c->step_done = true;
+        end_episode_(c, in->now_us, goal);
+        return;
+    }
+    start_action_(c, s_next);
+    c->last_step = (robot_step_report_t){s_next, c->a, r, c->step};
+    c->step_done = true;
+}
+
+static bool pose_usable_(const robot_ctrl_t *c, const robot_sense_t *in)
+{
+    return in->pose_ok && in->now_us - in->pose_time_us <= c->cfg->pose_timeout_us;
+}
+
+void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, float *v_right)
+{
+    c->step_done = false;
+    c->episode_done = false;
+    if (c->mode != ROBOT_MODE_IDLE) {
+        if (c->episode_start_us == UINT64_MAX) {
+            c->episode_start_us = in->now_us;
+        }
+        c->bump_latched = c->bump_latched || in->bump;
+        // Safety first: without the bus or a recent pose the robot does not know where it is
+        // going. A pose can be missing for a while when waiting for a fix; not when driving.
+        const bool pose_lost = !in->pose_ok && in->now_us - in->pose_time_us > c->cfg->pose_timeout_us;
+        if (!in->bus_ok || pose_lost) {
+            if (c->mode != ROBOT_MODE_SAFE_STOP) {
+                c->safe_stops++;
+                c->resume_mode = c->mode;
+                c->mode = ROBOT_MODE_SAFE_STOP;
+            }
+            wheels_(c, 0.0f, 0.0f);
+        } else if (c->mode == ROBOT_MODE_SAFE_STOP) {
+            // Back: the interrupted action's outcome is unknown, so it is not learned from.
+            c->have_s = false;
+            c->mode = ROBOT_MODE_WAIT_FIX;
+            c->stopped_at_us = in->now_us;
+        }
+    }
+    switch (c->mode) {
+    case ROBOT_MODE_ACTING:
+        if (c->periods_left > 0u) {
+            c->periods_left--;
+        }
+        if (c->periods_left == 0u) {
+            if (c->cfg->wait_for_fix) {
+                wheels_(c, 0.0f, 0.0f);
+                c->stopped_at_us = in->now_us;
+                c->mode = ROBOT_MODE_WAIT_FIX;
+            } else if (pose_usable_(c, in)) {
+                observe_(c, in);
+            } else {
+                wheels_(c, 0.0f, 0.0f);  // no pose to observe the outcome with: stop and wait
+                c->stopped_at_us = in->now_us;
+                c->mode = ROBOT_MODE_WAIT_FIX;
+            }
+        }
+        break;
+    case ROBOT_MODE_WAIT_FIX:
+        if (pose_usable_(c, in) && in->pose_time_us >= c->stopped_at_us) {
+            observe_(c, in);
+        }
+        break;
+    case ROBOT_MODE_IDLE:
+    case ROBOT_MODE_SAFE_STOP:
+    default:
+        wheels_(c, 0.0f, 0.0f);
+        break;
+    }
+    *v_left = c->v_left;
+    *v_right = c->v_right;
+}
+
+bool robot_ctrl_plan(robot_ctrl_t *c)
+{
+    if (c->cfg->planning > 0u) {
+        return false;
+    }
+    return agent_plan_step(c->agent);
+}

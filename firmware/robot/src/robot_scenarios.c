@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the paper's two scenarios, compiled in for the MCU images.
+// They must match host_sim/scenarios/*.scn (a test compares them); docs/scenarios.md says why
+// each value is what it is.
+#include "robot/robot_config.h"
+
+#define PI_F 3.14159265358979f
+
+
+
+const robot_config_t robot_config_paper_sim = {
+    .name = "paper-sim",
+    .arena_w = 8.0f, .arena_h = 8.0f,
+    .goal_x = 4.0f, .goal_y = 4.0f, .goal_r = 0.5f,
+    .bits_x = 5, .bits_y = 5, .bits_heading = 4, .bits_code = 4,
+    // 16 sonars, sonar i at 22.5 * i degrees: front, left, back, right sectors of 3 sonars each.
+    .rays_of_bit = {0xC001u, 0x001Cu, 0x01C0u, 0x1C00u},
+    .code_threshold_m = {0.5f, 0.5f, 0.5f, 0.5f},
+    .n_ranges = 16,
+    .tile_shift = {0, 0, 0, 0},
+    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.40f,
+    .action_periods = 1, .wait_for_fix = 0, .period_us = 192000u,
+    .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
+    .agent = AGENT_DYNA_QPC,
+    .params = {0.9f, 0.9f, 0.9f, 0.01f, 1e-3f, 0.999f, 16, 1},
+    .planning = 5,
+    .step_cap = 5000,
+    .pose_source = ROBOT_POSE_GPS,
+    .n_beacons = 0,
+    .pose_timeout_us = 1000000u,
+    .bus_timeout_us = 500000u,
+};
+
+const robot_config_t robot_config_paper_lab = {
+    .name = "paper-lab",
+    .arena_w = 4.3f, .arena_h = 3.2f,
+    .goal_x = 3.7f, .goal_y = 2.6f, .goal_r = 0.35f,
+    .bits_x = 3, .bits_y = 3, .bits_heading = 4, .bits_code = 3,
+    // IR 0 front-left, 1 front, 2 front-right: one bit each, obstacle within 30 cm.
+    .rays_of_bit = {0x1u, 0x2u, 0x4u, 0u},
+    .code_threshold_m = {0.30f, 0.30f, 0.30f, 0.0f},
+    .n_ranges = 3,
+    .tile_shift = {0, 0, 0, 0},
+    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.20f,
+    .action_periods = 5, .wait_for_fix = 1, .period_us = 192000u,
+    .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
+    .agent = AGENT_DYNA_QPC,
+    .params = {0.9f, 0.9f, 0.9f, 0.1f, 1e-3f, 0.999f, 16, 1},
+    .planning = 5,
+    .step_cap = 200,
+    .pose_source = ROBOT_POSE_CRICKET,
+    .n_beacons = 4,
+    .beacons = {{1, 0.5f, 0.5f, 2.5f}, {2, 3.8f, 0.5f, 2.5f}, {3, 3.8f, 2.7f, 2.5f},
+                {4, 0.5f, 2.7f, 2.5f}},
+    .listener_z = 0.15f,
+    .pose_timeout_us = 5000000u,
+    .bus_timeout_us = 500000u,
+};
