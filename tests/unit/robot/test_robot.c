@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: MIT
+// Tests of the robot application's logic: state encoding, action wheels, the episode controller.
+#include "test_common.h"
+
+#include <math.h>
+
+#include "agent/agent_profiles.h"
+#include "robot/controller.h"
+#include "robot/state_encoder.h"
+
+static const robot_config_t *sim_ = &robot_config_paper_sim;
+static const robot_config_t *lab_ = &robot_config_paper_lab;
+
+static void unpack_(const robot_config_t *cfg, agent_state_t s, uint32_t comp[4])
+{
+    agent_space_t sp;
+    robot_config_space(cfg, &sp);
+    space_unpack(&sp, s, comp);
+}
+
+static void test_shipped_configs_are_valid(void **state)
+{
+    (void)state;
+    assert_int_equal(robot_config_check(sim_), FW_OK);
+    assert_int_equal(robot_config_check(lab_), FW_OK);
+    robot_config_t bad = *lab_;
+    bad.n_beacons = 2;  // no Cricket fix from two beacons
+    assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+    bad = *sim_;
+    bad.rays_of_bit[0] = 1u << 20;  // a sensor the robot does not have
+    assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+    bad = *sim_;
+    bad.goal_x = 9.0f;  // outside the arena
+    assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+    bad = *sim_;
+    bad.bits_x = 12;  // 12 + 5 + 4 + 4 = 25 bits: more than a state holds
+    assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+}
+
+static void test_position_cells_and_clamping(void **state)
+{
+    (void)state;
+    uint32_t c[4];
+    robot_pose_t p = {0.01f, 7.99f, 0.0f};
+    unpack_(sim_, robot_encode_state(sim_, &p, 0), c);
+    assert_int_equal(c[0], 0);
+    assert_int_equal(c[1], 31);
+    p = (robot_pose_t){4.0f, 0.26f, 0.0f};  // 8 m in 32 cells of 0.25 m
+    unpack_(sim_, robot_encode_state(sim_, &p, 0), c);
+    assert_int_equal(c[0], 16);
+    assert_int_equal(c[1], 1);
+    p = (robot_pose_t){-3.0f, 100.0f, 0.0f};  // outside: the edge cells
+    unpack_(sim_, robot_encode_state(sim_, &p, 0), c);
+    assert_int_equal(c[0], 0);
+    assert_int_equal(c[1], 31);
+    p = (robot_pose_t){NAN, NAN, NAN};  // never out of range
+    unpack_(sim_, robot_encode_state(sim_, &p, 0), c);
+    assert_true(c[0] < 32 && c[1] < 32 && c[2] < 16);
+}
+
+static void test_heading_sectors_wrap(void **state)
+{
+    (void)state;
+    const float pi = 3.14159265f;
+    const struct {
+        float heading;
+        uint32_t sector;
+    } cases[] = {
+        {0.0f, 0}, {0.19f, 0}, {-0.19f, 0}, {0.2f, 1}, {pi / 2.0f, 4}, {pi, 8},
+        {-pi / 2.0f, 12}, {2.0f * pi - 0.01f, 0}, {4.0f * pi + pi / 2.0f, 4}, {-7.0f * pi, 8},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        uint32_t c[4];
+        const robot_pose_t p = {1.0f, 1.0f, cases[i].heading};
+        unpack_(sim_, robot_encode_state(sim_, &p, 0), c);
+        assert_int_equal(c[2], cases[i].sector);
+    }
+}
+
+static void test_range_code_bits(void **state)
+{
+    (void)state;
+    float r[16];
+    for (int i = 0; i < 16; i++) {
+        r[i] = 2.0f;
+    }
+    assert_int_equal(robot_range_code(sim_, r, 16), 0);
+    r[0] = 0.3f;  // front
+    assert_int_equal(robot_range_code(sim_, r, 16), 1);
+    r[4] = 0.1f;  // left
+    assert_int_equal(robot_range_code(sim_, r, 16), 3);
+    r[0] = NAN;   // a broken reading claims nothing
+    r[4] = -1.0f;
+    assert_int_equal(robot_range_code(sim_, r, 16), 0);
+    float ir[3] = {0.29f, 0.5f, 0.31f};
+    assert_int_equal(robot_range_code(lab_, ir, 3), 1);
+    ir[2] = 0.05f;
+    assert_int_equal(robot_range_code(lab_, ir, 3), 5);
+}
+
+static void test_action_wheels_realise_the_step(void **state)
+{
+    (void)state;
+    float vl, vr;
+    const float t = sim_->action_periods * sim_->period_us * 1e-6f;
+    robot_action_wheels(sim_, ROBOT_FORWARD, &vl, &vr);
+    assert_float_equal(vl * t, sim_->step_m, 1e-5);
+    assert_float_equal(vr, vl, 0);
+    robot_action_wheels(sim_, ROBOT_BACKWARD, &vl, &vr);
+    assert_float_equal(vl * t, -sim_->step_m, 1e-5);
+    robot_action_wheels(sim_, ROBOT_TURN_LEFT, &vl, &vr);
+    assert_float_equal((vr - vl) / sim_->track_m * t, sim_->turn_rad, 1e-5);  // counter-clockwise
+    robot_action_wheels(sim_, ROBOT_TURN_RIGHT, &vl, &vr);
+    assert_float_equal((vr - vl) / sim_->track_m * t, -sim_->turn_rad, 1e-5);
+}
+
+// ---- The controller, driving an ideal kinematic robot ------------------------------------------
+
+typedef struct bench {
+    robot_config_t cfg;
+    robot_ctrl_t ctrl;
+    robot_sense_t sense;
+    uint64_t now;
+} bench_t;
+
+static bench_t bench_;
+
+static void bench_init_(const robot_config_t *cfg, agent_kind_t kind)
+{
+    bench_.cfg = *cfg;
+    bench_.cfg.agent = kind;
+    static agent_space_t space;
+    robot_config_space(&bench_.cfg, &space);
+    agent_config_t ac = {kind, &space, bench_.cfg.params, &agent_storage_paper_sim, 7};
+    assert_int_equal(agent_init(&agent_paper_sim, &ac), FW_OK);
+    robot_ctrl_init(&bench_.ctrl, &bench_.cfg, &agent_paper_sim);
+    bench_.now = 1000000;
+    bench_.sense = (robot_sense_t){0};
+    bench_.sense.bus_ok = true;
+    bench_.sense.pose_ok = true;
+    bench_.sense.n_ranges = bench_.cfg.n_ranges;
+    for (int i = 0; i < 16; i++) {
+        bench_.sense.range_m[i] = 2.0f;
+    }
+}
+
+// One control period: the sensors report, the controller commands, the ideal robot moves.
+static void bench_period_(void)
+{
+    robot_sense_t *in = &bench_.sense;
+    in->now_us = bench_.now;
+    in->pose_time_us = bench_.now;
+    float vl, vr;
+    robot_ctrl_period(&bench_.ctrl, in, &vl, &vr);
+    const float dt = bench_.cfg.period_us * 1e-6f;
+    const float v = 0.5f * (vl + vr);
+    in->pose.heading += (vr - vl) / bench_.cfg.track_m * dt;
+    in->pose.x += v * cosf(in->pose.heading) * dt;
+    in->pose.y += v * sinf(in->pose.heading) * dt;
+    in->bump = false;
+    bench_.now += bench_.cfg.period_us;
+}
+
+static void test_episode_reaches_goal_with_reward_and_report(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.sense.pose = (robot_pose_t){3.0f, 4.0f, 0.0f};  // 1 m west of the goal, facing it
+    agent_paper_sim.params.epsilon = 0.0f;
+    robot_ctrl_start_episode(&bench_.ctrl);
+    uint32_t periods = 0;
+    while (!bench_.ctrl.episode_done && periods < 1000) {
+        bench_period_();
+        periods++;
+    }
+    assert_true(bench_.ctrl.episode_done);
+    const robot_episode_report_t *rep = &bench_.ctrl.last_episode;
+    assert_int_equal(rep->episode, 1);
+    assert_true(rep->reached_goal);
+    assert_int_equal(rep->steps, agent_paper_sim.stats.real_steps);
+    assert_true(rep->reward <= 100.0f - (float)(rep->steps - 1));  // -1 a step, +100 at the goal
+    assert_float_equal(rep->reward, 100.0f - (float)(rep->steps - 1), 1e-3);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_IDLE);
+    assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);  // stopped at the end
+}
+
+static void test_step_cap_ends_the_episode(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.cfg.step_cap = 7;
+    bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    for (int i = 0; i < 20 && !bench_.ctrl.episode_done; i++) {
+        bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};  // held far from the goal
+        bench_period_();
+    }
+    assert_true(bench_.ctrl.episode_done);
+    assert_int_equal(bench_.ctrl.last_episode.steps, 7);
+    assert_false(bench_.ctrl.last_episode.reached_goal);
+    assert_float_equal(bench_.ctrl.last_episode.reward, -7.0f, 1e-6);
+}
+
+static void test_bump_costs_and_is_counted(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.cfg.step_cap = 3;
+    bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();               // first state, first action
+    bench_.sense.bump = true;      // the action hits something
+    bench_period_();
+    assert_true(bench_.ctrl.step_done);
+    assert_float_equal(bench_.ctrl.last_step.reward, -100.0f, 0);
+    bench_period_();
+    bench_period_();
+    assert_true(bench_.ctrl.episode_done);
+    assert_int_equal(bench_.ctrl.last_episode.bumps, 1);
+    assert_float_equal(bench_.ctrl.last_episode.reward, -102.0f, 1e-6);
+}
+
+static void test_safe_stop_on_bus_loss_and_resume(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();
+    const uint32_t steps = agent_paper_sim.stats.real_steps;
+    bench_.sense.bus_ok = false;
+    for (int i = 0; i < 5; i++) {
+        bench_period_();
+        assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
+        assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.v_right, 0.0f, 0);
+    }
+    assert_int_equal(agent_paper_sim.stats.real_steps, steps);  // nothing learned while stopped
+    assert_int_equal(bench_.ctrl.safe_stops, 1);
+    bench_.sense.bus_ok = true;
+    bench_period_();  // back: a fresh first state, no update from the interrupted step
+    assert_int_equal(agent_paper_sim.stats.real_steps, steps);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    bench_period_();
+    assert_int_equal(agent_paper_sim.stats.real_steps, steps + 1);
+}
+
+static void test_waits_for_a_fix_taken_after_stopping(void **state)
+{
+    (void)state;
+    bench_init_(lab_, AGENT_Q_LEARNING);
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();  // first state from a fresh fix
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    for (int i = 0; i < lab_->action_periods; i++) {
+        bench_period_();
+    }
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
+    // A fix measured before the wheels stopped is not the outcome of the action.
+    const uint64_t stopped = bench_.ctrl.stopped_at_us;
+    robot_sense_t in = bench_.sense;
+    in.now_us = stopped + 300000;
+    in.pose_time_us = stopped - 1;
+    float vl, vr;
+    robot_ctrl_period(&bench_.ctrl, &in, &vl, &vr);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 0);
+    in.now_us += 192000;
+    in.pose_time_us = stopped + 200000;
+    robot_ctrl_period(&bench_.ctrl, &in, &vl, &vr);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 1);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+}
+
+static void test_fixed_planning_runs_after_each_step(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    for (int i = 0; i < 30; i++) {
+        bench_period_();
+    }
+    const agent_stats_t *st = &agent_paper_sim.stats;
+    assert_true(st->real_steps >= 29);
+    // Every step asks for up to N = 5 updates, stopping early when the queue is empty.
+    assert_true(st->planning_updates > 0);
+    assert_true(st->planning_updates + st->planning_skipped <= 5u * st->real_steps);
+    const uint32_t before = st->planning_updates;
+    assert_false(robot_ctrl_plan(&bench_.ctrl));  // fixed N: no idle planning
+    assert_int_equal(st->planning_updates, before);
+}
+
+static void test_idle_planning_when_planning_is_zero(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.cfg.planning = 0;
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    for (int i = 0; i < 30; i++) {
+        bench_period_();
+    }
+    const agent_stats_t *st = &agent_paper_sim.stats;
+    assert_int_equal(st->planning_updates, 0);  // nothing planned inside the control period
+    uint32_t n = 0;
+    while (robot_ctrl_plan(&bench_.ctrl) && n < 100000) {
+        n++;
+    }
+    assert_true(n > 0 && n < 100000);  // the idle hook works until the queue runs dry
+    assert_int_equal(st->planning_updates, n);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shipped_configs_are_valid),
+        cmocka_unit_test(test_position_cells_and_clamping),
+        cmocka_unit_test(test_heading_sectors_wrap),
+        cmocka_unit_test(test_range_code_bits),
+        cmocka_unit_test(test_action_wheels_realise_the_step),
+        cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
+        cmocka_unit_test(test_step_cap_ends_the_episode),
+        cmocka_unit_test(test_bump_costs_and_is_counted),
+        cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
+        cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),
+        cmocka_unit_test(test_fixed_planning_runs_after_each_step),
+        cmocka_unit_test(test_idle_planning_when_planning_is_zero),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
