@@ -10,6 +10,7 @@ void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
     c->cfg = cfg;
     c->agent = agent;
     c->mode = ROBOT_MODE_IDLE;
+    c->learning = true;
 }
 
 static void wheels_(robot_ctrl_t *c, float vl, float vr)
@@ -42,7 +43,7 @@ void robot_ctrl_stop(robot_ctrl_t *c)
 static void start_action_(robot_ctrl_t *c, agent_state_t s)
 {
     c->s = s;
-    c->a = agent_act(c->agent, s);
+    c->a = c->learning ? agent_act(c->agent, s) : agent_greedy(c->agent, s);
     c->have_s = true;
     c->bump_latched = false;
     c->periods_left = c->cfg->action_periods;
@@ -83,10 +84,12 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
     // The goal outranks a bump on the way in: reaching it ends the episode either way.
     const float r = goal ? cfg->reward_goal : c->bump_latched ? cfg->reward_bump : cfg->reward_step;
     c->bumps += c->bump_latched ? 1u : 0u;
-    agent_observe(c->agent, c->s, c->a, r, s_next, goal);
+    if (c->learning) {
+        agent_observe(c->agent, c->s, c->a, r, s_next, goal);
+    }
     c->step++;
     c->episode_reward += r;
-    if (cfg->planning > 0u) {
+    if (c->learning && cfg->planning > 0u) {
         (void)agent_plan(c->agent, cfg->planning);  // Fig. 3: N updates, then the next action
     }
     if (goal || c->step >= cfg->step_cap) {
@@ -167,7 +170,7 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
 
 bool robot_ctrl_plan(robot_ctrl_t *c)
 {
-    if (c->cfg->planning > 0u) {
+    if (c->cfg->planning > 0u || !c->learning) {
         return false;
     }
     return agent_plan_step(c->agent);

@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the firmware that runs the robot, on the MCU and on the host port.
+//
+// It owns the scheduler and wires everything together:
+//   - CAN frames (motor controller, gyro, range board, GPS, tool commands) and Cricket serial
+//     bytes arrive by interrupt and are posted into the scheduler's event queue;
+//   - the control task, every cfg->period_us: sense -> observe -> act -> command, then telemetry;
+//   - idle time: the agent's planning updates (cfg->planning == 0) until the next deadline nears;
+//   - at each episode's end, what was learned is saved to flash; at boot it is restored.
+// One instance per program (the firmware is a singleton, as on the MCU).
+#ifndef ROBOT_APP_H
+#define ROBOT_APP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/agent.h"
+#include "robot/controller.h"
+#include "robot/learned_store.h"
+#include "robot/robot_config.h"
+#include "sched/sched.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct robot_app_options {
+    const robot_config_t *cfg;
+    agent_t *agent;                  ///< a profile's agent (agent_profiles.h) big enough for cfg
+    const agent_storage_t *storage;  ///< that profile's storage
+    uint32_t seed;
+    bool evaluate;          ///< replay greedily, no learning, no saving
+    bool persist;           ///< restore at boot, save at episode ends (needs a flash region)
+    bool auto_start;        ///< start an episode at boot and after each end (no operator)
+    uint32_t plan_cycles;   ///< CPU cycles of one planning update (scheduler accounting; 0 none)
+    uint32_t plan_budget_us;///< worst-case time of one planning update (idle fitting)
+} robot_app_options_t;
+
+/// Counters the application exports (and sends in telemetry).
+typedef struct robot_app_stats {
+    uint32_t frames_rx, frames_bad, frames_tx_dropped;
+    uint32_t episodes, saves, save_errors;
+    int32_t restore_result;  ///< learned_store_load() at boot: FW_OK, FW_ERR_NOENT, ...
+    uint32_t restored_episodes;
+} robot_app_stats_t;
+
+/// Initialises the HAL's time, CAN and UART, the agent (restoring what was learned when
+/// opt->persist), the drivers and the scheduler's tasks. Returns FW_OK or a negative fw_err_t
+/// (a bad configuration, a HAL failure). Context: thread, at boot.
+int robot_app_init(const robot_app_options_t *opt);
+
+/// One pass of the main loop (sched_step). The MCU's main: for (;;) robot_app_step();
+void robot_app_step(void);
+
+sched_t *robot_app_sched(void);
+const robot_ctrl_t *robot_app_ctrl(void);
+void robot_app_get_stats(robot_app_stats_t *out);
+
+/// The MCU entry: robot_app_init() with the profile that fits `cfg`, then the main loop forever.
+void robot_main(const robot_config_t *cfg);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // ROBOT_APP_H

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim train: sets of episodes of the firmware learning on the simulated robot.
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "lockstep.h"
+#include "options.h"
+#include "scenario_bridge.h"
+
+namespace dynaqpc {
+
+namespace {
+
+struct TrainSettings {
+    std::string scenario;
+    std::string agent;
+    std::uint32_t sets = 1;
+    std::uint32_t episodes = 0;
+    std::uint32_t planning = 0;
+    std::uint32_t seed = 1;
+    std::uint32_t jobs = 1;
+    std::uint32_t step_cap = 0;
+    std::uint32_t plan_cycles = 0;
+    double epsilon = 0, alpha = 0, gamma = 0;
+    std::string csv;
+    std::string save;
+    bool no_wall_time = false;
+    bool quiet = false;
+};
+
+void declare(Options &o, TrainSettings &s)
+{
+    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)",
+                 &s.scenario);
+    o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc", &s.agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_uint("--sets", "N", "independent sets, each learning from scratch (default 1)", &s.sets, 1,
+               100000);
+    o.add_uint("--episodes", "E", "episodes per set (default: the scenario's)", &s.episodes, 1,
+               10000000);
+    o.add_uint("--planning", "N",
+               "planning updates after each real step (default: the scenario's); 0 = as many as "
+               "the MCU's idle time allows, modelled with --plan-cycles",
+               &s.planning, 0, 1000000);
+    o.add_uint("--plan-cycles", "C",
+               "with --planning 0: MCU cycles per planning update at 168 MHz (default: the "
+               "Cortex-M4 measurement, docs/results.md)",
+               &s.plan_cycles, 1, 100000000);
+    o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
+               &s.seed, 0, UINT32_MAX);
+    o.add_uint("--jobs", "J", "sets run in J parallel processes (default 1)", &s.jobs, 1, 256);
+    o.add_uint("--step-cap", "N", "steps per episode before it ends (default: the scenario's)",
+               &s.step_cap, 1, 100000000);
+    o.add_double("--epsilon", "EPS", "exploration probability (default: the scenario's)", &s.epsilon,
+                 0.0, 1.0);
+    o.add_double("--alpha", "B", "learning rate, the paper's beta (default: the scenario's)",
+                 &s.alpha, 0.0, 1.0, true, false);
+    o.add_double("--gamma", "G", "discount (default: the scenario's)", &s.gamma, 0.0, 1.0);
+    o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
+    o.add_string("--save", "FILE",
+                 "keep what set 1 learned: the firmware's flash image, saved at each episode end "
+                 "(dynaqpc-sim run --load FILE replays it)",
+                 &s.save);
+    o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
+               &s.no_wall_time);
+    o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
+}
+
+agent_kind_t kind_of(const std::string &name)
+{
+    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
+}
+
+// Set k of an experiment seeded with s: a splitmix-style mix, so neighbouring seeds and sets
+// give unrelated streams, and a set's results do not depend on --jobs.
+std::uint32_t set_seed(std::uint32_t seed, std::uint32_t set)
+{
+    std::uint64_t z = (static_cast<std::uint64_t>(seed) << 32) + set + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::uint32_t>((z ^ (z >> 31)) >> 16);
+}
+
+std::string csv_row(const std::string &agent, std::uint32_t set, const EpisodeRow &r, bool no_wall)
+{
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%s,%u,%u,%u,%.0f,%d,%u,%.3f,%" PRIu64 ",%.4f\n", agent.c_str(), set,
+                  r.episode, r.steps, r.reward, r.reached_goal ? 1 : 0, r.bumps, r.robot_time_s,
+                  r.updates, no_wall ? 0.0 : r.wall_s);
+    return buf;
+}
+
+// Runs sets first, first + stride, ... and hands each row to `emit`.
+template <typename Emit>
+void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSettings &s,
+              std::uint32_t first, std::uint32_t stride, Emit emit)
+{
+    for (std::uint32_t set = first; set <= s.sets; set += stride) {
+        LockstepOptions lo;
+        lo.seed = set_seed(s.seed, set);
+        lo.plan_update_cycles = s.plan_cycles;
+        if (set == 1) {
+            lo.flash_file = s.save;
+        }
+        Lockstep sim(*sb.world, cfg, lo);
+        for (std::uint32_t e = 1; e <= s.episodes; e++) {
+            emit(set, sim.run_episode());
+        }
+    }
+}
+
+class Progress {
+public:
+    Progress(std::uint64_t total, bool on) : total_(total), on_(on && isatty(2)) {}
+    void tick(std::uint64_t done)
+    {
+        if (!on_) {
+            return;
+        }
+        const int width = 40;
+        const int filled = static_cast<int>(width * done / std::max<std::uint64_t>(1, total_));
+        if (filled == last_ && done != total_) {
+            return;
+        }
+        last_ = filled;
+        std::fprintf(stderr, "\r[%s%s] %" PRIu64 "/%" PRIu64 " episodes", std::string(filled, '#').c_str(),
+                     std::string(width - filled, '.').c_str(), done, total_);
+        if (done == total_) {
+            std::fputc('\n', stderr);
+        }
+    }
+
+private:
+    std::uint64_t total_;
+    bool on_;
+    int last_ = -1;
+};
+
+}  // namespace
+
+int cmd_train(const std::string &program, const std::vector<std::string> &args)
+{
+    TrainSettings s;
+    Options o("train", "the firmware learns on the simulated robot: sets of episodes, one CSV row each");
+    declare(o, s);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) {
+        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    }
+    if (!o.seen("--agent")) {
+        throw UsageError("--agent: required (q, dyna-q or dyna-qpc)");
+    }
+    if (o.seen("--plan-cycles") && !(o.seen("--planning") && s.planning == 0)) {
+        throw UsageError("--plan-cycles: only with --planning 0");
+    }
+    const ScenarioBundle sb = load_scenario(s.scenario);
+    robot_config_t cfg = sb.robot;
+    cfg.agent = kind_of(s.agent);
+    if (o.seen("--planning")) cfg.planning = s.planning;
+    if (o.seen("--step-cap")) cfg.step_cap = s.step_cap;
+    if (o.seen("--epsilon")) cfg.params.epsilon = static_cast<float>(s.epsilon);
+    if (o.seen("--alpha")) cfg.params.alpha = cfg.params.plan_alpha = static_cast<float>(s.alpha);
+    if (o.seen("--gamma")) cfg.params.gamma = static_cast<float>(s.gamma);
+    if (!o.seen("--episodes")) s.episodes = sb.episodes;
+    if (!o.seen("--sets")) s.sets = sb.sets;
+    if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;
+
+    std::FILE *out = nullptr;
+    if (!s.csv.empty()) {
+        out = s.csv == "-" ? stdout : std::fopen(s.csv.c_str(), "w");
+        if (out == nullptr) {
+            throw UsageError("--csv: cannot open '" + s.csv + "': " + std::strerror(errno));
+        }
+        std::fputs("agent,set,episode,steps,reward,reached_goal,bumps,robot_time_s,updates,wall_s\n", out);
+    }
+    const std::uint64_t total = static_cast<std::uint64_t>(s.sets) * s.episodes;
+    Progress progress(total, !s.quiet);
+    // Per episode: sums over sets, for the summary.
+    std::vector<double> steps_sum(s.episodes + 1, 0.0), time_sum(s.episodes + 1, 0.0);
+    std::uint64_t done = 0;
+    auto take = [&](std::uint32_t set, const EpisodeRow &r, const std::string &line) {
+        (void)set;
+        if (out != nullptr) std::fputs(line.c_str(), out);
+        steps_sum[r.episode] += r.steps;
+        time_sum[r.episode] += r.robot_time_s;
+        progress.tick(++done);
+    };
+    const std::uint32_t jobs = std::min(s.jobs, s.sets);
+    if (jobs <= 1) {
+        run_sets(sb, cfg, s, 1, 1, [&](std::uint32_t set, const EpisodeRow &r) {
+            take(set, r, csv_row(s.agent, set, r, s.no_wall_time));
+        });
+    } else {
+        // One process per job, each writing its rows into a pipe; rows are then written in set
+        // order, so the CSV does not depend on --jobs.
+        std::fflush(nullptr);
+        std::vector<pid_t> pids;
+        std::vector<int> fds;
+        for (std::uint32_t j = 0; j < jobs; j++) {
+            int p[2];
+            if (pipe(p) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+            const pid_t pid = fork();
+            if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+            if (pid == 0) {
+                close(p[0]);
+                std::FILE *w = fdopen(p[1], "w");
+                int status = 0;
+                try {
+                    run_sets(sb, cfg, s, 1 + j, jobs, [&](std::uint32_t set, const EpisodeRow &r) {
+                        std::fputs(csv_row(s.agent, set, r, s.no_wall_time).c_str(), w);
+                        std::fflush(w);
+                    });
+                } catch (const std::exception &e) {
+                    std::fprintf(stderr, "%s train: set worker: %s\n", program.c_str(), e.what());
+                    status = kExitFailure;
+                }
+                std::fclose(w);
+                _exit(status);
+            }
+            close(p[1]);
+            pids.push_back(pid);
+            fds.push_back(p[0]);
+        }
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<EpisodeRow, std::string>> rows;
+        for (int fd : fds) {
+            std::FILE *r = fdopen(fd, "r");
+            char line[512];
+            while (std::fgets(line, sizeof line, r) != nullptr) {
+                EpisodeRow row;
+                unsigned set = 0, ep = 0, steps = 0, bumps = 0;
+                int goal = 0;
+                char agent[32];
+                unsigned long long upd = 0;
+                if (std::sscanf(line, "%31[^,],%u,%u,%u,%lf,%d,%u,%lf,%llu,%lf", agent, &set, &ep, &steps,
+                                &row.reward, &goal, &bumps, &row.robot_time_s, &upd, &row.wall_s) == 10) {
+                    row.episode = ep;
+                    row.steps = steps;
+                    row.bumps = bumps;
+                    row.reached_goal = goal != 0;
+                    row.updates = upd;
+                    rows[{set, ep}] = {row, line};
+                    steps_sum[ep] += steps;
+                    time_sum[ep] += row.robot_time_s;
+                    progress.tick(++done);
+                }
+            }
+            std::fclose(r);
+        }
+        int failed = 0;
+        for (pid_t pid : pids) {
+            int st = 0;
+            waitpid(pid, &st, 0);
+            failed += !(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+        }
+        for (const auto &kv : rows) {
+            if (out != nullptr) std::fputs(kv.second.second.c_str(), out);
+        }
+        if (failed) throw std::runtime_error(std::to_string(failed) + " set worker(s) failed");
+        if (rows.size() != total) throw std::runtime_error("missing rows from the set workers");
+    }
+    if (out != nullptr && out != stdout && std::fclose(out) != 0) {
+        throw std::runtime_error("--csv: cannot write '" + s.csv + "'");
+    }
+    if (!s.quiet) {
+        std::FILE *sum = s.csv == "-" ? stderr : stdout;
+        std::fprintf(sum, "%s on %s, %u sets: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(), s.sets);
+        for (std::uint32_t e = 1; e <= s.episodes; e++) {
+            if (e <= 10 || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
+                std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, steps_sum[e] / s.sets,
+                             time_sum[e] / s.sets);
+            }
+        }
+    }
+    return kExitOk;
+}
+
+}  // namespace dynaqpc

@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim: from a scenario file to the world's description and the firmware's configuration.
+#include "scenario_bridge.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "options.h"
+#include "world/scenario.h"
+
+namespace dynaqpc {
+
+namespace {
+
+// The firmware's limits (robot_config.h) are narrower than the world's: say which one is hit.
+void check_firmware_limits(const world::Scenario &sc, const std::string &path)
+{
+    auto fail = [&](const std::string &what) { throw UsageError(path + ": " + what); };
+    if (sc.code_bits.size() > ROBOT_MAX_CODE_BITS) {
+        fail("the firmware takes at most " + std::to_string(ROBOT_MAX_CODE_BITS) + " code bits");
+    }
+    if (sc.ranger.rays.size() > ROBOT_MAX_RANGES) {
+        fail("the firmware takes at most " + std::to_string(ROBOT_MAX_RANGES) + " range sensors");
+    }
+    if (sc.cricket.beacons.size() > ROBOT_MAX_BEACONS) {
+        fail("the firmware knows at most " + std::to_string(ROBOT_MAX_BEACONS) + " Cricket beacons");
+    }
+    if (!sc.gps.enabled && sc.cricket.beacons.size() < 3) {
+        fail("no pose source: a gps line, or at least 3 Cricket beacons");
+    }
+}
+
+}  // namespace
+
+ScenarioBundle load_scenario(const std::string &arg)
+{
+    auto sc = std::make_shared<world::Scenario>();
+    std::string error;
+    if (!world::load_scenario(arg, sc.get(), &error)) {
+        throw UsageError(error);
+    }
+    ScenarioBundle b;
+    b.path = sc->path;
+    b.name = sc->name;
+    check_firmware_limits(*sc, b.path.empty() ? arg : b.path);
+
+    robot_config_t &r = b.robot;
+    r = robot_config_t{};
+    r.arena_w = static_cast<float>(sc->arena_w);
+    r.arena_h = static_cast<float>(sc->arena_h);
+    r.goal_x = static_cast<float>(sc->goal.cx);
+    r.goal_y = static_cast<float>(sc->goal.cy);
+    r.goal_r = static_cast<float>(sc->goal.radius);
+    r.bits_x = static_cast<uint8_t>(sc->encoding.x_bits);
+    r.bits_y = static_cast<uint8_t>(sc->encoding.y_bits);
+    r.bits_heading = static_cast<uint8_t>(sc->encoding.heading_bits);
+    r.bits_code = static_cast<uint8_t>(sc->code_bits.size());
+    for (std::size_t k = 0; k < sc->code_bits.size(); k++) {
+        for (int ray : sc->code_bits[k].rays) {
+            r.rays_of_bit[k] |= 1u << ray;
+        }
+        r.code_threshold_m[k] = static_cast<float>(sc->code_bits[k].threshold);
+    }
+    r.n_ranges = static_cast<uint8_t>(sc->ranger.rays.size());
+    r.step_m = static_cast<float>(sc->actions.step);
+    r.turn_rad = static_cast<float>(sc->actions.turn);
+    r.track_m = static_cast<float>(sc->robot.track);
+    r.period_us = static_cast<uint32_t>(std::lround(sc->timing.control_period * 1e6));
+    // An action takes as many whole periods as the wheels need at their top speed.
+    const double wheel_travel = std::max(sc->actions.step, sc->actions.turn * sc->robot.track / 2.0);
+    const double periods = std::ceil(wheel_travel / (sc->robot.max_speed * sc->timing.control_period) - 1e-9);
+    r.action_periods = static_cast<uint8_t>(std::clamp(periods, 1.0, 255.0));
+    r.reward_goal = static_cast<float>(sc->rewards.goal);
+    r.reward_bump = static_cast<float>(sc->rewards.bump);
+    r.reward_step = static_cast<float>(sc->rewards.step);
+    r.agent = AGENT_DYNA_QPC;
+    r.params = agent_default_params();
+    r.params.alpha = r.params.plan_alpha = static_cast<float>(sc->learning.alpha);
+    r.params.gamma = static_cast<float>(sc->learning.gamma);
+    r.params.epsilon = static_cast<float>(sc->learning.epsilon);
+    r.params.theta = 1e-3f;
+    r.planning = static_cast<uint32_t>(sc->learning.planning);
+    r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
+    b.sets = static_cast<uint32_t>(sc->learning.sets);
+    b.episodes = static_cast<uint32_t>(sc->learning.episodes);
+    if (sc->gps.enabled) {
+        r.pose_source = ROBOT_POSE_GPS;
+        r.wait_for_fix = 0;
+        r.pose_timeout_us = 1000000u;
+    } else {
+        r.pose_source = ROBOT_POSE_CRICKET;
+        r.wait_for_fix = 1;  // the paper's lab robot waited, still, for a stable fix
+        r.pose_timeout_us = 5000000u;
+    }
+    r.n_beacons = static_cast<uint8_t>(sc->cricket.beacons.size());
+    for (std::size_t i = 0; i < sc->cricket.beacons.size(); i++) {
+        const world::Beacon &bc = sc->cricket.beacons[i];
+        r.beacons[i].id = static_cast<uint32_t>(i + 1);
+        r.beacons[i].x = static_cast<float>(bc.x);
+        r.beacons[i].y = static_cast<float>(bc.y);
+        r.beacons[i].z = static_cast<float>(bc.z);
+    }
+    r.listener_z = static_cast<float>(sc->cricket.listener_height);
+    r.bus_timeout_us = 500000u;
+    b.world = sc;
+    r.name = b.world->name.c_str();
+    if (robot_config_check(&r) != 0) {
+        throw UsageError((b.path.empty() ? arg : b.path) +
+                         ": the firmware cannot run this scenario (state encoding, sensors or actions out of range)");
+    }
+    return b;
+}
+
+std::string arena_json(const world::Scenario &sc)
+{
+    std::ostringstream o;
+    o.precision(6);
+    o << "{\"name\":\"" << sc.name << "\",\"width\":" << sc.arena_w << ",\"height\":" << sc.arena_h
+      << ",\"obstacles\":[";
+    for (std::size_t i = 0; i < sc.obstacles.size(); i++) {
+        const world::Obstacle &ob = sc.obstacles[i];
+        o << (i ? "," : "");
+        if (ob.shape == world::Obstacle::Shape::Box) {
+            o << "{\"kind\":\"box\",\"cx\":" << ob.cx << ",\"cy\":" << ob.cy << ",\"w\":" << ob.w
+              << ",\"h\":" << ob.h << ",\"angle_deg\":" << ob.angle * 180.0 / M_PI << "}";
+        } else {
+            o << "{\"kind\":\"circle\",\"cx\":" << ob.cx << ",\"cy\":" << ob.cy << ",\"r\":" << ob.radius
+              << "}";
+        }
+    }
+    o << "],\"goal\":{\"cx\":" << sc.goal.cx << ",\"cy\":" << sc.goal.cy << ",\"r\":" << sc.goal.radius
+      << "},\"beacons\":[";
+    for (std::size_t i = 0; i < sc.cricket.beacons.size(); i++) {
+        const world::Beacon &bc = sc.cricket.beacons[i];
+        o << (i ? "," : "") << "{\"id\":\"" << bc.id << "\",\"x\":" << bc.x << ",\"y\":" << bc.y
+          << ",\"z\":" << bc.z << "}";
+    }
+    o << "]}\n";
+    return o.str();
+}
+
+}  // namespace dynaqpc
