@@ -52,7 +52,10 @@ static int begin_(const stm32f4_flash_dev_t *d)
     if (wait_idle_(d, STM32F4_CFG_SHORT_WAIT_POLLS) != FW_OK) {
         return FW_ERR_TIMEOUT;
     }
-    f->SR = FLASH_SR_ERRORS | FLASH_SR_EOP;  // write 1 to clear what a previous run left
+    const uint32_t stale = f->SR & (FLASH_SR_ERRORS | FLASH_SR_EOP);
+    if (stale != 0u) {
+        f->SR = stale;  // write 1 to clear what a previous operation left
+    }
     if (unlock_(f) != FW_OK) {
         return FW_ERR_IO;
     }
