@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc STM32F4 port: erase and program the internal flash (RM0090 3.5 and 3.6).
+//
+// Sequence of each operation: wait until not busy, clear stale error flags, unlock (KEY1 then
+// KEY2 into KEYR), set the parallelism (x32: a 2.7-3.6 V supply) and the operation bits, start
+// it, wait until not busy, check the error flags, clear the operation bits, lock again. The
+// region is read back afterwards: a write into bytes that were not erased fails its verify with
+// FW_ERR_IO. The data cache is reset after a change, or it could keep serving the old bytes.
+#include "stm32f4/stm32f4_drivers.h"
+
+static int wait_idle_(const stm32f4_flash_dev_t *d, uint32_t max_polls)
+{
+    uint32_t polls = 0;
+    while (polls < max_polls) {
+        const uint32_t slice =
+            max_polls - polls < STM32F4_FLASH_WAIT_SLICE ? max_polls - polls : STM32F4_FLASH_WAIT_SLICE;
+        if (stm32f4_wait_bits(&d->regs->SR, FLASH_SR_BSY, 0u, slice) == FW_OK) {
+            return FW_OK;
+        }
+        polls += slice;
+        if (d->on_wait != NULL) {
+            d->on_wait();  // a 128 KB erase outlasts a short watchdog timeout
+        }
+    }
+    return FW_ERR_TIMEOUT;
+}
+
+static int unlock_(stm32f4_flash_if_t *f)
+{
+    if (f->CR & FLASH_CR_LOCK) {
+        f->KEYR = FLASH_KEY1;
+        f->KEYR = FLASH_KEY2;
+    }
+    // A wrong sequence locks the interface until reset (and raises a bus fault): check it took.
+    return stm32f4_wait_bits(&f->CR, FLASH_CR_LOCK, 0u, 1u) == FW_OK ? FW_OK : FW_ERR_IO;
+}
+
+static void reset_data_cache_(stm32f4_flash_if_t *f)
+{
+    const uint32_t acr = f->ACR;
+    if (acr & FLASH_ACR_DCEN) {
+        f->ACR = acr & ~FLASH_ACR_DCEN;
+        f->ACR = (acr & ~FLASH_ACR_DCEN) | FLASH_ACR_DCRST;
+        f->ACR = acr & ~FLASH_ACR_DCRST;
+    }
+}
+
+// Runs one operation already described by `cr_bits` (PG, or SER with SNB) and locks again.
+static int begin_(const stm32f4_flash_dev_t *d)
+{
+    stm32f4_flash_if_t *f = d->regs;
+    if (wait_idle_(d, STM32F4_CFG_SHORT_WAIT_POLLS) != FW_OK) {
+        return FW_ERR_TIMEOUT;
+    }
+    const uint32_t stale = f->SR & (FLASH_SR_ERRORS | FLASH_SR_EOP);
+    if (stale != 0u) {
+        f->SR = stale;  // write 1 to clear what a previous operation left
+    }
+    if (unlock_(f) != FW_OK) {
+        return FW_ERR_IO;
+    }
+    return FW_OK;
+}
+
+static int end_(const stm32f4_flash_dev_t *d, uint32_t max_polls)
+{
+    stm32f4_flash_if_t *f = d->regs;
+    const int rc = wait_idle_(d, max_polls);
+    const uint32_t sr = f->SR;
+    f->CR &= ~(FLASH_CR_PG | FLASH_CR_SER | FLASH_CR_SNB_MASK);
+    f->CR |= FLASH_CR_LOCK;
+    reset_data_cache_(f);
+    if (rc != FW_OK) {
+        return rc;
+    }
+    return (sr & FLASH_SR_ERRORS) ? FW_ERR_IO : FW_OK;
+}
+
+int stm32f4_flash_erase(const stm32f4_flash_dev_t *d, uint32_t sector)
+{
+    if (sector >= d->sector_count) {
+        return FW_ERR_INVAL;
+    }
+    int rc = begin_(d);
+    if (rc != FW_OK) {
+        return rc;
+    }
+    stm32f4_flash_if_t *f = d->regs;
+    f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SNB_MASK | FLASH_CR_PG)) |
+            FLASH_CR_PSIZE_X32 | FLASH_CR_SER | ((d->first_sector + sector) << FLASH_CR_SNB_SHIFT);
+    f->CR |= FLASH_CR_STRT;
+    rc = end_(d, STM32F4_CFG_ERASE_WAIT_POLLS);
+    if (rc != FW_OK) {
+        return rc;
+    }
+    const volatile uint32_t *w = (const volatile uint32_t *)(d->mem + sector * d->sector_size);
+    for (uint32_t i = 0; i < d->sector_size / 4u; i++) {
+        if (w[i] != 0xFFFFFFFFu) {
+            return FW_ERR_IO;
+        }
+    }
+    return FW_OK;
+}
+
+int stm32f4_flash_program(const stm32f4_flash_dev_t *d, uint32_t offset, const void *data,
+                          size_t len)
+{
+    const uint32_t region = d->sector_count * d->sector_size;
+    if ((offset & 3u) != 0u || (len & 3u) != 0u || offset > region || len > region - offset ||
+        (len > 0u && data == NULL)) {
+        return FW_ERR_INVAL;
+    }
+    if (len == 0u) {
+        return FW_OK;
+    }
+    int rc = begin_(d);
+    if (rc != FW_OK) {
+        return rc;
+    }
+    stm32f4_flash_if_t *f = d->regs;
+    f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SER | FLASH_CR_SNB_MASK)) |
+            FLASH_CR_PSIZE_X32 | FLASH_CR_PG;
+    const uint8_t *src = (const uint8_t *)data;
+    volatile uint32_t *dst = (volatile uint32_t *)(d->mem + offset);
+    for (size_t i = 0; i < len / 4u; i++) {
+        const uint32_t word = (uint32_t)src[4u * i] | (uint32_t)src[4u * i + 1u] << 8 |
+                              (uint32_t)src[4u * i + 2u] << 16 | (uint32_t)src[4u * i + 3u] << 24;
+        dst[i] = word;  // with PG set, a word store into the region programs it
+        rc = wait_idle_(d, STM32F4_CFG_SHORT_WAIT_POLLS);
+        if (rc != FW_OK || (f->SR & FLASH_SR_ERRORS) != 0u) {
+            break;
+        }
+    }
+    const int end_rc = end_(d, STM32F4_CFG_SHORT_WAIT_POLLS);
+    if (rc != FW_OK) {
+        return rc;
+    }
+    if (end_rc != FW_OK) {
+        return end_rc;
+    }
+    for (size_t i = 0; i < len; i++) {
+        if (d->mem[offset + i] != src[i]) {
+            return FW_ERR_IO;
+        }
+    }
+    return FW_OK;
+}
