@@ -29,6 +29,13 @@ void hal_irq_restore(hal_irq_state_t state);
 /// simulator, which owns time, advances the clock to the wake-up before the next call.
 void hal_cpu_wait_until(uint64_t deadline_us);
 
+/// Tells the port that the caller just did about `cycles` CPU cycles of work. Real ports ignore
+/// it (time passes by itself). The host port's lock-step mode advances virtual time by
+/// cycles / its modelled clock (168 MHz by default), so the simulator can model the MCU's time
+/// budget honestly. The scheduler calls it after each idle step and each task run with their
+/// configured costs. Context: thread. Never blocks.
+void hal_cpu_account(uint32_t cycles);
+
 /// Starts the watchdog with the given timeout. After this, hal_cpu_watchdog_kick() must be
 /// called at least once per timeout or the MCU resets. A port without one returns FW_ERR_NOSYS.
 /// Context: thread, at boot.

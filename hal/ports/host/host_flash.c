@@ -1,0 +1,284 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc host port: the flash region, as NOR flash behaves, in a static RAM image that can be
+// written through to a file, with a power-cut injector for the persistence layer's tests.
+//
+// A write programs byte by byte in address order, as the MCU's flash interface does word by
+// word: that is what makes "the bytes before the cut are programmed, the rest are not" exact.
+// A byte that would need a 0 -> 1 transition gets what NOR physically gives (old & new) and the
+// write reports FW_ERR_IO, like the MCU's verify after programming.
+#include <errno.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "fw/fw_base.h"
+#include "hal/hal_flash.h"
+#include "hal_host/hal_host.h"
+#include "host_internal.h"
+
+static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
+static uint8_t image_[FW_CFG_HOST_FLASH_CAPACITY];
+static bool image_ready_; // the image starts erased; static storage starts at 0
+static hal_flash_geometry_t geo_ = {FW_CFG_HOST_FLASH_SECTOR_SIZE, FW_CFG_HOST_FLASH_SECTOR_COUNT,
+                                    FW_CFG_HOST_FLASH_WRITE_ALIGN};
+static int fd_ = -1;
+static bool cut_armed_;
+static uint32_t cut_left_;  // bytes still programmable before the cut
+static bool power_off_;
+static uint64_t programmed_;
+static uint32_t erases_;
+
+static uint32_t region_size(void)
+{
+    return geo_.sector_size * geo_.sector_count;
+}
+
+// Caller holds lock_.
+static void ensure_image_locked(void)
+{
+    if (!image_ready_) {
+        memset(image_, 0xFF, sizeof image_);
+        image_ready_ = true;
+    }
+}
+
+static bool range_ok(uint32_t offset, size_t len)
+{
+    uint32_t size = region_size();
+    return offset <= size && len <= (size_t)(size - offset);
+}
+
+// Writes image_[offset, offset+len) through to the file. Caller holds lock_.
+static int write_through_locked(uint32_t offset, size_t len)
+{
+    if (fd_ < 0 || len == 0u) {
+        return FW_OK;
+    }
+    size_t done = 0;
+    while (done < len) {
+        ssize_t w = pwrite(fd_, &image_[offset + done], len - done, (off_t)(offset + done));
+        if (w < 0 && errno == EINTR) {
+            continue;
+        }
+        if (w <= 0) {
+            return FW_ERR_IO;
+        }
+        done += (size_t)w;
+    }
+    return FW_OK;
+}
+
+int hal_flash_geometry(hal_flash_geometry_t *out)
+{
+    if (out == NULL) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    *out = geo_;
+    pthread_mutex_unlock(&lock_);
+    return FW_OK;
+}
+
+int hal_flash_read(uint32_t offset, void *buf, size_t len)
+{
+    if (buf == NULL && len != 0u) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    int rc = FW_ERR_INVAL;
+    if (range_ok(offset, len)) {
+        if (len != 0u) {
+            memcpy(buf, &image_[offset], len);
+        }
+        rc = FW_OK;
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+int hal_flash_erase(uint32_t sector)
+{
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    int rc;
+    if (sector >= geo_.sector_count) {
+        rc = FW_ERR_INVAL;
+    } else if (power_off_) {
+        rc = FW_ERR_IO;
+    } else {
+        uint32_t start = sector * geo_.sector_size;
+        memset(&image_[start], 0xFF, geo_.sector_size);
+        erases_++;
+        rc = write_through_locked(start, geo_.sector_size);
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+int hal_flash_write(uint32_t offset, const void *data, size_t len)
+{
+    if (data == NULL && len != 0u) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    int rc = FW_OK;
+    if (offset % geo_.write_align != 0u || len % geo_.write_align != 0u || !range_ok(offset, len)) {
+        rc = FW_ERR_INVAL;
+    } else if (power_off_) {
+        rc = FW_ERR_IO;
+    } else {
+        const uint8_t *src = data;
+        size_t n = len;
+        if (cut_armed_ && n > cut_left_) {
+            n = cut_left_;
+            rc = FW_ERR_IO;
+        }
+        for (size_t i = 0; i < n; i++) {
+            uint8_t old = image_[offset + i];
+            image_[offset + i] = (uint8_t)(old & src[i]);
+            if ((uint8_t)(old & src[i]) != src[i]) {
+                rc = FW_ERR_IO; // a 1 was asked where only a 0 can be: verify fails
+            }
+        }
+        programmed_ += n;
+        if (cut_armed_) {
+            cut_left_ -= (uint32_t)n;
+            if (cut_left_ == 0u) {
+                power_off_ = true;
+            }
+        }
+        int wr = write_through_locked(offset, n);
+        if (rc == FW_OK) {
+            rc = wr;
+        }
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+int hal_host_flash_configure(uint32_t sector_size, uint32_t sector_count, uint32_t write_align)
+{
+    if (sector_count < 2u || sector_size == 0u || !FW_IS_POW2(write_align) ||
+        sector_size % write_align != 0u ||
+        (uint64_t)sector_size * sector_count > (uint64_t)FW_CFG_HOST_FLASH_CAPACITY) {
+        return FW_ERR_INVAL;
+    }
+    hal_host_flash_detach_file();
+    pthread_mutex_lock(&lock_);
+    geo_.sector_size = sector_size;
+    geo_.sector_count = sector_count;
+    geo_.write_align = write_align;
+    memset(image_, 0xFF, sizeof image_);
+    image_ready_ = true;
+    pthread_mutex_unlock(&lock_);
+    return FW_OK;
+}
+
+int hal_host_flash_attach_file(const char *path)
+{
+    if (path == NULL) {
+        return FW_ERR_INVAL;
+    }
+    hal_host_flash_detach_file();
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    uint32_t size = region_size();
+    int rc = FW_OK;
+    int fd = open(path, O_RDWR | O_CREAT, 0644);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        rc = FW_ERR_IO;
+    } else if (st.st_size == 0) {
+        // A new file: it starts as a copy of the image.
+        fd_ = fd;
+        rc = write_through_locked(0, size);
+        fd_ = -1;
+    } else if (st.st_size != (off_t)size) {
+        rc = FW_ERR_CORRUPT;
+    } else {
+        // Read into the image only once the whole file has been read: a short read loses
+        // nothing.
+        static uint8_t staging[FW_CFG_HOST_FLASH_CAPACITY];
+        size_t done = 0;
+        while (done < size) {
+            ssize_t r = pread(fd, &staging[done], size - done, (off_t)done);
+            if (r < 0 && errno == EINTR) {
+                continue;
+            }
+            if (r <= 0) {
+                rc = FW_ERR_IO;
+                break;
+            }
+            done += (size_t)r;
+        }
+        if (rc == FW_OK) {
+            memcpy(image_, staging, size);
+        }
+    }
+    if (rc == FW_OK) {
+        fd_ = fd;
+    } else if (fd >= 0) {
+        close(fd);
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+void hal_host_flash_detach_file(void)
+{
+    pthread_mutex_lock(&lock_);
+    if (fd_ >= 0) {
+        close(fd_);
+        fd_ = -1;
+    }
+    pthread_mutex_unlock(&lock_);
+}
+
+void hal_host_flash_cut_power_after(uint32_t bytes)
+{
+    pthread_mutex_lock(&lock_);
+    cut_armed_ = true;
+    cut_left_ = bytes;
+    power_off_ = bytes == 0u;
+    pthread_mutex_unlock(&lock_);
+}
+
+void hal_host_flash_restore_power(void)
+{
+    pthread_mutex_lock(&lock_);
+    cut_armed_ = false;
+    cut_left_ = 0;
+    power_off_ = false;
+    pthread_mutex_unlock(&lock_);
+}
+
+uint64_t hal_host_flash_programmed_bytes(void)
+{
+    pthread_mutex_lock(&lock_);
+    uint64_t n = programmed_;
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+uint32_t hal_host_flash_erase_count(void)
+{
+    pthread_mutex_lock(&lock_);
+    uint32_t n = erases_;
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+void host_flash_reset(void)
+{
+    pthread_mutex_lock(&lock_);
+    cut_armed_ = false;
+    cut_left_ = 0;
+    power_off_ = false;
+    programmed_ = 0;
+    erases_ = 0;
+    pthread_mutex_unlock(&lock_);
+}

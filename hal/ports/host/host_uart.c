@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc host port: the UART. A receive ring the "interrupt" fills (hal_host_uart_feed(), from
+// the simulator in lock-step or from the reader thread of a tty), and a transmit buffer the
+// simulator drains, or a write() to the tty.
+//
+// The reader thread polls with a short timeout instead of blocking in read(), so that closing
+// never waits on a line that stays silent; a pty whose other side went away reads EIO, which
+// ends the reader rather than spinning on it.
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <string.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "fw/fw_base.h"
+#include "hal/hal_cpu.h"
+#include "hal/hal_uart.h"
+#include "hal_host/hal_host.h"
+#include "host_internal.h"
+
+#define RX_MASK ((uint32_t)FW_CFG_HOST_UART_RX_CAPACITY - 1u)
+#define DEFAULT_BAUD 115200u
+
+static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
+static bool ready_;
+static uint32_t baud_ = DEFAULT_BAUD;
+static hal_uart_rx_fn on_rx_;
+static void *rx_ctx_;
+static uint8_t rx_[FW_CFG_HOST_UART_RX_CAPACITY];
+static uint32_t rx_head_; // free-running
+static uint32_t rx_tail_;
+static uint8_t tx_[FW_CFG_HOST_UART_TX_CAPACITY];
+static uint32_t tx_head_;
+static uint32_t tx_count_;
+static hal_uart_stats_t stats_;
+
+// Device-path mode.
+static int fd_ = -1;
+static pthread_t reader_;
+static bool reader_running_;
+static bool stop_;
+static bool alive_;
+
+static speed_t termios_speed(uint32_t baud)
+{
+    switch (baud) {
+    case 9600u: return B9600;
+    case 19200u: return B19200;
+    case 38400u: return B38400;
+    case 57600u: return B57600;
+    case 115200u: return B115200;
+    case 230400u: return B230400;
+    default: return B0;
+    }
+}
+
+static int configure_tty(int fd, uint32_t baud)
+{
+    speed_t sp = termios_speed(baud);
+    if (sp == B0) {
+        return FW_ERR_INVAL;
+    }
+    struct termios tio;
+    if (tcgetattr(fd, &tio) != 0) {
+        return FW_ERR_IO;
+    }
+    // Raw 8N1: no line editing, no echo, no translation, no software flow control.
+    tio.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    tio.c_oflag &= ~(tcflag_t)OPOST;
+    tio.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+    tio.c_cflag &= ~(tcflag_t)(CSIZE | PARENB | CSTOPB);
+    tio.c_cflag |= (tcflag_t)(CS8 | CREAD | CLOCAL);
+    tio.c_cc[VMIN] = 0;
+    tio.c_cc[VTIME] = 0;
+    if (cfsetispeed(&tio, sp) != 0 || cfsetospeed(&tio, sp) != 0 ||
+        tcsetattr(fd, TCSANOW, &tio) != 0) {
+        return FW_ERR_IO;
+    }
+    return FW_OK;
+}
+
+int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
+{
+    if (baud < 300u || baud > 4000000u) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    int rc = FW_OK;
+    if (fd_ >= 0) {
+        rc = configure_tty(fd_, baud);
+    }
+    if (rc == FW_OK) {
+        baud_ = baud;
+        on_rx_ = on_rx;
+        rx_ctx_ = ctx;
+        ready_ = true;
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+size_t hal_host_uart_feed(const uint8_t *data, size_t len)
+{
+    if (data == NULL || len == 0u) {
+        return 0;
+    }
+    pthread_mutex_lock(&lock_);
+    size_t stored = 0;
+    if (ready_) {
+        size_t room = FW_CFG_HOST_UART_RX_CAPACITY - (size_t)(rx_tail_ - rx_head_);
+        stored = len < room ? len : room;
+        for (size_t i = 0; i < stored; i++) {
+            rx_[rx_tail_ & RX_MASK] = data[i];
+            rx_tail_++;
+        }
+    }
+    stats_.rx_bytes += (uint32_t)stored;
+    stats_.rx_overruns += (uint32_t)(len - stored);
+    hal_uart_rx_fn fn = on_rx_;
+    void *ctx = rx_ctx_;
+    pthread_mutex_unlock(&lock_);
+
+    if (stored > 0u) {
+        if (fn != NULL) {
+            hal_irq_state_t irq = hal_irq_save();
+            fn(ctx);
+            hal_irq_restore(irq);
+        }
+        hal_host_cpu_wake();
+    }
+    return stored;
+}
+
+void hal_host_uart_inject_error(void)
+{
+    pthread_mutex_lock(&lock_);
+    stats_.rx_errors++;
+    pthread_mutex_unlock(&lock_);
+}
+
+size_t hal_uart_read(uint8_t *buf, size_t cap)
+{
+    if (buf == NULL) {
+        return 0;
+    }
+    pthread_mutex_lock(&lock_);
+    size_t n = 0;
+    while (n < cap && rx_head_ != rx_tail_) {
+        buf[n++] = rx_[rx_head_ & RX_MASK];
+        rx_head_++;
+    }
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    if (data == NULL || len == 0u) {
+        return 0;
+    }
+    pthread_mutex_lock(&lock_);
+    size_t n = 0;
+    if (!ready_) {
+        // nothing queued before init
+    } else if (fd_ >= 0) {
+        ssize_t w = write(fd_, data, len);
+        n = w > 0 ? (size_t)w : 0u; // EAGAIN: the line is busy, the caller retries
+    } else {
+        while (n < len && tx_count_ < (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY) {
+            tx_[(tx_head_ + tx_count_) % (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY] = data[n++];
+            tx_count_++;
+        }
+    }
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+void hal_uart_get_stats(hal_uart_stats_t *out)
+{
+    pthread_mutex_lock(&lock_);
+    *out = stats_;
+    pthread_mutex_unlock(&lock_);
+}
+
+size_t hal_host_uart_take_tx(uint8_t *buf, size_t cap)
+{
+    if (buf == NULL) {
+        return 0;
+    }
+    pthread_mutex_lock(&lock_);
+    size_t n = 0;
+    while (n < cap && tx_count_ > 0u) {
+        buf[n++] = tx_[tx_head_];
+        tx_head_ = (tx_head_ + 1u) % (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY;
+        tx_count_--;
+    }
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+static void *reader_main(void *arg)
+{
+    (void)arg;
+    pthread_mutex_lock(&lock_);
+    int fd = fd_;
+    pthread_mutex_unlock(&lock_);
+    uint8_t buf[64];
+    for (;;) {
+        pthread_mutex_lock(&lock_);
+        bool stop = stop_;
+        pthread_mutex_unlock(&lock_);
+        if (stop) {
+            break;
+        }
+        struct pollfd pfd = {.fd = fd, .events = POLLIN, .revents = 0};
+        int pr = poll(&pfd, 1, 20);
+        if (pr < 0 && errno != EINTR) {
+            break;
+        }
+        if (pr <= 0) {
+            continue;
+        }
+        ssize_t n = read(fd, buf, sizeof buf);
+        if (n > 0) {
+            (void)hal_host_uart_feed(buf, (size_t)n);
+        } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+            break; // end of stream (EOF, or EIO from a pty whose master closed)
+        }
+    }
+    pthread_mutex_lock(&lock_);
+    alive_ = false;
+    pthread_mutex_unlock(&lock_);
+    return NULL;
+}
+
+int hal_host_uart_open_path(const char *path)
+{
+    if (path == NULL) {
+        return FW_ERR_INVAL;
+    }
+    hal_host_uart_close_path();
+    int fd = open(path, O_RDWR | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        return FW_ERR_IO;
+    }
+    if (!isatty(fd)) {
+        close(fd);
+        return FW_ERR_IO;
+    }
+    pthread_mutex_lock(&lock_);
+    int rc = configure_tty(fd, baud_);
+    if (rc == FW_OK) {
+        fd_ = fd;
+        stop_ = false;
+        alive_ = true;
+    }
+    pthread_mutex_unlock(&lock_);
+    if (rc != FW_OK) {
+        close(fd);
+        return rc;
+    }
+    if (pthread_create(&reader_, NULL, reader_main, NULL) != 0) {
+        pthread_mutex_lock(&lock_);
+        fd_ = -1;
+        alive_ = false;
+        pthread_mutex_unlock(&lock_);
+        close(fd);
+        return FW_ERR_IO;
+    }
+    reader_running_ = true;
+    return FW_OK;
+}
+
+void hal_host_uart_close_path(void)
+{
+    if (reader_running_) {
+        pthread_mutex_lock(&lock_);
+        stop_ = true;
+        pthread_mutex_unlock(&lock_);
+        pthread_join(reader_, NULL);
+        reader_running_ = false;
+    }
+    pthread_mutex_lock(&lock_);
+    if (fd_ >= 0) {
+        close(fd_);
+        fd_ = -1;
+    }
+    alive_ = false;
+    pthread_mutex_unlock(&lock_);
+}
+
+bool hal_host_uart_path_alive(void)
+{
+    pthread_mutex_lock(&lock_);
+    bool a = alive_;
+    pthread_mutex_unlock(&lock_);
+    return a;
+}
+
+void host_uart_reset(void)
+{
+    hal_host_uart_close_path();
+    pthread_mutex_lock(&lock_);
+    ready_ = false;
+    baud_ = DEFAULT_BAUD;
+    on_rx_ = NULL;
+    rx_ctx_ = NULL;
+    rx_head_ = rx_tail_ = 0;
+    tx_head_ = tx_count_ = 0;
+    memset(&stats_, 0, sizeof stats_);
+    pthread_mutex_unlock(&lock_);
+}
