@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc drivers: compile-time capacities and defaults. Override any of them in the file named
+// by FW_CONFIG_FILE (see fw_config.h), never here.
+#ifndef DRIVERS_CONFIG_H
+#define DRIVERS_CONFIG_H
+
+#include "fw_config.h"
+
+#include "fw/fw_base.h"
+
+/// Longest Cricket line kept, in characters without the line end. A default v2 line with every
+/// field on is about 80 characters; longer lines are discarded and counted.
+#ifndef FW_CFG_CRICKET_LINE_MAX
+#define FW_CFG_CRICKET_LINE_MAX 128
+#endif
+/// Beacons in the Cricket beacon table (one range slot each).
+#ifndef FW_CFG_CRICKET_MAX_BEACONS
+#define FW_CFG_CRICKET_MAX_BEACONS 8
+#endif
+/// Characters kept of a Cricket line's space id (SP=...).
+#ifndef FW_CFG_CRICKET_SPACE_MAX
+#define FW_CFG_CRICKET_SPACE_MAX 16
+#endif
+/// Longest gap between two gyro samples that the heading integrator bridges, in µs. A longer
+/// gap (gyro silent) is not integrated and is counted: the heading is then suspect.
+#ifndef FW_CFG_GYRO_MAX_DT_US
+#define FW_CFG_GYRO_MAX_DT_US 100000u
+#endif
+/// Gyro bias estimator: while stationary, bias += (rate - bias) / 2^shift per sample.
+#ifndef FW_CFG_GYRO_BIAS_SHIFT
+#define FW_CFG_GYRO_BIAS_SHIFT 6
+#endif
+
+FW_STATIC_ASSERT(FW_CFG_CRICKET_LINE_MAX >= 32 && FW_CFG_CRICKET_LINE_MAX <= 1024, cricket_line_max);
+FW_STATIC_ASSERT(FW_CFG_CRICKET_MAX_BEACONS >= 3 && FW_CFG_CRICKET_MAX_BEACONS <= 64, cricket_beacons);
+FW_STATIC_ASSERT(FW_CFG_CRICKET_SPACE_MAX >= 1 && FW_CFG_CRICKET_SPACE_MAX <= 64, cricket_space);
+FW_STATIC_ASSERT(FW_CFG_GYRO_MAX_DT_US >= 1000u, gyro_max_dt);
+FW_STATIC_ASSERT(FW_CFG_GYRO_BIAS_SHIFT >= 1 && FW_CFG_GYRO_BIAS_SHIFT <= 12, gyro_bias_shift);
+
+#endif // DRIVERS_CONFIG_H

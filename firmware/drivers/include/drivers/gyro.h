@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc drivers: the yaw-rate gyro (GYRO_RATE, 16 ms) and a heading integrator.
+//
+// gyro_rx_rate() decodes a frame and integrates the heading: the trapezoid of the last two rates
+// over the time between their receive stamps, minus the bias estimate. The bias is learnt while
+// the application says the robot stands still (gyro_set_stationary), which is when a rate is
+// pure bias. Samples with Status INIT or FAULT are not integrated; a gap longer than
+// FW_CFG_GYRO_MAX_DT_US is not bridged (counted in `gaps`: the heading is then suspect).
+// Context: one thread; nothing blocks.
+#ifndef DRIVERS_GYRO_H
+#define DRIVERS_GYRO_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "drivers/can_link.h"
+#include "hal/hal_can.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// GYRO_RATE Status values.
+enum gyro_status { GYRO_STATUS_OK = 0, GYRO_STATUS_INIT = 1, GYRO_STATUS_FAULT = 2 };
+
+typedef struct gyro {
+    int16_t rate_cdeg_s;    ///< last yaw rate, 0.01 deg/s, counter-clockwise positive
+    int8_t temperature_c;
+    uint8_t status;         ///< enum gyro_status of the last frame
+    can_link_rx_t rx;
+    // Integrator.
+    float heading_deg;      ///< [0, 360), counter-clockwise
+    float bias_deg_s;       ///< estimated rate offset, subtracted before integrating
+    bool stationary;        ///< the app says the robot stands still: learn the bias
+    bool have_prev;         ///< prev_* hold a usable sample
+    float prev_rate_deg_s;  ///< last integrated rate (bias not removed)
+    uint64_t prev_us;
+    uint32_t gaps;          ///< intervals longer than FW_CFG_GYRO_MAX_DT_US not integrated
+} gyro_t;
+
+/// Clears the state; heading 0, bias 0, not stationary.
+void gyro_init(gyro_t *gyro);
+
+/// Decodes GYRO_RATE received at `now_us` and integrates. Returns FW_OK, FW_ERR_INVAL (malformed:
+/// wrong id/dlc, rate beyond ±300 deg/s, unknown status; counted, nothing changes) or
+/// FW_ERR_NOENT (counter repeated: ignored).
+int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
+
+/// Sets the heading (deg, any value; wrapped into [0, 360)), e.g. from an absolute reference.
+void gyro_set_heading(gyro_t *gyro, float heading_deg);
+
+/// Heading in [0, 360) degrees.
+float gyro_heading_deg(const gyro_t *gyro);
+
+/// Tells whether the robot stands still (wheels stopped and measured still). While true, each
+/// OK sample updates the bias estimate.
+void gyro_set_stationary(gyro_t *gyro, bool stationary);
+
+/// Device side: builds GYRO_RATE. `rate_cdeg_s` within ±30000. FW_OK or FW_ERR_INVAL.
+int gyro_encode_rate(uint8_t *counter, int16_t rate_cdeg_s, int8_t temperature_c, uint8_t status,
+                     hal_can_frame_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // DRIVERS_GYRO_H

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc drivers: rolling counters and CRC shared by every frame (see can_link.h).
+//
+// Why a counter check on top of CAN's own CRC: CAN guarantees that a frame arrives intact, not
+// that the sender is alive and producing new data. A sender stuck in a loop re-sending its last
+// buffer passes every bus check; a counter that does not advance exposes it. Gaps tell lost
+// frames (receive FIFO overruns, a busy sender) apart from silence.
+#include "drivers/can_link.h"
+
+#include <string.h>
+
+#include "fw/fw_base.h"
+
+static uint8_t crc8_step(uint8_t crc, uint8_t byte)
+{
+    crc ^= byte;
+    for (int bit = 0; bit < 8; bit++) {
+        crc = (uint8_t)((crc & 0x80u) ? (((unsigned)crc << 1) ^ 0x1Du) : ((unsigned)crc << 1));
+    }
+    return crc;
+}
+
+uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len)
+{
+    uint8_t crc = 0xFFu;
+    crc = crc8_step(crc, (uint8_t)(id & 0xFFu));
+    crc = crc8_step(crc, (uint8_t)((id >> 8) & 0xFFu));
+    for (size_t i = 0; i < len; i++) {
+        crc = crc8_step(crc, data[i]);
+    }
+    return (uint8_t)(crc ^ 0xFFu);
+}
+
+void can_link_rx_init(can_link_rx_t *rx)
+{
+    memset(rx, 0, sizeof *rx);
+}
+
+bool can_link_frame_is(const hal_can_frame_t *frame, uint32_t id, uint8_t dlc)
+{
+    return frame->id == id && frame->dlc == dlc &&
+           (frame->flags & (HAL_CAN_FLAG_EXTENDED | HAL_CAN_FLAG_REMOTE)) == 0u;
+}
+
+int can_link_rx_accept(can_link_rx_t *rx, uint8_t counter, uint64_t now_us)
+{
+    counter &= (uint8_t)(CAN_LINK_COUNTER_MOD - 1u);
+    if (rx->seen) {
+        uint8_t step = (uint8_t)((counter - rx->counter) & (CAN_LINK_COUNTER_MOD - 1u));
+        if (step == 0u) {
+            rx->repeated++;
+            return FW_ERR_NOENT;
+        }
+        rx->lost += (uint32_t)(step - 1u);
+    }
+    rx->seen = true;
+    rx->counter = counter;
+    rx->frames++;
+    rx->last_ok_us = now_us;
+    return FW_OK;
+}
+
+int can_link_rx_reject(can_link_rx_t *rx)
+{
+    rx->malformed++;
+    return FW_ERR_INVAL;
+}
+
+bool can_link_rx_silent(const can_link_rx_t *rx, uint64_t now_us, uint64_t max_age_us)
+{
+    if (!rx->seen) {
+        return true;
+    }
+    return now_us > rx->last_ok_us && now_us - rx->last_ok_us > max_age_us;
+}
+
+uint8_t can_link_tx_counter_next(uint8_t *counter)
+{
+    uint8_t value = (uint8_t)(*counter & (CAN_LINK_COUNTER_MOD - 1u));
+    *counter = (uint8_t)((value + 1u) & (CAN_LINK_COUNTER_MOD - 1u));
+    return value;
+}
+
+void can_link_frame_prepare(hal_can_frame_t *frame, uint32_t id, uint8_t dlc)
+{
+    memset(frame, 0, sizeof *frame);
+    frame->id = id;
+    frame->dlc = dlc;
+}

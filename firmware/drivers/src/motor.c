@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc drivers: the motor controller's frames (see motor.h).
+//
+// The pack/unpack of each frame is the code cantools generates from docs/dynaqpc.dbc
+// (src/generated/dynaqpc_can.c); this file adds what a DBC cannot say: which values are refused,
+// the counter and CRC, and the conversion to the structs the application uses. Ranges are
+// checked with the generated *_is_in_range() functions so that the limits live in the DBC only.
+#include "drivers/motor.h"
+
+#include <string.h>
+
+#include "dynaqpc_can.h"
+#include "fw/fw_base.h"
+
+void motor_init(motor_t *motor)
+{
+    memset(motor, 0, sizeof *motor);
+    can_link_rx_init(&motor->rx);
+}
+
+int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_us)
+{
+    struct dynaqpc_can_motor_status_t msg;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH) ||
+        dynaqpc_can_motor_status_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_motor_status_speed_left_is_in_range(msg.speed_left) ||
+        !dynaqpc_can_motor_status_speed_right_is_in_range(msg.speed_right)) {
+        return can_link_rx_reject(&motor->rx);
+    }
+    int err = can_link_rx_accept(&motor->rx, msg.counter, now_us);
+    if (err != FW_OK) {
+        return err;
+    }
+    motor_status_t *s = &motor->status;
+    s->speed_left_mm_s = msg.speed_left;
+    s->speed_right_mm_s = msg.speed_right;
+    s->bump_front = msg.bump_front != 0u;
+    s->bump_rear = msg.bump_rear != 0u;
+    s->enabled = msg.enabled != 0u;
+    s->faults = (uint8_t)((msg.fault_over_current ? MOTOR_FAULT_OVERCURRENT : 0u) |
+                          (msg.fault_stall ? MOTOR_FAULT_STALL : 0u) |
+                          (msg.fault_under_voltage ? MOTOR_FAULT_UNDERVOLTAGE : 0u) |
+                          (msg.fault_cmd_timeout ? MOTOR_FAULT_CMD_TIMEOUT : 0u));
+    return FW_OK;
+}
+
+static void put_crc(hal_can_frame_t *frame)
+{
+    // Crc is the last byte of both command frames (docs/dynaqpc.dbc).
+    frame->data[frame->dlc - 1u] = can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
+}
+
+int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_motor_cmd_t msg;
+    memset(&msg, 0, sizeof msg);
+    msg.speed_left = cmd->speed_left_mm_s;
+    msg.speed_right = cmd->speed_right_mm_s;
+    msg.enable = cmd->enable ? 1u : 0u;
+    if (!dynaqpc_can_motor_cmd_speed_left_is_in_range(msg.speed_left) ||
+        !dynaqpc_can_motor_cmd_speed_right_is_in_range(msg.speed_right)) {
+        return FW_ERR_INVAL;
+    }
+    msg.counter = can_link_tx_counter_next(&motor->tx_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH);
+    if (dynaqpc_can_motor_cmd_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    put_crc(out);
+    return FW_OK;
+}
+
+int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_motor_status_t msg;
+    memset(&msg, 0, sizeof msg);
+    msg.speed_left = status->speed_left_mm_s;
+    msg.speed_right = status->speed_right_mm_s;
+    msg.bump_front = status->bump_front ? 1u : 0u;
+    msg.bump_rear = status->bump_rear ? 1u : 0u;
+    msg.enabled = status->enabled ? 1u : 0u;
+    msg.fault_over_current = (status->faults & MOTOR_FAULT_OVERCURRENT) ? 1u : 0u;
+    msg.fault_stall = (status->faults & MOTOR_FAULT_STALL) ? 1u : 0u;
+    msg.fault_under_voltage = (status->faults & MOTOR_FAULT_UNDERVOLTAGE) ? 1u : 0u;
+    msg.fault_cmd_timeout = (status->faults & MOTOR_FAULT_CMD_TIMEOUT) ? 1u : 0u;
+    if (!dynaqpc_can_motor_status_speed_left_is_in_range(msg.speed_left) ||
+        !dynaqpc_can_motor_status_speed_right_is_in_range(msg.speed_right)) {
+        return FW_ERR_INVAL;
+    }
+    msg.counter = can_link_tx_counter_next(counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH);
+    return dynaqpc_can_motor_status_pack(out->data, &msg, sizeof out->data) == (int)out->dlc
+               ? FW_OK
+               : FW_ERR_INVAL;
+}
+
+int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *counter_out)
+{
+    struct dynaqpc_can_motor_cmd_t msg;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH) ||
+        dynaqpc_can_motor_cmd_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        msg.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
+        !dynaqpc_can_motor_cmd_speed_left_is_in_range(msg.speed_left) ||
+        !dynaqpc_can_motor_cmd_speed_right_is_in_range(msg.speed_right)) {
+        return FW_ERR_INVAL;
+    }
+    out->speed_left_mm_s = msg.speed_left;
+    out->speed_right_mm_s = msg.speed_right;
+    out->enable = msg.enable != 0u;
+    if (counter_out != NULL) {
+        *counter_out = msg.counter;
+    }
+    return FW_OK;
+}

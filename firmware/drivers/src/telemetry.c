@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc drivers: telemetry, heartbeat and operator command frames (see telemetry.h).
+//
+// Telemetry saturates instead of refusing: a value too large for its signal is still worth
+// reporting as "at least this much", and a monitor must never lose a period's frame because one
+// number overflowed. The saturation limits come from the DBC (documented there per signal).
+#include "drivers/telemetry.h"
+
+#include <string.h>
+
+#include "dynaqpc_can.h"
+#include "fw/fw_base.h"
+
+static int32_t clamp_i32(int32_t v, int32_t lo, int32_t hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+static uint32_t min_u32(uint32_t v, uint32_t hi)
+{
+    return v > hi ? hi : v;
+}
+
+void tlm_init(tlm_t *tlm)
+{
+    memset(tlm, 0, sizeof *tlm);
+    can_link_rx_init(&tlm->tool_rx);
+}
+
+void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_pose_t m;
+    int32_t h = pose->heading_cdeg % 36000;
+    m.x = (int16_t)clamp_i32(pose->x_mm, INT16_MIN, INT16_MAX);
+    m.y = (int16_t)clamp_i32(pose->y_mm, INT16_MIN, INT16_MAX);
+    m.heading = (uint16_t)(h < 0 ? h + 36000 : h);
+    m.fix_state = pose->fix_state > TLM_FIX_LOST ? (uint8_t)TLM_FIX_LOST : pose->fix_state;
+    m.counter = can_link_tx_counter_next(&tlm->pose_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_POSE_FRAME_ID, DYNAQPC_CAN_TLM_POSE_LENGTH);
+    (void)dynaqpc_can_tlm_pose_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_learn_t m;
+    m.state = min_u32(learn->state, 0xFFFFFFu);
+    m.action = (uint8_t)min_u32(learn->action, 15u);
+    m.reward = (int8_t)clamp_i32(learn->reward, INT8_MIN, INT8_MAX);
+    m.episode = (uint16_t)(learn->episode & 0x7FFu);
+    m.step = (uint16_t)min_u32(learn->step, 8191u);
+    m.counter = can_link_tx_counter_next(&tlm->learn_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_LEARN_FRAME_ID, DYNAQPC_CAN_TLM_LEARN_LENGTH);
+    (void)dynaqpc_can_tlm_learn_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_sched_t m;
+    m.plan_updates = (uint16_t)min_u32(sched->plan_updates, 0xFFFFu);
+    m.deadline_misses = (uint16_t)(sched->deadline_misses & 0xFFFFu);
+    m.idle_percent = (uint8_t)((min_u32(sched->idle_permille, 1000u) + 2u) / 5u);  // 0.5 % steps
+    m.queue_length = (uint16_t)min_u32(sched->queue_length, 0xFFFFu);
+    m.counter = can_link_tx_counter_next(&tlm->sched_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_SCHED_FRAME_ID, DYNAQPC_CAN_TLM_SCHED_LENGTH);
+    (void)dynaqpc_can_tlm_sched_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_episode_t m;
+    m.episode = (uint16_t)(episode->episode & 0xFFFFu);
+    m.steps = (uint16_t)min_u32(episode->steps, 0xFFFFu);
+    m.total_reward = clamp_i32(episode->total_reward, -524288, 524287);
+    m.reached_goal = episode->reached_goal ? 1u : 0u;
+    m.bumps = (uint16_t)min_u32(episode->bumps, 2047u);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_EPISODE_FRAME_ID, DYNAQPC_CAN_TLM_EPISODE_LENGTH);
+    (void)dynaqpc_can_tlm_episode_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_fw_status_t m;
+    uint8_t e = status->errors;
+    m.mode = (uint8_t)min_u32(status->mode, TLM_MODE_FAULT);
+    m.err_motor_silent = (e & TLM_ERR_MOTOR_SILENT) ? 1u : 0u;
+    m.err_gyro_silent = (e & TLM_ERR_GYRO_SILENT) ? 1u : 0u;
+    m.err_range_silent = (e & TLM_ERR_RANGE_SILENT) ? 1u : 0u;
+    m.err_pose_lost = (e & TLM_ERR_POSE_LOST) ? 1u : 0u;
+    m.err_can_bus = (e & TLM_ERR_CAN_BUS) ? 1u : 0u;
+    m.err_uart = (e & TLM_ERR_UART) ? 1u : 0u;
+    m.err_flash = (e & TLM_ERR_FLASH) ? 1u : 0u;
+    m.err_deadline_miss = (e & TLM_ERR_DEADLINE_MISS) ? 1u : 0u;
+    m.uptime = status->uptime_s;
+    m.counter = can_link_tx_counter_next(&tlm->status_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH);
+    (void)dynaqpc_can_fw_status_pack(out->data, &m, sizeof out->data);
+}
+
+int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *out)
+{
+    struct dynaqpc_can_tool_cmd_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH) ||
+        dynaqpc_can_tool_cmd_unpack(&m, frame->data, frame->dlc) != 0 ||
+        m.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
+        !dynaqpc_can_tool_cmd_command_is_in_range(m.command)) {
+        return can_link_rx_reject(&tlm->tool_rx);
+    }
+    // Commands are not periodic: a counter gap is not a loss, only a repeat matters.
+    if (tlm->tool_rx.seen && m.counter == tlm->tool_rx.counter) {
+        tlm->tool_rx.repeated++;
+        return FW_ERR_NOENT;
+    }
+    tlm->tool_rx.seen = true;
+    tlm->tool_rx.counter = m.counter;
+    tlm->tool_rx.frames++;
+    tlm->tool_rx.last_ok_us = now_us;
+    out->command = m.command;
+    out->argument = m.argument;
+    return FW_OK;
+}
+
+int tlm_encode_tool_cmd(uint8_t *counter, const tlm_tool_cmd_t *cmd, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tool_cmd_t m;
+    if (!dynaqpc_can_tool_cmd_command_is_in_range(cmd->command)) {
+        return FW_ERR_INVAL;
+    }
+    m.command = cmd->command;
+    m.argument = cmd->argument;
+    m.counter = can_link_tx_counter_next(counter);
+    m.crc = 0u;
+    can_link_frame_prepare(out, DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH);
+    (void)dynaqpc_can_tool_cmd_pack(out->data, &m, sizeof out->data);
+    out->data[out->dlc - 1u] = can_link_crc8(out->id, out->data, out->dlc - 1u);
+    return FW_OK;
+}
+
+int tlm_decode_pose(const hal_can_frame_t *frame, tlm_pose_t *out)
+{
+    struct dynaqpc_can_tlm_pose_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_POSE_FRAME_ID, DYNAQPC_CAN_TLM_POSE_LENGTH) ||
+        dynaqpc_can_tlm_pose_unpack(&m, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_tlm_pose_heading_is_in_range(m.heading)) {
+        return FW_ERR_INVAL;
+    }
+    out->x_mm = m.x;
+    out->y_mm = m.y;
+    out->heading_cdeg = m.heading;
+    out->fix_state = m.fix_state;
+    return FW_OK;
+}
+
+int tlm_decode_learn(const hal_can_frame_t *frame, tlm_learn_t *out)
+{
+    struct dynaqpc_can_tlm_learn_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_LEARN_FRAME_ID, DYNAQPC_CAN_TLM_LEARN_LENGTH) ||
+        dynaqpc_can_tlm_learn_unpack(&m, frame->data, frame->dlc) != 0) {
+        return FW_ERR_INVAL;
+    }
+    out->state = m.state;
+    out->action = m.action;
+    out->reward = m.reward;
+    out->episode = m.episode;
+    out->step = m.step;
+    return FW_OK;
+}
+
+int tlm_decode_sched(const hal_can_frame_t *frame, tlm_sched_t *out)
+{
+    struct dynaqpc_can_tlm_sched_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_SCHED_FRAME_ID, DYNAQPC_CAN_TLM_SCHED_LENGTH) ||
+        dynaqpc_can_tlm_sched_unpack(&m, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_tlm_sched_idle_percent_is_in_range(m.idle_percent)) {
+        return FW_ERR_INVAL;
+    }
+    out->plan_updates = m.plan_updates;
+    out->deadline_misses = m.deadline_misses;
+    out->idle_permille = (uint32_t)m.idle_percent * 5u;
+    out->queue_length = m.queue_length;
+    return FW_OK;
+}
+
+int tlm_decode_episode(const hal_can_frame_t *frame, tlm_episode_t *out)
+{
+    struct dynaqpc_can_tlm_episode_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_EPISODE_FRAME_ID, DYNAQPC_CAN_TLM_EPISODE_LENGTH) ||
+        dynaqpc_can_tlm_episode_unpack(&m, frame->data, frame->dlc) != 0) {
+        return FW_ERR_INVAL;
+    }
+    out->episode = m.episode;
+    out->steps = m.steps;
+    out->total_reward = m.total_reward;
+    out->reached_goal = m.reached_goal != 0u;
+    out->bumps = m.bumps;
+    return FW_OK;
+}
+
+int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
+{
+    struct dynaqpc_can_fw_status_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH) ||
+        dynaqpc_can_fw_status_unpack(&m, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_fw_status_mode_is_in_range(m.mode)) {
+        return FW_ERR_INVAL;
+    }
+    out->mode = m.mode;
+    out->errors = (uint8_t)((m.err_motor_silent ? TLM_ERR_MOTOR_SILENT : 0u) |
+                            (m.err_gyro_silent ? TLM_ERR_GYRO_SILENT : 0u) |
+                            (m.err_range_silent ? TLM_ERR_RANGE_SILENT : 0u) |
+                            (m.err_pose_lost ? TLM_ERR_POSE_LOST : 0u) |
+                            (m.err_can_bus ? TLM_ERR_CAN_BUS : 0u) | (m.err_uart ? TLM_ERR_UART : 0u) |
+                            (m.err_flash ? TLM_ERR_FLASH : 0u) |
+                            (m.err_deadline_miss ? TLM_ERR_DEADLINE_MISS : 0u));
+    out->uptime_s = m.uptime;
+    return FW_OK;
+}

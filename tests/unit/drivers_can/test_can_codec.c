@@ -1,0 +1,317 @@
+// SPDX-License-Identifier: MIT
+// Frame codecs of docs/dynaqpc.dbc: round trips of every frame, the exact bytes of hand-checked
+// frames, CRC, saturation, and refusal of malformed frames.
+#include "test_common.h"
+
+#include <string.h>
+
+#include "drivers/candev.h"
+#include "dynaqpc_can.h"
+#include "fw/fw_base.h"
+
+static void test_crc8_matches_sae_j1850_check_value(void **state)
+{
+    (void)state;
+    // CRC-8/SAE-J1850 check value over "123456789" is 0x4B. Our CRC prefixes the id's two bytes,
+    // so feed "12" as the id (0x3231: low byte '1', high byte '2') and the rest as data.
+    const uint8_t rest[] = {'3', '4', '5', '6', '7', '8', '9'};
+    assert_int_equal(can_link_crc8(0x3231u, rest, sizeof rest), 0x4Bu);
+}
+
+static void test_motor_cmd_bytes_are_as_documented(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    hal_can_frame_t f;
+    const motor_cmd_t cmd = {.speed_left_mm_s = 300, .speed_right_mm_s = -300, .enable = true};
+    assert_int_equal(motor_encode_cmd(&m, &cmd, &f), FW_OK);
+    assert_int_equal(f.id, 0x080u);
+    assert_int_equal(f.dlc, 6u);
+    // 300 = 0x012C, -300 = 0xFED4 (little-endian), enable bit 32, counter 0 in bits 36..39.
+    const uint8_t want[5] = {0x2C, 0x01, 0xD4, 0xFE, 0x01};
+    assert_memory_equal(f.data, want, sizeof want);
+    assert_int_equal(f.data[5], can_link_crc8(0x080u, f.data, 5));
+    // The counter advances by one per frame, wrapping at 16.
+    for (unsigned i = 1; i < 20; i++) {
+        assert_int_equal(motor_encode_cmd(&m, &cmd, &f), FW_OK);
+        assert_int_equal(f.data[4] >> 4, i % 16u);
+    }
+}
+
+static void test_motor_cmd_round_trip_and_crc_check(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    hal_can_frame_t f;
+    const motor_cmd_t cmd = {.speed_left_mm_s = -1500, .speed_right_mm_s = 1500, .enable = false};
+    assert_int_equal(motor_encode_cmd(&m, &cmd, &f), FW_OK);
+    motor_cmd_t back;
+    uint8_t counter = 99;
+    assert_int_equal(motor_decode_cmd(&f, &back, &counter), FW_OK);
+    assert_int_equal(back.speed_left_mm_s, -1500);
+    assert_int_equal(back.speed_right_mm_s, 1500);
+    assert_false(back.enable);
+    assert_int_equal(counter, 0);
+    // Any flipped bit breaks the CRC.
+    for (unsigned bit = 0; bit < 48u; bit++) {
+        hal_can_frame_t bad = f;
+        bad.data[bit / 8u] ^= (uint8_t)(1u << (bit % 8u));
+        assert_int_equal(motor_decode_cmd(&bad, &back, NULL), FW_ERR_INVAL);
+    }
+    // Out-of-range targets are refused and do not consume a counter value.
+    const motor_cmd_t too_fast = {.speed_left_mm_s = 1501, .speed_right_mm_s = 0, .enable = true};
+    assert_int_equal(motor_encode_cmd(&m, &too_fast, &f), FW_ERR_INVAL);
+    assert_int_equal(m.tx_counter, 1);
+}
+
+static void test_motor_status_round_trip(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    uint8_t tx = 0;
+    const motor_status_t s = {.speed_left_mm_s = -2000, .speed_right_mm_s = 1234, .bump_front = true,
+                              .bump_rear = false, .enabled = true,
+                              .faults = MOTOR_FAULT_STALL | MOTOR_FAULT_CMD_TIMEOUT};
+    hal_can_frame_t f;
+    assert_int_equal(motor_encode_status(&tx, &s, &f), FW_OK);
+    assert_int_equal(motor_rx_status(&m, &f, 1000u), FW_OK);
+    assert_int_equal(m.status.speed_left_mm_s, -2000);
+    assert_int_equal(m.status.speed_right_mm_s, 1234);
+    assert_true(m.status.bump_front);
+    assert_false(m.status.bump_rear);
+    assert_true(m.status.enabled);
+    assert_int_equal(m.status.faults, MOTOR_FAULT_STALL | MOTOR_FAULT_CMD_TIMEOUT);
+    assert_int_equal(m.rx.frames, 1);
+    assert_int_equal(m.rx.last_ok_us, 1000u);
+}
+
+static void test_gyro_gps_ranges_round_trip(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    uint8_t c_gyro = 0, c_gps = 0, c_ir = 0, c_sonar[2] = {0, 0};
+    hal_can_frame_t f;
+
+    assert_int_equal(gyro_encode_rate(&c_gyro, -12345, -7, GYRO_STATUS_OK, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 10u, NULL), CANDEV_RX_GYRO);
+    assert_int_equal(bus.gyro.rate_cdeg_s, -12345);
+    assert_int_equal(bus.gyro.temperature_c, -7);
+
+    const gps_pose_t p = {.x_mm = -32768, .y_mm = 7999, .heading_cdeg = 35999, .fix = GPS_FIX_GOOD};
+    assert_int_equal(gps_encode_pose(&c_gps, &p, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 20u, NULL), CANDEV_RX_GPS);
+    assert_memory_equal(&bus.gps.pose, &p, sizeof p);
+
+    const uint16_t ir[3] = {0, 2000, 299};
+    const bool valid[3] = {true, true, false};
+    assert_int_equal(ranges_encode_ir(&c_ir, ir, valid, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 30u, NULL), CANDEV_RX_IR);
+    assert_int_equal(bus.ranges.ir_mm[RANGES_IR_LEFT], 0);
+    assert_int_equal(bus.ranges.ir_mm[RANGES_IR_FRONT], 2000);
+    assert_true(bus.ranges.ir_valid[RANGES_IR_FRONT]);
+    assert_false(bus.ranges.ir_valid[RANGES_IR_RIGHT]);
+
+    uint16_t sonar[RANGES_SONAR_COUNT];
+    for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+        sonar[i] = (uint16_t)(i * 150u + 9u);  // 9 mm rounds to 0, 159 to 160, ...
+    }
+    sonar[3] = RANGES_NO_ECHO;
+    sonar[12] = 2521;  // beyond the frame's reach: no echo
+    for (unsigned half = 0; half < 2u; half++) {
+        assert_int_equal(ranges_encode_sonar(&c_sonar[half], half, sonar, &f), FW_OK);
+        assert_int_equal(candev_rx(&bus, &f, 40u, NULL), CANDEV_RX_SONAR);
+    }
+    for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+        uint16_t want = (i == 3u || i == 12u) ? RANGES_NO_ECHO : (uint16_t)((sonar[i] + 10u) / 20u * 20u);
+        assert_int_equal(bus.ranges.sonar_mm[i], want);
+    }
+    assert_int_equal(ranges_encode_sonar(&c_sonar[0], 2u, sonar, &f), FW_ERR_INVAL);
+}
+
+static void test_telemetry_saturates_and_round_trips(void **state)
+{
+    (void)state;
+    tlm_t t;
+    tlm_init(&t);
+    hal_can_frame_t f;
+
+    const tlm_pose_t pose = {.x_mm = 40000, .y_mm = -40000, .heading_cdeg = -100, .fix_state = 7};
+    tlm_encode_pose(&t, &pose, &f);
+    tlm_pose_t p;
+    assert_int_equal(tlm_decode_pose(&f, &p), FW_OK);
+    assert_int_equal(p.x_mm, 32767);
+    assert_int_equal(p.y_mm, -32768);
+    assert_int_equal(p.heading_cdeg, 35900);
+    assert_int_equal(p.fix_state, TLM_FIX_LOST);
+
+    const tlm_learn_t learn = {.state = 0x1234567u, .action = 3, .reward = -100, .episode = 2049,
+                               .step = 5000};
+    tlm_encode_learn(&t, &learn, &f);
+    tlm_learn_t l;
+    assert_int_equal(tlm_decode_learn(&f, &l), FW_OK);
+    assert_int_equal(l.state, 0xFFFFFFu);
+    assert_int_equal(l.action, 3);
+    assert_int_equal(l.reward, -100);
+    assert_int_equal(l.episode, 1);
+    assert_int_equal(l.step, 5000);
+
+    const tlm_sched_t sched = {.plan_updates = 70000, .deadline_misses = 65537, .idle_permille = 873,
+                               .queue_length = 17};
+    tlm_encode_sched(&t, &sched, &f);
+    tlm_sched_t s;
+    assert_int_equal(tlm_decode_sched(&f, &s), FW_OK);
+    assert_int_equal(s.plan_updates, 65535);
+    assert_int_equal(s.deadline_misses, 1);
+    assert_int_equal(s.idle_permille, 875);
+    assert_int_equal(s.queue_length, 17);
+
+    const tlm_episode_t ep = {.episode = 12, .steps = 4999, .total_reward = -600000,
+                              .reached_goal = true, .bumps = 3};
+    tlm_encode_episode(&ep, &f);
+    tlm_episode_t e;
+    assert_int_equal(tlm_decode_episode(&f, &e), FW_OK);
+    assert_int_equal(e.episode, 12);
+    assert_int_equal(e.steps, 4999);
+    assert_int_equal(e.total_reward, -524288);
+    assert_true(e.reached_goal);
+    assert_int_equal(e.bumps, 3);
+
+    const tlm_status_t st = {.mode = TLM_MODE_SAFE_STOP,
+                             .errors = TLM_ERR_GYRO_SILENT | TLM_ERR_DEADLINE_MISS,
+                             .uptime_s = 123456};
+    tlm_encode_status(&t, &st, &f);
+    tlm_status_t s2;
+    assert_int_equal(tlm_decode_status(&f, &s2), FW_OK);
+    assert_memory_equal(&s2, &st, sizeof st);
+}
+
+static void test_tool_cmd_crc_and_repeats(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    uint8_t counter = 5;
+    hal_can_frame_t f;
+    tlm_tool_cmd_t got;
+    const tlm_tool_cmd_t cmd = {.command = TLM_CMD_SAFE_STOP, .argument = 0xDEADBEEFu};
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 1u, &got), CANDEV_RX_TOOL_CMD);
+    assert_int_equal(got.command, TLM_CMD_SAFE_STOP);
+    assert_int_equal(got.argument, 0xDEADBEEFu);
+    // The same frame again is a repeat, not a second command.
+    assert_int_equal(candev_rx(&bus, &f, 2u, &got), FW_ERR_NOENT);
+    assert_int_equal(bus.tlm.tool_rx.repeated, 1);
+    // A corrupted CRC is refused.
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
+    f.data[6] ^= 0x01u;
+    assert_int_equal(candev_rx(&bus, &f, 3u, &got), FW_ERR_INVAL);
+    assert_int_equal(bus.tlm.tool_rx.malformed, 1);
+    // An unknown command is refused on both sides.
+    const tlm_tool_cmd_t unknown = {.command = 6, .argument = 0};
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &unknown, &f), FW_ERR_INVAL);
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
+    f.data[0] = 6;
+    f.data[6] = can_link_crc8(f.id, f.data, 6);
+    assert_int_equal(candev_rx(&bus, &f, 4u, &got), FW_ERR_INVAL);
+}
+
+static void test_malformed_frames_are_refused_and_counted(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    uint8_t c = 0;
+    hal_can_frame_t good, f;
+    assert_int_equal(gyro_encode_rate(&c, 100, 20, GYRO_STATUS_OK, &good), FW_OK);
+    assert_int_equal(candev_rx(&bus, &good, 1u, NULL), CANDEV_RX_GYRO);
+
+    // Wrong dlc, both ways.
+    f = good;
+    f.dlc = 3;
+    assert_int_equal(candev_rx(&bus, &f, 2u, NULL), FW_ERR_INVAL);
+    f.dlc = 8;
+    assert_int_equal(candev_rx(&bus, &f, 2u, NULL), FW_ERR_INVAL);
+    // A remote frame with our id.
+    f = good;
+    f.flags = HAL_CAN_FLAG_REMOTE;
+    assert_int_equal(candev_rx(&bus, &f, 2u, NULL), FW_ERR_INVAL);
+    // Rate beyond ±300 deg/s (raw 30001).
+    f = good;
+    f.data[0] = (uint8_t)(30001 & 0xFF);
+    f.data[1] = (uint8_t)(30001 >> 8);
+    assert_int_equal(candev_rx(&bus, &f, 2u, NULL), FW_ERR_INVAL);
+    // Status 3 is not defined.
+    f = good;
+    f.data[3] = (uint8_t)((f.data[3] & 0xF0u) | 0x03u);
+    assert_int_equal(candev_rx(&bus, &f, 2u, NULL), FW_ERR_INVAL);
+    assert_int_equal(bus.gyro.rx.malformed, 5);
+    assert_int_equal(bus.gyro.rx.frames, 1);
+    assert_int_equal(bus.gyro.rate_cdeg_s, 100);  // unchanged
+
+    // GPS heading 36000 (0.01 deg) is out of range; IR range 2001 mm too.
+    const gps_pose_t p = {.x_mm = 0, .y_mm = 0, .heading_cdeg = 0, .fix = GPS_FIX_GOOD};
+    assert_int_equal(gps_encode_pose(&c, &p, &f), FW_OK);
+    f.data[4] = (uint8_t)(36000 & 0xFF);
+    f.data[5] = (uint8_t)(36000 >> 8);
+    assert_int_equal(candev_rx(&bus, &f, 3u, NULL), FW_ERR_INVAL);
+    const uint16_t ir[3] = {1, 2, 3};
+    const bool valid[3] = {true, true, true};
+    assert_int_equal(ranges_encode_ir(&c, ir, valid, &f), FW_OK);
+    f.data[2] = (uint8_t)(2001 & 0xFF);
+    f.data[3] = (uint8_t)(2001 >> 8);
+    assert_int_equal(candev_rx(&bus, &f, 3u, NULL), FW_ERR_INVAL);
+    assert_int_equal(bus.gps.rx.malformed, 1);
+    assert_int_equal(bus.ranges.ir_rx.malformed, 1);
+
+    // Frames not for the firmware are ignored and counted, whatever their content.
+    hal_can_frame_t other = good;
+    other.id = 0x7FFu;
+    assert_int_equal(candev_rx(&bus, &other, 4u, NULL), CANDEV_RX_IGNORED);
+    other.id = DYNAQPC_CAN_GYRO_RATE_FRAME_ID;
+    other.flags = HAL_CAN_FLAG_EXTENDED;
+    assert_int_equal(candev_rx(&bus, &other, 4u, NULL), CANDEV_RX_IGNORED);
+    assert_int_equal(bus.ignored, 2);
+}
+
+static void test_every_byte_pattern_is_survived(void **state)
+{
+    (void)state;
+    // Every id we receive, every dlc 0..8, pseudo-random bytes: no crash, a defined result.
+    candev_t bus;
+    candev_init(&bus);
+    uint32_t x = 12345u;
+    for (unsigned k = 0; k < CANDEV_RX_ID_COUNT; k++) {
+        for (uint8_t dlc = 0; dlc <= 8u; dlc++) {
+            for (unsigned r = 0; r < 200u; r++) {
+                hal_can_frame_t f = {.id = candev_rx_ids[k], .dlc = dlc, .flags = 0, .data = {0}};
+                for (unsigned i = 0; i < 8u; i++) {
+                    x = x * 1664525u + 1013904223u;
+                    f.data[i] = (uint8_t)(x >> 24);
+                }
+                tlm_tool_cmd_t cmd;
+                int rc = candev_rx(&bus, &f, r, &cmd);
+                assert_true(rc >= FW_ERR_NOENT && rc <= CANDEV_RX_IGNORED);
+            }
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_crc8_matches_sae_j1850_check_value),
+        cmocka_unit_test(test_motor_cmd_bytes_are_as_documented),
+        cmocka_unit_test(test_motor_cmd_round_trip_and_crc_check),
+        cmocka_unit_test(test_motor_status_round_trip),
+        cmocka_unit_test(test_gyro_gps_ranges_round_trip),
+        cmocka_unit_test(test_telemetry_saturates_and_round_trips),
+        cmocka_unit_test(test_tool_cmd_crc_and_repeats),
+        cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
+        cmocka_unit_test(test_every_byte_pattern_is_survived),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

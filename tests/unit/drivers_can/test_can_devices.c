@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+// Device state over CAN: rolling-counter gaps and repeats, bus-silence detection, and the gyro's
+// heading integration and bias estimate.
+#include "test_common.h"
+
+#include <math.h>
+
+#include "drivers/candev.h"
+#include "drivers/drivers_config.h"
+#include "fw/fw_base.h"
+
+static hal_can_frame_t motor_frame(uint8_t counter)
+{
+    uint8_t c = counter;
+    const motor_status_t s = {.speed_left_mm_s = 10, .speed_right_mm_s = 10};
+    hal_can_frame_t f;
+    assert_int_equal(motor_encode_status(&c, &s, &f), FW_OK);
+    return f;
+}
+
+static void test_counter_gaps_and_repeats(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    uint64_t t = 0;
+    // 0..15, 0..4 in order: nothing lost across the wrap.
+    for (unsigned i = 0; i < 21u; i++) {
+        hal_can_frame_t f = motor_frame((uint8_t)(i % 16u));
+        assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    }
+    assert_int_equal(m.rx.frames, 21);
+    assert_int_equal(m.rx.lost, 0);
+    // Skip 5 and 6: two lost.
+    hal_can_frame_t f = motor_frame(7);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    assert_int_equal(m.rx.lost, 2);
+    // 7 again: a repeat is refused and leaves the timestamp alone.
+    uint64_t last = m.rx.last_ok_us;
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_ERR_NOENT);
+    assert_int_equal(m.rx.repeated, 1);
+    assert_int_equal(m.rx.last_ok_us, last);
+    // Going back to 6 reads as 15 lost (a 4-bit counter cannot tell): documented limit.
+    f = motor_frame(6);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    assert_int_equal(m.rx.lost, 2 + 14);
+}
+
+static void test_silence_is_detected_from_the_last_good_frame(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    assert_true(can_link_rx_silent(&m.rx, 0u, 150000u));  // nothing ever heard
+    hal_can_frame_t f = motor_frame(0);
+    assert_int_equal(motor_rx_status(&m, &f, 1000000u), FW_OK);
+    assert_false(can_link_rx_silent(&m.rx, 1150000u, 150000u));
+    // Malformed frames keep arriving but do not count as signs of life.
+    hal_can_frame_t bad = f;
+    bad.dlc = 2;
+    assert_int_equal(motor_rx_status(&m, &bad, 1100000u), FW_ERR_INVAL);
+    assert_true(can_link_rx_silent(&m.rx, 1150001u, 150000u));
+}
+
+static hal_can_frame_t gyro_frame(uint8_t *counter, int16_t rate_cdeg_s, uint8_t status)
+{
+    hal_can_frame_t f;
+    assert_int_equal(gyro_encode_rate(counter, rate_cdeg_s, 25, status, &f), FW_OK);
+    return f;
+}
+
+static void test_gyro_integrates_rate_over_receive_time(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    uint8_t c = 0;
+    uint64_t t = 5000000u;
+    // 90 deg/s for 1 s at 16 ms: 62.5 frames; use 63 frames = 62 intervals of 16 ms = 0.992 s.
+    for (unsigned i = 0; i < 63u; i++) {
+        hal_can_frame_t f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t), FW_OK);
+        t += 16000u;
+    }
+    assert_float_equal(gyro_heading_deg(&g), 90.0f * 0.992f, 1e-3f);
+    // Lost frames: the interval is bridged by the trapezoid of the two ends.
+    hal_can_frame_t f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t), FW_OK);
+    gyro_set_heading(&g, 0.0f);
+    c = (uint8_t)(c + 3u);  // three frames lost
+    f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t + 64000u), FW_OK);
+    assert_float_equal(gyro_heading_deg(&g), 90.0f * 0.064f, 1e-3f);
+    assert_int_equal(g.rx.lost, 3);
+    // Clockwise rotation wraps below 0.
+    gyro_set_heading(&g, 1.0f);
+    f = gyro_frame(&c, -10000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t + 80000u), FW_OK);
+    f = gyro_frame(&c, -10000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t + 100000u), FW_OK);
+    // The first of those two intervals mixes 90 and -100 deg/s over 16 ms; then -100 over 20 ms.
+    float want = 1.0f + 0.5f * (90.0f - 100.0f) * 0.016f - 100.0f * 0.020f + 360.0f;
+    assert_float_equal(gyro_heading_deg(&g), want, 1e-3f);
+}
+
+static void test_gyro_skips_gaps_and_unusable_samples(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    uint8_t c = 0;
+    hal_can_frame_t f = gyro_frame(&c, 5000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, 0u), FW_OK);
+    f = gyro_frame(&c, 5000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, FW_CFG_GYRO_MAX_DT_US + 1u), FW_OK);
+    assert_float_equal(gyro_heading_deg(&g), 0.0f, 0.0f);
+    assert_int_equal(g.gaps, 1);
+    // INIT samples are received but not integrated.
+    f = gyro_frame(&c, 5000, GYRO_STATUS_INIT);
+    assert_int_equal(gyro_rx_rate(&g, &f, FW_CFG_GYRO_MAX_DT_US + 16001u), FW_OK);
+    f = gyro_frame(&c, 5000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, FW_CFG_GYRO_MAX_DT_US + 32001u), FW_OK);
+    assert_float_equal(gyro_heading_deg(&g), 0.0f, 0.0f);
+}
+
+static void test_gyro_learns_bias_while_stationary(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    uint8_t c = 0;
+    uint64_t t = 0;
+    gyro_set_stationary(&g, true);
+    for (unsigned i = 0; i < 1000u; i++) {  // 16 s standing still with a 0.5 deg/s offset
+        hal_can_frame_t f = gyro_frame(&c, 50, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    }
+    assert_float_equal(g.bias_deg_s, 0.5f, 1e-3f);
+    // Drift over those 16 s stays well under the 8 deg an uncorrected gyro would show.
+    float drift = gyro_heading_deg(&g);
+    assert_true(drift < 1.0f || drift > 359.0f);
+    // Moving: the bias is held and subtracted; 30.5 deg/s measured is 30 deg/s true.
+    gyro_set_stationary(&g, false);
+    for (unsigned i = 0; i < 101u; i++) {
+        hal_can_frame_t f = gyro_frame(&c, 3050, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t += 10000u), FW_OK);
+        if (i == 0u) {
+            gyro_set_heading(&g, 0.0f);  // from the first moving sample on: 100 intervals of 10 ms
+        }
+    }
+    assert_float_equal(gyro_heading_deg(&g), 30.0f, 0.01f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_counter_gaps_and_repeats),
+        cmocka_unit_test(test_silence_is_detected_from_the_last_good_frame),
+        cmocka_unit_test(test_gyro_integrates_rate_over_receive_time),
+        cmocka_unit_test(test_gyro_skips_gaps_and_unusable_samples),
+        cmocka_unit_test(test_gyro_learns_bias_while_stationary),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
