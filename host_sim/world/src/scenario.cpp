@@ -12,9 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "world/scenario.h"
 
@@ -700,24 +698,23 @@ std::string resolve_scenario_path(const std::string &name_or_path)
 bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *error)
 {
     std::string path = resolve_scenario_path(name_or_path);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        if (error != nullptr) *error = path + ": cannot open: " + std::strerror(errno);
+    auto report = [&](const std::string &what) {
+        if (error != nullptr) *error = path + ": " + what;
         return false;
-    }
+    };
+    std::FILE *f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) return report(std::string("cannot open: ") + std::strerror(errno));
     std::string text;
     char buf[65536];
-    while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-        text.append(buf, static_cast<std::size_t>(in.gcount()));
-        if (text.size() > kMaxFileBytes) {
-            if (error != nullptr) *error = path + ": file too large";
-            return false;
-        }
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0 && text.size() <= kMaxFileBytes) {
+        text.append(buf, n);
     }
-    if (in.bad()) {
-        if (error != nullptr) *error = path + ": cannot read: " + std::strerror(errno);
-        return false;
-    }
+    const int read_errno = errno;
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) return report(std::string("cannot read: ") + std::strerror(read_errno));
+    if (text.size() > kMaxFileBytes) return report("file too large");
     if (!parse_scenario(text, path, out, error)) return false;
     out->path = path;
     return true;

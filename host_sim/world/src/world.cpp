@@ -3,7 +3,8 @@
 //
 // Top-down, zero gravity: the floor's friction is modelled per wheel, not by Box2D. Each physics
 // step, before b2World::Step:
-//  1. the wheel speed controller slews its command toward the targets by at most max_accel * dt;
+//  1. the wheel speed controller slews its command from the wheel's measured speed toward the
+//     target by at most max_accel * dt;
 //  2. each wheel cancels the body's sideways velocity at its contact point with an impulse (ideal
 //     tyres that never skid sideways). Both wheels sit on the axle through the centre of mass,
 //     so the sideways velocity is the same at both and the impulses apply no torque;
@@ -90,7 +91,6 @@ struct World::Impl {
     BumpListener bump;
     RandomStream start_rng, range_rng, gyro_rng, gps_rng;
     double target_l = 0.0, target_r = 0.0;
-    double cmd_l = 0.0, cmd_r = 0.0;
     double half_track = 0.0;
     double mass = 0.0, inertia = 0.0, max_force = 0.0;
     double time = 0.0;
@@ -171,23 +171,26 @@ void World::Impl::build()
 void World::Impl::drive()
 {
     const double dt = sc.timing.physics_dt;
-    const double dv = sc.robot.max_accel * dt;
-    cmd_l += std::clamp(target_l - cmd_l, -dv, dv);
-    cmd_r += std::clamp(target_r - cmd_r, -dv, dv);
-
     const b2Rot q = robot->GetTransform().q;
     const b2Vec2 fwd = q.GetXAxis(), side = q.GetYAxis();
     const b2Vec2 v = robot->GetLinearVelocity();
     const double w = robot->GetAngularVelocity();
+    const double vf = b2Dot(v, fwd);
+    const double speed_l = vf - w * half_track, speed_r = vf + w * half_track;
+
+    // 1. The command slews from the wheel's measured speed (so a wheel stalled by a wall starts
+    //    again from 0, with no wound-up command pushing on).
+    const double dv = sc.robot.max_accel * dt;
+    const double cmd_l = speed_l + std::clamp(target_l - speed_l, -dv, dv);
+    const double cmd_r = speed_r + std::clamp(target_r - speed_r, -dv, dv);
 
     // 2. No sideways slip: cancel the sideways velocity (both wheels' share at once).
     const float lateral = b2Dot(v, side);
     robot->ApplyLinearImpulseToCenter(static_cast<float>(-mass * lateral) * side, true);
 
     // 3. Forces that bring both contact points to the command in one step.
-    const double vf = b2Dot(v, fwd);
-    const double err_l = cmd_l - (vf - w * half_track);
-    const double err_r = cmd_r - (vf + w * half_track);
+    const double err_l = cmd_l - speed_l;
+    const double err_r = cmd_r - speed_r;
     const double f_sum = mass * 0.5 * (err_l + err_r) / dt;                  // F_l + F_r
     const double f_diff = inertia * (err_r - err_l) /                         // F_r - F_l
                           (2.0 * half_track * half_track * dt);
@@ -268,7 +271,7 @@ void World::reset(const Pose &pose)
                           static_cast<float>(pose.heading));
     m.robot->SetLinearVelocity(b2Vec2(0.0f, 0.0f));
     m.robot->SetAngularVelocity(0.0f);
-    m.target_l = m.target_r = m.cmd_l = m.cmd_r = 0.0;
+    m.target_l = m.target_r = 0.0;
     m.bump.bumped = false;
 }
 
