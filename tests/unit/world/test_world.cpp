@@ -31,7 +31,7 @@ world::Scenario open_arena(const std::string &extra,
     std::string text =
         "arena 10 10\n"
         "goal 9 9 0.3\n"
-        "robot length 0.6 width 0.5 mass 9 track 0.4 max_speed 2 max_accel 30\n" +
+        "robot length 0.6 width 0.5 mass 9 track 0.4 max_speed 2 max_accel 60\n" +
         ranger + extra;
     if (text.find("\nray ") == std::string::npos) text += "ray 0\n";
     world::Scenario s;
@@ -152,6 +152,51 @@ void test_actions(void **state)
             }
             assert_false(w.bumped());
         }
+    }
+}
+
+// Long random action sequences with the shipped robots in open space: wheel targets from
+// wheel_targets_for() stay below max_speed (the compensation for the speeds a period starts with
+// does not run away) and every action does what it says.
+void test_actions_random_sequence(void **state)
+{
+    (void)state;
+    for (const char *name : {"paper-sim", "paper-lab"}) {
+        world::Scenario s = shipped(name);
+        s.obstacles.clear();
+        s.arena_w = s.arena_h = 200.0;
+        world::World w(s, 21);
+        world::RandomStream pick(21, 7);
+        w.reset({100.0, 100.0, 0.0});
+        for (int i = 0; i < 3000; ++i) {
+            const auto a = static_cast<world::Action>(static_cast<int>(pick.uniform() * 4));
+            const world::Pose before = w.pose();
+            const world::WheelSpeeds v = world::wheel_targets_for(s, a, w.wheel_speeds());
+            assert_true(std::fabs(v.left) < s.robot.max_speed * 0.95);
+            assert_true(std::fabs(v.right) < s.robot.max_speed * 0.95);
+            w.set_wheel_targets(v.left, v.right);
+            w.step_period();
+            const world::Pose after = w.pose();
+            const double turned = world::wrap_angle(after.heading - before.heading);
+            const double moved = std::hypot(after.x - before.x, after.y - before.y);
+            switch (a) {
+            case world::Action::Forward:
+            case world::Action::Backward:
+                assert_true(std::fabs(turned) < 0.005);
+                assert_true(moved > s.actions.step - 0.01 && moved < s.actions.step + 0.01);
+                break;
+            case world::Action::TurnLeft:
+                assert_true(std::fabs(turned - s.actions.turn) < 0.005);
+                assert_true(moved < 0.05);
+                break;
+            case world::Action::TurnRight:
+                assert_true(std::fabs(turned + s.actions.turn) < 0.005);
+                assert_true(moved < 0.05);
+                break;
+            }
+            if (std::hypot(after.x - 100.0, after.y - 100.0) > 80.0) w.reset({100.0, 100.0, 0.0});
+        }
+        assert_false(w.bumped());
     }
 }
 
@@ -463,6 +508,7 @@ int main(void)
         cmocka_unit_test(test_straight_drive),
         cmocka_unit_test(test_turn_rate),
         cmocka_unit_test(test_actions),
+        cmocka_unit_test(test_actions_random_sequence),
         cmocka_unit_test(test_rays_known_geometry),
         cmocka_unit_test(test_ray_noise),
         cmocka_unit_test(test_bump_wall),

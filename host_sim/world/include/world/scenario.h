@@ -43,8 +43,8 @@ struct RobotSpec {
     double width = 0.0;       ///< along the body's y, m
     double mass = 5.0;        ///< kg
     double track = 0.0;       ///< distance between the wheels' contact points, m
-    double max_speed = 1.5;   ///< largest wheel speed the controller accepts, m/s
-    double max_accel = 30.0;  ///< wheel speed controller's slew limit, m/s^2
+    double max_speed = 2.0;   ///< largest wheel speed the controller accepts, m/s
+    double max_accel = 60.0;  ///< wheel speed controller's slew limit, m/s^2
     double friction = 0.3;    ///< Coulomb friction of the body against walls and obstacles
 };
 
