@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc world: a scenario (arena, robot, sensors, task parameters) and its text file format.
+//
+// The format, every key, unit and default: docs/scenarios.md. Units are SI (m, s, kg, rad inside
+// this struct; the file writes angles in degrees and the Cricket intervals in ms).
+// Coordinates: the arena spans [0, width] x [0, height], x to the right, y up; headings are
+// counter-clockwise from +x; the robot's body frame has +x forward and +y to the robot's left.
+#ifndef WORLD_SCENARIO_H
+#define WORLD_SCENARIO_H
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace world {
+
+/// Limits, so that no file can make the parser or the world grow without bound.
+inline constexpr int kMaxObstacles = 256;
+inline constexpr int kMaxRays = 64;
+inline constexpr int kMaxCodeBits = 16;
+inline constexpr int kMaxBeacons = 16;
+inline constexpr std::size_t kMaxFileBytes = 1u << 20;
+inline constexpr std::size_t kMaxLineBytes = 1024;
+
+struct Obstacle {
+    enum class Shape { Box, Circle };
+    Shape shape = Shape::Box;
+    double cx = 0.0, cy = 0.0;  ///< centre, m
+    double w = 0.0, h = 0.0;    ///< box: size along its own x and y before rotation, m
+    double angle = 0.0;         ///< box: rotation, rad, counter-clockwise
+    double radius = 0.0;        ///< circle: radius, m
+    int line = 0;               ///< line of the scenario file that defined it
+};
+
+struct Goal {
+    double cx = 0.0, cy = 0.0, radius = 0.0;  ///< reached when the robot's centre is inside
+};
+
+/// A differential-drive robot: a rectangle centred on the wheel axle's midpoint.
+struct RobotSpec {
+    double length = 0.0;      ///< along the body's x (forward), m
+    double width = 0.0;       ///< along the body's y, m
+    double mass = 5.0;        ///< kg
+    double track = 0.0;       ///< distance between the wheels' contact points, m
+    double max_speed = 2.0;   ///< largest wheel speed the controller accepts, m/s
+    double max_accel = 60.0;  ///< wheel speed controller's slew limit, m/s^2
+    double friction = 0.3;    ///< Coulomb friction of the body against walls and obstacles
+};
+
+/// One range sensor: where it sits on the body and where it looks.
+struct Ray {
+    double angle = 0.0;  ///< direction in the body frame, rad (0 = forward, + = left)
+    double x = 0.0;      ///< mounting point in the body frame, m (default: on the outline)
+    double y = 0.0;
+};
+
+struct RangerSpec {
+    enum class Kind { Sonar, Ir };
+    Kind kind = Kind::Sonar;
+    double min_range = 0.0;   ///< m; closer hits read min_range
+    double max_range = 0.0;   ///< m; nothing within it reads exactly max_range, without noise
+    double noise_prop = 0.0;  ///< sd of the noise per metre of range (proportional part)
+    double noise_sd = 0.0;    ///< sd of the noise, m (constant part)
+    std::vector<Ray> rays;    ///< in file order; ray i is reading i
+};
+
+/// One bit of the sensor code: set when the smallest reading among `rays` is below `threshold`.
+struct CodeBit {
+    double threshold = 0.0;  ///< m
+    std::vector<int> rays;   ///< indices into RangerSpec::rays
+};
+
+struct GyroSpec {
+    double bias = 0.0;      ///< rad/s, constant
+    double noise_sd = 0.0;  ///< rad/s, per reading
+};
+
+struct GpsSpec {
+    bool enabled = false;     ///< the scenario has a `gps` line
+    double xy_sd = 0.0;       ///< m, per axis
+    double heading_sd = 0.0;  ///< rad
+};
+
+struct Beacon {
+    std::string id;  ///< 8 hex bytes as the listener prints them, e.g. "1:5e:3c:3c:a:0:0:ba"
+    double x = 0.0, y = 0.0, z = 0.0;  ///< m; z is the height above the floor
+};
+
+struct CricketSpec {
+    std::vector<Beacon> beacons;    ///< none: the scenario has no Cricket system
+    std::string space = "DYNAQPC";  ///< the SP field
+    double min_interval = 0.668;    ///< s, between two transmissions of one beacon
+    double max_interval = 1.332;    ///< s
+    double noise_sd = 0.01;         ///< m, on each range
+    double listener_height = 0.1;   ///< m, the listener's height above the floor
+    double speed_of_sound = 343.0;  ///< m/s, turns ranges into the DR time of flight
+};
+
+struct Timing {
+    double control_period = 0.192;  ///< s
+    double physics_dt = 0.016;      ///< s; control_period is a whole number of them
+    int substeps = 12;              ///< control_period / physics_dt, computed by the parser
+};
+
+struct SolverSpec {
+    int velocity_iterations = 8;
+    int position_iterations = 3;
+};
+
+struct StartSpec {
+    double margin = 0.05;  ///< m of free space beyond the robot's circumscribed circle
+};
+
+/// The firmware's state encoding (bits per component); the world only carries it.
+struct Encoding {
+    int x_bits = 5, y_bits = 5, heading_bits = 4;
+    int sensor_bits = 0;  ///< = code_bits.size()
+};
+
+struct ActionSpec {
+    double step = 0.25;                         ///< m, forward/backward travel per action
+    double turn = 0.78539816339744830962;       ///< rad, turn per action (45 degrees)
+};
+
+struct Rewards {
+    double bump = -100.0, goal = 100.0, step = -1.0;
+};
+
+struct Learning {
+    double epsilon = 0.1, alpha = 0.9, gamma = 0.9;
+    int planning = 5;
+    int step_cap = 200;
+    int sets = 5;
+    int episodes = 20;
+};
+
+/// A parsed, validated scenario. Plain data: copy it freely.
+struct Scenario {
+    std::string name;  ///< the file's stem, e.g. "paper-sim"
+    std::string path;  ///< the file it came from ("" when parsed from text)
+    double arena_w = 0.0, arena_h = 0.0;  ///< m; walls surround it
+    std::vector<Obstacle> obstacles;
+    Goal goal;
+    RobotSpec robot;
+    RangerSpec ranger;
+    std::vector<CodeBit> code_bits;
+    GyroSpec gyro;
+    GpsSpec gps;
+    CricketSpec cricket;
+    Timing timing;
+    SolverSpec solver;
+    StartSpec start;
+    Encoding encoding;
+    ActionSpec actions;
+    Rewards rewards;
+    Learning learning;
+};
+
+/// Parses scenario text (any bytes). `file` names it in error messages.
+/// Returns true with *out filled in, or false with *error = "<file>:<line>: <problem>" (for a
+/// problem of the whole file, such as a missing key, the line is the file's last line).
+/// Never throws on bad input.
+bool parse_scenario(std::string_view text, const std::string &file, Scenario *out,
+                    std::string *error);
+
+/// The path a scenario argument names: a bare name without '/' and without ".scn" that matches a
+/// shipped scenario ("paper-sim", "paper-lab") gives host_sim/scenarios/<name>.scn of this
+/// source tree; anything else is returned unchanged as a path.
+std::string resolve_scenario_path(const std::string &name_or_path);
+
+/// resolve_scenario_path, read (at most kMaxFileBytes), parse_scenario. Errors as parse_scenario,
+/// or "<path>: cannot open: <reason>" / "<path>: file too large".
+bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *error);
+
+/// The radius of the robot's circumscribed circle (half its diagonal), m.
+double robot_radius(const RobotSpec &robot);
+
+/// Distance from (x, y) to the nearest wall or obstacle surface, m (negative inside one).
+double clearance(const Scenario &s, double x, double y);
+
+/// True if a robot centred at (x, y), at any heading, keeps `margin` of clearance and its centre
+/// is outside the goal: a valid start position.
+bool start_position_ok(const Scenario &s, double x, double y);
+
+/// The sensor code of a set of readings (one per ray): bit i = CodeBit i.
+std::uint32_t sensor_code(const Scenario &s, const float *ranges);
+
+}  // namespace world
+
+#endif  // WORLD_SCENARIO_H

@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc world: distances in the arena (scenario validation and start poses) and the sensor code.
+#include <algorithm>
+#include <cmath>
+
+#include "world/scenario.h"
+
+namespace world {
+
+double robot_radius(const RobotSpec &robot)
+{
+    return 0.5 * std::hypot(robot.length, robot.width);
+}
+
+namespace {
+
+double obstacle_distance(const Obstacle &o, double x, double y)
+{
+    double dx = x - o.cx, dy = y - o.cy;
+    if (o.shape == Obstacle::Shape::Circle) {
+        return std::hypot(dx, dy) - o.radius;
+    }
+    // Into the box's own frame, then the signed distance to an axis-aligned box.
+    double c = std::cos(o.angle), s = std::sin(o.angle);
+    double lx = std::fabs(c * dx + s * dy) - o.w / 2.0;
+    double ly = std::fabs(-s * dx + c * dy) - o.h / 2.0;
+    double outside = std::hypot(std::max(lx, 0.0), std::max(ly, 0.0));
+    return outside + std::min(std::max(lx, ly), 0.0);
+}
+
+}  // namespace
+
+double clearance(const Scenario &s, double x, double y)
+{
+    double d = std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+    for (const Obstacle &o : s.obstacles) {
+        d = std::min(d, obstacle_distance(o, x, y));
+    }
+    return d;
+}
+
+bool start_position_ok(const Scenario &s, double x, double y)
+{
+    double need = robot_radius(s.robot) + s.start.margin;
+    if (std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius + s.start.margin) {
+        return false;
+    }
+    return clearance(s, x, y) >= need;
+}
+
+std::uint32_t sensor_code(const Scenario &s, const float *ranges)
+{
+    std::uint32_t code = 0;
+    for (std::size_t b = 0; b < s.code_bits.size(); ++b) {
+        const CodeBit &bit = s.code_bits[b];
+        for (int r : bit.rays) {
+            if (ranges[r] < bit.threshold) {
+                code |= 1u << b;
+                break;
+            }
+        }
+    }
+    return code;
+}
+
+}  // namespace world

@@ -1,0 +1,723 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc world: the scenario file parser.
+//
+// Why a parser of our own rather than a general format (INI, YAML, JSON): a scenario is a short
+// list of `key value...` lines; a dozen lines of tokenising give exact `file:line:` errors, strict
+// rules (no unknown key, no duplicate, no stray value) and no dependency. Numbers go through
+// std::from_chars, which ignores the C locale, so "0.25" reads the same everywhere.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include "world/scenario.h"
+
+#ifndef DYNAQPC_SCENARIOS_DIR
+#define DYNAQPC_SCENARIOS_DIR "host_sim/scenarios"
+#endif
+
+namespace world {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+using Tokens = std::vector<std::string_view>;
+
+std::string fmt_num(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+// A field of a `key name value name value ...` line.
+struct Field {
+    enum class Type { Real, Deg, Ms, Int, Text };
+    const char *name;
+    Type type;
+    void *target;  // double* (Real, Deg, Ms: converted to rad / s), int* (Int), std::string* (Text)
+    double lo, hi;  // allowed range in file units (Real, Deg, Ms, Int)
+    bool seen = false;
+};
+
+class Parser {
+public:
+    Parser(const std::string &file, std::string *error) : file_(file), error_(error) {}
+
+    bool run(std::string_view text, Scenario *s);
+
+private:
+    const std::string &file_;
+    std::string *error_;
+    int line_ = 0;
+    int last_line_ = 1;
+    std::map<std::string, int, std::less<>> single_seen_;  // single keys -> line
+    std::vector<int> ray_lines_;
+    std::vector<int> code_bit_lines_;
+    std::vector<int> beacon_lines_;
+    int goal_line_ = 0, arena_line_ = 0, encode_line_ = 0, cricket_line_ = 0, timing_line_ = 0;
+    int robot_line_ = 0, ranger_line_ = 0;
+    std::vector<bool> ray_has_mount_;
+    bool sensor_bits_given_ = false;
+
+    bool fail(const std::string &what) { return fail_at(line_, what); }
+    bool fail_at(int line, const std::string &what)
+    {
+        if (error_ != nullptr) {
+            *error_ = file_ + ":" + std::to_string(line) + ": " + what;
+        }
+        return false;
+    }
+
+    bool number(std::string_view tok, const std::string &what, double lo, double hi, double *out);
+    bool integer(std::string_view tok, const std::string &what, long lo, long hi, int *out);
+    bool count(const Tokens &t, std::size_t lo, std::size_t hi, const char *usage);
+    bool fields(const Tokens &t, std::vector<Field> &spec);
+    bool single(std::string_view key);
+    bool line(const Tokens &t, Scenario *s);
+    bool validate(Scenario *s);
+};
+
+bool Parser::number(std::string_view tok, const std::string &what, double lo, double hi,
+                    double *out)
+{
+    double v = 0.0;
+    const char *end = tok.data() + tok.size();
+    auto [ptr, ec] = std::from_chars(tok.data(), end, v);
+    if (ec != std::errc() || ptr != end || !std::isfinite(v)) {
+        return fail("'" + std::string(tok) + "' is not a number (" + what + ")");
+    }
+    if (v < lo || v > hi) {
+        return fail(what + " " + std::string(tok) + " out of range [" + fmt_num(lo) + ", " +
+                    fmt_num(hi) + "]");
+    }
+    *out = v;
+    return true;
+}
+
+bool Parser::integer(std::string_view tok, const std::string &what, long lo, long hi, int *out)
+{
+    long v = 0;
+    const char *end = tok.data() + tok.size();
+    auto [ptr, ec] = std::from_chars(tok.data(), end, v);
+    if (ec != std::errc() || ptr != end) {
+        return fail("'" + std::string(tok) + "' is not an integer (" + what + ")");
+    }
+    if (v < lo || v > hi) {
+        return fail(what + " " + std::string(tok) + " out of range [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]");
+    }
+    *out = static_cast<int>(v);
+    return true;
+}
+
+bool Parser::count(const Tokens &t, std::size_t lo, std::size_t hi, const char *usage)
+{
+    std::size_t n = t.size() - 1;
+    if (n < lo) {
+        return fail("missing value: expected '" + std::string(usage) + "'");
+    }
+    if (n > hi) {
+        return fail("extra value '" + std::string(t[hi + 1]) + "': expected '" +
+                    std::string(usage) + "'");
+    }
+    return true;
+}
+
+bool Parser::fields(const Tokens &t, std::vector<Field> &spec)
+{
+    const std::string key(t[0]);
+    for (std::size_t i = 1; i < t.size(); i += 2) {
+        auto it = std::find_if(spec.begin(), spec.end(),
+                               [&](const Field &f) { return t[i] == f.name; });
+        if (it == spec.end()) {
+            std::string names;
+            for (const Field &f : spec) {
+                names += names.empty() ? "" : ", ";
+                names += f.name;
+            }
+            return fail("unknown field '" + std::string(t[i]) + "' for '" + key + "' (fields: " +
+                        names + ")");
+        }
+        if (it->seen) {
+            return fail("duplicate field '" + std::string(t[i]) + "' for '" + key + "'");
+        }
+        if (i + 1 >= t.size()) {
+            return fail("missing value for '" + key + " " + it->name + "'");
+        }
+        it->seen = true;
+        std::string_view v = t[i + 1];
+        std::string what = key + " " + it->name;
+        double d = 0.0;
+        switch (it->type) {
+        case Field::Type::Real:
+            if (!number(v, what, it->lo, it->hi, static_cast<double *>(it->target))) return false;
+            break;
+        case Field::Type::Deg:
+            if (!number(v, what, it->lo, it->hi, &d)) return false;
+            *static_cast<double *>(it->target) = d * kDeg;
+            break;
+        case Field::Type::Ms:
+            if (!number(v, what, it->lo, it->hi, &d)) return false;
+            *static_cast<double *>(it->target) = d / 1000.0;
+            break;
+        case Field::Type::Int:
+            if (!integer(v, what, static_cast<long>(it->lo), static_cast<long>(it->hi),
+                         static_cast<int *>(it->target))) {
+                return false;
+            }
+            break;
+        case Field::Type::Text:
+            *static_cast<std::string *>(it->target) = std::string(v);
+            break;
+        }
+    }
+    return true;
+}
+
+bool Parser::single(std::string_view key)
+{
+    auto it = single_seen_.find(key);
+    if (it != single_seen_.end()) {
+        return fail("duplicate '" + std::string(key) + "' (first on line " +
+                    std::to_string(it->second) + ")");
+    }
+    single_seen_.emplace(std::string(key), line_);
+    return true;
+}
+
+bool valid_beacon_id(std::string_view id)
+{
+    int groups = 0;
+    std::size_t i = 0;
+    while (i <= id.size()) {
+        std::size_t j = id.find(':', i);
+        if (j == std::string_view::npos) j = id.size();
+        std::size_t n = j - i;
+        if (n < 1 || n > 2) return false;
+        for (std::size_t k = i; k < j; ++k) {
+            if (std::isxdigit(static_cast<unsigned char>(id[k])) == 0) return false;
+        }
+        ++groups;
+        i = j + 1;
+    }
+    return groups == 8;
+}
+
+bool Parser::line(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    const std::string_view key = t[0];
+    constexpr double kBig = 1000.0;
+
+    if (key == "arena") {
+        if (!single(key) || !count(t, 2, 2, "arena <width m> <height m>")) return false;
+        arena_line_ = line_;
+        return number(t[1], "arena width", 0.5, kBig, &s->arena_w) &&
+               number(t[2], "arena height", 0.5, kBig, &s->arena_h);
+    }
+    if (key == "obstacle") {
+        if (t.size() < 2) {
+            return fail("missing value: expected 'obstacle box|circle ...'");
+        }
+        if (static_cast<int>(s->obstacles.size()) >= kMaxObstacles) {
+            return fail("too many obstacles (at most " + std::to_string(kMaxObstacles) + ")");
+        }
+        Obstacle o;
+        o.line = line_;
+        if (t[1] == "box") {
+            const char *usage = "obstacle box <cx m> <cy m> <w m> <h m> [angle deg]";
+            if (!count(t, 5, 6, usage)) return false;
+            o.shape = Obstacle::Shape::Box;
+            if (!number(t[2], "box cx", -kBig, kBig, &o.cx) ||
+                !number(t[3], "box cy", -kBig, kBig, &o.cy) ||
+                !number(t[4], "box width", 0.01, kBig, &o.w) ||
+                !number(t[5], "box height", 0.01, kBig, &o.h)) {
+                return false;
+            }
+            if (t.size() == 7) {
+                double deg = 0.0;
+                if (!number(t[6], "box angle", -360.0, 360.0, &deg)) return false;
+                o.angle = deg * kDeg;
+            }
+        } else if (t[1] == "circle") {
+            if (!count(t, 4, 4, "obstacle circle <cx m> <cy m> <radius m>")) return false;
+            o.shape = Obstacle::Shape::Circle;
+            if (!number(t[2], "circle cx", -kBig, kBig, &o.cx) ||
+                !number(t[3], "circle cy", -kBig, kBig, &o.cy) ||
+                !number(t[4], "circle radius", 0.01, kBig, &o.radius)) {
+                return false;
+            }
+        } else {
+            return fail("unknown obstacle shape '" + std::string(t[1]) + "' (box or circle)");
+        }
+        s->obstacles.push_back(o);
+        return true;
+    }
+    if (key == "goal") {
+        if (!single(key) || !count(t, 3, 3, "goal <cx m> <cy m> <radius m>")) return false;
+        goal_line_ = line_;
+        return number(t[1], "goal cx", -kBig, kBig, &s->goal.cx) &&
+               number(t[2], "goal cy", -kBig, kBig, &s->goal.cy) &&
+               number(t[3], "goal radius", 0.01, kBig, &s->goal.radius);
+    }
+    if (key == "robot") {
+        if (!single(key)) return false;
+        robot_line_ = line_;
+        RobotSpec &r = s->robot;
+        std::vector<Field> f = {
+            {"length", T::Real, &r.length, 0.05, 5.0},
+            {"width", T::Real, &r.width, 0.05, 5.0},
+            {"mass", T::Real, &r.mass, 0.1, 1000.0},
+            {"track", T::Real, &r.track, 0.02, 5.0},
+            {"max_speed", T::Real, &r.max_speed, 0.01, 20.0},
+            {"max_accel", T::Real, &r.max_accel, 0.1, 1000.0},
+            {"friction", T::Real, &r.friction, 0.0, 2.0},
+        };
+        if (!fields(t, f)) return false;
+        for (int i = 0; i < 4; ++i) {
+            if (i == 2) continue;  // mass has a default
+            if (!f[static_cast<std::size_t>(i)].seen) {
+                return fail(std::string("missing field 'robot ") + f[static_cast<std::size_t>(i)].name +
+                            "'");
+            }
+        }
+        if (r.track > r.width) {
+            return fail("robot track " + fmt_num(r.track) + " wider than the body (" +
+                        fmt_num(r.width) + ")");
+        }
+        return true;
+    }
+    if (key == "ranger") {
+        if (!single(key)) return false;
+        ranger_line_ = line_;
+        RangerSpec &g = s->ranger;
+        std::string kind;
+        std::vector<Field> f = {
+            {"kind", T::Text, &kind, 0, 0},
+            {"min", T::Real, &g.min_range, 0.0, 100.0},
+            {"max", T::Real, &g.max_range, 0.01, 100.0},
+            {"noise_prop", T::Real, &g.noise_prop, 0.0, 1.0},
+            {"noise_sd", T::Real, &g.noise_sd, 0.0, 10.0},
+        };
+        if (!fields(t, f)) return false;
+        for (int i = 0; i < 3; ++i) {
+            if (!f[static_cast<std::size_t>(i)].seen) {
+                return fail(std::string("missing field 'ranger ") + f[static_cast<std::size_t>(i)].name +
+                            "'");
+            }
+        }
+        if (kind == "sonar") {
+            g.kind = RangerSpec::Kind::Sonar;
+        } else if (kind == "ir") {
+            g.kind = RangerSpec::Kind::Ir;
+        } else {
+            return fail("unknown ranger kind '" + kind + "' (sonar or ir)");
+        }
+        if (g.min_range >= g.max_range) {
+            return fail("ranger min " + fmt_num(g.min_range) + " not below max " +
+                        fmt_num(g.max_range));
+        }
+        return true;
+    }
+    if (key == "ray") {
+        if (!count(t, 1, 3, "ray <angle deg> [<x m> <y m>]")) return false;
+        if (t.size() == 3) {
+            return fail("missing value: expected 'ray <angle deg> [<x m> <y m>]'");
+        }
+        if (static_cast<int>(s->ranger.rays.size()) >= kMaxRays) {
+            return fail("too many rays (at most " + std::to_string(kMaxRays) + ")");
+        }
+        Ray r;
+        double deg = 0.0;
+        if (!number(t[1], "ray angle", -360.0, 360.0, &deg)) return false;
+        r.angle = deg * kDeg;
+        if (t.size() == 4 && (!number(t[2], "ray x", -5.0, 5.0, &r.x) ||
+                              !number(t[3], "ray y", -5.0, 5.0, &r.y))) {
+            return false;
+        }
+        s->ranger.rays.push_back(r);
+        ray_lines_.push_back(line_);
+        ray_has_mount_.push_back(t.size() == 4);
+        return true;
+    }
+    if (key == "code_bit") {
+        if (!count(t, 2, 1 + kMaxRays, "code_bit <threshold m> <ray index>...")) return false;
+        if (static_cast<int>(s->code_bits.size()) >= kMaxCodeBits) {
+            return fail("too many code bits (at most " + std::to_string(kMaxCodeBits) + ")");
+        }
+        CodeBit b;
+        if (!number(t[1], "code_bit threshold", 0.0, 100.0, &b.threshold)) return false;
+        for (std::size_t i = 2; i < t.size(); ++i) {
+            int idx = 0;
+            if (!integer(t[i], "code_bit ray index", 0, kMaxRays - 1, &idx)) return false;
+            b.rays.push_back(idx);
+        }
+        s->code_bits.push_back(b);
+        code_bit_lines_.push_back(line_);
+        return true;
+    }
+    if (key == "gyro") {
+        if (!single(key)) return false;
+        std::vector<Field> f = {
+            {"bias", T::Real, &s->gyro.bias, -1.0, 1.0},
+            {"noise_sd", T::Real, &s->gyro.noise_sd, 0.0, 10.0},
+        };
+        return fields(t, f);
+    }
+    if (key == "gps") {
+        if (!single(key)) return false;
+        s->gps.enabled = true;
+        std::vector<Field> f = {
+            {"xy_sd", T::Real, &s->gps.xy_sd, 0.0, 10.0},
+            {"heading_sd_deg", T::Deg, &s->gps.heading_sd, 0.0, 90.0},
+        };
+        return fields(t, f);
+    }
+    if (key == "cricket") {
+        if (!single(key)) return false;
+        cricket_line_ = line_;
+        CricketSpec &c = s->cricket;
+        std::vector<Field> f = {
+            {"space", T::Text, &c.space, 0, 0},
+            {"min_interval_ms", T::Ms, &c.min_interval, 10.0, 60000.0},
+            {"max_interval_ms", T::Ms, &c.max_interval, 10.0, 60000.0},
+            {"noise_sd", T::Real, &c.noise_sd, 0.0, 1.0},
+            {"listener_height", T::Real, &c.listener_height, 0.0, 10.0},
+            {"speed_of_sound", T::Real, &c.speed_of_sound, 300.0, 400.0},
+        };
+        if (!fields(t, f)) return false;
+        if (c.space.empty() || c.space.size() > 16 ||
+            c.space.find_first_of(",=") != std::string::npos) {
+            return fail("cricket space '" + c.space + "': 1 to 16 characters, no ',' or '='");
+        }
+        if (c.min_interval > c.max_interval) {
+            return fail("cricket min_interval_ms above max_interval_ms");
+        }
+        return true;
+    }
+    if (key == "beacon") {
+        if (!count(t, 4, 4, "beacon <id> <x m> <y m> <z m>")) return false;
+        if (static_cast<int>(s->cricket.beacons.size()) >= kMaxBeacons) {
+            return fail("too many beacons (at most " + std::to_string(kMaxBeacons) + ")");
+        }
+        Beacon b;
+        if (!valid_beacon_id(t[1])) {
+            return fail("beacon id '" + std::string(t[1]) +
+                        "': expected 8 hex bytes separated by ':' (e.g. 1:5e:3c:3c:a:0:0:ba)");
+        }
+        b.id = std::string(t[1]);
+        for (const Beacon &o : s->cricket.beacons) {
+            if (o.id == b.id) return fail("duplicate beacon id '" + b.id + "'");
+        }
+        if (!number(t[2], "beacon x", -kBig, kBig, &b.x) ||
+            !number(t[3], "beacon y", -kBig, kBig, &b.y) ||
+            !number(t[4], "beacon z", 0.0, 100.0, &b.z)) {
+            return false;
+        }
+        s->cricket.beacons.push_back(b);
+        beacon_lines_.push_back(line_);
+        return true;
+    }
+    if (key == "timing") {
+        if (!single(key)) return false;
+        timing_line_ = line_;
+        std::vector<Field> f = {
+            {"control_period", T::Real, &s->timing.control_period, 0.001, 10.0},
+            {"physics_dt", T::Real, &s->timing.physics_dt, 0.0001, 0.1},
+        };
+        if (!fields(t, f)) return false;
+        double n = s->timing.control_period / s->timing.physics_dt;
+        double r = std::round(n);
+        if (r < 1.0 || r > 1000.0 || std::fabs(n - r) > 1e-6 * r) {
+            return fail("timing control_period " + fmt_num(s->timing.control_period) +
+                        " is not a whole number (1..1000) of physics_dt " +
+                        fmt_num(s->timing.physics_dt));
+        }
+        s->timing.substeps = static_cast<int>(r);
+        return true;
+    }
+    if (key == "solver") {
+        if (!single(key)) return false;
+        std::vector<Field> f = {
+            {"velocity_iterations", T::Int, &s->solver.velocity_iterations, 1, 100},
+            {"position_iterations", T::Int, &s->solver.position_iterations, 1, 100},
+        };
+        return fields(t, f);
+    }
+    if (key == "start") {
+        if (!single(key)) return false;
+        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0}};
+        return fields(t, f);
+    }
+    if (key == "encode") {
+        if (!single(key)) return false;
+        encode_line_ = line_;
+        Encoding &e = s->encoding;
+        std::vector<Field> f = {
+            {"x", T::Int, &e.x_bits, 1, 16},
+            {"y", T::Int, &e.y_bits, 1, 16},
+            {"heading", T::Int, &e.heading_bits, 1, 16},
+            {"sensor", T::Int, &e.sensor_bits, 0, kMaxCodeBits},
+        };
+        if (!fields(t, f)) return false;
+        sensor_bits_given_ = f[3].seen;
+        return true;
+    }
+    if (key == "actions") {
+        if (!single(key)) return false;
+        std::vector<Field> f = {
+            {"step", T::Real, &s->actions.step, 0.001, 10.0},
+            {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
+        };
+        return fields(t, f);
+    }
+    if (key == "rewards") {
+        if (!single(key)) return false;
+        std::vector<Field> f = {
+            {"bump", T::Real, &s->rewards.bump, -1e6, 1e6},
+            {"goal", T::Real, &s->rewards.goal, -1e6, 1e6},
+            {"step", T::Real, &s->rewards.step, -1e6, 1e6},
+        };
+        return fields(t, f);
+    }
+    if (key == "learning") {
+        if (!single(key)) return false;
+        Learning &l = s->learning;
+        std::vector<Field> f = {
+            {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
+            {"alpha", T::Real, &l.alpha, 0.0, 1.0},
+            {"gamma", T::Real, &l.gamma, 0.0, 1.0},
+            {"planning", T::Int, &l.planning, 0, 1000000},
+            {"step_cap", T::Int, &l.step_cap, 1, 100000000},
+            {"sets", T::Int, &l.sets, 1, 1000000},
+            {"episodes", T::Int, &l.episodes, 1, 1000000},
+        };
+        return fields(t, f);
+    }
+    return fail("unknown key '" + std::string(key) + "'");
+}
+
+// Where a ray from the body's centre at `angle` leaves the rectangle: the default mount point.
+Ray on_outline(const RobotSpec &r, double angle)
+{
+    double c = std::cos(angle), s = std::sin(angle);
+    double hx = r.length / 2.0, hy = r.width / 2.0;
+    double tx = std::fabs(c) > 1e-12 ? hx / std::fabs(c) : 1e300;
+    double ty = std::fabs(s) > 1e-12 ? hy / std::fabs(s) : 1e300;
+    double t = std::min(tx, ty);
+    Ray out;
+    out.angle = angle;
+    out.x = t * c;
+    out.y = t * s;
+    return out;
+}
+
+bool Parser::validate(Scenario *s)
+{
+    line_ = last_line_;
+    const char *required[] = {"arena", "goal", "robot", "ranger"};
+    for (const char *k : required) {
+        if (single_seen_.find(k) == single_seen_.end()) {
+            return fail(std::string("missing required key '") + k + "'");
+        }
+    }
+    if (s->ranger.rays.empty()) {
+        return fail("missing required key 'ray' (at least one)");
+    }
+    const RobotSpec &r = s->robot;
+    for (std::size_t i = 0; i < s->ranger.rays.size(); ++i) {
+        Ray &ray = s->ranger.rays[i];
+        if (!ray_has_mount_[i]) {
+            ray = on_outline(r, ray.angle);
+        } else if (std::fabs(ray.x) > r.length / 2.0 + 1e-9 ||
+                   std::fabs(ray.y) > r.width / 2.0 + 1e-9) {
+            return fail_at(ray_lines_[i], "ray mount point outside the robot's body");
+        }
+    }
+    for (std::size_t i = 0; i < s->code_bits.size(); ++i) {
+        for (int idx : s->code_bits[i].rays) {
+            if (idx >= static_cast<int>(s->ranger.rays.size())) {
+                return fail_at(code_bit_lines_[i],
+                               "code_bit ray index " + std::to_string(idx) + " but only " +
+                                   std::to_string(s->ranger.rays.size()) + " rays");
+            }
+        }
+    }
+    Encoding &e = s->encoding;
+    int n_bits = static_cast<int>(s->code_bits.size());
+    if (sensor_bits_given_ && e.sensor_bits != n_bits) {
+        return fail_at(encode_line_, "encode sensor " + std::to_string(e.sensor_bits) +
+                                         " but the file has " + std::to_string(n_bits) +
+                                         " code_bit lines");
+    }
+    e.sensor_bits = n_bits;
+    if (e.x_bits + e.y_bits + e.heading_bits + e.sensor_bits > 32) {
+        return fail_at(encode_line_ != 0 ? encode_line_ : last_line_,
+                       "encode: more than 32 state bits in all");
+    }
+    for (const Obstacle &o : s->obstacles) {
+        double ex = 0.0, ey = 0.0;  // half extents of the bounding box
+        if (o.shape == Obstacle::Shape::Box) {
+            double c = std::fabs(std::cos(o.angle)), sn = std::fabs(std::sin(o.angle));
+            ex = (o.w * c + o.h * sn) / 2.0;
+            ey = (o.w * sn + o.h * c) / 2.0;
+        } else {
+            ex = ey = o.radius;
+        }
+        const double eps = 1e-9;
+        if (o.cx - ex < -eps || o.cx + ex > s->arena_w + eps || o.cy - ey < -eps ||
+            o.cy + ey > s->arena_h + eps) {
+            return fail_at(o.line, "obstacle outside the arena");
+        }
+    }
+    const Goal &g = s->goal;
+    if (g.cx - g.radius < 0.0 || g.cx + g.radius > s->arena_w || g.cy - g.radius < 0.0 ||
+        g.cy + g.radius > s->arena_h) {
+        return fail_at(goal_line_, "goal outside the arena");
+    }
+    {
+        Scenario one = *s;
+        for (const Obstacle &o : s->obstacles) {
+            one.obstacles.assign(1, o);
+            if (clearance(one, g.cx, g.cy) < g.radius) {
+                return fail_at(goal_line_, "goal overlaps the obstacle on line " +
+                                               std::to_string(o.line));
+            }
+        }
+    }
+    for (std::size_t i = 0; i < s->cricket.beacons.size(); ++i) {
+        const Beacon &b = s->cricket.beacons[i];
+        if (b.x < 0.0 || b.x > s->arena_w || b.y < 0.0 || b.y > s->arena_h) {
+            return fail_at(beacon_lines_[i], "beacon outside the arena");
+        }
+        if (b.z <= s->cricket.listener_height) {
+            return fail_at(beacon_lines_[i], "beacon not above the listener (listener_height " +
+                                                 fmt_num(s->cricket.listener_height) + ")");
+        }
+    }
+    if (cricket_line_ != 0 && s->cricket.beacons.empty()) {
+        return fail_at(cricket_line_, "cricket without any beacon line");
+    }
+    // Room for a start pose: some point of a 2 cm grid must be a valid start.
+    const double step = 0.02;
+    bool room = false;
+    for (double y = step / 2; y < s->arena_h && !room; y += step) {
+        for (double x = step / 2; x < s->arena_w && !room; x += step) {
+            room = start_position_ok(*s, x, y);
+        }
+    }
+    if (!room) {
+        return fail_at(arena_line_, "no room for a start pose: nowhere keeps the robot's radius " +
+                                        fmt_num(robot_radius(r)) + " m + margin " +
+                                        fmt_num(s->start.margin) + " m clear of walls, "
+                                        "obstacles and the goal");
+    }
+    return true;
+}
+
+bool Parser::run(std::string_view text, Scenario *s)
+{
+    *s = Scenario{};
+    if (text.size() > kMaxFileBytes) {
+        line_ = 1;
+        return fail("file too large (more than " + std::to_string(kMaxFileBytes) + " bytes)");
+    }
+    std::size_t pos = 0;
+    int number_of_line = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        std::string_view raw = text.substr(pos, end - pos);
+        pos = end + 1;
+        line_ = ++number_of_line;
+        last_line_ = line_;
+        if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
+        if (raw.size() > kMaxLineBytes) {
+            return fail("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
+        }
+        for (unsigned char c : raw) {
+            if ((c < 0x20 && c != '\t') || c >= 0x7f) {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "not a text file (byte 0x%02x)", c);
+                return fail(buf);
+            }
+        }
+        std::size_t hash = raw.find('#');
+        if (hash != std::string_view::npos) raw = raw.substr(0, hash);
+        Tokens t;
+        std::size_t i = 0;
+        while (i < raw.size()) {
+            while (i < raw.size() && (raw[i] == ' ' || raw[i] == '\t')) ++i;
+            std::size_t j = i;
+            while (j < raw.size() && raw[j] != ' ' && raw[j] != '\t') ++j;
+            if (j > i) t.push_back(raw.substr(i, j - i));
+            i = j;
+        }
+        if (t.empty()) continue;
+        if (!line(t, s)) return false;
+    }
+    if (number_of_line == 0) last_line_ = 1;
+    return validate(s);
+}
+
+std::string stem_of(const std::string &path)
+{
+    std::size_t slash = path.find_last_of('/');
+    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    std::size_t dot = base.rfind(".scn");
+    if (dot != std::string::npos && dot + 4 == base.size()) base.resize(dot);
+    return base;
+}
+
+}  // namespace
+
+bool parse_scenario(std::string_view text, const std::string &file, Scenario *out,
+                    std::string *error)
+{
+    Parser p(file, error);
+    if (!p.run(text, out)) return false;
+    out->name = stem_of(file);
+    return true;
+}
+
+std::string resolve_scenario_path(const std::string &name_or_path)
+{
+    if (name_or_path == "paper-sim" || name_or_path == "paper-lab") {
+        return std::string(DYNAQPC_SCENARIOS_DIR) + "/" + name_or_path + ".scn";
+    }
+    return name_or_path;
+}
+
+bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *error)
+{
+    std::string path = resolve_scenario_path(name_or_path);
+    auto report = [&](const std::string &what) {
+        if (error != nullptr) *error = path + ": " + what;
+        return false;
+    };
+    std::FILE *f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) return report(std::string("cannot open: ") + std::strerror(errno));
+    std::string text;
+    char buf[65536];
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0 && text.size() <= kMaxFileBytes) {
+        text.append(buf, n);
+    }
+    const int read_errno = errno;
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) return report(std::string("cannot read: ") + std::strerror(read_errno));
+    if (text.size() > kMaxFileBytes) return report("file too large");
+    if (!parse_scenario(text, path, out, error)) return false;
+    out->path = path;
+    return true;
+}
+
+}  // namespace world

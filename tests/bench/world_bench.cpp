@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-world-bench: speed of the simulated world, in control periods per second.
+//
+// One control period = what the lock-step runner does per period: wheel targets for a random
+// action, timing.substeps physics steps, one range reading of every ray, gyro, GPS (paper-sim) or
+// the Cricket listener (paper-lab), bump and goal checks; a new random start on reaching the goal
+// or after the scenario's step cap. Prints, per scenario, the median of 5 runs:
+//   scenario=<name> control_periods_per_s=<n> physics_steps_per_s=<n> rays_per_period=<n>
+// Usage: dynaqpc-world-bench [--periods N] [--seed S] [scenario...]   (default: paper-sim paper-lab)
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "world/cricket.h"
+#include "world/motion.h"
+#include "world/random.h"
+#include "world/scenario.h"
+#include "world/world.h"
+
+namespace {
+
+struct Totals {
+    long goals = 0, bumps = 0, cricket_lines = 0;
+    double checksum = 0.0;
+};
+
+double run_once(const world::Scenario &s, long periods, std::uint32_t seed, Totals *t)
+{
+    world::World w(s, seed);
+    world::RandomStream actions(seed, 100);
+    world::CricketListener cricket(s, seed);
+    std::vector<world::CricketLine> lines;
+    std::vector<float> ranges(static_cast<std::size_t>(w.ray_count()));
+    w.reset(w.sample_start_pose());
+    long in_episode = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (long p = 0; p < periods; ++p) {
+        const auto a = static_cast<world::Action>(static_cast<int>(actions.uniform() * 4.0));
+        const world::WheelSpeeds v = world::wheel_targets_for(s, a, w.wheel_speeds());
+        w.set_wheel_targets(v.left, v.right);
+        w.step_period();
+        w.range_readings(ranges.data());
+        t->checksum += ranges[0] + w.gyro_rate();
+        if (s.gps.enabled) t->checksum += w.gps_pose().x;
+        if (!s.cricket.beacons.empty()) {
+            const world::Pose pose = w.pose();
+            lines.clear();
+            cricket.advance(w.time_s(), pose.x, pose.y, &lines);
+            t->cricket_lines += static_cast<long>(lines.size());
+        }
+        if (w.bumped()) {
+            ++t->bumps;
+            w.clear_bump();
+        }
+        ++in_episode;
+        if (w.in_goal() || in_episode >= s.learning.step_cap) {
+            t->goals += w.in_goal() ? 1 : 0;
+            w.reset(w.sample_start_pose());
+            in_episode = 0;
+        }
+    }
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return static_cast<double>(periods) / secs;
+}
+
+}  // namespace
+
+int main(int argc, char **argv)
+{
+    long periods = 100000;
+    std::uint32_t seed = 1;
+    std::vector<std::string> names;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--periods") == 0 && i + 1 < argc) {
+            periods = std::strtol(argv[++i], nullptr, 10);
+        } else if (std::strcmp(argv[i], "--seed") == 0 && i + 1 < argc) {
+            seed = static_cast<std::uint32_t>(std::strtoul(argv[++i], nullptr, 10));
+        } else if (argv[i][0] == '-') {
+            std::fprintf(stderr, "usage: %s [--periods N] [--seed S] [scenario...]\n", argv[0]);
+            return 2;
+        } else {
+            names.emplace_back(argv[i]);
+        }
+    }
+    if (periods < 1) periods = 1;
+    if (names.empty()) names = {"paper-sim", "paper-lab"};
+    for (const std::string &name : names) {
+        world::Scenario s;
+        std::string err;
+        if (!world::load_scenario(name, &s, &err)) {
+            std::fprintf(stderr, "%s\n", err.c_str());
+            return 1;
+        }
+        std::vector<double> rates;
+        Totals t;
+        for (int r = 0; r < 5; ++r) rates.push_back(run_once(s, periods, seed, &t));
+        std::sort(rates.begin(), rates.end());
+        const double median = rates[2];
+        std::printf("scenario=%s control_periods_per_s=%.0f physics_steps_per_s=%.0f "
+                    "rays_per_period=%zu periods_per_run=%ld goals=%ld bumps=%ld "
+                    "cricket_lines=%ld checksum=%.6g\n",
+                    s.name.c_str(), median, median * s.timing.substeps, s.ranger.rays.size(),
+                    periods, t.goals / 5, t.bumps / 5, t.cricket_lines / 5, t.checksum / 5);
+    }
+    return 0;
+}

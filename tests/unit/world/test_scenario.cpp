@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: MIT
+// Tests of the scenario files: the shipped ones, every kind of refusal, and garbage.
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+// cmocka 1.1.5's header has no extern "C" of its own.
+extern "C" {
+#include "test_common.h"
+}
+#include "world/random.h"
+#include "world/scenario.h"
+
+#ifndef WORLD_TEST_SCENARIOS
+#define WORLD_TEST_SCENARIOS "tests/unit/world/scenarios"
+#endif
+
+int run_scenario_tests(void);
+
+namespace {
+
+bool starts_with(const std::string &s, const std::string &prefix)
+{
+    return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+void test_paper_sim_parses(void **state)
+{
+    (void)state;
+    world::Scenario s;
+    std::string err;
+    bool ok = world::load_scenario("paper-sim", &s, &err);
+    if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
+    assert_true(ok);
+    assert_string_equal(s.name.c_str(), "paper-sim");
+    assert_true(s.arena_w == 8.0 && s.arena_h == 8.0);
+    assert_true(s.goal.cx == 4.0 && s.goal.cy == 4.0);
+    assert_int_equal(s.ranger.rays.size(), 16);
+    assert_true(s.ranger.kind == world::RangerSpec::Kind::Sonar);
+    assert_true(s.ranger.min_range == 0.01 && s.ranger.max_range == 2.0);
+    assert_int_equal(s.code_bits.size(), 4);
+    for (const world::CodeBit &b : s.code_bits) assert_int_equal(b.rays.size(), 4);
+    assert_int_equal(s.encoding.x_bits, 5);
+    assert_int_equal(s.encoding.y_bits, 5);
+    assert_int_equal(s.encoding.heading_bits, 4);
+    assert_int_equal(s.encoding.sensor_bits, 4);
+    assert_true(s.gps.enabled);
+    assert_true(s.cricket.beacons.empty());
+    assert_int_equal(s.timing.substeps, 12);
+    assert_true(s.learning.epsilon == 0.01 && s.learning.alpha == 0.9 && s.learning.gamma == 0.9);
+    assert_int_equal(s.learning.planning, 5);
+    assert_int_equal(s.learning.step_cap, 5000);
+    assert_int_equal(s.learning.sets, 40);
+    assert_int_equal(s.learning.episodes, 200);
+    assert_true(s.rewards.bump == -100.0 && s.rewards.goal == 100.0 && s.rewards.step == -1.0);
+    // Default mount points lie on the body's outline.
+    for (const world::Ray &r : s.ranger.rays) {
+        bool on_x = std::abs(std::abs(r.x) - 0.30) < 1e-9 && std::abs(r.y) <= 0.25 + 1e-9;
+        bool on_y = std::abs(std::abs(r.y) - 0.25) < 1e-9 && std::abs(r.x) <= 0.30 + 1e-9;
+        assert_true(on_x || on_y);
+    }
+}
+
+void test_paper_lab_parses(void **state)
+{
+    (void)state;
+    world::Scenario s;
+    std::string err;
+    bool ok = world::load_scenario("paper-lab", &s, &err);
+    if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
+    assert_true(ok);
+    assert_true(s.arena_w == 4.3 && s.arena_h == 3.2);
+    assert_int_equal(s.ranger.rays.size(), 3);
+    assert_true(s.ranger.kind == world::RangerSpec::Kind::Ir);
+    assert_int_equal(s.code_bits.size(), 3);
+    assert_true(s.code_bits[0].threshold == 0.30);
+    assert_int_equal(s.encoding.x_bits, 3);
+    assert_int_equal(s.encoding.y_bits, 3);
+    assert_int_equal(s.encoding.heading_bits, 4);
+    assert_int_equal(s.encoding.sensor_bits, 3);
+    assert_false(s.gps.enabled);
+    assert_true(s.cricket.beacons.size() >= 4 && s.cricket.beacons.size() <= 6);
+    for (const world::Beacon &b : s.cricket.beacons) assert_true(b.z == 2.5);
+    assert_true(std::abs(s.cricket.min_interval - 0.668) < 1e-12);
+    assert_true(std::abs(s.cricket.max_interval - 1.332) < 1e-12);
+    assert_true(s.learning.epsilon == 0.1);
+    assert_int_equal(s.learning.step_cap, 200);
+    assert_int_equal(s.learning.sets, 5);
+    assert_int_equal(s.learning.episodes, 20);
+}
+
+void test_name_resolution(void **state)
+{
+    (void)state;
+    std::string p = world::resolve_scenario_path("paper-lab");
+    assert_true(p.size() > 14 && p.compare(p.size() - 14, 14, "/paper-lab.scn") == 0);
+    assert_string_equal(world::resolve_scenario_path("my/own.scn").c_str(), "my/own.scn");
+    assert_string_equal(world::resolve_scenario_path("other").c_str(), "other");
+}
+
+struct BadFile {
+    const char *file;
+    int line;         // 0: no line number in the message
+    const char *why;  // a piece of the message
+};
+
+const BadFile kBadFiles[] = {
+    {"unknown_key.scn", 6, "unknown key 'bogus'"},
+    {"missing_value.scn", 2, "missing value"},
+    {"extra_value.scn", 6, "extra value '7'"},
+    {"non_numeric.scn", 6, "'zero' is not a number"},
+    {"out_of_range.scn", 6, "out of range"},
+    {"duplicate.scn", 7, "duplicate 'goal' (first on line 2)"},
+    {"duplicate_robot.scn", 6, "duplicate 'robot' (first on line 3)"},
+    {"missing_goal.scn", 4, "missing required key 'goal'"},
+    {"goal_in_obstacle.scn", 3, "goal overlaps the obstacle on line 2"},
+    {"goal_outside.scn", 2, "goal outside the arena"},
+    {"no_room.scn", 1, "no room for a start pose"},
+    {"bad_ray_index.scn", 6, "code_bit ray index 4"},
+    {"bad_timing.scn", 6, "not a whole number"},
+    {"unknown_field.scn", 3, "unknown field 'wheels'"},
+    {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
+    {"garbage.bin", 3, "not a text file"},
+    {"does_not_exist.scn", 0, "cannot open"},
+    {"", 0, "cannot read"},  // the directory itself
+};
+
+void test_bad_files(void **state)
+{
+    (void)state;
+    for (const BadFile &b : kBadFiles) {
+        std::string path = std::string(WORLD_TEST_SCENARIOS) + "/" + b.file;
+        if (b.file[0] == '\0') path = WORLD_TEST_SCENARIOS;
+        world::Scenario s;
+        std::string err;
+        bool ok = world::load_scenario(path, &s, &err);
+        std::fprintf(stderr, "  %s\n", err.c_str());
+        assert_false(ok);
+        std::string prefix = path + ":";
+        if (b.line > 0) prefix += std::to_string(b.line) + ": ";
+        if (!starts_with(err, prefix) || err.find(b.why) == std::string::npos) {
+            std::fprintf(stderr, "expected '%s...%s'\n", prefix.c_str(), b.why);
+            fail();
+        }
+    }
+}
+
+void test_text_rules(void **state)
+{
+    (void)state;
+    const std::string base =
+        "arena 6 4\ngoal 5 3 0.3\nrobot length 0.3 width 0.2 track 0.18\n"
+        "ranger kind ir min 0.1 max 0.8\nray 0\n";
+    world::Scenario s;
+    std::string err;
+    // CRLF, tabs, comments, no final newline: fine.
+    assert_true(world::parse_scenario("arena\t6 4 # room\r\ngoal 5 3 0.3\r\n"
+                                      "robot length 0.3 width 0.2 track 0.18\r\n"
+                                      "ranger kind ir min 0.1 max 0.8\r\nray 0",
+                                      "t.scn", &s, &err));
+    assert_int_equal(s.encoding.sensor_bits, 0);
+    // Defaults.
+    assert_true(world::parse_scenario(base, "t.scn", &s, &err));
+    assert_int_equal(s.timing.substeps, 12);
+    assert_true(s.robot.mass == 5.0);
+    assert_false(s.gps.enabled);
+    // Empty text: the first missing key, at line 1.
+    assert_false(world::parse_scenario("", "e.scn", &s, &err));
+    assert_string_equal(err.c_str(), "e.scn:1: missing required key 'arena'");
+    // nan and inf are not numbers; numbers must be whole tokens.
+    assert_false(world::parse_scenario(base + "start margin nan\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: 'nan' is not a number"));
+    assert_false(world::parse_scenario(base + "start margin 0.1x\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: "));
+    assert_false(world::parse_scenario(base + "solver velocity_iterations 2.5\n", "t.scn", &s,
+                                       &err));
+    assert_true(starts_with(err, "t.scn:6: '2.5' is not an integer"));
+    // A field without its value, a duplicate field.
+    assert_false(world::parse_scenario(base + "gyro bias\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: missing value for 'gyro bias'"));
+    assert_false(world::parse_scenario(base + "gyro bias 0 bias 0\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: duplicate field 'bias'"));
+    // encode sensor must match the code bits.
+    assert_false(world::parse_scenario(base + "encode sensor 2\ncode_bit 0.3 0\n", "t.scn", &s,
+                                       &err));
+    assert_true(starts_with(err, "t.scn:6: encode sensor 2"));
+    // A ray mounted outside the body.
+    assert_false(world::parse_scenario(base + "ray 0 0.5 0\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: ray mount point outside"));
+    // An obstacle poking out of the arena.
+    assert_false(world::parse_scenario(base + "obstacle circle 0.1 1 0.2\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: obstacle outside the arena"));
+    // Beacons need a ceiling above the listener.
+    assert_false(world::parse_scenario(base + "beacon 1:2:3:4:5:6:7:8 1 1 0.05\n", "t.scn", &s,
+                                       &err));
+    assert_true(starts_with(err, "t.scn:6: beacon not above the listener"));
+    // Very long lines are refused, not read without bound.
+    assert_false(world::parse_scenario(base + "# " + std::string(2000, 'x') + "\n", "t.scn", &s,
+                                       &err));
+    assert_true(starts_with(err, "t.scn:6: line longer than"));
+}
+
+// Mutated copies of the shipped scenario and plain noise: the parser returns, with either a
+// scenario or a "file:line: " error, and never crashes (run it under host-asan too).
+void test_fuzz(void **state)
+{
+    (void)state;
+    std::ifstream in(world::resolve_scenario_path("paper-sim"), std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string good = ss.str();
+    assert_true(good.size() > 100);
+    world::RandomStream rng(12345, 0);
+    const char alphabet[] = "0123456789.-+e# \t\nabcxyz_\r:,=\x01\xff";
+    int accepted = 0, refused = 0;
+    for (int round = 0; round < 3000; ++round) {
+        std::string text = good;
+        int edits = 1 + static_cast<int>(rng.uniform() * 8);
+        for (int e = 0; e < edits && !text.empty(); ++e) {
+            std::size_t at = static_cast<std::size_t>(rng.uniform() * static_cast<double>(text.size()));
+            char c = alphabet[static_cast<std::size_t>(rng.uniform() * (sizeof alphabet - 1))];
+            switch (static_cast<int>(rng.uniform() * 4)) {
+            case 0: text[at] = c; break;
+            case 1: text.insert(at, 1, c); break;
+            case 2: text.erase(at, 1 + static_cast<std::size_t>(rng.uniform() * 20)); break;
+            default: text.resize(at); break;
+            }
+        }
+        if (round % 10 == 0) {  // pure noise
+            text.resize(static_cast<std::size_t>(rng.uniform() * 400));
+            for (char &ch : text) ch = static_cast<char>(rng.uniform() * 256);
+        }
+        world::Scenario s;
+        std::string err;
+        if (world::parse_scenario(text, "fuzz.scn", &s, &err)) {
+            ++accepted;
+            assert_false(s.ranger.rays.empty());
+        } else {
+            ++refused;
+            int line = 0;
+            assert_int_equal(std::sscanf(err.c_str(), "fuzz.scn:%d: ", &line), 1);
+            assert_true(line >= 1);
+        }
+    }
+    assert_true(accepted > 0 && refused > 0);
+}
+
+}  // namespace
+
+int run_scenario_tests(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_paper_sim_parses),
+        cmocka_unit_test(test_paper_lab_parses),
+        cmocka_unit_test(test_name_resolution),
+        cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_text_rules),
+        cmocka_unit_test(test_fuzz),
+    };
+    return cmocka_run_group_tests_name("world_scenario", tests, nullptr, nullptr);
+}
