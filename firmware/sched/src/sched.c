@@ -51,11 +51,12 @@ int sched_add_task(sched_t *s, const sched_task_config_t *task)
     sched_task_t *t = &s->tasks[s->task_count];
     memset(t, 0, sizeof *t);
     t->cfg = *task;
-    // Releases stay on the epoch's grid even for a task added late: its first release is the
-    // first grid point not in the past, and the ones before it were never owed.
+    // Releases stay on the epoch's grid even for a task added while the loop runs: its first
+    // release is the first grid point not in the past, and the ones before it were never owed.
+    // Before the first pass, the boot's own time since sched_init() does not count.
     uint64_t first = s->epoch_us + task->phase_us;
     uint64_t now = hal_time_us();
-    if (first < now) {
+    if (s->stats.passes > 0u && first < now) {
         uint64_t behind = (now - first + task->period_us - 1u) / task->period_us;
         first += behind * task->period_us;
     }
@@ -315,15 +316,10 @@ void sched_step(sched_t *s)
 
 void sched_get_stats(const sched_t *s, sched_stats_t *out)
 {
-    // Copy the whole block, then the counters interrupt handlers write again under the lock,
-    // so the lock is held for a handful of words, not the task table.
-    *out = s->stats;
+    // One block copy under the lock (a few hundred bytes, no loop over the task table), so the
+    // event counters interrupt handlers write are consistent with each other.
     hal_irq_state_t irq = hal_irq_save();
-    out->events_posted = s->stats.events_posted;
-    out->events_dropped = s->stats.events_dropped;
-    out->events_dispatched = s->stats.events_dispatched;
-    out->events_unhandled = s->stats.events_unhandled;
-    out->events_high_water = s->stats.events_high_water;
+    *out = s->stats;
     hal_irq_restore(irq);
     for (uint32_t i = 0; i < s->task_count; i++) {
         out->task[i] = s->tasks[i].stats;

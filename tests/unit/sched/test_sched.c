@@ -297,6 +297,7 @@ static void test_task_added_late_keeps_grid(void **state)
     memset(&a, 0, sizeof a);
     sched_config_t cfg = {0};
     assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    sched_step(&s_); // the loop is running
     assert_int_equal(hal_host_time_set_us(25000u), FW_OK);
     sched_task_config_t ta = {"a", record_task, &a, 10000u, 2000u, 0u, 0u};
     assert_int_equal(sched_add_task(&s_, &ta), 0);
@@ -601,6 +602,44 @@ static void test_concurrent_isr_thread(void **state)
     assert_true(can_in_order_);
 }
 
+// Real-time mode: the same loop sleeps in hal_cpu_wait_until() and a receiver thread's frames
+// wake it. Asserts what happened, not how fast.
+static void test_realtime_loop_wakes_on_events(void **state)
+{
+    (void)state;
+    static recorder_t a;
+    memset(&a, 0, sizeof a);
+    can_seen_ = 0;
+    can_in_order_ = true;
+    isr_failures_ = 0;
+    hal_host_time_set_mode(HAL_HOST_CLOCK_REALTIME);
+    assert_int_equal(hal_host_time_set_speed(100.0), FW_OK); // 10 ms of firmware time = 0.1 ms
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    assert_int_equal(sched_on_event(&s_, EV_CAN, on_can, NULL), FW_OK);
+    assert_int_equal(hal_can_init(500000u, NULL, 0u, can_rx_to_sched, &s_), FW_OK);
+    // A long period: the loop sleeps most of the time, so only the wake-ups get frames seen.
+    sched_task_config_t ta = {"a", record_task, &a, 1000000u, 0u, 1000000u, 0u};
+    assert_int_equal(sched_add_task(&s_, &ta), 0);
+    static uint32_t n = 200;
+    pthread_t th;
+    assert_int_equal(pthread_create(&th, NULL, isr_thread, &n), 0);
+    sched_stats_t st;
+    uint32_t passes = 0;
+    do {
+        sched_step(&s_);
+        sched_get_stats(&s_, &st);
+        passes++;
+    } while (st.events_dispatched + st.events_dropped < n && passes < 1000000u);
+    assert_int_equal(pthread_join(th, NULL), 0);
+    assert_int_equal(isr_failures_, 0);
+    assert_int_equal(st.events_posted + st.events_dropped, n);
+    assert_int_equal(can_seen_, st.events_posted);
+    assert_true(can_in_order_);
+    assert_true(a.n >= 1u);
+    hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -616,6 +655,7 @@ int main(void)
         cmocka_unit_test_setup(test_event_errors_and_unhandled, setup),
         cmocka_unit_test_setup(test_can_isr_posts_never_lost, setup),
         cmocka_unit_test_setup(test_concurrent_isr_thread, setup),
+        cmocka_unit_test_setup(test_realtime_loop_wakes_on_events, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -156,8 +156,9 @@ typedef struct sched {
 int sched_init(sched_t *s, const sched_config_t *cfg);
 
 /// Adds a periodic task. Returns its id (>= 0), FW_ERR_INVAL (no fn, period 0, phase >= period),
-/// or FW_ERR_NOMEM (FW_CFG_SCHED_MAX_TASKS already added). A task added after the epoch
-/// starts at its first release that is not in the past.
+/// or FW_ERR_NOMEM (FW_CFG_SCHED_MAX_TASKS already added). A task added before the first
+/// sched_step() is first released at epoch + phase_us; one added later, at its first release
+/// (on the same grid) that is not in the past.
 /// Context: thread, at boot.
 int sched_add_task(sched_t *s, const sched_task_config_t *task);
 
