@@ -51,7 +51,7 @@ const robot_config_t robot_config_paper_lab = {
     .pose_source = ROBOT_POSE_CRICKET,
     .n_beacons = 4,
     .beacons = {{1, 0.5f, 0.5f, 2.5f}, {2, 3.8f, 0.5f, 2.5f}, {3, 3.8f, 2.7f, 2.5f},
-                {4, 0.5f, 2.7f, 2.5f}},
+                {4, 0.5f, 2.7f, 2.5f}},  // replaced below from host_sim/scenarios/paper-lab.scn
     .listener_z = 0.15f,
     .pose_timeout_us = 5000000u,
     .bus_timeout_us = 500000u,

@@ -24,6 +24,16 @@
 extern "C" {
 #endif
 
+/// Worst-case time of one planning update on the MCU, for fitting idle work before a deadline:
+/// about 9,000 Cortex-M4 instructions (docs/results.md) at 168 MHz is 54 us; with margin.
+#ifndef ROBOT_PLAN_BUDGET_US
+#define ROBOT_PLAN_BUDGET_US 100u
+#endif
+/// Watchdog timeout: a few control periods.
+#ifndef ROBOT_WATCHDOG_MS
+#define ROBOT_WATCHDOG_MS 1000u
+#endif
+
 typedef struct robot_app_options {
     const robot_config_t *cfg;
     agent_t *agent;                  ///< a profile's agent (agent_profiles.h) big enough for cfg
@@ -55,9 +65,6 @@ void robot_app_step(void);
 sched_t *robot_app_sched(void);
 const robot_ctrl_t *robot_app_ctrl(void);
 void robot_app_get_stats(robot_app_stats_t *out);
-
-/// The MCU entry: robot_app_init() with the profile that fits `cfg`, then the main loop forever.
-void robot_main(const robot_config_t *cfg);
 
 #ifdef __cplusplus
 }

@@ -40,7 +40,7 @@ typedef enum robot_pose_source {
 } robot_pose_source_t;
 
 typedef struct robot_beacon {
-    uint32_t id;     ///< the low 32 bits of the beacon's ID field
+    uint64_t id;     ///< the beacon's 8-byte ID as the listener prints it, first byte most significant
     float x, y, z;   ///< metres, arena frame
 } robot_beacon_t;
 

@@ -32,7 +32,7 @@
 /// Flash image capacity (bytes): the most a geometry may cover. Default: the STM32F4's last two
 /// 128 KB sectors.
 #ifndef FW_CFG_HOST_FLASH_CAPACITY
-#define FW_CFG_HOST_FLASH_CAPACITY (2u * 128u * 1024u)
+#define FW_CFG_HOST_FLASH_CAPACITY (4u * 128u * 1024u)
 #endif
 
 /// Default flash geometry (until hal_host_flash_configure()).
@@ -40,7 +40,7 @@
 #define FW_CFG_HOST_FLASH_SECTOR_SIZE (128u * 1024u)
 #endif
 #ifndef FW_CFG_HOST_FLASH_SECTOR_COUNT
-#define FW_CFG_HOST_FLASH_SECTOR_COUNT 2u
+#define FW_CFG_HOST_FLASH_SECTOR_COUNT 4u
 #endif
 #ifndef FW_CFG_HOST_FLASH_WRITE_ALIGN
 #define FW_CFG_HOST_FLASH_WRITE_ALIGN 4u

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the entry point of a firmware image.
+#ifndef ROBOT_MAIN_H
+#define ROBOT_MAIN_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Boots the firmware with the paper-lab (or paper-sim) scenario built in and its agent profile,
+/// restores what was learned from flash, waits for the operator's TOOL_CMD to start episodes,
+/// and runs the main loop for ever. Each is in its own object file, so an image links only the
+/// profile it uses.
+void robot_main_paper_lab(void);
+void robot_main_paper_sim(void);
+
+/// What an image's main() calls: the profile the image is built for (DYNAQPC_PROFILE_PAPER_LAB
+/// or DYNAQPC_PROFILE_PAPER_SIM defined on main.c). `scenario_config` is reserved (NULL).
+static inline void robot_main(const void *scenario_config)
+{
+    (void)scenario_config;
+#if defined(DYNAQPC_PROFILE_PAPER_SIM)
+    robot_main_paper_sim();
+#else
+    robot_main_paper_lab();
+#endif
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // ROBOT_MAIN_H

@@ -1,0 +1,389 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the firmware's wiring — interrupts to events, events to drivers,
+// the control task, telemetry, idle planning, and the learned store.
+#include "robot/robot_app.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "drivers/candev.h"
+#include "drivers/cricket.h"
+#include "fw/fw_base.h"
+#include "hal/hal_can.h"
+#include "hal/hal_cpu.h"
+#include "hal/hal_flash.h"
+#include "hal/hal_time.h"
+#include "hal/hal_uart.h"
+
+#define EV_CAN 1u   // a received frame, in u.can
+#define EV_UART 2u  // Cricket bytes are waiting in the UART's ring buffer
+
+#define CAN_BITRATE 500000u
+#define CRICKET_BAUD 115200u
+#define STATUS_PERIOD_US 1000000u
+#define DEG_PER_RAD 57.2957795f
+#define RAD_PER_DEG 0.0174532925f
+// Beyond any sensor's reach: a range sensor that sees nothing.
+#define RANGE_NOTHING_M 100.0f
+
+typedef struct robot_app {
+    robot_app_options_t opt;
+    sched_t sched;
+    candev_t dev;
+    cricket_t cricket;
+    cricket_beacon_t beacons[ROBOT_MAX_BEACONS];
+    robot_ctrl_t ctrl;
+    learned_store_t store;
+    bool store_ok;
+    bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
+    bool moved_last_period;   // the wheels were commanded to move in the last period
+    uint8_t status_counter;
+    robot_app_stats_t stats;
+    uint64_t boot_us;
+    uint64_t period_start_idle_us;
+} robot_app_t;
+
+static robot_app_t app_;
+
+// ---- Interrupt context: copy and post -----------------------------------------------------------
+
+static void on_can_isr_(const hal_can_frame_t *frame, void *ctx)
+{
+    (void)ctx;
+    sched_event_t ev;
+    ev.type = EV_CAN;
+    ev.u.can = *frame;
+    (void)sched_post(&app_.sched, &ev);  // a full queue counts the drop
+}
+
+static void on_uart_isr_(void *ctx)
+{
+    (void)ctx;
+    sched_event_t ev;
+    ev.type = EV_UART;
+    ev.u.word = 0;
+    (void)sched_post(&app_.sched, &ev);
+}
+
+// ---- Events: into the drivers -------------------------------------------------------------------
+
+static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
+{
+    switch (cmd->command) {
+    case TLM_CMD_START_EPISODE:
+        // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
+        // source has no heading of its own (a gyro only integrates), 0xFFFFFFFF to keep it.
+        if (cmd->argument <= 35999u) {
+            gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
+        }
+        robot_ctrl_start_episode(&app_.ctrl);
+        break;
+    case TLM_CMD_STOP:
+    case TLM_CMD_SAFE_STOP:
+        robot_ctrl_stop(&app_.ctrl);
+        break;
+    case TLM_CMD_SAVE_LEARNED:
+        if (app_.store_ok && learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) == FW_OK) {
+            app_.stats.saves++;
+        } else {
+            app_.stats.save_errors++;
+        }
+        break;
+    case TLM_CMD_RESET_LEARNING:
+        robot_ctrl_stop(&app_.ctrl);
+        agent_reset(app_.opt.agent, app_.opt.seed);
+        break;
+    default:
+        break;
+    }
+}
+
+static void on_can_event_(const sched_event_t *ev, void *ctx)
+{
+    (void)ctx;
+    tlm_tool_cmd_t cmd;
+    const int r = candev_rx(&app_.dev, &ev->u.can, hal_time_us(), &cmd);
+    if (r < 0) {
+        app_.stats.frames_bad += r == FW_ERR_INVAL ? 1u : 0u;
+        return;
+    }
+    app_.stats.frames_rx++;
+    if (r == CANDEV_RX_MOTOR && (app_.dev.motor.status.bump_front || app_.dev.motor.status.bump_rear)) {
+        app_.bump_latch = true;
+    } else if (r == CANDEV_RX_TOOL_CMD) {
+        handle_tool_cmd_(&cmd);
+    }
+}
+
+static void on_uart_event_(const sched_event_t *ev, void *ctx)
+{
+    (void)ev;
+    (void)ctx;
+    uint8_t buf[64];
+    size_t n;
+    while ((n = hal_uart_read(buf, sizeof buf)) > 0u) {
+        (void)cricket_feed(&app_.cricket, buf, n, hal_time_us());
+    }
+}
+
+// ---- The control task ---------------------------------------------------------------------------
+
+static void send_(const hal_can_frame_t *f)
+{
+    if (hal_can_send(f) != FW_OK) {
+        app_.stats.frames_tx_dropped++;
+    }
+}
+
+static uint8_t sense_(robot_sense_t *in, uint64_t now)
+{
+    const robot_config_t *cfg = app_.opt.cfg;
+    memset(in, 0, sizeof *in);
+    in->now_us = now;
+    in->bus_ok = !can_link_rx_silent(&app_.dev.motor.rx, now, cfg->bus_timeout_us);
+    in->bump = app_.bump_latch;
+    app_.bump_latch = false;
+    uint8_t fix_state = TLM_FIX_LOST;
+    if (cfg->pose_source == ROBOT_POSE_GPS) {
+        const gps_t *g = &app_.dev.gps;
+        const bool fresh = !can_link_rx_silent(&g->rx, now, cfg->pose_timeout_us);
+        if (fresh && g->pose.fix != GPS_FIX_NONE) {
+            in->pose_ok = true;
+            in->pose.x = (float)g->pose.x_mm * 0.001f;
+            in->pose.y = (float)g->pose.y_mm * 0.001f;
+            in->pose.heading = (float)g->pose.heading_cdeg * 0.01f * RAD_PER_DEG;
+            in->pose_time_us = g->rx.last_ok_us;
+            fix_state = TLM_FIX_FRESH;
+        }
+    } else {
+        if (app_.moved_last_period) {
+            cricket_note_motion(&app_.cricket, now);
+        }
+        cricket_fix_t fix;
+        const cricket_fix_state_t st = cricket_get_fix(&app_.cricket, now, &fix);
+        fix_state = (uint8_t)st;
+        if (st != CRICKET_FIX_LOST) {
+            in->pose.x = fix.x_mm * 0.001f;
+            in->pose.y = fix.y_mm * 0.001f;
+            in->pose_time_us = fix.oldest_us;
+        }
+        in->pose_ok = st == CRICKET_FIX_FRESH;
+        in->pose.heading = gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG;
+    }
+    in->n_ranges = cfg->n_ranges;
+    const ranges_t *rg = &app_.dev.ranges;
+    for (uint32_t i = 0; i < cfg->n_ranges && i < ROBOT_MAX_RANGES; i++) {
+        if (cfg->n_ranges == RANGES_IR_COUNT) {
+            in->range_m[i] = rg->ir_valid[i] ? (float)rg->ir_mm[i] * 0.001f : RANGE_NOTHING_M;
+        } else {
+            in->range_m[i] = rg->sonar_mm[i] == RANGES_NO_ECHO ? RANGE_NOTHING_M
+                                                               : (float)rg->sonar_mm[i] * 0.001f;
+        }
+    }
+    return fix_state;
+}
+
+static int16_t mm_s_(float v)
+{
+    float mm = v * 1000.0f;
+    if (mm > (float)MOTOR_CMD_SPEED_MAX) {
+        mm = (float)MOTOR_CMD_SPEED_MAX;
+    } else if (mm < -(float)MOTOR_CMD_SPEED_MAX) {
+        mm = -(float)MOTOR_CMD_SPEED_MAX;
+    }
+    return (int16_t)lrintf(mm);
+}
+
+static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
+{
+    hal_can_frame_t f;
+    const tlm_pose_t pose = {(int32_t)lrintf(in->pose.x * 1000.0f), (int32_t)lrintf(in->pose.y * 1000.0f),
+                             (int32_t)lrintf(in->pose.heading * DEG_PER_RAD * 100.0f), fix_state};
+    tlm_encode_pose(&app_.dev.tlm, &pose, &f);
+    send_(&f);
+    if (app_.ctrl.step_done) {
+        const robot_step_report_t *st = &app_.ctrl.last_step;
+        const tlm_learn_t learn = {st->state, st->action, (int32_t)lrintf(st->reward), app_.ctrl.episode, st->step};
+        tlm_encode_learn(&app_.dev.tlm, &learn, &f);
+        send_(&f);
+    }
+    sched_stats_t ss;
+    sched_get_stats(&app_.sched, &ss);
+    uint32_t misses = 0;
+    for (uint32_t i = 0; i < ss.task_count; i++) {
+        misses += ss.task[i].misses;
+    }
+    const uint64_t idle = ss.idle_us - app_.period_start_idle_us;
+    app_.period_start_idle_us = ss.idle_us;
+    const uint32_t period = app_.opt.cfg->period_us;
+    const tlm_sched_t sch = {ss.idle_steps_last_period, misses,
+                             (uint32_t)(idle >= period ? 1000u : idle * 1000u / period),
+                             app_.opt.agent->kind == AGENT_DYNA_QPC ? pq_size(&app_.opt.agent->pq) : 0u};
+    tlm_encode_sched(&app_.dev.tlm, &sch, &f);
+    send_(&f);
+    if (app_.ctrl.episode_done) {
+        const robot_episode_report_t *ep = &app_.ctrl.last_episode;
+        const tlm_episode_t e = {ep->episode, ep->steps, (int32_t)lrintf(ep->reward), ep->reached_goal, ep->bumps};
+        tlm_encode_episode(&e, &f);
+        send_(&f);
+    }
+}
+
+static void control_task_(void *ctx)
+{
+    (void)ctx;
+    const uint64_t now = hal_time_us();
+    robot_sense_t in;
+    const uint8_t fix_state = sense_(&in, now);
+    float vl, vr;
+    robot_ctrl_period(&app_.ctrl, &in, &vl, &vr);
+    const bool moving = vl != 0.0f || vr != 0.0f;
+    app_.moved_last_period = moving;
+    gyro_set_stationary(&app_.dev.gyro, !moving && in.bus_ok);
+    const motor_cmd_t cmd = {mm_s_(vl), mm_s_(vr), true};
+    hal_can_frame_t f;
+    if (motor_encode_cmd(&app_.dev.motor, &cmd, &f) == FW_OK) {
+        send_(&f);
+    }
+    telemetry_(&in, fix_state);
+    if (app_.ctrl.episode_done) {
+        app_.stats.episodes++;
+        // The robot stands still at an episode's end: the time to erase and program flash.
+        if (app_.opt.persist && app_.store_ok && !app_.opt.evaluate) {
+            if (learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) == FW_OK) {
+                app_.stats.saves++;
+            } else {
+                app_.stats.save_errors++;
+            }
+        }
+        if (app_.opt.auto_start) {
+            robot_ctrl_start_episode(&app_.ctrl);
+        }
+    }
+    hal_cpu_watchdog_kick();
+}
+
+static void status_task_(void *ctx)
+{
+    (void)ctx;
+    const uint64_t now = hal_time_us();
+    const robot_config_t *cfg = app_.opt.cfg;
+    uint8_t errors = 0;
+    errors |= can_link_rx_silent(&app_.dev.motor.rx, now, cfg->bus_timeout_us) ? TLM_ERR_MOTOR_SILENT : 0u;
+    errors |= app_.stats.save_errors > 0u ? TLM_ERR_FLASH : 0u;
+    const uint8_t mode = app_.ctrl.mode == ROBOT_MODE_IDLE        ? TLM_MODE_IDLE
+                         : app_.ctrl.mode == ROBOT_MODE_SAFE_STOP ? TLM_MODE_SAFE_STOP
+                                                                  : TLM_MODE_RUNNING;
+    const tlm_status_t st = {mode, errors, (uint32_t)((now - app_.boot_us) / 1000000u)};
+    hal_can_frame_t f;
+    tlm_encode_status(&app_.dev.tlm, &st, &f);
+    send_(&f);
+}
+
+static bool idle_(void *ctx)
+{
+    (void)ctx;
+    return robot_ctrl_plan(&app_.ctrl);
+}
+
+// ---- Boot ---------------------------------------------------------------------------------------
+
+int robot_app_init(const robot_app_options_t *opt)
+{
+    if (opt == NULL || opt->agent == NULL || opt->storage == NULL || robot_config_check(opt->cfg) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
+    memset(&app_, 0, sizeof app_);
+    app_.opt = *opt;
+    const robot_config_t *cfg = opt->cfg;
+    int err = hal_time_init();
+    if (err) {
+        return err;
+    }
+    app_.boot_us = hal_time_us();
+
+    static agent_space_t space;
+    robot_config_space(cfg, &space);
+    const agent_config_t ac = {cfg->agent, &space, cfg->params, opt->storage, opt->seed};
+    err = agent_init(opt->agent, &ac);
+    if (err) {
+        return err;
+    }
+    app_.stats.restore_result = FW_ERR_NOENT;
+    if (opt->persist) {
+        app_.store_ok = learned_store_init(&app_.store) == FW_OK &&
+                        learned_store_record_size(opt->agent) <= app_.store.slot_size;
+        if (app_.store_ok) {
+            app_.stats.restore_result =
+                learned_store_load(&app_.store, opt->agent, &app_.stats.restored_episodes);
+        }
+    }
+    robot_ctrl_init(&app_.ctrl, cfg, opt->agent);
+    app_.ctrl.learning = !opt->evaluate;
+    app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
+
+    candev_init(&app_.dev);
+    if (cfg->pose_source == ROBOT_POSE_CRICKET) {
+        struct cricket_config cc;
+        cricket_default_config(&cc);
+        for (uint32_t i = 0; i < cfg->n_beacons; i++) {
+            app_.beacons[i] = (cricket_beacon_t){cfg->beacons[i].id, cfg->beacons[i].x * 1000.0f,
+                                                 cfg->beacons[i].y * 1000.0f, cfg->beacons[i].z * 1000.0f};
+        }
+        cc.beacons = app_.beacons;
+        cc.n_beacons = cfg->n_beacons;
+        cc.listener_z_mm = cfg->listener_z * 1000.0f;
+        err = cricket_init(&app_.cricket, &cc);
+        if (err) {
+            return err;
+        }
+    }
+
+    const sched_config_t sc = {idle_, NULL, opt->plan_budget_us, 0u, opt->plan_cycles};
+    err = sched_init(&app_.sched, &sc);
+    if (err) {
+        return err;
+    }
+    const sched_task_config_t control = {"control", control_task_, NULL, cfg->period_us, 0u, 0u, 0u};
+    const sched_task_config_t status = {"status", status_task_, NULL, STATUS_PERIOD_US, 1000u, 0u, 0u};
+    if (sched_add_task(&app_.sched, &control) < 0 || sched_add_task(&app_.sched, &status) < 0) {
+        return FW_ERR_NOMEM;
+    }
+    (void)sched_on_event(&app_.sched, EV_CAN, on_can_event_, NULL);
+    (void)sched_on_event(&app_.sched, EV_UART, on_uart_event_, NULL);
+    err = hal_can_init(CAN_BITRATE, candev_rx_ids, CANDEV_RX_ID_COUNT, on_can_isr_, NULL);
+    if (err) {
+        return err;
+    }
+    if (cfg->pose_source == ROBOT_POSE_CRICKET) {
+        err = hal_uart_init(CRICKET_BAUD, on_uart_isr_, NULL);
+        if (err) {
+            return err;
+        }
+    }
+    if (opt->auto_start) {
+        robot_ctrl_start_episode(&app_.ctrl);
+    }
+    return FW_OK;
+}
+
+void robot_app_step(void)
+{
+    sched_step(&app_.sched);
+}
+
+sched_t *robot_app_sched(void)
+{
+    return &app_.sched;
+}
+
+const robot_ctrl_t *robot_app_ctrl(void)
+{
+    return &app_.ctrl;
+}
+
+void robot_app_get_stats(robot_app_stats_t *out)
+{
+    *out = app_.stats;
+}

@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim: the simulated robot's devices.
+#include "devices.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "drivers/gps.h"
+#include "drivers/gyro.h"
+#include "drivers/motor.h"
+#include "drivers/ranges.h"
+#include "world/cricket.h"
+#include "world/scenario.h"
+#include "world/world.h"
+
+namespace dynaqpc {
+
+namespace {
+
+constexpr double kRadToCdeg = 18000.0 / M_PI;
+
+std::uint16_t to_mm(double m, std::uint16_t max_mm)
+{
+    const double mm = std::round(m * 1000.0);
+    return static_cast<std::uint16_t>(std::clamp(mm, 0.0, static_cast<double>(max_mm)));
+}
+
+}  // namespace
+
+Devices::Devices(world::World &world, std::uint32_t seed)
+    : world_(world), sc_(world.scenario()), ranges_(static_cast<std::size_t>(world.ray_count()), 0.0f)
+{
+    if (!sc_.cricket.beacons.empty()) {
+        cricket_ = std::make_unique<world::CricketListener>(sc_, seed ^ 0x43524943u, world.time_s());
+    }
+}
+
+Devices::~Devices() = default;
+
+void Devices::receive(const hal_can_frame_t &frame, std::uint64_t t_us)
+{
+    motor_cmd_t cmd;
+    if (frame.id != DYNAQPC_CAN_MOTOR_CMD_FRAME_ID) {
+        return;  // not for a device
+    }
+    if (motor_decode_cmd(&frame, &cmd, nullptr) != FW_OK) {
+        motor_rejected_++;  // a real controller ignores a bad command and keeps its safety timer
+        return;
+    }
+    motor_cmds_++;
+    last_cmd_us_ = t_us;
+    driving_ = cmd.enable;
+    if (cmd.enable) {
+        world_.set_wheel_targets(cmd.speed_left_mm_s * 0.001, cmd.speed_right_mm_s * 0.001);
+    } else {
+        world_.set_wheel_targets(0.0, 0.0);
+    }
+}
+
+void Devices::check_timeouts(std::uint64_t t_us)
+{
+    bump_since_status_ = bump_since_status_ || world_.bumped();
+    world_.clear_bump();
+    if (driving_ && t_us - last_cmd_us_ > static_cast<std::uint64_t>(MOTOR_CMD_TIMEOUT_MS) * 1000u) {
+        driving_ = false;
+        world_.set_wheel_targets(0.0, 0.0);
+    }
+}
+
+void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::string *serial)
+{
+    hal_can_frame_t f;
+    bump_since_status_ = bump_since_status_ || world_.bumped();
+    world_.clear_bump();
+    if (t % DeviceCycles::kMotorStatus == 0) {
+        const world::WheelSpeeds w = world_.wheel_speeds();
+        motor_status_t st{};
+        st.speed_left_mm_s = static_cast<std::int16_t>(std::lround(std::clamp(w.left * 1000.0, -2000.0, 2000.0)));
+        st.speed_right_mm_s = static_cast<std::int16_t>(std::lround(std::clamp(w.right * 1000.0, -2000.0, 2000.0)));
+        st.bump_front = bump_since_status_;
+        st.enabled = driving_;
+        st.faults = driving_ ? 0u : (last_cmd_us_ != 0 ? MOTOR_FAULT_CMD_TIMEOUT : 0u);
+        bump_since_status_ = false;
+        if (motor_encode_status(&motor_ctr_, &st, &f) == FW_OK) frames->push_back(f);
+    }
+    if (t % DeviceCycles::kGyro == 0) {
+        const double cdeg = std::clamp(world_.gyro_rate() * kRadToCdeg, -30000.0, 30000.0);
+        if (gyro_encode_rate(&gyro_ctr_, static_cast<std::int16_t>(std::lround(cdeg)), 25, GYRO_STATUS_OK, &f) == FW_OK)
+            frames->push_back(f);
+    }
+    const bool ir = sc_.ranger.kind == world::RangerSpec::Kind::Ir;
+    if (ir && t % DeviceCycles::kIr == 0 && ranges_.size() >= RANGES_IR_COUNT) {
+        world_.range_readings(ranges_.data());
+        std::uint16_t mm[RANGES_IR_COUNT];
+        bool valid[RANGES_IR_COUNT];
+        for (unsigned i = 0; i < RANGES_IR_COUNT; i++) {
+            valid[i] = ranges_[i] < sc_.ranger.max_range;  // max range: nothing in view
+            mm[i] = to_mm(ranges_[i], RANGES_IR_MAX_MM);
+        }
+        if (ranges_encode_ir(&ir_ctr_, mm, valid, &f) == FW_OK) frames->push_back(f);
+    }
+    if (!ir && t % DeviceCycles::kSonar == 0 && ranges_.size() >= RANGES_SONAR_COUNT) {
+        world_.range_readings(ranges_.data());
+        std::uint16_t mm[RANGES_SONAR_COUNT];
+        for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+            mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
+        }
+        for (unsigned half = 0; half < 2; half++) {
+            if (ranges_encode_sonar(&sonar_ctr_, half, mm, &f) == FW_OK) frames->push_back(f);
+        }
+    }
+    if (sc_.gps.enabled && t % DeviceCycles::kGps == 0) {
+        const world::Pose p = world_.gps_pose();
+        gps_pose_t gp{};
+        gp.x_mm = static_cast<std::int16_t>(std::lround(std::clamp(p.x * 1000.0, -32000.0, 32000.0)));
+        gp.y_mm = static_cast<std::int16_t>(std::lround(std::clamp(p.y * 1000.0, -32000.0, 32000.0)));
+        double h = std::fmod(p.heading * kRadToCdeg, 36000.0);
+        if (h < 0) h += 36000.0;
+        gp.heading_cdeg = static_cast<std::uint16_t>(std::min(35999.0, std::floor(h)));
+        gp.fix = GPS_FIX_GOOD;
+        if (gps_encode_pose(&gps_ctr_, &gp, &f) == FW_OK) frames->push_back(f);
+    }
+    if (cricket_) {
+        std::vector<world::CricketLine> lines;
+        const world::Pose p = world_.pose();
+        cricket_->advance(static_cast<double>(t) * 1e-6, p.x, p.y, &lines);
+        for (const world::CricketLine &l : lines) serial->append(l.text);
+    }
+}
+
+}  // namespace dynaqpc

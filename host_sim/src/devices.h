@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim: the simulated robot's devices on the CAN bus and its Cricket listener's serial
+// line — what a real robot's motor controller, gyro, range board and GPS would send.
+#ifndef DYNAQPC_SIM_DEVICES_H
+#define DYNAQPC_SIM_DEVICES_H
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hal/hal_can.h"
+
+namespace world {
+class World;
+struct Scenario;
+class CricketListener;
+}  // namespace world
+
+namespace dynaqpc {
+
+/// Cycle times of the devices' periodic frames (docs/dynaqpc.dbc), µs.
+struct DeviceCycles {
+    static constexpr std::uint64_t kGyro = 16000;
+    static constexpr std::uint64_t kMotorStatus = 48000;
+    static constexpr std::uint64_t kIr = 48000;
+    static constexpr std::uint64_t kSonar = 96000;
+    static constexpr std::uint64_t kGps = 96000;
+};
+
+/// The devices of one simulated robot. Time is the world's, in µs on the physics step grid.
+class Devices {
+public:
+    Devices(world::World &world, std::uint32_t seed);
+    ~Devices();
+
+    /// Frames due at `t_us` (every device whose cycle divides t), from the world's state now,
+    /// appended to `frames`; Cricket listener lines heard up to t appended to `serial`.
+    void emit(std::uint64_t t_us, std::vector<hal_can_frame_t> *frames, std::string *serial);
+
+    /// A frame on the bus: the motor controller takes MOTOR_CMD and drives the wheels.
+    void receive(const hal_can_frame_t &frame, std::uint64_t t_us);
+
+    /// The motor controller's safety stop: no valid MOTOR_CMD for 500 ms stops the wheels.
+    /// Call once per physics step.
+    void check_timeouts(std::uint64_t t_us);
+
+    /// Restarts the listener's clock after the robot was carried to a new place (a new episode).
+    std::uint32_t motor_cmds() const { return motor_cmds_; }
+    std::uint32_t motor_cmds_rejected() const { return motor_rejected_; }
+
+private:
+    world::World &world_;
+    const world::Scenario &sc_;
+    std::unique_ptr<world::CricketListener> cricket_;
+    std::uint8_t motor_ctr_ = 0, gyro_ctr_ = 0, ir_ctr_ = 0, sonar_ctr_ = 0, gps_ctr_ = 0;
+    std::uint64_t last_cmd_us_ = 0;
+    bool driving_ = false;
+    bool bump_since_status_ = false;
+    std::uint32_t motor_cmds_ = 0, motor_rejected_ = 0;
+    std::vector<float> ranges_;
+};
+
+}  // namespace dynaqpc
+
+#endif  // DYNAQPC_SIM_DEVICES_H

@@ -1,0 +1,274 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim: the lock-step runner.
+//
+// Time advances in physics steps (16 ms). At each step: the devices put their due frames on the
+// in-process bus and the Cricket listener its serial lines; the firmware runs (sched_step) until
+// it waits; what it sent is taken off the bus (the motor controller obeys MOTOR_CMD, the
+// supervisor watches TLM_EPISODE); then the world moves one step. The firmware sees exactly the
+// frames and bytes a robot's controller would.
+#include "lockstep.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "agent/agent_profiles.h"
+#include "devices.h"
+#include "drivers/telemetry.h"
+#include "hal/hal_time.h"
+#include "hal_host/hal_host.h"
+#include "robot/robot_app.h"
+#include "world/scenario.h"
+#include "world/world.h"
+
+namespace dynaqpc {
+
+namespace {
+
+constexpr std::uint32_t kFlashSector = 128u * 1024u;
+constexpr std::uint32_t kFlashSectors = 4u;  // two slots of two sectors: paper-sim's record is 140 KB
+constexpr std::uint32_t kCpuHz = 168000000u;
+
+// The smallest agent profile whose tables suit the state space.
+void pick_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage)
+{
+    const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
+    if (bits <= 13u) {
+        *agent = &agent_paper_lab;
+        *storage = &agent_storage_paper_lab;
+    } else {
+        *agent = &agent_paper_sim;
+        *storage = &agent_storage_paper_sim;
+    }
+}
+
+}  // namespace
+
+struct Lockstep::Impl {
+    robot_config_t cfg;
+    LockstepOptions opt;
+    world::World world;
+    Devices devices;
+    agent_t *agent = nullptr;
+    const agent_storage_t *storage = nullptr;
+    std::uint64_t t_us = 0;
+    std::uint64_t dt_us = 0;
+    std::uint8_t tool_ctr = 0;
+    bool restored = false;
+    std::function<void(const TrajectoryPoint &)> sink;
+    std::vector<hal_can_frame_t> frames;
+    std::string serial;
+    // The episode in progress, as the supervisor sees it on the bus.
+    bool episode_over = false;
+    tlm_episode_t episode{};
+    std::uint64_t episode_start_us = 0, episode_end_us = 0;
+    TrajectoryPoint point;
+    bool point_has_action = false;
+
+    Impl(const world::Scenario &sc, const robot_config_t &c, const LockstepOptions &o)
+        : cfg(c), opt(o), world(sc, o.seed), devices(world, o.seed)
+    {
+        cfg.name = world.scenario().name.c_str();
+        dt_us = static_cast<std::uint64_t>(std::llround(sc.timing.physics_dt * 1e6));
+        hal_host_reset();
+        hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);
+        hal_host_cpu_set_hz(kCpuHz);
+        if (hal_host_flash_configure(kFlashSector, kFlashSectors, 4) != 0) {
+            throw std::runtime_error("host flash: cannot configure 4 x 128 KB");
+        }
+        if (!opt.flash_file.empty()) {
+            const int err = hal_host_flash_attach_file(opt.flash_file.c_str());
+            if (err != 0) {
+                throw std::runtime_error(opt.flash_file + ": not a flash image of this firmware (size) or unreadable");
+            }
+        }
+        pick_profile(cfg, &agent, &storage);
+        robot_app_options_t ao{};
+        ao.cfg = &cfg;
+        ao.agent = agent;
+        ao.storage = storage;
+        ao.seed = opt.seed;
+        ao.evaluate = opt.evaluate;
+        ao.persist = true;
+        ao.auto_start = false;
+        if (cfg.planning == 0) {
+            ao.plan_cycles = opt.plan_update_cycles;
+            ao.plan_budget_us = opt.plan_update_cycles / (kCpuHz / 1000000u) + 1u;
+        }
+        const int err = robot_app_init(&ao);
+        if (err != 0) {
+            throw std::runtime_error("firmware: robot_app_init failed (" + std::to_string(err) + ")");
+        }
+        robot_app_stats_t st;
+        robot_app_get_stats(&st);
+        restored = st.restore_result == 0;
+    }
+
+    ~Impl()
+    {
+        hal_host_flash_detach_file();
+    }
+
+    void deliver(const hal_can_frame_t &f)
+    {
+        (void)hal_host_can_deliver(&f);  // filtered frames are not for the firmware
+    }
+
+    void take_tx()
+    {
+        hal_can_frame_t f;
+        while (hal_host_can_take_tx(&f)) {
+            devices.receive(f, t_us);
+            if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID) {
+                if (tlm_decode_episode(&f, &episode) == 0) {
+                    episode_over = true;
+                    episode_end_us = t_us;
+                }
+            } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && sink) {
+                tlm_learn_t l;
+                if (tlm_decode_learn(&f, &l) == 0) {
+                    point.action = l.action;
+                    point.reward = l.reward;
+                    point.step = l.step;
+                    point_has_action = true;
+                }
+            }
+        }
+    }
+
+    // One physics step of the whole system.
+    void tick()
+    {
+        frames.clear();
+        serial.clear();
+        devices.emit(t_us, &frames, &serial);
+        if (t_us > hal_time_us()) {
+            (void)hal_host_time_set_us(t_us);
+        }
+        for (const hal_can_frame_t &f : frames) {
+            deliver(f);
+        }
+        if (!serial.empty()) {
+            (void)hal_host_uart_feed(reinterpret_cast<const std::uint8_t *>(serial.data()), serial.size());
+        }
+        // The firmware runs until it waits for a time after now. Each pass is bounded; the
+        // bound here only guards against a firmware bug spinning the simulator.
+        for (int pass = 0; pass < 100000; pass++) {
+            robot_app_step();
+            take_tx();
+            if (hal_host_wait_deadline() > hal_time_us()) {
+                break;
+            }
+        }
+        if (sink && t_us % cfg.period_us == 0) {
+            const world::Pose p = world.pose();
+            point.time_s = static_cast<double>(t_us - episode_start_us) * 1e-6;
+            point.x = p.x;
+            point.y = p.y;
+            point.heading = p.heading;
+            point.in_goal = world.in_goal();
+            if (!point_has_action) point.action = -1;
+            sink(point);
+            point = TrajectoryPoint{};
+            point_has_action = false;
+        }
+        world.step();
+        t_us += dt_us;
+        point.bump = point.bump || world.bumped();
+        devices.check_timeouts(t_us);
+    }
+
+    EpisodeRow run_episode()
+    {
+        const auto wall0 = std::chrono::steady_clock::now();
+        const std::uint64_t updates0 = agent_updates(agent);
+        const world::Pose start = world.sample_start_pose();
+        world.reset(start);
+        // The operator puts the robot down and starts the episode; the heading goes along for a
+        // robot whose only heading sensor is a gyro.
+        double h = std::fmod(start.heading * 18000.0 / M_PI, 36000.0);
+        if (h < 0) h += 36000.0;
+        tlm_tool_cmd_t cmd{};
+        cmd.command = TLM_CMD_START_EPISODE;
+        cmd.argument = cfg.pose_source == ROBOT_POSE_CRICKET ? static_cast<std::uint32_t>(h) % 36000u : 0xFFFFFFFFu;
+        hal_can_frame_t f;
+        if (tlm_encode_tool_cmd(&tool_ctr, &cmd, &f) != 0) {
+            throw std::runtime_error("cannot encode TOOL_CMD");
+        }
+        if (t_us > hal_time_us()) (void)hal_host_time_set_us(t_us);
+        deliver(f);
+        episode_over = false;
+        episode_start_us = t_us;
+        // A generous bound on an episode's length: the cap's steps of actions and fix waits.
+        const std::uint64_t limit_us =
+            static_cast<std::uint64_t>(cfg.step_cap + 2) * (cfg.action_periods + (cfg.wait_for_fix ? 60u : 1u)) *
+            cfg.period_us + 10000000u;
+        while (!episode_over) {
+            tick();
+            if (t_us - episode_start_us > limit_us) {
+                throw std::runtime_error("the firmware did not end the episode within its step cap (" +
+                                         counters() + ")");
+            }
+        }
+        EpisodeRow row;
+        row.episode = episode.episode;
+        row.steps = episode.steps;
+        row.reward = episode.total_reward;
+        row.reached_goal = episode.reached_goal;
+        row.bumps = episode.bumps;
+        row.robot_time_s = static_cast<double>(episode_end_us - episode_start_us) * 1e-6;
+        row.updates = agent_updates(agent) - updates0;
+        row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+        return row;
+    }
+
+    std::string counters() const
+    {
+        robot_app_stats_t st;
+        robot_app_get_stats(&st);
+        sched_stats_t ss;
+        sched_get_stats(robot_app_sched(), &ss);
+        std::ostringstream o;
+        o << "q_rows=" << agent->q.rows_used << "/" << agent->q.capacity << " q_dropped=" << agent->q.dropped
+          << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
+          << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
+          << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
+          << " events_dropped=" << ss.events_dropped;
+        if (agent->kind == AGENT_DYNA_QPC) {
+            o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
+              << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped;
+        }
+        return o.str();
+    }
+};
+
+Lockstep::Lockstep(const world::Scenario &scenario, const robot_config_t &cfg, const LockstepOptions &opt)
+    : impl_(std::make_unique<Impl>(scenario, cfg, opt))
+{
+}
+
+Lockstep::~Lockstep() = default;
+
+EpisodeRow Lockstep::run_episode()
+{
+    return impl_->run_episode();
+}
+
+void Lockstep::set_trajectory_sink(std::function<void(const TrajectoryPoint &)> sink)
+{
+    impl_->sink = std::move(sink);
+}
+
+bool Lockstep::restored() const
+{
+    return impl_->restored;
+}
+
+std::string Lockstep::counters() const
+{
+    return impl_->counters();
+}
+
+}  // namespace dynaqpc
