@@ -225,6 +225,12 @@ void test_text_rules(void **state)
     assert_false(world::parse_scenario(base + "beacon 1:2:3:4:5:6:7:8 1 1 0.05\n", "t.scn", &s,
                                        &err));
     assert_true(starts_with(err, "t.scn:6: beacon not above the listener"));
+    // A huge arena that is all obstacle: refused after a bounded search (at most 10^6 points).
+    assert_false(world::parse_scenario("arena 1000 1000\ngoal 1 0.15 0.1\nobstacle box 500 500.15 1000 999.7\n"
+                                       "robot length 0.3 width 0.2 track 0.18\n"
+                                       "ranger kind ir min 0.1 max 0.8\nray 0\n",
+                                       "big.scn", &s, &err));
+    assert_true(starts_with(err, "big.scn:1: no room for a start pose"));
     // Very long lines are refused, not read without bound.
     assert_false(world::parse_scenario(base + "# " + std::string(2000, 'x') + "\n", "t.scn", &s,
                                        &err));
