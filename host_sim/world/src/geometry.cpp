@@ -48,6 +48,11 @@ bool start_position_ok(const Scenario &s, double x, double y)
     return clearance(s, x, y) >= need;
 }
 
+double start_grid_step(const Scenario &s)
+{
+    return std::max(0.02, std::max(s.arena_w, s.arena_h) / 1000.0);
+}
+
 std::uint32_t sensor_code(const Scenario &s, const float *ranges)
 {
     std::uint32_t code = 0;

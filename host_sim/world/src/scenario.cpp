@@ -605,8 +605,8 @@ bool Parser::validate(Scenario *s)
     if (cricket_line_ != 0 && s->cricket.beacons.empty()) {
         return fail_at(cricket_line_, "cricket without any beacon line");
     }
-    // Room for a start pose: some point of a 2 cm grid must be a valid start.
-    const double step = 0.02;
+    // Room for a start pose: some point of the start grid must be a valid start.
+    const double step = start_grid_step(*s);
     bool room = false;
     for (double y = step / 2; y < s->arena_h && !room; y += step) {
         for (double x = step / 2; x < s->arena_w && !room; x += step) {

@@ -246,9 +246,9 @@ Pose World::sample_start_pose()
         found = start_position_ok(s, p.x, p.y);
     }
     if (!found) {
-        // Nearly no free space: scan the parser's 2 cm grid from a random cell (the parser
+        // Nearly no free space: scan the parser's start grid from a random cell (the parser
         // refused the file unless some cell of that grid is free).
-        const double step = 0.02;
+        const double step = start_grid_step(s);
         const long nx = static_cast<long>(std::ceil(s.arena_w / step));
         const long ny = static_cast<long>(std::ceil(s.arena_h / step));
         const long n = nx * ny;

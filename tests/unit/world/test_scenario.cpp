@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Tests of the scenario files: the shipped ones, every kind of refusal, and garbage.
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -13,6 +14,9 @@ extern "C" {
 #include "world/random.h"
 #include "world/scenario.h"
 
+#ifndef WORLD_TEST_DOCS
+#define WORLD_TEST_DOCS "docs/scenarios.md"
+#endif
 #ifndef WORLD_TEST_SCENARIOS
 #define WORLD_TEST_SCENARIOS "tests/unit/world/scenarios"
 #endif
@@ -98,6 +102,31 @@ void test_name_resolution(void **state)
     assert_true(p.size() > 14 && p.compare(p.size() - 14, 14, "/paper-lab.scn") == 0);
     assert_string_equal(world::resolve_scenario_path("my/own.scn").c_str(), "my/own.scn");
     assert_string_equal(world::resolve_scenario_path("other").c_str(), "other");
+}
+
+// The full example in docs/scenarios.md is a valid scenario.
+void test_doc_example(void **state)
+{
+    (void)state;
+    std::ifstream in(WORLD_TEST_DOCS, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string doc = ss.str();
+    const std::size_t section = doc.find("## A full example");
+    assert_true(section != std::string::npos);
+    const std::size_t open = doc.find("```\n", section);
+    assert_true(open != std::string::npos);
+    const std::size_t close = doc.find("```", open + 4);
+    assert_true(close != std::string::npos);
+    world::Scenario s;
+    std::string err;
+    const bool ok = world::parse_scenario(doc.substr(open + 4, close - open - 4), "example", &s, &err);
+    if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
+    assert_true(ok);
+    assert_int_equal(s.ranger.rays.size(), 4);
+    assert_int_equal(s.cricket.beacons.size(), 3);
+    assert_int_equal(s.encoding.sensor_bits, 2);
+    assert_true(std::abs(s.ranger.rays[3].x + 0.125) < 1e-12);
 }
 
 struct BadFile {
@@ -196,6 +225,12 @@ void test_text_rules(void **state)
     assert_false(world::parse_scenario(base + "beacon 1:2:3:4:5:6:7:8 1 1 0.05\n", "t.scn", &s,
                                        &err));
     assert_true(starts_with(err, "t.scn:6: beacon not above the listener"));
+    // A huge arena that is all obstacle: refused after a bounded search (at most 10^6 points).
+    assert_false(world::parse_scenario("arena 1000 1000\ngoal 1 0.15 0.1\nobstacle box 500 500.15 1000 999.7\n"
+                                       "robot length 0.3 width 0.2 track 0.18\n"
+                                       "ranger kind ir min 0.1 max 0.8\nray 0\n",
+                                       "big.scn", &s, &err));
+    assert_true(starts_with(err, "big.scn:1: no room for a start pose"));
     // Very long lines are refused, not read without bound.
     assert_false(world::parse_scenario(base + "# " + std::string(2000, 'x') + "\n", "t.scn", &s,
                                        &err));
@@ -255,6 +290,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_paper_sim_parses),
         cmocka_unit_test(test_paper_lab_parses),
         cmocka_unit_test(test_name_resolution),
+        cmocka_unit_test(test_doc_example),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_text_rules),
         cmocka_unit_test(test_fuzz),

@@ -183,6 +183,11 @@ double clearance(const Scenario &s, double x, double y);
 /// is outside the goal: a valid start position.
 bool start_position_ok(const Scenario &s, double x, double y);
 
+/// The grid on which the parser proves there is room for a start pose (and World falls back to
+/// when random draws keep missing): 2 cm, coarser in arenas above 20 m so that it has at most
+/// 1000 x 1000 points. Cell centres are (step/2 + i*step, step/2 + j*step).
+double start_grid_step(const Scenario &s);
+
 /// The sensor code of a set of readings (one per ray): bit i = CodeBit i.
 std::uint32_t sensor_code(const Scenario &s, const float *ranges);
 
