@@ -22,6 +22,12 @@ struct Command {
 /// `maze`: gridworld experiments (cmd_maze.cpp).
 int cmd_maze(const std::string &program, const std::vector<std::string> &args);
 
+/// `train`: the firmware learns on the simulated robot (cmd_train.cpp).
+int cmd_train(const std::string &program, const std::vector<std::string> &args);
+
+/// `run`: replays a learned policy from random starts (cmd_run.cpp).
+int cmd_run(const std::string &program, const std::vector<std::string> &args);
+
 }  // namespace dynaqpc
 
 #endif  // DYNAQPC_SIM_COMMANDS_H

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "drivers/gps.h"
+#include "dynaqpc_can.h"
+#include "fw/fw_base.h"
 #include "drivers/gyro.h"
 #include "drivers/motor.h"
 #include "drivers/ranges.h"

@@ -17,6 +17,7 @@
 #include "agent/agent_profiles.h"
 #include "devices.h"
 #include "drivers/telemetry.h"
+#include "dynaqpc_can.h"
 #include "hal/hal_time.h"
 #include "hal_host/hal_host.h"
 #include "robot/robot_app.h"

@@ -13,6 +13,8 @@ namespace {
 
 // Add a subcommand here and in commands.h.
 const dynaqpc::Command kCommands[] = {
+    {"train", "the firmware learns on the simulated robot: sets of episodes, a CSV row each", dynaqpc::cmd_train},
+    {"run", "replay a learned policy greedily from random starts, with a trajectory log", dynaqpc::cmd_run},
     {"maze", "gridworld experiments: Q-learning, Dyna-Q and Dyna-QPC on a map", dynaqpc::cmd_maze},
 };
 

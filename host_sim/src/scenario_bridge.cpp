@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "options.h"
@@ -30,6 +31,26 @@ void check_firmware_limits(const world::Scenario &sc, const std::string &path)
     if (!sc.gps.enabled && sc.cricket.beacons.size() < 3) {
         fail("no pose source: a gps line, or at least 3 Cricket beacons");
     }
+}
+
+// "1:5e:3c:3c:a:0:0:b1" (the listener's ID field) as a number, first byte most significant.
+std::uint64_t beacon_id(const std::string &text, const std::string &path)
+{
+    std::uint64_t id = 0;
+    int bytes = 0;
+    std::size_t i = 0;
+    while (i <= text.size()) {
+        const std::size_t colon = std::min(text.find(':', i), text.size());
+        const std::string part = text.substr(i, colon - i);
+        char *end = nullptr;
+        const unsigned long v = std::strtoul(part.c_str(), &end, 16);
+        if (part.empty() || part.size() > 2 || *end != '\0' || v > 255 || ++bytes > 8) {
+            throw UsageError(path + ": beacon id '" + text + "' is not 1 to 8 hex bytes separated by ':'");
+        }
+        id = (id << 8) | v;
+        i = colon + 1;
+    }
+    return id;
 }
 
 }  // namespace
@@ -97,7 +118,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.n_beacons = static_cast<uint8_t>(sc->cricket.beacons.size());
     for (std::size_t i = 0; i < sc->cricket.beacons.size(); i++) {
         const world::Beacon &bc = sc->cricket.beacons[i];
-        r.beacons[i].id = static_cast<uint32_t>(i + 1);
+        r.beacons[i].id = beacon_id(bc.id, b.path);
         r.beacons[i].x = static_cast<float>(bc.x);
         r.beacons[i].y = static_cast<float>(bc.y);
         r.beacons[i].z = static_cast<float>(bc.z);

@@ -116,7 +116,7 @@ int learned_store_init(learned_store_t *st)
 {
     *st = (learned_store_t){0};
     st->newest = -1;
-    int err = hal_flash_geometry(&st->geo);
+    int err = hal_flash_get_geometry(&st->geo);
     if (err) {
         return err;
     }

@@ -13,9 +13,10 @@ const robot_config_t robot_config_paper_sim = {
     .arena_w = 8.0f, .arena_h = 8.0f,
     .goal_x = 4.0f, .goal_y = 4.0f, .goal_r = 0.5f,
     .bits_x = 5, .bits_y = 5, .bits_heading = 4, .bits_code = 4,
-    // 16 sonars, sonar i at 22.5 * i degrees: front, left, back, right sectors of 3 sonars each.
-    .rays_of_bit = {0xC001u, 0x001Cu, 0x01C0u, 0x1C00u},
-    .code_threshold_m = {0.5f, 0.5f, 0.5f, 0.5f},
+    // 16 sonars, sonar i at 11.25 + 22.5 i degrees: front, left, right, back sectors of four
+    // (the paper's 100 cm threshold).
+    .rays_of_bit = {0xC003u, 0x003Cu, 0x3C00u, 0x03C0u},
+    .code_threshold_m = {1.0f, 1.0f, 1.0f, 1.0f},
     .n_ranges = 16,
     .tile_shift = {0, 0, 0, 0},
     .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.40f,
@@ -34,24 +35,25 @@ const robot_config_t robot_config_paper_sim = {
 const robot_config_t robot_config_paper_lab = {
     .name = "paper-lab",
     .arena_w = 4.3f, .arena_h = 3.2f,
-    .goal_x = 3.7f, .goal_y = 2.6f, .goal_r = 0.35f,
+    .goal_x = 3.75f, .goal_y = 2.55f, .goal_r = 0.3f,
     .bits_x = 3, .bits_y = 3, .bits_heading = 4, .bits_code = 3,
-    // IR 0 front-left, 1 front, 2 front-right: one bit each, obstacle within 30 cm.
+    // IR 0 front, 1 front-left, 2 front-right: one bit each, obstacle within 30 cm.
     .rays_of_bit = {0x1u, 0x2u, 0x4u, 0u},
     .code_threshold_m = {0.30f, 0.30f, 0.30f, 0.0f},
     .n_ranges = 3,
     .tile_shift = {0, 0, 0, 0},
-    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.20f,
-    .action_periods = 5, .wait_for_fix = 1, .period_us = 192000u,
+    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.18f,
+    .action_periods = 1, .wait_for_fix = 1, .period_us = 192000u,
     .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
     .agent = AGENT_DYNA_QPC,
     .params = {0.9f, 0.9f, 0.9f, 0.1f, 1e-3f, 0.999f, 16, 1},
     .planning = 5,
     .step_cap = 200,
     .pose_source = ROBOT_POSE_CRICKET,
-    .n_beacons = 4,
-    .beacons = {{1, 0.5f, 0.5f, 2.5f}, {2, 3.8f, 0.5f, 2.5f}, {3, 3.8f, 2.7f, 2.5f},
-                {4, 0.5f, 2.7f, 2.5f}},  // replaced below from host_sim/scenarios/paper-lab.scn
+    .n_beacons = 5,
+    .beacons = {{0x015E3C3C0A0000B1u, 0.5f, 0.5f, 2.5f}, {0x015E3C3C0A0000B2u, 3.8f, 0.5f, 2.5f},
+                {0x015E3C3C0A0000B3u, 0.5f, 2.7f, 2.5f}, {0x015E3C3C0A0000B4u, 3.8f, 2.7f, 2.5f},
+                {0x015E3C3C0A0000B5u, 2.15f, 1.6f, 2.5f}},
     .listener_z = 0.15f,
     .pose_timeout_us = 5000000u,
     .bus_timeout_us = 500000u,

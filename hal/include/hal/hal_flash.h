@@ -24,7 +24,7 @@ typedef struct hal_flash_geometry {
 
 /// The region's shape. Returns FW_OK, or FW_ERR_NOSYS if the port has no flash region.
 /// Context: thread.
-int hal_flash_geometry(hal_flash_geometry_t *out);
+int hal_flash_get_geometry(hal_flash_geometry_t *out);
 
 /// Reads `len` bytes at `offset`. Returns FW_OK or FW_ERR_INVAL (out of the region).
 /// Context: thread. Never blocks.

@@ -70,7 +70,7 @@ static int write_through_locked(uint32_t offset, size_t len)
     return FW_OK;
 }
 
-int hal_flash_geometry(hal_flash_geometry_t *out)
+int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
     if (out == NULL) {
         return FW_ERR_INVAL;

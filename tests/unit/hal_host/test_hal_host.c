@@ -56,7 +56,7 @@ static void test_flash_geometry_and_configure(void **state)
 {
     (void)state;
     hal_flash_geometry_t g;
-    assert_int_equal(hal_flash_geometry(&g), FW_OK);
+    assert_int_equal(hal_flash_get_geometry(&g), FW_OK);
     assert_int_equal(g.sector_size, SECTOR);
     assert_int_equal(g.sector_count, 4);
     assert_int_equal(g.write_align, 4);
@@ -68,7 +68,7 @@ static void test_flash_geometry_and_configure(void **state)
     assert_int_equal(hal_host_flash_configure(FW_CFG_HOST_FLASH_CAPACITY, 2u, 4u), FW_ERR_INVAL);
     assert_int_equal(hal_host_flash_configure(0x80000000u, 4u, 4u), FW_ERR_INVAL);
     assert_int_equal(hal_host_flash_configure(FW_CFG_HOST_FLASH_CAPACITY / 2u, 2u, 4u), FW_OK);
-    assert_int_equal(hal_flash_geometry(&g), FW_OK);
+    assert_int_equal(hal_flash_get_geometry(&g), FW_OK);
     assert_int_equal(g.sector_size, FW_CFG_HOST_FLASH_CAPACITY / 2u);
 }
 

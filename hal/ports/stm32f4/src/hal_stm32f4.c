@@ -280,7 +280,7 @@ static const stm32f4_flash_dev_t flash_dev_ = {
     flash_wait_kick_,
 };
 
-int hal_flash_geometry(hal_flash_geometry_t *out)
+int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
     out->sector_size = STM32F4_HAL_FLASH_SECTOR_SIZE;
     out->sector_count = STM32F4_HAL_FLASH_SECTORS;

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim run: the firmware boots with what it learned (a flash image saved by `train
+// --save`) and drives greedily, without learning, from random starts.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "lockstep.h"
+#include "options.h"
+#include "scenario_bridge.h"
+
+namespace dynaqpc {
+
+int cmd_run(const std::string &program, const std::vector<std::string> &args)
+{
+    std::string scenario, load, trajectory, arena, agent = "dyna-qpc";
+    std::uint32_t starts = 10, seed = 1, step_cap = 0;
+    Options o("run", "replay a learned policy greedily (no learning) from random start poses");
+    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
+    o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
+    o.add_choice("--agent", "NAME", "the algorithm that learned it: q, dyna-q or dyna-qpc (default dyna-qpc)",
+                 &agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &starts, 1, 1000000);
+    o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
+    o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,
+               100000000);
+    o.add_string("--trajectory", "OUT",
+                 "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &trajectory);
+    o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &arena);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    if (!o.seen("--load")) throw UsageError("--load: required (a file written by train --save)");
+    struct stat st;
+    if (stat(load.c_str(), &st) != 0) {
+        throw UsageError("--load: cannot open '" + load + "': " + std::strerror(errno));
+    }
+    const ScenarioBundle sb = load_scenario(scenario);
+    robot_config_t cfg = sb.robot;
+    cfg.agent = agent == "q" ? AGENT_Q_LEARNING : agent == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
+    if (o.seen("--step-cap")) cfg.step_cap = step_cap;
+    if (!arena.empty()) {
+        std::FILE *f = std::fopen(arena.c_str(), "w");
+        if (f == nullptr) throw UsageError("--arena: cannot open '" + arena + "': " + std::strerror(errno));
+        std::fputs(arena_json(*sb.world).c_str(), f);
+        std::fclose(f);
+    }
+    std::FILE *traj = nullptr;
+    if (!trajectory.empty()) {
+        traj = trajectory == "-" ? stdout : std::fopen(trajectory.c_str(), "w");
+        if (traj == nullptr) throw UsageError("--trajectory: cannot open '" + trajectory + "': " + std::strerror(errno));
+        std::fputs("start,step,time_s,x,y,heading,action,reward,bump,in_goal\n", traj);
+    }
+    LockstepOptions lo;
+    lo.seed = seed;
+    lo.flash_file = load;
+    lo.evaluate = true;
+    Lockstep sim(*sb.world, cfg, lo);
+    if (!sim.restored()) {
+        throw UsageError("--load: '" + load + "' holds no record this firmware can restore (" + agent + " on " +
+                         sb.name + ")");
+    }
+    std::uint32_t current = 0;
+    if (traj != nullptr) {
+        sim.set_trajectory_sink([&](const TrajectoryPoint &p) {
+            std::fprintf(traj, "%u,%u,%.3f,%.4f,%.4f,%.4f,%d,%.0f,%d,%d\n", current, p.step, p.time_s, p.x, p.y,
+                         p.heading, p.action, p.reward, p.bump ? 1 : 0, p.in_goal ? 1 : 0);
+        });
+    }
+    std::vector<std::uint32_t> steps;
+    std::uint32_t reached = 0;
+    std::printf("start,steps,reached_goal,bumps,robot_time_s\n");
+    for (current = 1; current <= starts; current++) {
+        const EpisodeRow r = sim.run_episode();
+        std::printf("%u,%u,%d,%u,%.1f\n", current, r.steps, r.reached_goal ? 1 : 0, r.bumps, r.robot_time_s);
+        if (r.reached_goal) {
+            reached++;
+            steps.push_back(r.steps);
+        }
+    }
+    if (traj != nullptr && traj != stdout) std::fclose(traj);
+    std::sort(steps.begin(), steps.end());
+    std::fprintf(stderr, "%s on %s: reached the goal from %u of %u starts", agent.c_str(), sb.name.c_str(), reached,
+                 starts);
+    if (!steps.empty()) {
+        std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
+    }
+    std::fprintf(stderr, "\n");
+    return kExitOk;
+}
+
+}  // namespace dynaqpc
