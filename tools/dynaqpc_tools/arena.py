@@ -1,0 +1,94 @@
+# SPDX-License-Identifier: MIT
+"""The arena JSON file the simulator writes, and drawing it with matplotlib.
+
+Format (metres, degrees)::
+
+    {"width": W, "height": H,
+     "obstacles": [{"kind": "box", "cx": .., "cy": .., "w": .., "h": .., "angle_deg": ..},
+                   {"kind": "circle", "cx": .., "cy": .., "r": ..}],
+     "goal": {"cx": .., "cy": .., "r": ..},
+     "beacons": [{"id": "..", "x": .., "y": .., "z": ..}]}
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any, Dict
+
+from .common import ToolError
+
+
+def _num(obj: Dict[str, Any], key: str, where: str, positive: bool = False) -> float:
+    v = obj.get(key)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise ToolError(f"arena: {where}.{key} must be a number, got {v!r}")
+    if positive and v <= 0:
+        raise ToolError(f"arena: {where}.{key} must be > 0, got {v}")
+    return float(v)
+
+
+def load_arena(path: str) -> Dict[str, Any]:
+    """Reads and checks an arena file; a ToolError names the first problem."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            a = json.load(f)
+    except (OSError, ValueError) as e:
+        raise ToolError(f"cannot read arena {path}: {e}") from e
+    if not isinstance(a, dict):
+        raise ToolError(f"arena {path}: not a JSON object")
+    _num(a, "width", "arena", True)
+    _num(a, "height", "arena", True)
+    for i, ob in enumerate(a.get("obstacles", [])):
+        where = f"obstacles[{i}]"
+        if not isinstance(ob, dict) or ob.get("kind") not in ("box", "circle"):
+            raise ToolError(f"arena: {where} needs kind 'box' or 'circle'")
+        _num(ob, "cx", where), _num(ob, "cy", where)
+        if ob["kind"] == "box":
+            _num(ob, "w", where, True), _num(ob, "h", where, True)
+            ob.setdefault("angle_deg", 0.0)
+            _num(ob, "angle_deg", where)
+        else:
+            _num(ob, "r", where, True)
+    if a.get("goal") is not None:
+        for k in ("cx", "cy"):
+            _num(a["goal"], k, "goal")
+        _num(a["goal"], "r", "goal", True)
+    for i, b in enumerate(a.get("beacons", [])):
+        for k in ("x", "y", "z"):
+            _num(b, k, f"beacons[{i}]")
+    return a
+
+
+def box_corners(ob: Dict[str, Any]):
+    c, s = math.cos(math.radians(ob["angle_deg"])), math.sin(math.radians(ob["angle_deg"]))
+    hw, hh = ob["w"] / 2.0, ob["h"] / 2.0
+    return [(ob["cx"] + c * dx - s * dy, ob["cy"] + s * dx + c * dy)
+            for dx, dy in ((-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh))]
+
+
+def draw_arena(ax, arena: Dict[str, Any]) -> None:
+    """Walls, obstacles (grey), goal (green), beacons (triangles) on a matplotlib Axes."""
+    from matplotlib.patches import Circle, Polygon, Rectangle
+
+    w, h = arena["width"], arena["height"]
+    ax.add_patch(Rectangle((0, 0), w, h, fill=False, edgecolor="black", linewidth=2))
+    for ob in arena.get("obstacles", []):
+        if ob["kind"] == "box":
+            ax.add_patch(Polygon(box_corners(ob), closed=True, facecolor="0.6", edgecolor="0.3"))
+        else:
+            ax.add_patch(Circle((ob["cx"], ob["cy"]), ob["r"], facecolor="0.6", edgecolor="0.3"))
+    goal = arena.get("goal")
+    if goal:
+        ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], facecolor="tab:green", alpha=0.35,
+                            edgecolor="tab:green", label="goal"))
+    for b in arena.get("beacons", []):
+        ax.plot(b["x"], b["y"], marker="^", color="tab:purple", markersize=7)
+        ax.annotate(str(b.get("id", "")), (b["x"], b["y"]), textcoords="offset points", xytext=(4, 4),
+                    fontsize=7, color="tab:purple")
+    margin = 0.05 * max(w, h)
+    ax.set_xlim(-margin, w + margin)
+    ax.set_ylim(-margin, h + margin)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")

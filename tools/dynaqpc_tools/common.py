@@ -1,0 +1,104 @@
+# SPDX-License-Identifier: MIT
+"""What the tools share: where the repository is, the DBC, opening a CAN bus."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Iterable, Optional
+
+#: The virtual bus of the host simulator (python-can udp_multicast, design decision 8).
+VCAN_INTERFACE = "udp_multicast"
+VCAN_CHANNEL = "239.74.163.2"
+VCAN_PORT = 43113
+
+
+class ToolError(Exception):
+    """A problem the user can fix (missing file, bad argument): printed without a traceback."""
+
+
+def repo_root() -> Optional[Path]:
+    """The dynaqpc checkout holding this package or the working directory, if any."""
+    for start in (Path(__file__).resolve().parent, Path.cwd().resolve()):
+        for d in (start, *start.parents):
+            if (d / "CMakePresets.json").is_file() and (d / "docs").is_dir():
+                return d
+    return None
+
+
+def default_dbc_path() -> str:
+    root = repo_root()
+    return str(root / "docs" / "dynaqpc.dbc") if root else "docs/dynaqpc.dbc"
+
+
+def load_dbc(path: str):
+    """Loads a DBC with cantools; a missing or broken file is a ToolError."""
+    import cantools
+
+    if not os.path.isfile(path):
+        raise ToolError(f"DBC file not found: {path} (pass --dbc)")
+    try:
+        return cantools.database.load_file(path)
+    except Exception as e:  # cantools raises several parser exception types
+        raise ToolError(f"cannot parse DBC {path}: {e}") from e
+
+
+def parse_bus_kwargs(items: Iterable[str]) -> dict:
+    """KEY=VALUE strings to keyword arguments; ints and floats are converted."""
+    out = {}
+    for item in items:
+        if "=" not in item:
+            raise ToolError(f"--bus-kwarg wants KEY=VALUE, got {item!r}")
+        key, value = item.split("=", 1)
+        for conv in (int, float):
+            try:
+                value = conv(value)
+                break
+            except ValueError:
+                pass
+        out[key] = value
+    return out
+
+
+def open_bus(interface: str, channel: str, bitrate: Optional[int] = None, **kwargs):
+    """Opens a python-can bus. On udp_multicast, frames stay on this host (hop_limit 0)."""
+    import can
+
+    if interface == VCAN_INTERFACE:
+        kwargs.setdefault("hop_limit", 0)
+    if bitrate is not None:
+        kwargs["bitrate"] = bitrate
+    try:
+        return can.Bus(interface=interface, channel=channel, **kwargs)
+    except Exception as e:
+        hint = ""
+        if interface == VCAN_INTERFACE:
+            hint = (" (is msgpack installed? is there a route for 224.0.0.0/4? "
+                    "in a private namespace: ip link set lo up; ip route add 224.0.0.0/4 dev lo)")
+        raise ToolError(f"cannot open CAN bus {interface}:{channel}: {e}{hint}") from e
+
+
+def add_bus_arguments(parser) -> None:
+    parser.add_argument("--interface", "-i", default=VCAN_INTERFACE,
+                        help="python-can interface (default udp_multicast: the simulator's bus; "
+                             "socketcan or slcan for a USB-CAN adapter)")
+    parser.add_argument("--channel", "-c", default=VCAN_CHANNEL,
+                        help="channel: multicast group, can0, /dev/ttyACM0... (default %(default)s)")
+    parser.add_argument("--bitrate", type=int, default=None,
+                        help="bit rate for adapters that need it (the robot's bus: 500000)")
+    parser.add_argument("--bus-kwarg", action="append", default=[], metavar="KEY=VALUE",
+                        help="extra python-can bus argument, e.g. port=43114 (repeatable)")
+
+
+def bus_from_args(args):
+    return open_bus(args.interface, args.channel, args.bitrate, **parse_bus_kwargs(args.bus_kwarg))
+
+
+def run_main(fn) -> int:
+    """Runs a command's body, turning ToolError into a one-line message and exit status 2."""
+    try:
+        return fn()
+    except ToolError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2

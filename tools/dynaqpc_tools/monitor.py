@@ -1,0 +1,266 @@
+# SPDX-License-Identifier: MIT
+"""dynaqpc-monitor: CAN bus monitor and logger.
+
+Decodes every frame with the DBC, keeps per-frame rates, counts gaps in the rolling counters
+(signals named ``Counter`` or ``*_COUNTER``), shows the last decoded values, optionally logs to
+ASC/BLF with python-can's writers, and prints a summary at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+from .common import ToolError, add_bus_arguments, bus_from_args, default_dbc_path, load_dbc, run_main
+
+#: Frames kept per id for the recent rate.
+RATE_WINDOW = 50
+
+
+def is_counter_signal(name: str) -> bool:
+    n = name.lower()
+    return n == "counter" or n.endswith("_counter")
+
+
+@dataclass
+class FrameStats:
+    """What the monitor knows about one arbitration id."""
+
+    arbitration_id: int
+    is_extended_id: bool
+    name: str
+    count: int = 0
+    first_t: float = math.nan
+    last_t: float = math.nan
+    recent: collections.deque = field(default_factory=lambda: collections.deque(maxlen=RATE_WINDOW))
+    values: Dict[str, object] = field(default_factory=dict)
+    raw: bytes = b""
+    decode_errors: int = 0
+    counter_signal: Optional[str] = None
+    counter_modulo: int = 0
+    counter_prev: Optional[int] = None
+    missing: int = 0      # frames lost, from counter gaps
+    gap_events: int = 0   # how many times the counter jumped
+    repeats: int = 0      # counter unchanged (duplicate or stuck sender)
+
+    def rate_hz(self) -> float:
+        """Rate over the last RATE_WINDOW frames."""
+        if len(self.recent) < 2 or self.recent[-1] <= self.recent[0]:
+            return math.nan
+        return (len(self.recent) - 1) / (self.recent[-1] - self.recent[0])
+
+    def mean_rate_hz(self) -> float:
+        if self.count < 2 or not self.last_t > self.first_t:
+            return math.nan
+        return (self.count - 1) / (self.last_t - self.first_t)
+
+
+class Monitor:
+    """Feeds python-can messages through the DBC; holds per-id statistics. No I/O."""
+
+    def __init__(self, db):
+        self.db = db
+        self.stats: Dict[Tuple[int, bool], FrameStats] = {}
+        self.error_frames = 0
+        self.remote_frames = 0
+        self.total = 0
+        self._messages = {}
+        for m in db.messages:
+            self._messages[(m.frame_id, bool(m.is_extended_frame))] = m
+
+    def _stats_for(self, msg) -> FrameStats:
+        key = (msg.arbitration_id, bool(msg.is_extended_id))
+        st = self.stats.get(key)
+        if st is None:
+            m = self._messages.get(key)
+            st = FrameStats(msg.arbitration_id, bool(msg.is_extended_id), m.name if m else "?")
+            if m is not None:
+                for s in m.signals:
+                    if is_counter_signal(s.name):
+                        st.counter_signal = s.name
+                        st.counter_modulo = 1 << s.length
+                        break
+            self.stats[key] = st
+        return st
+
+    def feed(self, msg) -> List[str]:
+        """Accounts one message; returns the events it caused (counter gaps, decode errors)."""
+        events = []
+        self.total += 1
+        if msg.is_error_frame:
+            self.error_frames += 1
+            return ["error frame"]
+        st = self._stats_for(msg)
+        st.count += 1
+        t = float(msg.timestamp)
+        if st.count == 1:
+            st.first_t = t
+        st.last_t = t
+        st.recent.append(t)
+        st.raw = bytes(msg.data)
+        if msg.is_remote_frame:
+            self.remote_frames += 1
+            return events
+        m = self._messages.get((msg.arbitration_id, bool(msg.is_extended_id)))
+        if m is None:
+            return events
+        try:
+            values = m.decode(bytes(msg.data), decode_choices=False)
+        except Exception as e:
+            st.decode_errors += 1
+            return [f"{m.name}: cannot decode {bytes(msg.data).hex()}: {e}"]
+        st.values = values
+        if st.counter_signal is not None and st.counter_signal in values:
+            c = int(values[st.counter_signal])
+            if st.counter_prev is not None:
+                lost = (c - st.counter_prev - 1) % st.counter_modulo
+                if lost == st.counter_modulo - 1:
+                    st.repeats += 1
+                    events.append(f"{m.name}: counter repeated {c}")
+                elif lost > 0:
+                    st.missing += lost
+                    st.gap_events += 1
+                    events.append(f"{m.name}: counter {st.counter_prev} -> {c}: {lost} frame(s) lost")
+            st.counter_prev = c
+        return events
+
+    @property
+    def frames_missing(self) -> int:
+        return sum(s.missing for s in self.stats.values())
+
+    def _sorted(self) -> List[FrameStats]:
+        return sorted(self.stats.values(), key=lambda s: (s.is_extended_id, s.arbitration_id))
+
+    @staticmethod
+    def _id_text(st: FrameStats) -> str:
+        return f"{st.arbitration_id:08X}" if st.is_extended_id else f"{st.arbitration_id:03X}"
+
+    def table_lines(self) -> List[str]:
+        """The live view: one line per id with rate, counter state and last values."""
+        lines = [f"{'id':>8} {'name':<16} {'count':>8} {'Hz':>7} {'lost':>5}  last values"]
+        for st in self._sorted():
+            if st.values:
+                vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items())
+            else:
+                vals = st.raw.hex(" ")
+            lines.append(f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.rate_hz()):>7} "
+                         f"{st.missing if st.counter_signal else '-':>5}  {vals}")
+        return lines
+
+    def summary_lines(self) -> List[str]:
+        lines = [f"{self.total} frames, {len(self.stats)} ids, {self.error_frames} error frames, "
+                 f"{self.frames_missing} frames lost (counter gaps)"]
+        lines.append(f"{'id':>8} {'name':<16} {'frames':>8} {'mean Hz':>8} {'lost':>5} {'gaps':>5} "
+                     f"{'repeats':>7} {'undecodable':>11}")
+        for st in self._sorted():
+            counter = st.counter_signal is not None
+            lines.append(f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.mean_rate_hz()):>8} "
+                         f"{st.missing if counter else '-':>5} {st.gap_events if counter else '-':>5} "
+                         f"{st.repeats if counter else '-':>7} {st.decode_errors:>11}")
+        return lines
+
+
+def _fmt(v) -> str:
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "-"
+        return f"{v:.1f}" if abs(v) >= 100 else f"{v:.3g}"
+    return str(v)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="dynaqpc-monitor", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_bus_arguments(p)
+    p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
+    p.add_argument("--replay", metavar="FILE", help="read a recorded log (.asc, .blf, ...) instead of a bus")
+    p.add_argument("--log", metavar="FILE", help="also record every frame (.asc or .blf, python-can's writers)")
+    p.add_argument("--count", type=int, default=None, help="stop after N frames")
+    p.add_argument("--duration", type=float, default=None, help="stop after S seconds")
+    p.add_argument("--print", dest="print_frames", action="store_true", help="print every decoded frame")
+    p.add_argument("--refresh", type=float, default=1.0,
+                   help="live table period in seconds when stdout is a terminal (0: off)")
+    p.add_argument("--fail-on-gap", action="store_true", help="exit 1 when a counter gap was seen")
+    return p
+
+
+def _messages(args, bus):
+    """Yields messages until the source ends; yields None when a bus read timed out."""
+    if args.replay:
+        import can
+
+        try:
+            reader = can.LogReader(args.replay)
+        except Exception as e:
+            raise ToolError(f"cannot read {args.replay}: {e}") from e
+        yield from reader
+        return
+    while True:
+        yield bus.recv(timeout=0.2)
+
+
+def run(args, out=None) -> Monitor:
+    out = out or sys.stdout
+    import can
+
+    db = load_dbc(args.dbc)
+    mon = Monitor(db)
+    bus = None if args.replay else bus_from_args(args)
+    logger = None
+    if args.log:
+        try:
+            logger = can.Logger(args.log)
+        except Exception as e:
+            raise ToolError(f"cannot log to {args.log}: {e}") from e
+    live = args.refresh > 0 and out.isatty() and not args.print_frames
+    start = time.monotonic()
+    next_refresh = start + args.refresh
+    try:
+        for msg in _messages(args, bus):
+            now = time.monotonic()
+            if args.duration is not None and now - start >= args.duration:
+                break
+            if msg is not None:
+                if logger is not None:
+                    logger(msg)
+                for ev in mon.feed(msg):
+                    print(f"{msg.timestamp:.6f} {ev}", file=sys.stderr)
+                if args.print_frames:
+                    st = mon.stats.get((msg.arbitration_id, bool(msg.is_extended_id)))
+                    vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items()) if st else ""
+                    print(f"{msg.timestamp:.6f} {msg.arbitration_id:03X} {st.name if st else '?'} {vals}",
+                          file=out)
+                if args.count is not None and mon.total >= args.count:
+                    break
+            if live and now >= next_refresh:
+                next_refresh = now + args.refresh
+                out.write("\033[H\033[J" + "\n".join(mon.table_lines()) + "\n")
+                out.flush()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if logger is not None:
+            logger.stop()
+        if bus is not None:
+            bus.shutdown()
+    print("\n".join(mon.summary_lines()), file=out)
+    return mon
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+
+    def body():
+        mon = run(args)
+        return 1 if args.fail_on_gap and mon.frames_missing > 0 else 0
+
+    return run_main(body)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
