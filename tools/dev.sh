@@ -15,7 +15,7 @@ apt_packages=(
     cmake ninja-build gcc g++ make
     libcmocka-dev libbox2d-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm
-    valgrind python3 python3-venv
+    valgrind python3 python3-venv iproute2 util-linux
 )
 
 log() { printf '\033[1m== %s\033[0m\n' "$*"; }
@@ -41,6 +41,10 @@ setup() {
         if ! cmp -s tools/requirements.txt .venv/.requirements.txt; then
             .venv/bin/pip install -q --disable-pip-version-check -r tools/requirements.txt
             cp tools/requirements.txt .venv/.requirements.txt
+        fi
+        # The tools' own package (console scripts dynaqpc-monitor, -viewer, -cricket, -experiment).
+        if ! .venv/bin/python -c "import dynaqpc_tools" 2>/dev/null; then
+            .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
         fi
     fi
 }
