@@ -112,7 +112,7 @@ struct Lockstep::Impl {
 
     ~Impl()
     {
-        if (getenv("DQ_DEBUG") || getenv("DQ_PROFILE")) fprintf(stderr, "%s\n", counters().c_str());
+        if (getenv("DQ_COUNTERS") || getenv("DQ_PROFILE")) fprintf(stderr, "%s\n", counters().c_str());
         hal_host_flash_detach_file();
     }
 
