@@ -150,6 +150,16 @@ static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
     return s * ag->space->n_actions + a;
 }
 
+// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key.
+// Cells are never evicted, so the model will never trust such a pair: popping it is a skip that
+// needs no model lookup. The bit is the same at every push of the pair (a real step's training
+// finds the same tiles missing; requeues and predecessors are pairs the model just predicted),
+// so the queue sees one key per pair, as without the bit.
+#define UNPLANNABLE_BIT 0x80000000u
+// States have at most 24 bits, so s * n_actions + a stays below the bit.
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
+                 queue_keys_leave_the_top_bit_free);
+
 void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                    bool terminal)
 {
@@ -160,13 +170,25 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
         ag->stats.real_updates++;
     }
     if (ag->kind == AGENT_DYNA_QPC) {
-        model_learn(&ag->model, s, a, r, s_next, terminal);
+        const bool plannable = model_learn(&ag->model, s, a, r, s_next, terminal);
         if (priority > ag->params.theta) {
-            (void)pq_push(&ag->pq, pq_key_(ag, s, a), priority);
+            (void)pq_push(&ag->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT),
+                          priority);
         }
     } else if (ag->kind == AGENT_DYNA_Q) {
         dynaq_remember(&ag->table, s, a, r, s_next, terminal);
     }
+}
+
+static float row_max_(const float *row, uint32_t n)
+{
+    float best = row[0];
+    for (uint32_t a = 1; a < n; a++) {
+        if (row[a] > best) {
+            best = row[a];
+        }
+    }
+    return best;
 }
 
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
@@ -178,28 +200,43 @@ static bool plan_qpc_(agent_t *ag)
     if (!pq_pop(&ag->pq, &key, &priority)) {
         return false;
     }
+    if (key & UNPLANNABLE_BIT) {
+        ag->model.untrusted++;  // what model_predict() would have counted
+        ag->stats.planning_skipped++;
+        return true;
+    }
     const uint32_t n_actions = ag->space->n_actions;
     const agent_state_t s = key / n_actions;
     const uint8_t a = (uint8_t)(key % n_actions);
+    model_query_t here;
     model_step_t step;
-    if (!model_predict(&ag->model, s, a, &step)) {
+    model_query_init(&ag->model, s, &here);
+    if (!model_query_predict(&ag->model, &here, a, &step)) {
         ag->stats.planning_skipped++;
         return true;
     }
     const float target = target_(ag, step.reward, step.next, step.terminal);
-    if (q_update_(ag, s, a, target, ag->params.plan_alpha)) {
+    // Q(s, a) += alpha (target - Q(s, a)); a full Q store has no row for s, which then reads 0.
+    float *row = qstore_row_for_update(&ag->q, s);
+    float q_sa = 0.0f;
+    if (row != NULL) {
+        row[a] += ag->params.plan_alpha * (target - row[a]);
+        q_sa = row[a];
         ag->stats.planning_updates++;
     }
     // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
     // the queue with what is left, so planning keeps working on it while it is the most urgent.
-    const float left = abs_(target - agent_q(ag, s, a));
+    const float left = abs_(target - q_sa);
     if (left > ag->params.theta) {
         (void)pq_push(&ag->pq, key, left);
     }
 
     model_pred_t preds[FW_CFG_MAX_ACTIONS];
-    const uint32_t n = model_predecessors(&ag->model, s, preds);
-    const float value_here = ag->params.gamma * qstore_max(&ag->q, s);
+    const uint32_t n = model_query_predecessors(&ag->model, &here, preds);
+    if (n == 0u) {
+        return true;
+    }
+    const float value_here = ag->params.gamma * (row != NULL ? row_max_(row, n_actions) : 0.0f);
     for (uint32_t i = 0; i < n; i++) {
         const float p = abs_(preds[i].reward + value_here - agent_q(ag, preds[i].state, preds[i].action));
         if (p > ag->params.theta) {

@@ -94,6 +94,14 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     if (shift > 31u) {
         return FW_ERR_INVAL;
     }
+    cmac->action_field = ((1u << (cmac->key_shift[0] - cmac->action_shift)) - 1u)
+                         << cmac->action_shift;
+    cmac->n_tiled = 0;
+    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+        if (cfg->tile_shift[k] != 0u) {
+            cmac->tiled[cmac->n_tiled++] = (uint8_t)k;
+        }
+    }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
     return FW_OK;
@@ -114,12 +122,21 @@ void cmac_clear(cmac_t *cmac)
 
 void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles)
 {
+    // An exact input (tiles one value wide) is displaced by 0 in every tiling, so its field is
+    // the same in every pattern: it goes into the common part once. Only the tiled inputs are
+    // computed per pattern, input by input, so the inner loop is straight-line arithmetic.
     const uint32_t n = cmac->n_patterns;
-    for (uint32_t p = 0; p < n; p++) {
-        tiles->key[p] = p | (action << cmac->action_shift);
-    }
-    // Input by input, so the inner loop over patterns is straight-line arithmetic.
+    uint32_t common = action << cmac->action_shift;
     for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
+        if (cmac->cfg.tile_shift[k] == 0u) {
+            common |= (inputs[k] & cmac->tile_mask[k]) << cmac->key_shift[k];
+        }
+    }
+    for (uint32_t p = 0; p < n; p++) {
+        tiles->key[p] = p | common;
+    }
+    for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+        const uint32_t k = cmac->tiled[j];
         const uint32_t v = inputs[k];
         const uint32_t sh = cmac->cfg.tile_shift[k];
         const uint32_t mask = cmac->tile_mask[k];
@@ -133,11 +150,16 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 
 void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
 {
-    const uint32_t field = ((1u << (cmac->key_shift[0] - cmac->action_shift)) - 1u)
-                           << cmac->action_shift;
+    const uint32_t field = cmac->action_field;
+    const uint32_t bits = action << cmac->action_shift;
     for (uint32_t p = 0; p < cmac->n_patterns; p++) {
-        tiles->key[p] = (tiles->key[p] & ~field) | (action << cmac->action_shift);
+        tiles->key[p] = (tiles->key[p] & ~field) | bits;
     }
+}
+
+static uint32_t home_(const cmac_t *cmac, uint32_t key)
+{
+    return (key * 0x9E3779B1u) >> (32u - cmac->capacity_shift);
 }
 
 // The cell holding key, or the first empty cell on its probe path, or capacity when the probe
@@ -145,7 +167,7 @@ void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t act
 static uint32_t find_(const cmac_t *cmac, uint32_t key)
 {
     const uint32_t mask = cmac->capacity - 1u;
-    uint32_t slot = (key * 0x9E3779B1u) >> (32u - cmac->capacity_shift);
+    uint32_t slot = home_(cmac, key);
     for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE; probe++) {
         const uint32_t k = cmac->keys[slot];
         if (k == key || k == CMAC_EMPTY) {
@@ -156,6 +178,31 @@ static uint32_t find_(const cmac_t *cmac, uint32_t key)
     return cmac->capacity;
 }
 
+// The cell holding key, or capacity if it has none: find_() for reading, which is the planner's
+// inner loop. When the probe window does not wrap around the table's end (nearly always) it is
+// scanned by pointer, without masking the index.
+static uint32_t lookup_(const cmac_t *cmac, uint32_t key)
+{
+    const uint32_t home = home_(cmac, key);
+    if (home + FW_CFG_MAX_PROBE <= cmac->capacity) {
+        const uint32_t *const keys = cmac->keys;
+        const uint32_t *k = keys + home;
+        const uint32_t *const end = k + FW_CFG_MAX_PROBE;
+        do {
+            const uint32_t here = *k;
+            if (here == key) {
+                return (uint32_t)(k - keys);
+            }
+            if (here == CMAC_EMPTY) {
+                break;
+            }
+        } while (++k != end);
+        return cmac->capacity;
+    }
+    const uint32_t slot = find_(cmac, key);
+    return slot != cmac->capacity && cmac->keys[slot] == key ? slot : cmac->capacity;
+}
+
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;
@@ -164,8 +211,8 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
         out[j] = 0;
     }
     for (uint32_t t = 0; t < cmac->n_patterns; t++) {
-        const uint32_t slot = find_(cmac, tiles->key[t]);
-        if (slot == cmac->capacity || cmac->keys[slot] == CMAC_EMPTY) {
+        const uint32_t slot = lookup_(cmac, tiles->key[t]);
+        if (slot == cmac->capacity) {
             confidence = 0;
             continue;
         }
@@ -183,20 +230,24 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
                           int32_t *out)
 {
+    // Find every cell first (giving up at the first one missing or too little trained), then
+    // sum output by output in a register.
     const uint32_t n_out = cmac->cfg.n_outputs;
-    for (uint32_t j = 0; j < n_out; j++) {
-        out[j] = 0;
-    }
-    for (uint32_t t = 0; t < cmac->n_patterns; t++) {
-        const uint32_t slot = find_(cmac, tiles->key[t]);
-        if (slot == cmac->capacity || cmac->keys[slot] == CMAC_EMPTY ||
-            cmac->counts[slot] < min_count) {
+    const uint32_t n = cmac->n_patterns;
+    const int16_t *cell[FW_CFG_MAX_TILINGS];
+    for (uint32_t t = 0; t < n; t++) {
+        const uint32_t slot = lookup_(cmac, tiles->key[t]);
+        if (slot == cmac->capacity || cmac->counts[slot] < min_count) {
             return false;
         }
-        const int16_t *w = &cmac->weights[slot * n_out];
-        for (uint32_t j = 0; j < n_out; j++) {
-            out[j] += w[j];
+        cell[t] = &cmac->weights[slot * n_out];
+    }
+    for (uint32_t j = 0; j < n_out; j++) {
+        int32_t sum = 0;
+        for (uint32_t t = 0; t < n; t++) {
+            sum += cell[t][j];
         }
+        out[j] = sum;
     }
     return true;
 }
@@ -220,18 +271,20 @@ static int16_t saturate_(cmac_t *cmac, int32_t v)
     return (int16_t)v;
 }
 
-void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
+bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;
     const uint32_t n_tiles = cmac->n_patterns;
     uint32_t slots[FW_CFG_MAX_TILINGS];
     int32_t actual[CMAC_MAX_OUTPUTS] = {0};
+    bool stored = true;
 
     cmac->stats.trained++;
     for (uint32_t t = 0; t < n_tiles; t++) {
         uint32_t slot = find_(cmac, tiles->key[t]);
         if (slot == cmac->capacity) {
             cmac->stats.dropped++;
+            stored = false;
         } else if (cmac->keys[slot] == CMAC_EMPTY) {
             cmac->keys[slot] = tiles->key[t];  // weights and count of an empty cell are zero
             cmac->stats.cells_used++;
@@ -266,4 +319,5 @@ void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
             cmac->counts[slot]++;
         }
     }
+    return stored;
 }

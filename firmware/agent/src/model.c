@@ -118,7 +118,7 @@ static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t
 
 // ---- Learning and predicting ---------------------------------------------------------------------
 
-void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal)
 {
     const agent_space_t *sp = m->space;
@@ -134,30 +134,46 @@ void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     desired[sp->n_components] = to_fixed_(r);
     desired[sp->n_components + 1u] = terminal ? CMAC_ONE : 0;
     cmac_tiles_of(&m->forward, from, a, &tiles);
-    cmac_train(&m->forward, &tiles, desired);
+    const bool stored = cmac_train(&m->forward, &tiles, desired);
 
     // A step that leaves the state as it was (a bump into a wall) is no route from anywhere;
     // teaching it to CMAC-R would overwrite the real predecessor that arrives by the same action.
-    if (s_next == s) {
-        return;
+    if (s_next != s) {
+        encode_(sp, to, from, desired);
+        cmac_tiles_of(&m->inverse, to, a, &tiles);
+        (void)cmac_train(&m->inverse, &tiles, desired);
     }
-    encode_(sp, to, from, desired);
-    cmac_tiles_of(&m->inverse, to, a, &tiles);
-    cmac_train(&m->inverse, &tiles, desired);
+    return stored;
 }
 
-// Forward prediction from unpacked components; the next state's components go to `to`.
-static bool predict_(world_model_t *m, const uint32_t *from, uint8_t a, uint32_t *to,
-                     model_step_t *out)
+// The forward prediction for `tiles` (keys of `from` with the action set): the next state's
+// components go to `to`. Counts a refusal in `untrusted`.
+static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
+                     uint32_t *to, int32_t *pred)
+{
+    if (!cmac_predict_trusted(&m->forward, tiles, m->min_count, pred) ||
+        !decode_(m->space, from, pred, to)) {
+        m->untrusted++;
+        return false;
+    }
+    return true;
+}
+
+void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
+{
+    q->state = s;
+    space_unpack(m->space, s, q->comp);
+    cmac_tiles_of(&m->forward, q->comp, 0, &q->tiles);
+}
+
+bool model_query_predict(world_model_t *m, model_query_t *q, uint8_t a, model_step_t *out)
 {
     const agent_space_t *sp = m->space;
     int32_t pred[CMAC_MAX_OUTPUTS];
-    cmac_tiles_t tiles;
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
 
-    cmac_tiles_of(&m->forward, from, a, &tiles);
-    if (!cmac_predict_trusted(&m->forward, &tiles, m->min_count, pred) ||
-        !decode_(sp, from, pred, to)) {
-        m->untrusted++;
+    cmac_tiles_set_action(&m->forward, &q->tiles, a);
+    if (!predict_(m, q->comp, &q->tiles, to, pred)) {
         return false;
     }
     out->next = space_pack(sp, to);
@@ -168,41 +184,53 @@ static bool predict_(world_model_t *m, const uint32_t *from, uint8_t a, uint32_t
 
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out)
 {
-    uint32_t from[FW_CFG_MAX_COMPONENTS];
-    uint32_t to[FW_CFG_MAX_COMPONENTS];
-    space_unpack(m->space, s, from);
-    return predict_(m, from, a, to, out);
+    model_query_t q;
+    model_query_init(m, s, &q);
+    return model_query_predict(m, &q, a, out);
 }
 
-uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out)
+uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred_t *out)
 {
     const agent_space_t *sp = m->space;
-    uint32_t here[FW_CFG_MAX_COMPONENTS];
+    const uint32_t n_comp = sp->n_components;
     uint32_t prev[FW_CFG_MAX_COMPONENTS];
     uint32_t back[FW_CFG_MAX_COMPONENTS];
     int32_t pred[CMAC_MAX_OUTPUTS];
     cmac_tiles_t tiles;
     uint32_t n = 0;
 
-    space_unpack(sp, s, here);
-    cmac_tiles_of(&m->inverse, here, 0, &tiles);
     for (uint32_t a = 0; a < sp->n_actions; a++) {
-        cmac_tiles_set_action(&m->inverse, &tiles, a);
-        if (!cmac_predict_trusted(&m->inverse, &tiles, m->min_count, pred) ||
-            !decode_(sp, here, pred, prev)) {
+        cmac_tiles_set_action(&m->inverse, &q->tiles, a);
+        if (!cmac_predict_trusted(&m->inverse, &q->tiles, m->min_count, pred) ||
+            !decode_(sp, q->comp, pred, prev)) {
             continue;  // nothing trained arrives here by a: the common case, not worth counting
         }
         // CMAC-R averages when several states lead here by the same action; only a predecessor
         // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
-        model_step_t step;
-        if (!predict_(m, prev, (uint8_t)a, back, &step) || step.next != s || step.terminal) {
+        cmac_tiles_of(&m->forward, prev, a, &tiles);
+        if (!predict_(m, prev, &tiles, back, pred) || pred[n_comp + 1u] >= CMAC_ONE / 2) {
+            m->rejected++;
+            continue;
+        }
+        uint32_t k = 0;
+        while (k < n_comp && back[k] == q->comp[k]) {
+            k++;
+        }
+        if (k < n_comp) {
             m->rejected++;
             continue;
         }
         out[n].state = space_pack(sp, prev);
         out[n].action = (uint8_t)a;
-        out[n].reward = step.reward;
+        out[n].reward = (float)pred[n_comp] / (float)CMAC_ONE;
         n++;
     }
     return n;
+}
+
+uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out)
+{
+    model_query_t q;
+    model_query_init(m, s, &q);
+    return model_query_predecessors(m, &q, out);
 }

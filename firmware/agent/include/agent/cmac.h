@@ -71,6 +71,9 @@ typedef struct cmac {
     uint8_t n_patterns;  // distinct tilings, <= n_tilings
     uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
     uint8_t action_shift;
+    uint8_t n_tiled;  // inputs with tiles wider than one value (the others are not displaced)
+    uint8_t tiled[FW_CFG_MAX_COMPONENTS];  // their numbers
+    uint32_t action_field;  // the action's bits in a key
     uint32_t tile_mask[FW_CFG_MAX_COMPONENTS];  // all ones, or the wrap of a circular input
     uint8_t offset[FW_CFG_MAX_COMPONENTS][FW_CFG_MAX_TILINGS];  // per pattern displacement
     uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for
@@ -110,7 +113,10 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
 /// The paper's learning rule (Fig. 7, step d): each of the T cells moves by
 /// learning_rate / T * (desired - actual). Cells are created on first training.
 /// `desired` holds n_outputs fixed-point values.
-void cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
+/// Returns true when every tile has its cell; false when a tile found no free cell within the
+/// probe limit (counted in `dropped`). Cells are never evicted, so such a tile never gets one:
+/// every prediction over these tiles stays untrusted until cmac_clear().
+bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
 
 #ifdef __cplusplus
 }

@@ -67,7 +67,9 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
 void model_clear(world_model_t *m);
 
 /// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal), CMAC-R on (s', a) -> s.
-void model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+/// Returns false when one of CMAC-Model's tiles for (s, a) found no room in its table: then
+/// model_predict() refuses (s, a) until model_clear(), as cells are never evicted.
+bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
 /// Predicts the outcome of a in s. Returns false (and fills nothing) if the prediction is not
@@ -77,6 +79,23 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
 /// Predicts the trusted predecessors of s, at most one per action, into out[] (room for
 /// n_actions). Returns how many.
 uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out);
+
+/// A state made ready for several queries: its components and its tile keys, computed once
+/// (CMAC-Model and CMAC-R share one key layout, so the same keys serve both).
+typedef struct model_query {
+    agent_state_t state;
+    uint32_t comp[FW_CFG_MAX_COMPONENTS];
+    cmac_tiles_t tiles;
+} model_query_t;
+
+/// Prepares the queries about s.
+void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q);
+
+/// model_predict() for the query's state.
+bool model_query_predict(world_model_t *m, model_query_t *q, uint8_t a, model_step_t *out);
+
+/// model_predecessors() for the query's state.
+uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred_t *out);
 
 #ifdef __cplusplus
 }
