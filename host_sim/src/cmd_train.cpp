@@ -39,6 +39,7 @@ struct TrainSettings {
     std::string save;
     bool no_wall_time = false;
     bool quiet = false;
+    bool counters = false;
 };
 
 void declare(Options &o, TrainSettings &s)
@@ -76,6 +77,8 @@ void declare(Options &o, TrainSettings &s)
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
                &s.no_wall_time);
     o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
+    o.add_flag("--counters", "print the firmware's counters after each set (table fill, drops, bus)",
+               &s.counters);
 }
 
 agent_kind_t kind_of(const std::string &name)
@@ -117,6 +120,9 @@ void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSe
         Lockstep sim(*sb.world, cfg, lo);
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
             emit(set, sim.run_episode());
+        }
+        if (s.counters) {
+            std::fprintf(stderr, "set %u: %s\n", set, sim.counters().c_str());
         }
     }
 }

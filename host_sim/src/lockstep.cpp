@@ -36,10 +36,7 @@ constexpr std::uint32_t kCpuHz = 168000000u;
 void pick_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage)
 {
     const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
-    if (getenv("DQ_PROFILE")) {
-        *agent = &agent_maze;
-        *storage = &agent_storage_maze;
-    } else if (bits <= 13u) {
+    if (bits <= 13u) {
         *agent = &agent_paper_lab;
         *storage = &agent_storage_paper_lab;
     } else {
@@ -112,7 +109,6 @@ struct Lockstep::Impl {
 
     ~Impl()
     {
-        if (getenv("DQ_COUNTERS") || getenv("DQ_PROFILE")) fprintf(stderr, "%s\n", counters().c_str());
         hal_host_flash_detach_file();
     }
 
@@ -131,14 +127,6 @@ struct Lockstep::Impl {
                     episode_over = true;
                     episode_end_us = t_us;
                 }
-            } else if (f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID && getenv("DQ_DEBUG")) {
-                tlm_pose_t p;
-                tlm_decode_pose(&f, &p);
-                const world::Pose w = world.pose();
-                fprintf(stderr, "t=%.3f est=(%d,%d,%d fix %d) true=(%.0f,%.0f,%.0f)\n", t_us*1e-6, p.x_mm, p.y_mm, p.heading_cdeg/100, p.fix_state, w.x*1000, w.y*1000, w.heading*180/M_PI);
-            } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && getenv("DQ_DEBUG")) {
-                tlm_learn_t l; tlm_decode_learn(&f, &l);
-                fprintf(stderr, "  learn state=%06x action=%d reward=%d step=%d\n", l.state, l.action, l.reward, l.step);
             } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && sink) {
                 tlm_learn_t l;
                 if (tlm_decode_learn(&f, &l) == 0) {

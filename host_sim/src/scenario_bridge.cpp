@@ -85,8 +85,6 @@ ScenarioBundle load_scenario(const std::string &arg)
         r.code_threshold_m[k] = static_cast<float>(sc->code_bits[k].threshold);
     }
     r.n_ranges = static_cast<uint8_t>(sc->ranger.rays.size());
-    if (getenv("DQ_TILE")) { r.tile_shift[0] = r.tile_shift[1] = static_cast<uint8_t>(atoi(getenv("DQ_TILE"))); }
-    if (getenv("DQ_GOAL")) { sc->goal.radius = atof(getenv("DQ_GOAL")); }
     r.step_m = static_cast<float>(sc->actions.step);
     r.turn_rad = static_cast<float>(sc->actions.turn);
     r.track_m = static_cast<float>(sc->robot.track);

@@ -271,6 +271,46 @@ static int16_t saturate_(cmac_t *cmac, int32_t v)
     return (int16_t)v;
 }
 
+// A full probe window: the new tile takes the least-trained cell of its window (not one this
+// training already holds), which is emptied. The other cells of the window age by one count (never
+// below 1, so what was trusted stays trusted): knowledge that is no longer used makes room for
+// where the robot is now, and a cell trained once does not keep out everything new. Returns the
+// emptied cell, or capacity if every candidate is taken by this training.
+static uint32_t evict_(cmac_t *cmac, uint32_t key, const uint32_t *taken, uint32_t n_taken)
+{
+    const uint32_t mask = cmac->capacity - 1u;
+    uint32_t slot = home_(cmac, key);
+    uint32_t victim = cmac->capacity;
+    uint32_t least = UINT32_MAX;
+    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE; probe++, slot = (slot + 1u) & mask) {
+        bool busy = false;
+        for (uint32_t i = 0; i < n_taken; i++) {
+            busy = busy || taken[i] == slot;
+        }
+        if (busy) {
+            continue;
+        }
+        if (cmac->counts[slot] < least) {
+            least = cmac->counts[slot];
+            victim = slot;
+        }
+        if (cmac->counts[slot] > 1u) {
+            cmac->counts[slot]--;
+        }
+    }
+    if (victim != cmac->capacity) {
+        int16_t *w = &cmac->weights[victim * cmac->cfg.n_outputs];
+        for (uint32_t j = 0; j < cmac->cfg.n_outputs; j++) {
+            w[j] = 0;
+        }
+        cmac->counts[victim] = 0;
+        cmac->keys[victim] = CMAC_EMPTY;
+        cmac->stats.cells_used--;
+        cmac->stats.evicted++;
+    }
+    return victim;
+}
+
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;
@@ -282,6 +322,9 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
     cmac->stats.trained++;
     for (uint32_t t = 0; t < n_tiles; t++) {
         uint32_t slot = find_(cmac, tiles->key[t]);
+        if (slot == cmac->capacity) {
+            slot = evict_(cmac, tiles->key[t], slots, t);
+        }
         if (slot == cmac->capacity) {
             cmac->stats.dropped++;
             stored = false;

@@ -88,15 +88,45 @@ const float *qstore_row(const qstore_t *qs, agent_state_t s)
     return &qs->q[slot * qs->n_actions];
 }
 
+// A full probe window: the new state takes the row of the window that has learned least (the
+// smallest sum of |Q|: a state seen once or twice), which is emptied. Rows are reused in place,
+// so no probe path is broken.
+static uint32_t evict_(qstore_t *qs, agent_state_t s)
+{
+    const uint32_t mask = qs->capacity - 1u;
+    uint32_t slot = qs->capacity_shift ? home_(qs, s) : 0u;
+    uint32_t victim = slot;
+    float least = -1.0f;
+    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE && probe < qs->capacity; probe++) {
+        const float *row = &qs->q[slot * qs->n_actions];
+        float sum = 0.0f;
+        for (uint32_t a = 0; a < qs->n_actions; a++) {
+            sum += row[a] < 0.0f ? -row[a] : row[a];
+        }
+        if (least < 0.0f || sum < least) {
+            least = sum;
+            victim = slot;
+        }
+        slot = (slot + 1u) & mask;
+    }
+    float *row = &qs->q[victim * qs->n_actions];
+    for (uint32_t a = 0; a < qs->n_actions; a++) {
+        row[a] = 0.0f;
+    }
+    qs->keys[victim] = QSTORE_EMPTY;
+    qs->rows_used--;
+    qs->dropped++;  // a state forgotten
+    return victim;
+}
+
 float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    const uint32_t slot = find_(qs, s);
+    uint32_t slot = find_(qs, s);
     if (slot == qs->capacity) {
-        qs->dropped++;
-        return NULL;
+        slot = evict_(qs, s);
     }
     if (qs->keys[slot] == QSTORE_EMPTY) {
         qs->keys[slot] = s;

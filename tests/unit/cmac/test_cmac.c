@@ -200,8 +200,8 @@ static void exact_inputs_never_collide(void **state)
     }
 }
 
-// A full table drops new tiles, counts them, and leaves what it holds intact.
-static void full_table_drops_and_counts(void **state)
+// A full table makes room: new tiles are stored, the least-trained cells forgotten and counted.
+static void full_table_evicts_and_counts(void **state)
 {
     (void)state;
     cmac_t m;
@@ -219,10 +219,40 @@ static void full_table_drops_and_counts(void **state)
         cmac_train(&m, &t, desired);
     }
     assert_true(m.stats.cells_used <= 64);
-    assert_true(m.stats.dropped > 0);
     assert_int_equal(m.n_patterns, 1);  // exact inputs: the CMAC is a table
-    assert_int_equal(m.stats.cells_used + m.stats.dropped, 200u);
+    // A full window reuses its least-trained cell: every new tile is stored, old ones forgotten.
+    assert_int_equal(m.stats.dropped, 0);
+    assert_true(m.stats.evicted > 0);
+    assert_int_equal(m.stats.cells_used + m.stats.evicted, 200u);
     cmac_tiles_of(&m, first, 0, &t);
+    (void)cmac_predict(&m, &t, out);  // long forgotten, or still there: either is allowed
+    const uint32_t last[2] = {199u & 31u, (199u >> 5) & 31u};
+    cmac_tiles_of(&m, last, 0, &t);
+    assert_true(cmac_predict(&m, &t, out) >= 1);  // the newest is there
+    assert_true(labs((long)(out[0] - desired[0])) <= 16);
+}
+
+static void eviction_keeps_the_well_trained_cells(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 0, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, 64), FW_OK);
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    const int32_t desired[1] = {3 * CMAC_ONE};
+    const uint32_t kept[2] = {4, 4};
+    cmac_tiles_of(&m, kept, 0, &t);
+    for (int k = 0; k < 200; k++) {  // trained often: count saturates
+        cmac_train(&m, &t, desired);
+    }
+    for (uint32_t i = 0; i < 300; i++) {  // many tiles trained once pass through
+        const uint32_t in[2] = {(i * 7u) & 31u, ((i * 7u) >> 5) & 31u};
+        if (in[0] == 4 && in[1] == 4) continue;
+        cmac_tiles_of(&m, in, 0, &t);
+        cmac_train(&m, &t, desired);
+    }
+    cmac_tiles_of(&m, kept, 0, &t);
     assert_true(cmac_predict(&m, &t, out) >= 1);
     assert_true(labs((long)(out[0] - desired[0])) <= 16);
 }
@@ -321,7 +351,8 @@ int main(void)
         cmocka_unit_test(approximates_a_smooth_function),
         cmocka_unit_test(neighbours_generalise_but_are_not_trusted),
         cmocka_unit_test(exact_inputs_never_collide),
-        cmocka_unit_test(full_table_drops_and_counts),
+        cmocka_unit_test(full_table_evicts_and_counts),
+        cmocka_unit_test(eviction_keeps_the_well_trained_cells),
         cmocka_unit_test(circular_inputs_wrap),
         cmocka_unit_test(set_action_matches_recomputing),
         cmocka_unit_test(weights_saturate_and_count),

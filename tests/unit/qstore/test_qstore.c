@@ -59,18 +59,22 @@ static void distinct_states_keep_distinct_values(void **state)
     }
 }
 
-static void full_table_drops_writes_and_counts(void **state)
+static void full_table_forgets_what_it_learned_least(void **state)
 {
     (void)state;
     qstore_t qs;
     assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 20), FW_OK);
-    uint32_t stored = 0;
-    for (uint32_t s = 0; s < 1000; s++) {
-        stored += qstore_row_for_update(&qs, s) != NULL;
+    // State 7 has learned something big; then 1000 states pass through a 256-row table.
+    qstore_row_for_update(&qs, 7)[2] = -50.0f;
+    for (uint32_t s = 1000; s < 2000; s++) {
+        float *row = qstore_row_for_update(&qs, s);
+        assert_non_null(row);  // a write always finds a row
+        row[0] = -0.5f;        // each visited once
     }
-    assert_int_equal(stored, qs.rows_used);
     assert_true(qs.rows_used <= 256 && qs.rows_used > 200);
-    assert_int_equal(qs.dropped, 1000 - stored);
+    assert_true(qs.dropped >= 1000 - 256 + 1);
+    assert_float_equal(qstore_row(&qs, 7)[2], -50.0f, 0.0f);  // the well-learned row survives
+    assert_float_equal(qstore_row(&qs, 1999)[0], -0.5f, 0.0f);  // the newest is there
     qstore_clear(&qs);
     assert_int_equal(qs.rows_used, 0);
     assert_non_null(qstore_row_for_update(&qs, 999));
@@ -91,7 +95,7 @@ int main(void)
         cmocka_unit_test(small_spaces_are_dense),
         cmocka_unit_test(large_spaces_are_hashed_and_unknown_states_read_zero),
         cmocka_unit_test(distinct_states_keep_distinct_values),
-        cmocka_unit_test(full_table_drops_writes_and_counts),
+        cmocka_unit_test(full_table_forgets_what_it_learned_least),
         cmocka_unit_test(init_rejects_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

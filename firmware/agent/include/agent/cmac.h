@@ -37,7 +37,8 @@ typedef struct cmac_config {
 /// Counters; they only grow, until cmac_clear().
 typedef struct cmac_stats {
     uint32_t cells_used;  ///< cells holding a tile
-    uint32_t dropped;     ///< tiles that found no free cell within the probe limit (table full)
+    uint32_t dropped;     ///< tiles that found no cell within the probe limit (table full)
+    uint32_t evicted;     ///< cells reused for a new tile: the least-trained one in its window
     uint32_t saturated;   ///< weight updates clipped to the int16 range
     uint32_t trained;     ///< calls to cmac_train()
 } cmac_stats_t;

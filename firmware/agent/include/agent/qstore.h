@@ -17,8 +17,9 @@ extern "C" {
 /// Dense when every state fits (2^state_bits <= capacity): row s is at s * n_actions, no keys.
 /// Hashed otherwise: open addressing with linear probing over `capacity` rows, each row tagged
 /// with its state. A row is created the first time its state's Q is written; an unwritten state
-/// reads as all zeros. When no row is free within the probe limit the write is dropped and
-/// counted. Rows are never evicted.
+/// reads as all zeros. When no row is free within the probe limit, the row of that window that
+/// has learned least (smallest sum of |Q|) is forgotten and reused, and counted in `dropped`: a
+/// robot that keeps exploring keeps learning where it is, at the cost of states it barely knew.
 typedef struct qstore {
     float *q;            // capacity * n_actions
     uint32_t *keys;      // capacity (hashed mode only; may be NULL when dense)
@@ -27,7 +28,7 @@ typedef struct qstore {
     uint8_t dense;
     uint8_t capacity_shift;
     uint32_t rows_used;  ///< rows holding a state (hashed) or written at least once (dense: 0)
-    uint32_t dropped;    ///< writes lost because the table was full
+    uint32_t dropped;    ///< states forgotten to make room: a full probe window reuses the row that learned least
 } qstore_t;
 
 /// Marks an empty row in hashed mode.
