@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # dynaqpc developer entry point: sets up a fresh Debian 12 machine, builds, and runs.
 #
-#   tools/dev.sh demo    set up, build, train the agents on the Dyna maze and show what they learned
+#   tools/dev.sh demo    set up, build, train the firmware on the simulated lab robot, show what it learned
 #   tools/dev.sh test    set up, build, and run every test (host, host-asan, cortex-m4)
 #   tools/dev.sh bench   set up, build optimised, print the agent's benchmark figures
 #   tools/dev.sh setup   only install what is missing
@@ -58,20 +58,21 @@ build() {  # build <preset>
 demo() {
     setup
     build host-release
-    local bin=build/host-release/bin
-    mkdir -p results
-    log "Dyna maze (Sutton & Barto Fig. 8.2), 30 runs x 50 episodes, N = 5 planning updates per step"
-    for agent in q dyna-q dyna-qpc; do
-        "$bin/dynaqpc-sim" maze --map dyna-maze --agent "$agent" --runs 30 --episodes 50 \
-            --planning 5 --seed 1 --csv "results/dyna-maze-$agent.csv"
-    done
-    log "first episode whose mean over the 30 runs is <= 20 steps (optimal: 14; Sutton & Barto's Dyna-Q reference: 6)"
-    for agent in q dyna-q dyna-qpc; do
-        awk -F, -v agent="$agent" 'NR > 1 { sum[$3] += $4; n[$3]++ }
-            END { for (e = 1; e in sum; e++) if (sum[e] / n[e] <= 20) { printf "  %-9s %d\n", agent, e; exit }
-                  printf "  %-9s never\n", agent }' "results/dyna-maze-$agent.csv"
-    done
-    log "CSV files are in results/"
+    local bin=build/host-release/bin out=results/paper-lab
+    mkdir -p "$out"
+    log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each)"
+    .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2
+    log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $out/dyna-qpc.flash"
+    "$bin/dynaqpc-sim" train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 150 --seed 7 \
+        --save "$out/dyna-qpc.flash" --csv "$out/dyna-qpc-150.csv" --counters
+    log "the firmware reboots with that flash and drives greedily, without learning, from 10 random starts"
+    "$bin/dynaqpc-sim" run --scenario paper-lab --load "$out/dyna-qpc.flash" --starts 10 \
+        --trajectory "$out/trajectory.csv" --arena "$out/arena.json" > "$out/replay.csv"
+    .venv/bin/dynaqpc-experiment trajectory --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results \
+        --load "$out/dyna-qpc.flash" --starts 5 >/dev/null
+    log "robot time to learn (Table 1 of the paper, reproduced)"
+    cat "$out/table1.md"
+    log "plots and CSVs are in $out/ (fig13.png: learning curves; trajectories.png: the replayed paths)"
 }
 
 run_tests() {

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -65,7 +67,13 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     lo.seed = seed;
     lo.flash_file = load;
     lo.evaluate = true;
-    Lockstep sim(*sb.world, cfg, lo);
+    std::unique_ptr<Lockstep> sim_ptr;
+    try {
+        sim_ptr = std::make_unique<Lockstep>(*sb.world, cfg, lo);
+    } catch (const std::runtime_error &e) {
+        throw UsageError(std::string("--load: ") + e.what());
+    }
+    Lockstep &sim = *sim_ptr;
     if (!sim.restored()) {
         throw UsageError("--load: '" + load + "' holds no record this firmware can restore (" + agent + " on " +
                          sb.name + ")");
