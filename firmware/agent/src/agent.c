@@ -279,6 +279,13 @@ bool agent_plan_step(agent_t *ag)
 uint32_t agent_plan(agent_t *ag, uint32_t n)
 {
     uint32_t done = 0;
+    if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
+        while (done < n && pq_size(&ag->pq) > 0u) {
+            (void)plan_qpc_(ag);
+            done++;
+        }
+        return done;
+    }
     while (done < n && agent_plan_step(ag)) {
         done++;
     }

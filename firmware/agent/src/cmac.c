@@ -122,38 +122,32 @@ void cmac_clear(cmac_t *cmac)
 
 void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles)
 {
-    // An exact input (tiles one value wide) is displaced by 0 in every tiling, so its field is
-    // the same in every pattern: it goes into the common part once. Only the tiled inputs are
-    // computed per pattern, input by input, so the inner loop is straight-line arithmetic.
+    // An exact input (tiles one value wide) is displaced by 0 in every tiling: its field is the
+    // same in every pattern. A tiled input v, 2^sh values per tile, falls in tile
+    // hi = v >> sh, or hi + 1 when its displacement reaches past the tile's end
+    // (off >= 2^sh - (v mod 2^sh)). So every field of the undisplaced tiles goes into a common
+    // part once, and a pattern only flips the fields its displacements carry into the next tile.
     const uint32_t n = cmac->n_patterns;
     uint32_t common = action << cmac->action_shift;
     for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
-        if (cmac->cfg.tile_shift[k] == 0u) {
-            common |= (inputs[k] & cmac->tile_mask[k]) << cmac->key_shift[k];
-        }
+        common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
     }
     for (uint32_t p = 0; p < n; p++) {
         tiles->key[p] = p | common;
     }
     for (uint32_t j = 0; j < cmac->n_tiled; j++) {
         const uint32_t k = cmac->tiled[j];
-        const uint32_t v = inputs[k];
         const uint32_t sh = cmac->cfg.tile_shift[k];
         const uint32_t mask = cmac->tile_mask[k];
-        const uint32_t ks = cmac->key_shift[k];
+        const uint32_t hi = inputs[k] >> sh;
+        const uint32_t flip = ((hi & mask) ^ ((hi + 1u) & mask)) << cmac->key_shift[k];
+        const uint32_t reach = (1u << sh) - (inputs[k] & ((1u << sh) - 1u));
         const uint8_t *off = cmac->offset[k];
         for (uint32_t p = 0; p < n; p++) {
-            tiles->key[p] |= (((v + off[p]) >> sh) & mask) << ks;
+            if (off[p] >= reach) {
+                tiles->key[p] ^= flip;
+            }
         }
-    }
-}
-
-void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
-{
-    const uint32_t field = cmac->action_field;
-    const uint32_t bits = action << cmac->action_shift;
-    for (uint32_t p = 0; p < cmac->n_patterns; p++) {
-        tiles->key[p] = (tiles->key[p] & ~field) | bits;
     }
 }
 
@@ -178,27 +172,9 @@ static uint32_t find_(const cmac_t *cmac, uint32_t key)
     return cmac->capacity;
 }
 
-// The cell holding key, or capacity if it has none: find_() for reading, which is the planner's
-// inner loop. When the probe window does not wrap around the table's end (nearly always) it is
-// scanned by pointer, without masking the index.
+// The cell holding key, or capacity if it has none: find_() for reading.
 static uint32_t lookup_(const cmac_t *cmac, uint32_t key)
 {
-    const uint32_t home = home_(cmac, key);
-    if (home + FW_CFG_MAX_PROBE <= cmac->capacity) {
-        const uint32_t *const keys = cmac->keys;
-        const uint32_t *k = keys + home;
-        const uint32_t *const end = k + FW_CFG_MAX_PROBE;
-        do {
-            const uint32_t here = *k;
-            if (here == key) {
-                return (uint32_t)(k - keys);
-            }
-            if (here == CMAC_EMPTY) {
-                break;
-            }
-        } while (++k != end);
-        return cmac->capacity;
-    }
     const uint32_t slot = find_(cmac, key);
     return slot != cmac->capacity && cmac->keys[slot] == key ? slot : cmac->capacity;
 }
@@ -227,27 +203,61 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
     return confidence;
 }
 
+FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
+
 bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
                           int32_t *out)
 {
-    // Find every cell first (giving up at the first one missing or too little trained), then
-    // sum output by output in a register.
+    // The planner's inner loop, so lookup_() is written out here with the table's fields in
+    // registers. When a probe window does not wrap around the table's end (nearly always) it is
+    // scanned by pointer, without masking the index. Each cell's weights are added into one
+    // register per output as soon as it is found (at most CMAC_MAX_OUTPUTS = 6); the first cell
+    // missing or too little trained ends the search.
     const uint32_t n_out = cmac->cfg.n_outputs;
     const uint32_t n = cmac->n_patterns;
-    const int16_t *cell[FW_CFG_MAX_TILINGS];
+    const uint32_t capacity = cmac->capacity;
+    const uint32_t *const keys = cmac->keys;
+    const uint32_t home_shift = 32u - cmac->capacity_shift;
+    int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
     for (uint32_t t = 0; t < n; t++) {
-        const uint32_t slot = lookup_(cmac, tiles->key[t]);
-        if (slot == cmac->capacity || cmac->counts[slot] < min_count) {
+        const uint32_t key = tiles->key[t];
+        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
+        uint32_t slot;
+        if (home + FW_CFG_MAX_PROBE <= capacity) {
+            const uint32_t *k = keys + home;
+            const uint32_t *const end = k + FW_CFG_MAX_PROBE;
+            while (*k != key) {
+                if (*k == CMAC_EMPTY || ++k == end) {
+                    return false;
+                }
+            }
+            slot = (uint32_t)(k - keys);
+        } else {
+            slot = lookup_(cmac, key);
+            if (slot == capacity) {
+                return false;
+            }
+        }
+        if (cmac->counts[slot] < min_count) {
             return false;
         }
-        cell[t] = &cmac->weights[slot * n_out];
-    }
-    for (uint32_t j = 0; j < n_out; j++) {
-        int32_t sum = 0;
-        for (uint32_t t = 0; t < n; t++) {
-            sum += cell[t][j];
+        const int16_t *w = &cmac->weights[slot * n_out];
+        switch (n_out) {
+        case 6: s5 += w[5]; /* fall through */
+        case 5: s4 += w[4]; /* fall through */
+        case 4: s3 += w[3]; /* fall through */
+        case 3: s2 += w[2]; /* fall through */
+        case 2: s1 += w[1]; /* fall through */
+        default: s0 += w[0];
         }
-        out[j] = sum;
+    }
+    switch (n_out) {
+    case 6: out[5] = s5; /* fall through */
+    case 5: out[4] = s4; /* fall through */
+    case 4: out[3] = s3; /* fall through */
+    case 3: out[2] = s2; /* fall through */
+    case 2: out[1] = s1; /* fall through */
+    default: out[0] = s0;
     }
     return true;
 }

@@ -64,11 +64,12 @@ static int32_t to_fixed_(float x)
     return (int32_t)(scaled >= 0.0f ? scaled + 0.5f : scaled - 0.5f);
 }
 
-// Nearest integer of a fixed-point value, halves away from zero; written with division because
+// Nearest integer of a fixed-point value, halves away from zero. Shifts only non-negative values:
 // right-shifting a negative number is implementation-defined in C99.
 static int32_t round_fixed_(int32_t x)
 {
-    return x >= 0 ? (x + CMAC_ONE / 2) / CMAC_ONE : -((-x + CMAC_ONE / 2) / CMAC_ONE);
+    return x >= 0 ? (int32_t)(((uint32_t)x + CMAC_ONE / 2u) >> CMAC_FRAC_BITS)
+                  : -(int32_t)((0u - (uint32_t)x + CMAC_ONE / 2u) >> CMAC_FRAC_BITS);
 }
 
 // The desired output for moving from `from` to `to`: per component, the change (wrapped to the
@@ -99,19 +100,21 @@ static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_
 static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t *pred,
                     uint32_t *to)
 {
+    const uint32_t relative = ~(uint32_t)sp->absolute_mask;
+    const uint32_t circular = sp->circular_mask;
     for (uint32_t k = 0; k < sp->n_components; k++) {
-        const int32_t range = (int32_t)1 << sp->bits[k];
-        int32_t v = round_fixed_(pred[k]);
-        if (!((sp->absolute_mask >> k) & 1u)) {
-            v += (int32_t)from[k];
-            if ((sp->circular_mask >> k) & 1u) {
-                v &= range - 1;
+        const uint32_t range = 1u << sp->bits[k];
+        uint32_t v = (uint32_t)round_fixed_(pred[k]);  // two's complement: a negative is huge
+        if ((relative >> k) & 1u) {
+            v += from[k];
+            if ((circular >> k) & 1u) {
+                v &= range - 1u;
             }
         }
-        if (v < 0 || v >= range) {
+        if (v >= range) {  // below 0 or at least the range
             return false;
         }
-        to[k] = (uint32_t)v;
+        to[k] = v;
     }
     return true;
 }

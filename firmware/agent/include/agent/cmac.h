@@ -97,7 +97,14 @@ void cmac_clear(cmac_t *cmac);
 void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles);
 
 /// Re-targets tiles computed by cmac_tiles_of() to another action, without recomputing them.
-void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action);
+static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
+{
+    const uint32_t keep = ~cmac->action_field;
+    const uint32_t bits = action << cmac->action_shift;
+    for (uint32_t p = 0; p < cmac->n_patterns; p++) {
+        tiles->key[p] = (tiles->key[p] & keep) | bits;
+    }
+}
 
 /// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0). Each sum
 /// must stay within +-128 * n_patterns for its cells not to saturate.
