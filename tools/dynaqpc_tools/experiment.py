@@ -368,8 +368,14 @@ def cmd_run(args) -> int:
         if args.skip_existing and _csv_complete(csv_path):
             print(f"{csv_path} exists: skipped")
             continue
-        _run_sim([args.sim, "train", "--scenario", args.scenario, "--agent", agent, "--sets", str(args.sets),
-                  "--episodes", str(args.episodes), "--seed", str(args.seed), "--csv", csv_path,
+        # The paper's protocol (sets, episodes) comes from the scenario unless given.
+        protocol = []
+        if args.sets is not None:
+            protocol += ["--sets", str(args.sets)]
+        if args.episodes is not None:
+            protocol += ["--episodes", str(args.episodes)]
+        _run_sim([args.sim, "train", "--scenario", args.scenario, "--agent", agent, *protocol,
+                  "--seed", str(args.seed), "--csv", csv_path, "--quiet",
                   "--jobs", str(args.jobs)] + shlex.split(args.sim_args))
     if args.load:
         _run_trajectory(args, out_dir)
@@ -429,8 +435,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="train every agent, then plot")
     sim_opts(r)
     r.add_argument("--agents", default=",".join(AGENTS), help="comma-separated (default %(default)s)")
-    r.add_argument("--sets", type=int, default=10)
-    r.add_argument("--episodes", type=int, default=200)
+    r.add_argument("--sets", type=int, default=None, help="default: the scenario's protocol")
+    r.add_argument("--episodes", type=int, default=None, help="default: the scenario's protocol")
     r.add_argument("--seed", type=int, default=1)
     r.add_argument("--jobs", type=int, default=1)
     r.add_argument("--skip-existing", action="store_true", help="keep agents whose CSV is already complete")
