@@ -307,3 +307,10 @@ int hal_flash_write(uint32_t offset, const void *data, size_t len)
 {
     return stm32f4_flash_program(&flash_dev_, offset, data, len);
 }
+
+// Real time passes by itself on the MCU: the scheduler's cost accounting is for the host's
+// lock-step model only.
+void hal_cpu_account(uint32_t cycles)
+{
+    (void)cycles;
+}
