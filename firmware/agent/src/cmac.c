@@ -102,6 +102,33 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
             cmac->tiled[cmac->n_tiled++] = (uint8_t)k;
         }
     }
+    // The fast path of cmac_tiles_of() adds every tiled input's displacement at once, in a word
+    // where input k's low bits (v mod 2^sh) and displacement sit just below bit key_shift[k], so
+    // that their carry lands on bit key_shift[k], the lowest bit of k's tile index. That needs
+    // the inputs' sh + 1 bit wide places in the word not to overlap, and no tiled input to wrap
+    // (a carry into a circular tile index would have to wrap around).
+    cmac->carry_bits = 0;
+    uint32_t low = 0;  // the lowest bit still free in the word
+    bool fits = true;
+    for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+        const uint32_t k = cmac->tiled[j];
+        const uint32_t ks = cmac->key_shift[k];
+        fits = fits && !((cfg->circular_mask >> k) & 1u) && ks >= low + cfg->tile_shift[k];
+        low = ks + 1u;
+    }
+    if (fits && cmac->n_tiled > 0u) {
+        for (uint32_t p = 0; p < cmac->n_patterns; p++) {
+            uint32_t word = 0;
+            for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+                const uint32_t k = cmac->tiled[j];
+                word += (uint32_t)cmac->offset[k][p] << (cmac->key_shift[k] - cfg->tile_shift[k]);
+            }
+            cmac->pattern_offsets[p] = word;
+        }
+        for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+            cmac->carry_bits |= 1u << cmac->key_shift[cmac->tiled[j]];
+        }
+    }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
     return FW_OK;
@@ -131,6 +158,21 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     uint32_t common = action << cmac->action_shift;
     for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
         common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
+    }
+    if (cmac->carry_bits != 0u) {
+        // Every tiled input's low bits, placed so that adding a pattern's displacements carries
+        // exactly into the tile indices that move to the next tile (see cmac_init()).
+        uint32_t low = 0;
+        for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+            const uint32_t k = cmac->tiled[j];
+            const uint32_t sh = cmac->cfg.tile_shift[k];
+            low += (inputs[k] & ((1u << sh) - 1u)) << (cmac->key_shift[k] - sh);
+        }
+        const uint32_t carries = cmac->carry_bits;
+        for (uint32_t p = 0; p < n; p++) {
+            tiles->key[p] = (common | p) + ((low + cmac->pattern_offsets[p]) & carries);
+        }
+        return;
     }
     for (uint32_t p = 0; p < n; p++) {
         tiles->key[p] = p | common;

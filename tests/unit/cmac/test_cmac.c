@@ -341,6 +341,86 @@ static void duplicate_tilings_are_merged_exactly(void **state)
     assert_int_equal(out[0], 20 * CMAC_ONE);
 }
 
+// The tile keys by their definition: pattern p, the action, and per input
+// ((v + offset) >> tile_shift) & mask at its key position.
+static void check_keys_by_definition_(const cmac_t *m, prng_t *rng)
+{
+    for (uint32_t trial = 0; trial < 500; trial++) {
+        uint32_t in[FW_CFG_MAX_COMPONENTS];
+        for (uint32_t k = 0; k < m->cfg.n_inputs; k++) {
+            in[k] = prng_below(rng, 1u << m->cfg.input_bits[k]);
+        }
+        const uint32_t action = prng_below(rng, m->cfg.n_actions);
+        cmac_tiles_t t;
+        cmac_tiles_of(m, in, action, &t);
+        for (uint32_t p = 0; p < m->n_patterns; p++) {
+            uint32_t key = p | (action << m->action_shift);
+            for (uint32_t k = 0; k < m->cfg.n_inputs; k++) {
+                key |= (((in[k] + m->offset[k][p]) >> m->cfg.tile_shift[k]) & m->tile_mask[k])
+                       << m->key_shift[k];
+            }
+            assert_int_equal(t.key[p], key);
+        }
+    }
+}
+
+static void tile_keys_match_their_definition(void **state)
+{
+    (void)state;
+    prng_t rng;
+    prng_seed(&rng, 99);
+    cmac_t m;
+    // The grid robot's shape (x, y tiled, a circular heading and a range exact): the fast path.
+    cmac_config_t c = config_2d(3, 1, 1);
+    c.n_inputs = 4;
+    c.input_bits[2] = 4;
+    c.input_bits[3] = 3;
+    c.circular_mask = 4;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    assert_int_equal(m.n_patterns, 4);
+    assert_true(m.carry_bits != 0u);
+    check_keys_by_definition_(&m, &rng);
+    // Wide tiles everywhere, 16 patterns.
+    c = config_2d(6, 3, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    assert_true(m.carry_bits != 0u);
+    check_keys_by_definition_(&m, &rng);
+    // A tiled circular input: the general path.
+    c = config_2d(4, 2, 1);
+    c.circular_mask = 2;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    assert_int_equal(m.carry_bits, 0u);
+    check_keys_by_definition_(&m, &rng);
+    // Tiles almost as wide as the input: the places of the carries would overlap.
+    c = config_2d(4, 3, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    assert_int_equal(m.carry_bits, 0u);
+    check_keys_by_definition_(&m, &rng);
+}
+
+static void train_reports_tiles_without_room(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 0, 1);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, 16), FW_OK);
+    cmac_tiles_t t;
+    int32_t out[CMAC_MAX_OUTPUTS];
+    const int32_t desired[1] = {CMAC_ONE};
+    uint32_t refused = 0;
+    for (uint32_t i = 0; i < 40; i++) {
+        const uint32_t in[2] = {i & 31u, i >> 5};
+        cmac_tiles_of(&m, in, 0, &t);
+        const bool stored = cmac_train(&m, &t, desired);
+        // Stored or not, the answer holds from then on: cells are never evicted.
+        assert_int_equal(cmac_predict_trusted(&m, &t, 1, out), stored);
+        assert_int_equal(cmac_train(&m, &t, desired), stored);
+        refused += !stored;
+    }
+    assert_int_equal(m.stats.cells_used, 16u);
+    assert_int_equal(refused, 24u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -357,6 +437,8 @@ int main(void)
         cmocka_unit_test(set_action_matches_recomputing),
         cmocka_unit_test(weights_saturate_and_count),
         cmocka_unit_test(duplicate_tilings_are_merged_exactly),
+        cmocka_unit_test(tile_keys_match_their_definition),
+        cmocka_unit_test(train_reports_tiles_without_room),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -75,6 +75,9 @@ typedef struct cmac {
     uint8_t n_tiled;  // inputs with tiles wider than one value (the others are not displaced)
     uint8_t tiled[FW_CFG_MAX_COMPONENTS];  // their numbers
     uint32_t action_field;  // the action's bits in a key
+    // cmac_tiles_of()'s fast path (see there): carry_bits != 0 when it applies.
+    uint32_t carry_bits;
+    uint32_t pattern_offsets[FW_CFG_MAX_TILINGS];
     uint32_t tile_mask[FW_CFG_MAX_COMPONENTS];  // all ones, or the wrap of a circular input
     uint8_t offset[FW_CFG_MAX_COMPONENTS][FW_CFG_MAX_TILINGS];  // per pattern displacement
     uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for
