@@ -15,6 +15,7 @@ namespace {
 const dynaqpc::Command kCommands[] = {
     {"train", "the firmware learns on the simulated robot: sets of episodes, a CSV row each", dynaqpc::cmd_train},
     {"run", "replay a learned policy greedily from random starts, with a trajectory log", dynaqpc::cmd_run},
+    {"devices", "the simulated robot's devices in real time on the virtual CAN bus, for dynaqpc-fw", dynaqpc::cmd_devices},
     {"maze", "gridworld experiments: Q-learning, Dyna-Q and Dyna-QPC on a map", dynaqpc::cmd_maze},
 };
 

@@ -1,0 +1,266 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-fw: the robot firmware's host build. The same application the MCU runs
+// (robot_app_init, then for (;;) robot_app_step()), on the host port in real-time mode:
+//   - time is CLOCK_MONOTONIC x --speed; the main loop sleeps in hal_cpu_wait_until() as the MCU
+//     sleeps in WFI;
+//   - CAN goes over the virtual CAN bus (hal/ports/host/vcan.h): hal_can_send() through a
+//     transport, and a receiver thread standing in for the CAN interrupt hands each received
+//     frame to hal_host_can_deliver();
+//   - the Cricket listener's serial line is a tty (the simulator's pty, or a USB adapter) opened
+//     with hal_host_uart_open_path(); the port's reader thread is the UART interrupt;
+//   - flash is a file (--flash), so what was learned survives a restart, as on the robot.
+// The robot's configuration comes from the scenario file, as dynaqpc-sim builds it.
+//
+// It lives in host_sim/ (not firmware/) because it is C++ and reads scenario files through the
+// simulator's scenario_bridge; the firmware itself is untouched C99.
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "agent_pick.h"
+#include "bus_link.h"
+#include "hal/hal_can.h"
+#include "hal/hal_time.h"
+#include "hal/hal_uart.h"
+#include "hal_host/hal_host.h"
+#include "options.h"
+#include "robot/robot_app.h"
+#include "scenario_bridge.h"
+#include "world/scenario.h"
+
+namespace {
+
+using namespace dynaqpc;
+
+constexpr std::uint32_t kFlashSector = 128u * 1024u;  // as the lock-step runner: 2 slots x 2 sectors
+constexpr std::uint32_t kFlashSectors = 4u;
+// After the main loop stops sending, the receiver keeps counting frames for this long, so that
+// frames still in flight from the other programs are not reported as lost.
+constexpr int kDrainMs = 500;
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_signal(int)
+{
+    g_stop.store(true);  // lock-free atomic store: async-signal-safe
+}
+
+struct Settings {
+    std::string scenario;
+    std::string agent = "dyna-qpc";
+    double speed = 1.0;
+    std::string flash;
+    std::string cricket_tty;
+    std::uint32_t seed = 1;
+    std::uint32_t planning = 0;
+    std::uint32_t step_cap = 0;
+    bool auto_start = false;
+    double duration = 0.0;
+};
+
+BusLink g_bus;
+std::atomic<bool> g_rx_run{true};
+
+int transport_send(const hal_can_frame_t *frame, void *ctx)
+{
+    (void)ctx;
+    return g_bus.send(*frame);
+}
+
+const hal_host_can_transport_t kTransport = {transport_send, nullptr};
+
+// The CAN interrupt: frames from the bus into the firmware. Polls at most every 50 ms so that it
+// notices a stop, and wakes the main loop then, so a signal ends a sleep at once.
+void *rx_thread(void *)
+{
+    hal_can_frame_t f;
+    while (g_rx_run.load()) {
+        const int rc = g_bus.recv(&f, 50);
+        if (rc == 1) {
+            (void)hal_host_can_deliver(&f);  // filtered ids are not for the firmware
+        } else if (rc < 0) {
+            std::fprintf(stderr, "dynaqpc-fw: virtual CAN bus receive failed\n");
+            g_stop.store(true);
+            hal_host_cpu_wake();
+            break;
+        }
+        if (g_stop.load()) {
+            hal_host_cpu_wake();
+        }
+    }
+    return nullptr;
+}
+
+agent_kind_t kind_of(const std::string &name)
+{
+    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
+}
+
+int run(const std::vector<std::string> &args)
+{
+    Settings s;
+    Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
+    o.add_string("--scenario", "S", "paper-sim, paper-lab or a scenario file: the robot's configuration",
+                 &s.scenario);
+    o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc (default dyna-qpc)", &s.agent,
+                 {"q", "dyna-q", "dyna-qpc"});
+    o.add_double("--speed", "X", "firmware time runs X times faster than real time (default 1)", &s.speed,
+                 0.0, 1000.0, true, false);
+    o.add_string("--flash", "FILE", "flash image file: learning restored at boot, saved at episode ends "
+                 "(default: RAM only)", &s.flash);
+    o.add_string("--cricket-tty", "PATH",
+                 "the Cricket listener's serial line (dynaqpc-sim devices prints its pty); required "
+                 "when the scenario has beacons", &s.cricket_tty);
+    o.add_uint("--seed", "N", "the agent's seed (default 1)", &s.seed, 0, UINT32_MAX);
+    o.add_uint("--planning", "N",
+               "planning updates after each real step (default: the scenario's); 0 = in idle time "
+               "until the next deadline", &s.planning, 0, 1000000);
+    o.add_uint("--step-cap", "N", "steps per episode before it ends (default: the scenario's)", &s.step_cap,
+               1, 100000000);
+    o.add_flag("--auto-start", "start an episode at boot and after each end, without an operator",
+               &s.auto_start);
+    o.add_double("--duration", "SEC", "stop after SEC seconds of wall time (default: until SIGINT/SIGTERM)",
+                 &s.duration, 0.0, 1e9, true, false);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, "dynaqpc-fw");
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) {
+        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    }
+    const ScenarioBundle sb = load_scenario(s.scenario);
+    robot_config_t cfg = sb.robot;
+    cfg.agent = kind_of(s.agent);
+    if (o.seen("--planning")) cfg.planning = s.planning;
+    if (o.seen("--step-cap")) cfg.step_cap = s.step_cap;
+    if (cfg.pose_source == ROBOT_POSE_CRICKET && s.cricket_tty.empty()) {
+        throw UsageError("--cricket-tty: required, " + sb.name + " finds its pose with Cricket beacons");
+    }
+
+    hal_host_reset();
+    hal_host_time_set_mode(HAL_HOST_CLOCK_REALTIME);
+    if (hal_host_time_set_speed(s.speed) != 0) {
+        throw UsageError("--speed: not accepted by the host clock");
+    }
+    if (hal_host_flash_configure(kFlashSector, kFlashSectors, 4) != 0) {
+        throw std::runtime_error("host flash: cannot configure 4 x 128 KB");
+    }
+    if (!s.flash.empty() && hal_host_flash_attach_file(s.flash.c_str()) != 0) {
+        throw UsageError("--flash: " + s.flash + ": not a flash image of this firmware (size) or unreadable");
+    }
+    g_bus.open();
+    hal_host_can_set_transport(&kTransport);
+
+    agent_t *agent = nullptr;
+    const agent_storage_t *storage = nullptr;
+    pick_agent_profile(cfg, &agent, &storage);
+    robot_app_options_t ao{};
+    ao.cfg = &cfg;
+    ao.agent = agent;
+    ao.storage = storage;
+    ao.seed = s.seed;
+    ao.persist = true;
+    ao.auto_start = s.auto_start;
+    ao.plan_budget_us = ROBOT_PLAN_BUDGET_US;
+    const int err = robot_app_init(&ao);
+    if (err != 0) {
+        throw std::runtime_error("robot_app_init failed (" + std::to_string(err) + ")");
+    }
+    if (!s.cricket_tty.empty()) {
+        if (hal_host_uart_open_path(s.cricket_tty.c_str()) != 0) {
+            throw UsageError("--cricket-tty: cannot open " + s.cricket_tty + " as a serial line");
+        }
+    }
+
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    pthread_t rx;
+    if (pthread_create(&rx, nullptr, rx_thread, nullptr) != 0) {
+        throw std::runtime_error("cannot start the CAN receiver thread");
+    }
+    robot_app_stats_t st0;
+    robot_app_get_stats(&st0);
+    std::printf("dynaqpc-fw: %s, %s, speed %gx, planning %s, restored %s; ready\n", sb.name.c_str(),
+                s.agent.c_str(), s.speed,
+                cfg.planning == 0 ? "idle time" : std::to_string(cfg.planning).c_str(),
+                st0.restore_result == 0 ? ("yes, " + std::to_string(st0.restored_episodes) + " episodes").c_str()
+                                        : "no");
+    std::fflush(stdout);
+
+    const auto wall0 = std::chrono::steady_clock::now();
+    bool cricket_lost_reported = false;
+    while (!g_stop.load()) {
+        robot_app_step();
+        if (s.duration > 0.0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count() >= s.duration) {
+            break;
+        }
+        if (!s.cricket_tty.empty() && !cricket_lost_reported && !hal_host_uart_path_alive()) {
+            std::fprintf(stderr, "dynaqpc-fw: the Cricket serial line closed (%s)\n", s.cricket_tty.c_str());
+            cricket_lost_reported = true;  // the firmware keeps running and reports a lost fix
+        }
+    }
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    // Stop sending; keep receiving a little while for frames still in flight, then stop.
+    hal_host_can_set_transport(nullptr);
+    struct timespec drain = {0, kDrainMs * 1000000L};
+    nanosleep(&drain, nullptr);
+    g_rx_run.store(false);
+    pthread_join(rx, nullptr);
+    hal_host_uart_close_path();
+
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    sched_stats_t ss;
+    sched_get_stats(robot_app_sched(), &ss);
+    hal_can_stats_t cs;
+    hal_can_get_stats(&cs);
+    hal_uart_stats_t us;
+    hal_uart_get_stats(&us);
+    std::printf("dynaqpc-fw: stopped after %.1f s wall, %.1f s firmware time\n", wall_s,
+                static_cast<double>(hal_time_us()) * 1e-6);
+    std::printf("episodes=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
+                "control_runs=%u misses=%u skipped=%u worst_lateness_us=%u events_dropped=%u q_rows=%u/%u uart_rx_bytes=%u "
+                "uart_overruns=%u\n",
+                st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
+                ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
+                agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns);
+    std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64
+                " malformed=%" PRIu64 " can_rx_accepted=%u\n",
+                g_bus.frames_sent(), g_bus.send_errors(), g_bus.frames_received(), g_bus.frames_malformed(),
+                cs.rx_frames);
+    hal_host_flash_detach_file();
+    g_bus.close();
+    return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char **argv)
+{
+    std::vector<std::string> args(argv + (argc > 0 ? 1 : 0), argv + argc);
+    try {
+        return run(args);
+    } catch (const UsageError &e) {
+        std::cerr << "dynaqpc-fw: " << e.what() << '\n';
+        return kExitUsage;
+    } catch (const std::exception &e) {
+        std::cerr << "dynaqpc-fw: " << e.what() << '\n';
+        return kExitFailure;
+    }
+}

@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim devices: the simulated robot's devices in real time on the virtual CAN bus, for a
+// firmware in another process (dynaqpc-fw, or a robot's controller bridged to the bus).
+//
+// One thread. World time advances in physics steps (the scenario's physics_dt); step k is due at
+// wall time k * dt / speed after the start. At each step the devices' due frames go on the bus
+// (paced by vcan: UDP has no flow control) and the Cricket listener's lines into the pty; until
+// the next step is due the bus is read: MOTOR_CMD drives the wheels, and the supervisor watches
+// the firmware's telemetry. A step that falls behind its wall time (a busy host) runs at once,
+// so world time keeps up with the firmware's clock; such steps are counted (late_steps).
+#include <poll.h>
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bus_link.h"
+#include "commands.h"
+#include "devices.h"
+#include "drivers/telemetry.h"
+#include "dynaqpc_can.h"
+#include "options.h"
+#include "pty.h"
+#include "scenario_bridge.h"
+#include "world/scenario.h"
+#include "world/world.h"
+
+namespace dynaqpc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// After the last step, frames still in flight from the firmware are counted for this long.
+constexpr int kDrainMs = 500;
+// The supervisor repeats START_EPISODE when the firmware still reports itself idle this long
+// (robot time) after it was sent: a firmware that booted after the command, or a lost frame.
+constexpr std::uint64_t kStartRetryUs = 1500000;
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_devices_signal(int)
+{
+    g_stop.store(true);
+}
+
+struct DevicesSettings {
+    std::string scenario;
+    double speed = 1.0;
+    std::uint32_t seed = 1;
+    double duration = 0.0;
+    bool supervise = false;
+    std::uint32_t episodes = 0;
+};
+
+// The operator: puts the robot down at a random start, starts an episode with TOOL_CMD, waits for
+// the firmware's TLM_EPISODE, and again.
+class Supervisor {
+public:
+    Supervisor(world::World &world, const robot_config_t &cfg, BusLink &bus) : world_(world), cfg_(cfg), bus_(bus) {}
+
+    /// A frame from the firmware, at world time t_us. Returns true when an episode ended.
+    bool on_frame(const hal_can_frame_t &f, std::uint64_t t_us)
+    {
+        if (!fw_seen_ && (f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID || f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID)) {
+            fw_seen_ = true;
+        }
+        if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
+            tlm_status_t st;
+            if (tlm_decode_status(&f, &st) == 0) fw_idle_ = st.mode == TLM_MODE_IDLE;
+        } else if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID && running_) {
+            tlm_episode_t e;
+            if (tlm_decode_episode(&f, &e) != 0) return false;
+            running_ = false;
+            done_++;
+            const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+            std::printf("episode=%u steps=%u reward=%d reached_goal=%d bumps=%u robot_time_s=%.3f wall_s=%.3f\n",
+                        e.episode, e.steps, e.total_reward, e.reached_goal ? 1 : 0, e.bumps,
+                        static_cast<double>(t_us - start_us_) * 1e-6, wall);
+            std::fflush(stdout);
+            return true;
+        }
+        return false;
+    }
+
+    /// Once per physics step, before the world moves.
+    void poll(std::uint64_t t_us)
+    {
+        if (!fw_seen_) return;
+        if (!running_) {
+            start(t_us);
+        } else if (fw_idle_ && t_us - sent_us_ > kStartRetryUs) {
+            send_start();
+            sent_us_ = t_us;
+            retries_++;
+        } else if (t_us - start_us_ > limit_us()) {
+            throw std::runtime_error("the firmware did not end episode " + std::to_string(done_ + 1) +
+                                     " within its step cap");
+        }
+    }
+
+    std::uint32_t episodes_done() const { return done_; }
+    std::uint32_t start_retries() const { return retries_; }
+
+private:
+    void start(std::uint64_t t_us)
+    {
+        start_pose_ = world_.sample_start_pose();
+        world_.reset(start_pose_);
+        send_start();
+        running_ = true;
+        fw_idle_ = false;  // until a status says so after the command
+        start_us_ = sent_us_ = t_us;
+        wall_start_ = Clock::now();
+    }
+
+    void send_start()
+    {
+        // The heading goes along for a robot whose only heading sensor is a gyro (lockstep.cpp).
+        double h = std::fmod(start_pose_.heading * 18000.0 / M_PI, 36000.0);
+        if (h < 0) h += 36000.0;
+        tlm_tool_cmd_t cmd{};
+        cmd.command = TLM_CMD_START_EPISODE;
+        cmd.argument = cfg_.pose_source == ROBOT_POSE_CRICKET ? static_cast<std::uint32_t>(h) % 36000u : 0xFFFFFFFFu;
+        hal_can_frame_t f;
+        if (tlm_encode_tool_cmd(&counter_, &cmd, &f) != 0) throw std::runtime_error("cannot encode TOOL_CMD");
+        (void)bus_.send(f);
+    }
+
+    // As the lock-step runner's: the cap's steps of actions and fix waits, and 10 s.
+    std::uint64_t limit_us() const
+    {
+        return static_cast<std::uint64_t>(cfg_.step_cap + 2) * (cfg_.action_periods + (cfg_.wait_for_fix ? 60u : 1u)) *
+                   cfg_.period_us + 10000000u;
+    }
+
+    world::World &world_;
+    const robot_config_t &cfg_;
+    BusLink &bus_;
+    world::Pose start_pose_{};
+    bool fw_seen_ = false, fw_idle_ = false, running_ = false;
+    std::uint64_t start_us_ = 0, sent_us_ = 0;
+    Clock::time_point wall_start_;
+    std::uint8_t counter_ = 0;
+    std::uint32_t done_ = 0, retries_ = 0;
+};
+
+// Waits until `until` reading the bus; hands every frame to `on_frame`.
+template <typename F>
+void receive_until(BusLink &bus, Clock::time_point until, F on_frame)
+{
+    hal_can_frame_t f;
+    for (;;) {
+        while (bus.recv(&f, 0) == 1) on_frame(f);
+        const auto now = Clock::now();
+        if (now >= until || g_stop.load()) return;
+        const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - now).count();
+        struct timespec ts = {static_cast<time_t>(left / 1000000000), static_cast<long>(left % 1000000000)};
+        struct pollfd p = {bus.rx_fd(), POLLIN, 0};
+        (void)ppoll(&p, 1, &ts, nullptr);
+    }
+}
+
+}  // namespace
+
+int cmd_devices(const std::string &program, const std::vector<std::string> &args)
+{
+    DevicesSettings s;
+    Options o("devices", "the simulated robot's devices in real time on the virtual CAN bus");
+    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)", &s.scenario);
+    o.add_double("--speed", "X", "world time runs X times faster than real time (default 1; the firmware's "
+                 "--speed must match)", &s.speed, 0.0, 1000.0, true, false);
+    o.add_uint("--seed", "N", "world and sensor noise seed (default 1)", &s.seed, 0, UINT32_MAX);
+    o.add_double("--duration", "SEC", "stop after SEC seconds of wall time (default: until SIGINT/SIGTERM)",
+                 &s.duration, 0.0, 1e9, true, false);
+    o.add_flag("--supervise", "act as the operator: random start, TOOL_CMD START_EPISODE, one line per episode",
+               &s.supervise);
+    o.add_uint("--episodes", "N", "with --supervise: stop after N episodes", &s.episodes, 1, 100000000);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    if (o.seen("--episodes") && !s.supervise) throw UsageError("--episodes: only with --supervise");
+
+    const ScenarioBundle sb = load_scenario(s.scenario);
+    world::World world(*sb.world, s.seed);
+    Devices devices(world, s.seed);
+    const std::uint64_t dt_us = static_cast<std::uint64_t>(std::llround(sb.world->timing.physics_dt * 1e6));
+
+    pty_t pty{-1};
+    const bool cricket = !sb.world->cricket.beacons.empty();
+    if (cricket) {
+        char path[64];
+        if (pty_open(&pty, path, sizeof path) != FW_OK) throw std::runtime_error("cannot open a pty for the Cricket listener");
+        std::printf("cricket_tty=%s\n", path);
+    }
+    BusLink bus;
+    bus.open();
+    Supervisor sup(world, sb.robot, bus);
+    std::printf("devices: %s, speed %gx, %s; ready\n", sb.name.c_str(), s.speed,
+                s.supervise ? "supervising" : "no supervisor");
+    std::fflush(stdout);
+
+    struct sigaction sa {};
+    sa.sa_handler = on_devices_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    std::vector<hal_can_frame_t> frames;
+    std::string serial;
+    std::uint64_t t_us = 0, late_steps = 0, pty_bytes = 0, pty_dropped = 0;
+    const auto wall0 = Clock::now();
+    const auto wall_of = [&](std::uint64_t t) {
+        return wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(t) * 1000.0 / s.speed));
+    };
+    bool finished = false;
+    auto on_frame = [&](const hal_can_frame_t &f) {
+        devices.receive(f, t_us);
+        if (s.supervise && sup.on_frame(f, t_us) && s.episodes != 0 && sup.episodes_done() >= s.episodes) {
+            finished = true;
+        }
+    };
+    while (!g_stop.load() && !finished) {
+        if (s.duration > 0.0 && std::chrono::duration<double>(Clock::now() - wall0).count() >= s.duration) break;
+        if (s.supervise) sup.poll(t_us);
+        frames.clear();
+        serial.clear();
+        devices.emit(t_us, &frames, &serial);
+        for (const hal_can_frame_t &f : frames) (void)bus.send(f);
+        if (cricket && !serial.empty()) {
+            const int n = pty_write(&pty, serial.data(), serial.size());
+            const std::uint64_t written = n > 0 ? static_cast<std::uint64_t>(n) : 0u;
+            pty_bytes += written;
+            pty_dropped += serial.size() - written;  // nobody reading yet, or a reader too slow
+        }
+        const auto due = wall_of(t_us + dt_us);
+        if (Clock::now() > due) late_steps++;
+        receive_until(bus, due, on_frame);
+        world.step();
+        t_us += dt_us;
+        devices.check_timeouts(t_us);
+    }
+    const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
+    receive_until(bus, Clock::now() + std::chrono::milliseconds(kDrainMs), [&](const hal_can_frame_t &) {});
+    if (cricket) pty_close(&pty);
+    std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
+                "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
+                " pty_dropped=%" PRIu64 "\n",
+                wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
+                devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
+    std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
+                bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());
+    std::fflush(stdout);
+    return kExitOk;
+}
+
+}  // namespace dynaqpc

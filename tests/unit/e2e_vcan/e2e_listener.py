@@ -1,0 +1,112 @@
+# SPDX-License-Identifier: MIT
+"""The tool's end of the end-to-end test: listens on the virtual CAN bus with python-can, decodes
+the firmware's telemetry with docs/dynaqpc.dbc (cantools), and checks that the robot completed
+episodes and that each TLM_EPISODE agrees with the TLM_LEARN frames of its steps.
+
+Prints "ready" once it has joined the bus. Exit 0: --episodes episodes seen and consistent;
+1: an inconsistency or too few episodes before --timeout (each problem on its own line).
+"""
+import argparse
+import sys
+import time
+
+import can
+import cantools
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--dbc", required=True)
+    ap.add_argument("--episodes", type=int, default=2)
+    ap.add_argument("--step-cap", type=int, required=True)
+    ap.add_argument("--timeout", type=float, default=60.0)
+    ap.add_argument("--arena", type=float, nargs=2, default=(8.0, 8.0), help="width height, m")
+    ap.add_argument("--rewards", type=int, nargs=3, default=(-100, 100, -1), help="bump goal step")
+    args = ap.parse_args()
+
+    db = cantools.database.load_file(args.dbc)
+    pose_id = db.get_message_by_name("TLM_POSE").frame_id
+    learn_id = db.get_message_by_name("TLM_LEARN").frame_id
+    episode_id = db.get_message_by_name("TLM_EPISODE").frame_id
+    bump_r, goal_r, step_r = args.rewards
+
+    bus = can.Bus(interface="udp_multicast", channel="239.74.163.2",
+                  hop_limit=0)
+    print("ready", flush=True)
+    learns = {}        # episode (mod 2048) -> list of decoded TLM_LEARN, in arrival order
+    episodes = []
+    poses = 0
+    poses_outside = 0
+    problems = []
+    deadline = time.monotonic() + args.timeout
+    try:
+        while len(episodes) < args.episodes and time.monotonic() < deadline:
+            msg = bus.recv(timeout=0.5)
+            if msg is None or msg.is_extended_id:
+                continue
+            if msg.arbitration_id == pose_id:
+                p = db.decode_message(pose_id, msg.data, decode_choices=False)
+                poses += 1
+                if p["FixState"] == 0 and not (0 <= p["X"] <= args.arena[0] * 1000 and 0 <= p["Y"] <= args.arena[1] * 1000):
+                    poses_outside += 1
+            elif msg.arbitration_id == learn_id:
+                m = db.decode_message(learn_id, msg.data, decode_choices=False)
+                learns.setdefault(int(m["Episode"]), []).append(m)
+            elif msg.arbitration_id == episode_id:
+                e = db.decode_message(episode_id, msg.data, decode_choices=False)
+                episodes.append(e)
+                print("TLM_EPISODE", {k: (int(v) if not isinstance(v, str) else v) for k, v in e.items()}, flush=True)
+    finally:
+        bus.shutdown()
+
+    if len(episodes) < args.episodes:
+        problems.append(f"only {len(episodes)} of {args.episodes} episodes ended within {args.timeout} s")
+    if poses == 0:
+        problems.append("no TLM_POSE frame seen")
+    if poses_outside:
+        problems.append(f"{poses_outside} fresh TLM_POSE frames outside the arena")
+    for e in episodes:
+        n = int(e["Episode"])
+        steps = learns.get(n % 2048, [])
+        name = f"episode {n}"
+        if not steps:
+            problems.append(f"{name}: no TLM_LEARN frames")
+            continue
+        # Step 0 reports the episode's first state (nothing learned yet, reward 0); steps 1..n
+        # are the real steps, each with its reward.
+        step_numbers = [int(s["Step"]) for s in steps]
+        if step_numbers != list(range(0, len(steps))):
+            problems.append(f"{name}: TLM_LEARN steps are not 0..n in order: {step_numbers}")
+        if int(steps[0]["Reward"]) != 0:
+            problems.append(f"{name}: the first state's TLM_LEARN carries reward {int(steps[0]['Reward'])}")
+        steps = [s for s in steps if int(s["Step"]) >= 1]
+        rewards = [int(s["Reward"]) for s in steps]
+        if not steps:
+            problems.append(f"{name}: no real step")
+            continue
+        if int(e["Steps"]) != len(steps):
+            problems.append(f"{name}: TLM_EPISODE says {int(e['Steps'])} steps, TLM_LEARN frames of {len(steps)} real steps seen")
+        if int(e["TotalReward"]) != sum(rewards):
+            problems.append(f"{name}: TLM_EPISODE total reward {int(e['TotalReward'])}, TLM_LEARN rewards sum to {sum(rewards)}")
+        if int(e["Bumps"]) != rewards.count(bump_r):
+            problems.append(f"{name}: TLM_EPISODE says {int(e['Bumps'])} bumps, {rewards.count(bump_r)} steps rewarded {bump_r}")
+        goal = bool(int(e["ReachedGoal"]))
+        if goal != (rewards[-1] == goal_r):
+            problems.append(f"{name}: ReachedGoal {goal} but the last step's reward is {rewards[-1]}")
+        if not goal and int(e["Steps"]) != args.step_cap:
+            problems.append(f"{name}: ended without the goal after {int(e['Steps'])} steps, not the cap {args.step_cap}")
+        if int(e["Steps"]) > args.step_cap:
+            problems.append(f"{name}: {int(e['Steps'])} steps, more than the cap {args.step_cap}")
+        bad = [r for r in rewards if r not in (bump_r, goal_r, step_r)]
+        if bad:
+            problems.append(f"{name}: rewards other than bump/goal/step: {bad[:5]}")
+    for p in problems:
+        print("FAIL:", p, flush=True)
+    if not problems:
+        print(f"ok: {len(episodes)} episodes consistent with {sum(len(v) for v in learns.values())} TLM_LEARN frames, "
+              f"{poses} TLM_POSE frames", flush=True)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
