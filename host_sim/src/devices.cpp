@@ -108,7 +108,7 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
             mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
         }
         for (unsigned half = 0; half < 2; half++) {
-            if (ranges_encode_sonar(&sonar_ctr_, half, mm, &f) == FW_OK) frames->push_back(f);
+            if (ranges_encode_sonar(&sonar_ctr_[half], half, mm, &f) == FW_OK) frames->push_back(f);
         }
     }
     if (sc_.gps.enabled && t % DeviceCycles::kGps == 0) {

@@ -1,0 +1,98 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Bus benchmark: does the virtual CAN bus drop frames at the robot's traffic rates?
+# Runs dynaqpc-fw and dynaqpc-sim devices --supervise (the robot learning, as an operator would run
+# it) at --speed X for --seconds S of wall time, with dynaqpc-monitor as an independent listener,
+# all in a private network namespace (nothing else on the bus; never the host's network), and
+# prints the frames each program sent against the frames received:
+#   devices->firmware: frames_sent=N frames_received=N dropped=N     (exact: the firmware joins
+#                      the bus before the devices' first frame and leaves after their last)
+#   all frames, monitor: frames_sent=N frames_received=N dropped=N counter_gaps=N
+# Exit 0 when nothing was dropped, 1 otherwise or on a failure.
+#   tools/bench_bus.sh [--seconds S] [--speed X] [--scenario NAME] [--bin DIR]
+# The issue's target is a 10-minute run at 10x: tools/bench_bus.sh --seconds 600 --speed 10.
+# Defaults: 60 s at 10x, paper-sim, build/host-release/bin if built, else build/host/bin.
+set -u
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+SECONDS_WALL=60
+SPEED=10
+SCENARIO=paper-sim
+BIN=""
+INSIDE=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --seconds) SECONDS_WALL=$2; shift 2 ;;
+        --speed) SPEED=$2; shift 2 ;;
+        --scenario) SCENARIO=$2; shift 2 ;;
+        --bin) BIN=$2; shift 2 ;;
+        --inside) INSIDE=1; shift ;;
+        *) echo "usage: tools/bench_bus.sh [--seconds S] [--speed X] [--scenario NAME] [--bin DIR]" >&2; exit 2 ;;
+    esac
+done
+if [ -z "$BIN" ]; then
+    BIN=$REPO/build/host/bin
+    [ -x "$REPO/build/host-release/bin/dynaqpc-fw" ] && BIN=$REPO/build/host-release/bin
+fi
+MONITOR=$REPO/.venv/bin/dynaqpc-monitor
+for f in "$BIN/dynaqpc-fw" "$BIN/dynaqpc-sim" "$MONITOR"; do
+    [ -x "$f" ] || { echo "bench_bus: $f missing (build dynaqpc-fw and dynaqpc-sim; tools/dev.sh setup)" >&2; exit 1; }
+done
+
+if [ $INSIDE -eq 0 ]; then
+    if ! unshare -n true 2>/dev/null; then
+        echo "bench_bus: cannot create a private network namespace (unshare -n); not running on the host's bus" >&2
+        exit 1
+    fi
+    exec unshare -n sh "$0" --inside --seconds "$SECONDS_WALL" --speed "$SPEED" --scenario "$SCENARIO" --bin "$BIN"
+fi
+
+ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "bench_bus: cannot route multicast over lo" >&2; exit 1; }
+TMP=$(mktemp -d) || exit 1
+PIDS=""
+trap 'for p in $PIDS; do kill $p 2>/dev/null; done; [ -n "${KEEP:-}" ] && cp "$TMP"/* "$KEEP"/; rm -rf "$TMP"' EXIT
+trap 'exit 1' INT TERM
+LIMIT=$((SECONDS_WALL + 60))
+
+# The monitor joins first and leaves last; python needs a moment to start.
+timeout $LIMIT "$MONITOR" --duration $((SECONDS_WALL + 8)) --refresh 0 > "$TMP/monitor.out" 2> "$TMP/monitor.err" &
+PIDS="$!"
+MON=$!
+sleep 4
+timeout $LIMIT "$BIN/dynaqpc-fw" --scenario "$SCENARIO" --speed "$SPEED" --duration $((SECONDS_WALL + 2)) \
+    > "$TMP/fw.out" 2>&1 &
+FW=$!
+PIDS="$PIDS $FW"
+n=0
+until grep -q ready "$TMP/fw.out" 2>/dev/null; do
+    n=$((n + 1)); [ $n -gt 100 ] && { echo "bench_bus: dynaqpc-fw did not start" >&2; cat "$TMP/fw.out" >&2; exit 1; }
+    sleep 0.1
+done
+timeout $LIMIT "$BIN/dynaqpc-sim" devices --scenario "$SCENARIO" --speed "$SPEED" --supervise \
+    --duration "$SECONDS_WALL" > "$TMP/devices.out" 2>&1 &
+DEV=$!
+PIDS="$PIDS $DEV"
+wait $DEV; DRC=$?
+wait $FW; FRC=$?
+wait $MON; MRC=$?
+PIDS=""
+if [ $DRC -ne 0 ] || [ $FRC -ne 0 ] || [ $MRC -ne 0 ]; then
+    echo "bench_bus: a program failed (devices $DRC, firmware $FRC, monitor $MRC)" >&2
+    cat "$TMP/devices.out" "$TMP/fw.out" "$TMP/monitor.err" >&2
+    exit 1
+fi
+
+field() { sed -n "s/^$2.*[ ]$3=\([0-9]*\).*/\1/p" "$1" | tail -n 1; }
+dev_sent=$(field "$TMP/devices.out" bus: frames_sent)
+dev_recv=$(field "$TMP/devices.out" bus: frames_received)
+fw_sent=$(field "$TMP/fw.out" bus: frames_sent)
+fw_recv=$(field "$TMP/fw.out" bus: frames_received)
+mon_recv=$(sed -n 's/^\([0-9]*\) frames, .*/\1/p' "$TMP/monitor.out" | tail -n 1)
+gaps=$(sed -n 's/.* \([0-9]*\) frames lost (counter gaps).*/\1/p' "$TMP/monitor.out" | tail -n 1)
+episodes=$(grep -c '^episode=' "$TMP/devices.out")
+grep -h '^devices: stopped\|^dynaqpc-fw: stopped\|^episodes=' "$TMP/devices.out" "$TMP/fw.out"
+echo "scenario=$SCENARIO speed=${SPEED}x wall_s=$SECONDS_WALL episodes=$episodes"
+echo "devices->firmware: frames_sent=$dev_sent frames_received=$fw_recv dropped=$((dev_sent - fw_recv))"
+echo "firmware->devices: firmware frames_sent=$fw_sent devices frames_received=$dev_recv (the devices join later and leave earlier)"
+total=$((dev_sent + fw_sent))
+echo "all frames, monitor: frames_sent=$total frames_received=$mon_recv dropped=$((total - mon_recv)) counter_gaps=$gaps"
+[ $((dev_sent - fw_recv)) -eq 0 ] && [ $((total - mon_recv)) -eq 0 ] && [ "$gaps" -eq 0 ]
