@@ -42,8 +42,6 @@ namespace {
 
 using namespace dynaqpc;
 
-constexpr std::uint32_t kFlashSector = 128u * 1024u;  // as the lock-step runner: 2 slots x 2 sectors
-constexpr std::uint32_t kFlashSectors = 4u;
 // After the main loop stops sending, the receiver keeps counting frames for this long, so that
 // frames still in flight from the other programs are not reported as lost.
 constexpr int kDrainMs = 500;
@@ -153,7 +151,8 @@ int run(const std::vector<std::string> &args)
     if (hal_host_time_set_speed(s.speed) != 0) {
         throw UsageError("--speed: not accepted by the host clock");
     }
-    if (hal_host_flash_configure(kFlashSector, kFlashSectors, 4) != 0) {
+    if (hal_host_flash_configure(FW_CFG_HOST_FLASH_SECTOR_SIZE, FW_CFG_HOST_FLASH_SECTOR_COUNT,
+                                     FW_CFG_HOST_FLASH_WRITE_ALIGN) != 0) {
         throw std::runtime_error("host flash: cannot configure 4 x 128 KB");
     }
     if (!s.flash.empty() && hal_host_flash_attach_file(s.flash.c_str()) != 0) {

@@ -29,6 +29,7 @@
 #include "options.h"
 #include "pty.h"
 #include "scenario_bridge.h"
+#include "supervisor.h"
 #include "world/scenario.h"
 #include "world/world.h"
 
@@ -100,7 +101,7 @@ public:
             send_start();
             sent_us_ = t_us;
             retries_++;
-        } else if (t_us - start_us_ > limit_us()) {
+        } else if (t_us - start_us_ > episode_limit_us(cfg_)) {
             throw std::runtime_error("the firmware did not end episode " + std::to_string(done_ + 1) +
                                      " within its step cap");
         }
@@ -123,22 +124,7 @@ private:
 
     void send_start()
     {
-        // The heading goes along for a robot whose only heading sensor is a gyro (lockstep.cpp).
-        double h = std::fmod(start_pose_.heading * 18000.0 / M_PI, 36000.0);
-        if (h < 0) h += 36000.0;
-        tlm_tool_cmd_t cmd{};
-        cmd.command = TLM_CMD_START_EPISODE;
-        cmd.argument = cfg_.pose_source == ROBOT_POSE_CRICKET ? static_cast<std::uint32_t>(h) % 36000u : 0xFFFFFFFFu;
-        hal_can_frame_t f;
-        if (tlm_encode_tool_cmd(&counter_, &cmd, &f) != 0) throw std::runtime_error("cannot encode TOOL_CMD");
-        (void)bus_.send(f);
-    }
-
-    // As the lock-step runner's: the cap's steps of actions and fix waits, and 10 s.
-    std::uint64_t limit_us() const
-    {
-        return static_cast<std::uint64_t>(cfg_.step_cap + 2) * (cfg_.action_periods + (cfg_.wait_for_fix ? 60u : 1u)) *
-                   cfg_.period_us + 10000000u;
+        (void)bus_.send(start_episode_frame(cfg_, start_pose_, &counter_));
     }
 
     world::World &world_;

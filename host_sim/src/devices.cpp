@@ -72,8 +72,6 @@ void Devices::check_timeouts(std::uint64_t t_us)
 void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::string *serial)
 {
     hal_can_frame_t f;
-    bump_since_status_ = bump_since_status_ || world_.bumped();
-    world_.clear_bump();
     if (t % DeviceCycles::kMotorStatus == 0) {
         const world::WheelSpeeds w = world_.wheel_speeds();
         motor_status_t st{};

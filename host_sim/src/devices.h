@@ -41,11 +41,11 @@ public:
     /// A frame on the bus: the motor controller takes MOTOR_CMD and drives the wheels.
     void receive(const hal_can_frame_t &frame, std::uint64_t t_us);
 
-    /// The motor controller's safety stop: no valid MOTOR_CMD for 500 ms stops the wheels.
-    /// Call once per physics step.
+    /// After each physics step: latches a bump for the next MOTOR_STATUS, and applies the motor
+    /// controller's safety stop (no valid MOTOR_CMD for 500 ms stops the wheels).
     void check_timeouts(std::uint64_t t_us);
 
-    /// Restarts the listener's clock after the robot was carried to a new place (a new episode).
+    /// MOTOR_CMD frames obeyed and refused (malformed, bad CRC).
     std::uint32_t motor_cmds() const { return motor_cmds_; }
     std::uint32_t motor_cmds_rejected() const { return motor_rejected_; }
 

@@ -14,13 +14,14 @@
 #include <stdexcept>
 #include <vector>
 
-#include "agent/agent_profiles.h"
+#include "agent_pick.h"
 #include "devices.h"
 #include "drivers/telemetry.h"
 #include "dynaqpc_can.h"
 #include "hal/hal_time.h"
 #include "hal_host/hal_host.h"
 #include "robot/robot_app.h"
+#include "supervisor.h"
 #include "world/scenario.h"
 #include "world/world.h"
 
@@ -28,22 +29,7 @@ namespace dynaqpc {
 
 namespace {
 
-constexpr std::uint32_t kFlashSector = 128u * 1024u;
-constexpr std::uint32_t kFlashSectors = 4u;  // two slots of two sectors: paper-sim's record is 140 KB
 constexpr std::uint32_t kCpuHz = 168000000u;
-
-// The smallest agent profile whose tables suit the state space.
-void pick_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage)
-{
-    const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
-    if (bits <= 13u) {
-        *agent = &agent_paper_lab;
-        *storage = &agent_storage_paper_lab;
-    } else {
-        *agent = &agent_paper_sim;
-        *storage = &agent_storage_paper_sim;
-    }
-}
 
 }  // namespace
 
@@ -76,7 +62,8 @@ struct Lockstep::Impl {
         hal_host_reset();
         hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);
         hal_host_cpu_set_hz(kCpuHz);
-        if (hal_host_flash_configure(kFlashSector, kFlashSectors, 4) != 0) {
+        if (hal_host_flash_configure(FW_CFG_HOST_FLASH_SECTOR_SIZE, FW_CFG_HOST_FLASH_SECTOR_COUNT,
+                                     FW_CFG_HOST_FLASH_WRITE_ALIGN) != 0) {
             throw std::runtime_error("host flash: cannot configure 4 x 128 KB");
         }
         if (!opt.flash_file.empty()) {
@@ -85,7 +72,7 @@ struct Lockstep::Impl {
                 throw std::runtime_error(opt.flash_file + ": not a flash image of this firmware (size) or unreadable");
             }
         }
-        pick_profile(cfg, &agent, &storage);
+        pick_agent_profile(cfg, &agent, &storage);
         robot_app_options_t ao{};
         ao.cfg = &cfg;
         ao.agent = agent;
@@ -187,25 +174,13 @@ struct Lockstep::Impl {
         const std::uint64_t updates0 = agent_updates(agent);
         const world::Pose start = world.sample_start_pose();
         world.reset(start);
-        // The operator puts the robot down and starts the episode; the heading goes along for a
-        // robot whose only heading sensor is a gyro.
-        double h = std::fmod(start.heading * 18000.0 / M_PI, 36000.0);
-        if (h < 0) h += 36000.0;
-        tlm_tool_cmd_t cmd{};
-        cmd.command = TLM_CMD_START_EPISODE;
-        cmd.argument = cfg.pose_source == ROBOT_POSE_CRICKET ? static_cast<std::uint32_t>(h) % 36000u : 0xFFFFFFFFu;
-        hal_can_frame_t f;
-        if (tlm_encode_tool_cmd(&tool_ctr, &cmd, &f) != 0) {
-            throw std::runtime_error("cannot encode TOOL_CMD");
-        }
+        // The operator puts the robot down and starts the episode.
+        const hal_can_frame_t f = start_episode_frame(cfg, start, &tool_ctr);
         if (t_us > hal_time_us()) (void)hal_host_time_set_us(t_us);
         deliver(f);
         episode_over = false;
         episode_start_us = t_us;
-        // A generous bound on an episode's length: the cap's steps of actions and fix waits.
-        const std::uint64_t limit_us =
-            static_cast<std::uint64_t>(cfg.step_cap + 2) * (cfg.action_periods + (cfg.wait_for_fix ? 60u : 1u)) *
-            cfg.period_us + 10000000u;
+        const std::uint64_t limit_us = episode_limit_us(cfg);
         while (!episode_over) {
             tick();
             if (t_us - episode_start_us > limit_us) {

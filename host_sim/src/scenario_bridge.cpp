@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "drivers/cricket.h"
 #include "options.h"
 #include "world/scenario.h"
 
@@ -33,22 +34,12 @@ void check_firmware_limits(const world::Scenario &sc, const std::string &path)
     }
 }
 
-// "1:5e:3c:3c:a:0:0:b1" (the listener's ID field) as a number, first byte most significant.
+// "1:5e:3c:3c:a:0:0:b1" (the listener's ID field) as the Cricket driver reads it.
 std::uint64_t beacon_id(const std::string &text, const std::string &path)
 {
     std::uint64_t id = 0;
-    int bytes = 0;
-    std::size_t i = 0;
-    while (i <= text.size()) {
-        const std::size_t colon = std::min(text.find(':', i), text.size());
-        const std::string part = text.substr(i, colon - i);
-        char *end = nullptr;
-        const unsigned long v = std::strtoul(part.c_str(), &end, 16);
-        if (part.empty() || part.size() > 2 || *end != '\0' || v > 255 || ++bytes > 8) {
-            throw UsageError(path + ": beacon id '" + text + "' is not 1 to 8 hex bytes separated by ':'");
-        }
-        id = (id << 8) | v;
-        i = colon + 1;
+    if (cricket_parse_id(text.data(), text.size(), &id) != 0) {
+        throw UsageError(path + ": beacon id '" + text + "' is not 8 hex bytes separated by ':'");
     }
     return id;
 }

@@ -119,8 +119,7 @@ static int hex_digit(char c)
     return -1;
 }
 
-/// Eight hex bytes separated by ':' ("01:2a:e4:8a:0b:00:00:ac"), one or two digits each.
-static int parse_id(const char *s, size_t n, uint64_t *out)
+int cricket_parse_id(const char *s, size_t n, uint64_t *out)
 {
     uint64_t id = 0u;
     unsigned bytes = 0u;
@@ -199,7 +198,7 @@ int cricket_parse_line(const char *line, size_t len, cricket_line_t *out)
             err = vn > 0u ? FW_OK : FW_ERR_INVAL;
             break;
         case CRICKET_FIELD_ID:
-            err = parse_id(v, vn, &out->id);
+            err = cricket_parse_id(v, vn, &out->id);
             break;
         case CRICKET_FIELD_SP:
             if (vn > FW_CFG_CRICKET_SPACE_MAX) {

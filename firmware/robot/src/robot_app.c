@@ -373,6 +373,26 @@ void robot_app_step(void)
     sched_step(&app_.sched);
 }
 
+void robot_app_run(const robot_config_t *cfg, agent_t *agent, const agent_storage_t *storage)
+{
+    robot_app_options_t opt = {0};
+    opt.cfg = cfg;
+    opt.agent = agent;
+    opt.storage = storage;
+    opt.seed = 1;
+    opt.persist = true;
+    opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
+    if (robot_app_init(&opt) != FW_OK) {
+        for (;;) {
+            hal_cpu_wait_until(UINT64_MAX);
+        }
+    }
+    (void)hal_cpu_watchdog_start(ROBOT_WATCHDOG_MS);
+    for (;;) {
+        robot_app_step();
+    }
+}
+
 sched_t *robot_app_sched(void)
 {
     return &app_.sched;

@@ -1,26 +1,11 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc robot application: the paper-sim image's entry point.
+// dynaqpc robot application: the paper-sim image's entry point (its own object file, so an
+// image links only the agent profile it uses).
 #include "agent/agent_profiles.h"
-#include "hal/hal_cpu.h"
 #include "robot/robot_app.h"
 #include "robot/robot_main.h"
 
 void robot_main_paper_sim(void)
 {
-    robot_app_options_t opt = {0};
-    opt.cfg = &robot_config_paper_sim;
-    opt.agent = &agent_paper_sim;
-    opt.storage = &agent_storage_paper_sim;
-    opt.seed = 1;
-    opt.persist = true;
-    opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
-    if (robot_app_init(&opt) != 0) {
-        for (;;) {  // nothing safe to do: the motor controller stops on its own without commands
-            hal_cpu_wait_until(UINT64_MAX);
-        }
-    }
-    (void)hal_cpu_watchdog_start(ROBOT_WATCHDOG_MS);
-    for (;;) {
-        robot_app_step();
-    }
+    robot_app_run(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
 }

@@ -145,6 +145,10 @@ cricket_fix_state_t cricket_get_fix(cricket_t *ck, uint64_t now_us, cricket_fix_
 /// Parses one line (no line end) by key. Returns FW_OK or FW_ERR_INVAL (malformed).
 int cricket_parse_line(const char *line, size_t len, cricket_line_t *out);
 
+/// A beacon ID as the listener prints it: eight hex bytes separated by ':' ("01:2a:e4:8a:0b:00:00:ac"),
+/// one or two digits each, first byte most significant. Returns FW_OK or FW_ERR_INVAL.
+int cricket_parse_id(const char *s, size_t n, uint64_t *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -62,6 +62,11 @@ int robot_app_init(const robot_app_options_t *opt);
 /// One pass of the main loop (sched_step). The MCU's main: for (;;) robot_app_step();
 void robot_app_step(void);
 
+/// The MCU's firmware: robot_app_init() with persistence on, the watchdog started, then the main
+/// loop for ever. If initialisation fails nothing is safe to do: it sleeps for ever (the motor
+/// controller stops on its own without commands). Never returns.
+void robot_app_run(const robot_config_t *cfg, agent_t *agent, const agent_storage_t *storage);
+
 sched_t *robot_app_sched(void);
 const robot_ctrl_t *robot_app_ctrl(void);
 void robot_app_get_stats(robot_app_stats_t *out);

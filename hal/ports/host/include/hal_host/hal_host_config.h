@@ -29,13 +29,14 @@
 #define FW_CFG_HOST_UART_TX_CAPACITY 256
 #endif
 
-/// Flash image capacity (bytes): the most a geometry may cover. Default: the STM32F4's last two
-/// 128 KB sectors.
+/// Flash image capacity (bytes): the most a geometry may cover. Default: four 128 KB sectors,
+/// two slots of two, because paper-sim's learned record (140 KB) is larger than one sector.
 #ifndef FW_CFG_HOST_FLASH_CAPACITY
 #define FW_CFG_HOST_FLASH_CAPACITY (4u * 128u * 1024u)
 #endif
 
-/// Default flash geometry (until hal_host_flash_configure()).
+/// Default flash geometry (until hal_host_flash_configure()); the simulator and the firmware's
+/// host build configure exactly this.
 #ifndef FW_CFG_HOST_FLASH_SECTOR_SIZE
 #define FW_CFG_HOST_FLASH_SECTOR_SIZE (128u * 1024u)
 #endif
