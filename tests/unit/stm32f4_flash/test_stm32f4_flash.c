@@ -12,7 +12,8 @@
 #define SECTOR 256u
 
 static stm32f4_flash_if_t regs_;
-static uint8_t mem_[2 * SECTOR];
+#define MEM_SECTORS 4u
+static uint8_t mem_[MEM_SECTORS * SECTOR];
 static stm32f4_flash_dev_t dev_;
 static uint32_t erased_snb_;      // SNB of the last erase the fake performed
 static uint32_t erase_psize_;     // PSIZE it saw
@@ -30,8 +31,12 @@ static void flash_hw_(void)
         regs_.CR &= ~FLASH_CR_STRT;
         erased_snb_ = (regs_.CR & FLASH_CR_SNB_MASK) >> FLASH_CR_SNB_SHIFT;
         erase_psize_ = regs_.CR & FLASH_CR_PSIZE_MASK;
-        const uint32_t s = erased_snb_ - dev_.first_sector;
-        if (s < 2u && !error_on_start_) {
+        // RM0090: SNB 0-11 are sectors 0-11, 16-27 are bank 2's sectors 12-23 (12-15 invalid).
+        const uint32_t sector = erased_snb_ >= 16u ? erased_snb_ - 4u : erased_snb_;
+        const uint32_t s = sector - dev_.first_sector;
+        if (erased_snb_ >= 12u && erased_snb_ < 16u) {
+            regs_.SR |= FLASH_SR_PGSERR;  // not a sector: the hardware refuses
+        } else if (s < MEM_SECTORS && !error_on_start_) {
             memset(&mem_[s * SECTOR], 0xFF, SECTOR);
         }
         regs_.SR |= FLASH_SR_BSY | error_on_start_;
@@ -170,6 +175,127 @@ static void program_refuses_misaligned_and_out_of_range(void **state)
     assert_int_equal(stm32f4_flash_program(&dev_, 2 * SECTOR - 4, data, 4), FW_OK);
 }
 
+// RM0090 tables 5 and 6: each bank is 4 x 16 KB, 64 KB, 7 x 128 KB; bank 2 follows bank 1.
+static void sector_map_matches_manual(void **state)
+{
+    (void)state;
+    static const struct {
+        uint32_t sector, addr, size;
+    } rows[] = {
+        {0, 0x08000000u, 16384u},   {3, 0x0800C000u, 16384u},   {4, 0x08010000u, 65536u},
+        {5, 0x08020000u, 131072u},  {10, 0x080C0000u, 131072u}, {11, 0x080E0000u, 131072u},
+        {12, 0x08100000u, 16384u},  {16, 0x08110000u, 65536u},  {17, 0x08120000u, 131072u},
+        {20, 0x08180000u, 131072u}, {23, 0x081E0000u, 131072u},
+    };
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        uint32_t addr = 0, size = 0;
+        assert_int_equal(stm32f4_flash_sector(rows[i].sector, &addr, &size), FW_OK);
+        assert_int_equal(addr, rows[i].addr);
+        assert_int_equal(size, rows[i].size);
+    }
+    // Back to back, 2 MB in all.
+    uint32_t end = 0x08000000u;
+    for (uint32_t sct = 0; sct < STM32F4_FLASH_SECTORS_MAX; sct++) {
+        uint32_t addr = 0, size = 0;
+        assert_int_equal(stm32f4_flash_sector(sct, &addr, &size), FW_OK);
+        assert_int_equal(addr, end);
+        end = addr + size;
+    }
+    assert_int_equal(end, 0x08200000u);
+    uint32_t addr = 0, size = 0;
+    assert_int_equal(stm32f4_flash_sector(24, &addr, &size), FW_ERR_INVAL);
+}
+
+static void bank2_sectors_are_coded_from_16(void **state)
+{
+    (void)state;
+    assert_int_equal(stm32f4_flash_snb(0), 0);
+    assert_int_equal(stm32f4_flash_snb(11), 11);
+    assert_int_equal(stm32f4_flash_snb(12), 16);
+    assert_int_equal(stm32f4_flash_snb(20), 24);
+    assert_int_equal(stm32f4_flash_snb(23), 27);
+    assert_int_equal(stm32f4_flash_snb(23) << FLASH_CR_SNB_SHIFT & ~FLASH_CR_SNB_MASK, 0);  // fits
+}
+
+// The two images' regions (ld/stm32f405.ld, ld/stm32f427.ld) against parts of several sizes.
+static void region_checked_against_map_and_part_size(void **state)
+{
+    (void)state;
+    const uint32_t k128 = 128u * 1024u;
+    assert_int_equal(stm32f4_flash_region_check(0x080C0000u, 10, 2, k128, 1024), FW_OK);
+    assert_int_equal(stm32f4_flash_region_check(0x080C0000u, 10, 2, k128, 2048), FW_OK);
+    assert_int_equal(stm32f4_flash_region_check(0x080C0000u, 10, 2, k128, 512), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_region_check(0x08180000u, 20, 4, k128, 2048), FW_OK);
+    assert_int_equal(stm32f4_flash_region_check(0x08180000u, 20, 4, k128, 1024), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_region_check(0x08080000u, 8, 4, k128, 1024), FW_OK);
+    // Wrong start, unequal sectors (64 KB sector 4 and 128 KB sector 5), too few, off the map.
+    assert_int_equal(stm32f4_flash_region_check(0x080A0000u, 10, 2, k128, 1024), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_region_check(0x08010000u, 4, 2, 65536u, 1024), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_region_check(0x080E0000u, 11, 1, k128, 1024), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_region_check(0x081E0000u, 23, 2, k128, 4096), FW_ERR_NOSYS);
+    // Across the bank boundary: sector 12 is 16 KB.
+    assert_int_equal(stm32f4_flash_region_check(0x080E0000u, 11, 2, k128, 2048), FW_ERR_NOSYS);
+}
+
+static void geometry_and_read_of_the_region(void **state)
+{
+    (void)state;
+    hal_flash_geometry_t g;
+    assert_int_equal(stm32f4_flash_geometry(&dev_, &g), FW_OK);
+    assert_int_equal(g.sector_size, SECTOR);
+    assert_int_equal(g.sector_count, 2);
+    assert_int_equal(g.write_align, 4);
+    uint8_t buf[8];
+    mem_[2 * SECTOR - 1] = 0x77;
+    assert_int_equal(stm32f4_flash_read(&dev_, 2 * SECTOR - 8, buf, 8), FW_OK);
+    assert_int_equal(buf[7], 0x77);
+    assert_int_equal(stm32f4_flash_read(&dev_, 2 * SECTOR - 7, buf, 8), FW_ERR_INVAL);
+    assert_int_equal(stm32f4_flash_read(&dev_, 0xFFFFFFF0u, buf, 32), FW_ERR_INVAL);  // wraps
+    assert_int_equal(stm32f4_flash_read(&dev_, 2 * SECTOR, buf, 0), FW_OK);
+    // No region (the part lacks the sectors): geometry says so, nothing else touches the flash.
+    dev_.sector_count = 0;
+    assert_int_equal(stm32f4_flash_geometry(&dev_, &g), FW_ERR_NOSYS);
+    assert_int_equal(stm32f4_flash_read(&dev_, 0, buf, 4), FW_ERR_INVAL);
+    assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_ERR_INVAL);
+    assert_int_equal(stm32f4_flash_program(&dev_, 0, buf, 4), FW_ERR_INVAL);
+    assert_true(regs_.CR & FLASH_CR_LOCK);
+    assert_int_equal(regs_.KEYR, 0);  // never unlocked
+}
+
+// The paper-sim layout: bank-2 sectors 20-23, erased with SNB 24-27.
+static void bank2_region_erases_the_right_sectors(void **state)
+{
+    (void)state;
+    dev_.first_sector = 20;
+    dev_.sector_count = 4;
+    for (uint32_t s = 0; s < 4u; s++) {
+        memset(mem_, 0x5A, sizeof mem_);
+        assert_int_equal(stm32f4_flash_erase(&dev_, s), FW_OK);
+        assert_int_equal(erased_snb_, 24u + s);
+        for (uint32_t i = 0; i < MEM_SECTORS * SECTOR; i++) {
+            assert_int_equal(mem_[i], i / SECTOR == s ? 0xFF : 0x5A);
+        }
+    }
+    assert_int_equal(stm32f4_flash_erase(&dev_, 4), FW_ERR_INVAL);
+    const uint8_t data[4] = {9, 8, 7, 6};
+    assert_int_equal(stm32f4_flash_program(&dev_, 3 * SECTOR + 12, data, 4), FW_OK);
+    assert_memory_equal(&mem_[3 * SECTOR + 12], data, 4);
+    assert_int_equal(stm32f4_flash_program(&dev_, 4 * SECTOR, data, 4), FW_ERR_INVAL);
+}
+
+// SNB 27 (sector 23) sets bit 7, the fifth SNB bit: the erase must clear the whole field
+// afterwards (bit 7 is reserved on the F405/407) and must not have been coded as 23 (sector 19).
+static void snb_cleared_after_bank2_erase(void **state)
+{
+    (void)state;
+    dev_.first_sector = 20;
+    dev_.sector_count = 4;
+    assert_int_equal(stm32f4_flash_erase(&dev_, 3), FW_OK);
+    assert_int_equal(erased_snb_, 27);
+    assert_int_equal(regs_.CR & FLASH_CR_SNB_MASK, 0);
+    assert_int_equal(regs_.CR & (1u << 7), 0);
+}
+
 static void program_error_flag_is_io_error(void **state)
 {
     (void)state;
@@ -193,6 +319,13 @@ int main(void)
         cmocka_unit_test_setup_teardown(program_refuses_misaligned_and_out_of_range, setup_,
                                         teardown_),
         cmocka_unit_test_setup_teardown(program_error_flag_is_io_error, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(sector_map_matches_manual, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(bank2_sectors_are_coded_from_16, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(region_checked_against_map_and_part_size, setup_,
+                                        teardown_),
+        cmocka_unit_test_setup_teardown(geometry_and_read_of_the_region, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(bank2_region_erases_the_right_sectors, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(snb_cleared_after_bank2_erase, setup_, teardown_),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -143,18 +143,17 @@ hal_reset_cause_t hal_cpu_reset_cause(void)
 }
 
 // ---- CAN --------------------------------------------------------------------------------------------
-static hal_can_rx_fn can_rx_;
-static void *can_ctx_;
-static hal_can_stats_t can_stats_;
+// The interrupt handlers' work is in stm32f4_bxcan.c (host-tested with a fake FIFO).
+static stm32f4_can_port_t can_ = {CAN1, NULL, NULL, {0}};
 
 int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, hal_can_rx_fn on_rx,
                  void *ctx)
 {
     RCC->APB1ENR |= RCC_APB1ENR_CAN1EN;
     (void)RCC->APB1ENR;
-    can_rx_ = on_rx;
-    can_ctx_ = ctx;
-    memset(&can_stats_, 0, sizeof can_stats_);
+    can_.on_rx = on_rx;
+    can_.ctx = ctx;
+    memset(&can_.stats, 0, sizeof can_.stats);
     const int rc = stm32f4_can_setup(CAN1, STM32F4_APB1_HZ, bitrate, accept_ids, n_ids);
     if (rc == FW_OK) {
         nvic_enable_(STM32F4_IRQ_CAN1_RX0, STM32F4_CFG_IRQ_PRIO_CAN);
@@ -166,57 +165,33 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
 int hal_can_send(const hal_can_frame_t *frame)
 {
     const hal_irq_state_t s = hal_irq_save();  // thread and interrupt senders share the mailboxes
-    const int rc = stm32f4_can_write(CAN1, frame);
-    if (rc >= 0) {
-        can_stats_.tx_frames++;
-    } else if (rc == FW_ERR_FULL) {
-        can_stats_.tx_dropped++;
-    }
+    const int rc = stm32f4_can_send(&can_, frame);
     hal_irq_restore(s);
-    return rc >= 0 ? FW_OK : rc;
+    return rc;
 }
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
     const hal_irq_state_t s = hal_irq_save();
-    *out = can_stats_;
+    *out = can_.stats;
     hal_irq_restore(s);
 }
 
 void CAN1_RX0_IRQHandler(void)
 {
-    hal_can_frame_t frame;
-    bool overrun = false;
-    for (uint32_t i = 0; i < 3u; i++) {  // the FIFO holds at most 3 frames
-        const bool got = stm32f4_can_read(CAN1, &frame, &overrun);
-        if (overrun) {
-            can_stats_.rx_overruns++;
-        }
-        if (!got) {
-            break;
-        }
-        can_stats_.rx_frames++;
-        if (can_rx_ != NULL) {
-            can_rx_(&frame, can_ctx_);
-        }
-    }
+    stm32f4_can_rx_irq(&can_);
 }
 
 void CAN1_SCE_IRQHandler(void)
 {
-    // Error warning, passive and bus-off transitions (ABOM recovers from bus-off by itself).
-    if (CAN1->ESR & (CAN_ESR_EWGF | CAN_ESR_EPVF | CAN_ESR_BOFF)) {
-        can_stats_.bus_errors++;
-    }
-    CAN1->MSR = CAN_MSR_ERRI;  // write 1 to clear
+    stm32f4_can_sce_irq(&can_);
 }
 
 // ---- UART ------------------------------------------------------------------------------------------
+// The interrupt handler's work is in stm32f4_usart.c (host-tested with a fake USART).
 static uint8_t uart_rx_buf_[STM32F4_CFG_UART_RX_BYTES];
 static uint8_t uart_tx_buf_[STM32F4_CFG_UART_TX_BYTES];
 static stm32f4_usart_port_t uart_;
-static hal_uart_rx_fn uart_rx_;
-static void *uart_ctx_;
 
 int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
 {
@@ -225,8 +200,8 @@ int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
     uart_.regs = USART2;
     stm32f4_ring_init(&uart_.rx, uart_rx_buf_, sizeof uart_rx_buf_);
     stm32f4_ring_init(&uart_.tx, uart_tx_buf_, sizeof uart_tx_buf_);
-    uart_rx_ = on_rx;
-    uart_ctx_ = ctx;
+    uart_.on_rx = on_rx;
+    uart_.ctx = ctx;
     const int rc = stm32f4_usart_setup(&uart_, STM32F4_APB1_HZ, baud);
     if (rc == FW_OK) {
         nvic_enable_(STM32F4_IRQ_USART2, STM32F4_CFG_IRQ_PRIO_UART);
@@ -236,18 +211,12 @@ int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
 
 void USART2_IRQHandler(void)
 {
-    if (stm32f4_usart_irq(&uart_) && uart_rx_ != NULL) {
-        uart_rx_(uart_ctx_);
-    }
+    (void)stm32f4_usart_irq(&uart_);
 }
 
 size_t hal_uart_read(uint8_t *buf, size_t cap)
 {
-    size_t n = 0;
-    while (n < cap && stm32f4_ring_get(&uart_.rx, &buf[n])) {
-        n++;
-    }
-    return n;
+    return stm32f4_usart_read(&uart_, buf, cap);
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
@@ -266,46 +235,61 @@ void hal_uart_get_stats(hal_uart_stats_t *out)
 }
 
 // ---- Flash -------------------------------------------------------------------------------------------
+// The region is the image's linker script's (ld/stm32f405.ld: sectors 10-11; ld/stm32f427.ld:
+// bank-2 sectors 20-23), given as the values of these symbols. It is checked once against the
+// sector map and the part's F_SIZE: on a part without those sectors there is no region
+// (hal_flash_get_geometry says FW_ERR_NOSYS) rather than a bus fault.
+extern const uint8_t _dynaqpc_store_start[];
+extern const uint8_t _dynaqpc_store_first_sector[];
+extern const uint8_t _dynaqpc_store_sectors[];
+extern const uint8_t _dynaqpc_store_sector_bytes[];
+#define LD_VALUE(sym) ((uint32_t)(uintptr_t)(sym))
+#define F_SIZE_KB (*(const volatile uint16_t *)STM32F4_FLASH_SIZE_REG)
+
 static void flash_wait_kick_(void)
 {
     hal_cpu_watchdog_kick();
 }
 
-static const stm32f4_flash_dev_t flash_dev_ = {
-    FLASH_IF,
-    (volatile uint8_t *)STM32F4_HAL_FLASH_BASE,
-    STM32F4_HAL_FLASH_FIRST_SECTOR,
-    STM32F4_HAL_FLASH_SECTORS,
-    STM32F4_HAL_FLASH_SECTOR_SIZE,
-    flash_wait_kick_,
-};
+static const stm32f4_flash_dev_t *flash_dev_(void)
+{
+    static stm32f4_flash_dev_t dev;
+    static bool checked;
+    if (!checked) {
+        const uint32_t addr = LD_VALUE(_dynaqpc_store_start);
+        const uint32_t first = LD_VALUE(_dynaqpc_store_first_sector);
+        const uint32_t count = LD_VALUE(_dynaqpc_store_sectors);
+        const uint32_t size = LD_VALUE(_dynaqpc_store_sector_bytes);
+        dev.regs = FLASH_IF;
+        dev.mem = (volatile uint8_t *)(uintptr_t)addr;
+        dev.first_sector = first;
+        dev.sector_size = size;
+        dev.sector_count =
+            stm32f4_flash_region_check(addr, first, count, size, F_SIZE_KB) == FW_OK ? count : 0u;
+        dev.on_wait = flash_wait_kick_;
+        checked = true;
+    }
+    return &dev;
+}
 
 int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
-    out->sector_size = STM32F4_HAL_FLASH_SECTOR_SIZE;
-    out->sector_count = STM32F4_HAL_FLASH_SECTORS;
-    out->write_align = 4u;
-    return FW_OK;
+    return stm32f4_flash_geometry(flash_dev_(), out);
 }
 
 int hal_flash_read(uint32_t offset, void *buf, size_t len)
 {
-    const uint32_t region = STM32F4_HAL_FLASH_SECTORS * STM32F4_HAL_FLASH_SECTOR_SIZE;
-    if (offset > region || len > region - offset) {
-        return FW_ERR_INVAL;
-    }
-    memcpy(buf, (const void *)(uintptr_t)(STM32F4_HAL_FLASH_BASE + offset), len);
-    return FW_OK;
+    return stm32f4_flash_read(flash_dev_(), offset, buf, len);
 }
 
 int hal_flash_erase(uint32_t sector)
 {
-    return stm32f4_flash_erase(&flash_dev_, sector);
+    return stm32f4_flash_erase(flash_dev_(), sector);
 }
 
 int hal_flash_write(uint32_t offset, const void *data, size_t len)
 {
-    return stm32f4_flash_program(&flash_dev_, offset, data, len);
+    return stm32f4_flash_program(flash_dev_(), offset, data, len);
 }
 
 // Real time passes by itself on the MCU: the scheduler's cost accounting is for the host's

@@ -6,8 +6,30 @@
 // The application provides robot/robot_main.h with
 //     void robot_main(const void *scenario_config);
 // (NULL: the scenario built into the image, chosen by the profile's FW_CFG knobs).
+#include "agent/agent_profiles.h"
+#include "robot/learned_store.h"
 #include "robot/robot_main.h"
 #include "stm32f4/stm32f4_board.h"
+
+// The largest record this image's agent can save: the header plus, at most, the whole storage of
+// its profile (the learned tables are part of it). ld/store.ld fails the link when that does not
+// fit one slot of the image's hal_flash region, so an image never boots unable to keep what it
+// learned.
+#if defined(DYNAQPC_PROFILE_PAPER_SIM)
+typedef agent_memory_paper_sim_t image_agent_memory_t;
+#else
+typedef agent_memory_paper_lab_t image_agent_memory_t;
+#endif
+#define LEARNED_RECORD_BOUND (sizeof(learned_header_t) + sizeof(image_agent_memory_t))
+
+// Publishes the bound as the absolute symbol dynaqpc_learned_record_bound for the linker script
+// (C has no other way to hand a sizeof to the linker). The function itself is never called and
+// --gc-sections drops it; the symbol stays.
+__attribute__((used)) static void publish_learned_record_bound_(void)
+{
+    __asm__(".global dynaqpc_learned_record_bound\n\t"
+            ".equ dynaqpc_learned_record_bound, %c0" ::"i"(LEARNED_RECORD_BOUND));
+}
 
 int main(void)
 {

@@ -166,10 +166,13 @@ bool stm32f4_can_read(stm32f4_can_t *can, hal_can_frame_t *frame, bool *overrun)
 {
     const uint32_t rf0r = can->RF0R;
     *overrun = (rf0r & CAN_RF0R_FOVR0) != 0u;
-    if (*overrun) {
-        can->RF0R = CAN_RF0R_FOVR0;  // write 1 to clear; the other bits ignore a write of 0
-    }
-    if ((rf0r & CAN_RF0R_FMP0_MASK) == 0u) {
+    // Write-1-to-clear flag; RFOM0 ignores a 0. One write does both the clear and the release.
+    const uint32_t clear = *overrun ? CAN_RF0R_FOVR0 : 0u;
+    if ((rf0r & CAN_RF0R_RFOM0) != 0u || (rf0r & CAN_RF0R_FMP0_MASK) == 0u) {
+        // Empty, or the last release not done yet (FMP0 and the mailbox are stale until it is).
+        if (clear != 0u) {
+            can->RF0R = clear;
+        }
         return false;
     }
     const stm32f4_can_rx_fifo_t *mb = &can->rx[0];
@@ -195,6 +198,56 @@ bool stm32f4_can_read(stm32f4_can_t *can, hal_can_frame_t *frame, bool *overrun)
         frame->data[i] = (uint8_t)(lo >> (8u * i));
         frame->data[4u + i] = (uint8_t)(hi >> (8u * i));
     }
-    can->RF0R = CAN_RF0R_RFOM0;  // release the slot: the next frame moves to the output
+    can->RF0R = CAN_RF0R_RFOM0 | clear;  // release the slot: the next frame moves to the output
     return true;
+}
+
+// ---- The port: interrupt handlers' work and counters ------------------------------------------
+
+#define CAN_FIFO_DEPTH 3u
+
+void stm32f4_can_rx_irq(stm32f4_can_port_t *p)
+{
+    for (uint32_t i = 0; i < CAN_FIFO_DEPTH; i++) {
+        hal_can_frame_t frame;
+        bool overrun = false;
+        const bool got = stm32f4_can_read(p->regs, &frame, &overrun);
+        if (overrun) {
+            p->stats.rx_overruns++;  // at least one frame lost while the FIFO was full
+        }
+        if (!got) {
+            return;
+        }
+        p->stats.rx_frames++;
+        if (p->on_rx != NULL) {
+            p->on_rx(&frame, p->ctx);
+        }
+        // The next frame is in the output mailbox only once the release is done.
+        if (stm32f4_wait_bits(&p->regs->RF0R, CAN_RF0R_RFOM0, 0u, STM32F4_CFG_CAN_RELEASE_POLLS) !=
+            FW_OK) {
+            return;  // FMP0 is not 0: the interrupt comes back for the rest
+        }
+    }
+}
+
+void stm32f4_can_sce_irq(stm32f4_can_port_t *p)
+{
+    // Error warning, passive and bus-off transitions (ABOM recovers from bus-off by itself).
+    if (p->regs->ESR & (CAN_ESR_EWGF | CAN_ESR_EPVF | CAN_ESR_BOFF)) {
+        p->stats.bus_errors++;
+    }
+    p->regs->MSR = CAN_MSR_ERRI;  // write 1 to clear; the 0s leave the other flags as they are
+}
+
+int stm32f4_can_send(stm32f4_can_port_t *p, const hal_can_frame_t *frame)
+{
+    const int rc = stm32f4_can_write(p->regs, frame);
+    if (rc >= 0) {
+        p->stats.tx_frames++;
+        return FW_OK;
+    }
+    if (rc == FW_ERR_FULL) {
+        p->stats.tx_dropped++;
+    }
+    return rc;
 }

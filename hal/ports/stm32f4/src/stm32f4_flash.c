@@ -6,7 +6,87 @@
 // it, wait until not busy, check the error flags, clear the operation bits, lock again. The
 // region is read back afterwards: a write into bytes that were not erased fails its verify with
 // FW_ERR_IO. The data cache is reset after a change, or it could keep serving the old bytes.
+//
+// Sector numbers are RM0090's (tables 5 and 6); the region a port uses is checked against that
+// map and the part's flash size, so an image built for a larger part reports "no region"
+// instead of faulting on memory that is not there.
+#include <string.h>
+
 #include "stm32f4/stm32f4_drivers.h"
+
+#define KB 1024u
+#define BANK_BYTES (1024u * KB)
+#define BANK_SECTORS 12u
+
+int stm32f4_flash_sector(uint32_t sector, uint32_t *addr, uint32_t *size)
+{
+    if (sector >= STM32F4_FLASH_SECTORS_MAX) {
+        return FW_ERR_INVAL;
+    }
+    // Within a bank: sectors 0-3 of 16 KB, 4 of 64 KB (at 64 KB), 5-11 of 128 KB (from 128 KB).
+    const uint32_t bank = sector / BANK_SECTORS;
+    const uint32_t s = sector % BANK_SECTORS;
+    uint32_t offset;
+    if (s < 4u) {
+        *size = 16u * KB;
+        offset = s * 16u * KB;
+    } else if (s == 4u) {
+        *size = 64u * KB;
+        offset = 64u * KB;
+    } else {
+        *size = 128u * KB;
+        offset = (s - 4u) * 128u * KB;
+    }
+    *addr = STM32F4_FLASH_MEM_BASE + bank * BANK_BYTES + offset;
+    return FW_OK;
+}
+
+uint32_t stm32f4_flash_snb(uint32_t sector)
+{
+    return sector < BANK_SECTORS ? sector : sector + 4u;
+}
+
+int stm32f4_flash_region_check(uint32_t addr, uint32_t first_sector, uint32_t count,
+                               uint32_t sector_size, uint32_t flash_kb)
+{
+    if (count < 2u || first_sector >= STM32F4_FLASH_SECTORS_MAX ||
+        count > STM32F4_FLASH_SECTORS_MAX - first_sector) {
+        return FW_ERR_NOSYS;
+    }
+    const uint64_t part_end = (uint64_t)STM32F4_FLASH_MEM_BASE + (uint64_t)flash_kb * KB;
+    uint32_t expect = addr;
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t a, size;
+        (void)stm32f4_flash_sector(first_sector + i, &a, &size);
+        if (a != expect || size != sector_size || (uint64_t)a + size > part_end) {
+            return FW_ERR_NOSYS;
+        }
+        expect = a + size;
+    }
+    return FW_OK;
+}
+
+int stm32f4_flash_geometry(const stm32f4_flash_dev_t *d, hal_flash_geometry_t *out)
+{
+    if (d->sector_count == 0u) {
+        return FW_ERR_NOSYS;
+    }
+    out->sector_size = d->sector_size;
+    out->sector_count = d->sector_count;
+    out->write_align = 4u;
+    return FW_OK;
+}
+
+int stm32f4_flash_read(const stm32f4_flash_dev_t *d, uint32_t offset, void *buf, size_t len)
+{
+    const uint32_t region = d->sector_count * d->sector_size;
+    if (offset > region || len > region - offset || (len > 0u && buf == NULL)) {
+        return FW_ERR_INVAL;
+    }
+    // The flash is memory-mapped; the data cache was reset after every change (end_()).
+    memcpy(buf, (const void *)(uintptr_t)(d->mem + offset), len);
+    return FW_OK;
+}
 
 static int wait_idle_(const stm32f4_flash_dev_t *d, uint32_t max_polls)
 {
@@ -87,7 +167,8 @@ int stm32f4_flash_erase(const stm32f4_flash_dev_t *d, uint32_t sector)
     }
     stm32f4_flash_if_t *f = d->regs;
     f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SNB_MASK | FLASH_CR_PG)) |
-            FLASH_CR_PSIZE_X32 | FLASH_CR_SER | ((d->first_sector + sector) << FLASH_CR_SNB_SHIFT);
+            FLASH_CR_PSIZE_X32 | FLASH_CR_SER |
+            (stm32f4_flash_snb(d->first_sector + sector) << FLASH_CR_SNB_SHIFT);
     f->CR |= FLASH_CR_STRT;
     rc = end_(d, STM32F4_CFG_ERASE_WAIT_POLLS);
     if (rc != FW_OK) {

@@ -96,7 +96,7 @@ bool stm32f4_usart_irq(stm32f4_usart_port_t *p)
                 p->stats.rx_bytes++;
                 stored = true;
             } else {
-                p->stats.rx_overruns++;
+                p->stats.rx_overruns++;  // the thread has not drained the ring: counted, dropped
             }
         }
     }
@@ -108,11 +108,26 @@ bool stm32f4_usart_irq(stm32f4_usart_port_t *p)
             u->CR1 &= ~USART_CR1_TXEIE;
         }
     }
+    if (stored && p->on_rx != NULL) {
+        p->on_rx(p->ctx);
+    }
     return stored;
+}
+
+size_t stm32f4_usart_read(stm32f4_usart_port_t *p, uint8_t *buf, size_t cap)
+{
+    size_t n = 0;
+    while (n < cap && stm32f4_ring_get(&p->rx, &buf[n])) {
+        n++;
+    }
+    return n;
 }
 
 size_t stm32f4_usart_queue(stm32f4_usart_port_t *p, const uint8_t *data, size_t len)
 {
+    if (p->regs == NULL || p->tx.buf == NULL) {
+        return 0u;  // not set up: nothing would ever send the bytes
+    }
     size_t n = 0;
     while (n < len && stm32f4_ring_put(&p->tx, data[n])) {
         n++;

@@ -4,7 +4,9 @@
 // Pins (RM0090 / datasheet alternate-function table):
 //   CAN1  RX PB8, TX PB9 (AF9)  -> the CAN transceiver's RXD / TXD
 //   USART2 TX PA2, RX PA3 (AF7) -> the Cricket listener's RX / TX (115200 8N1)
-// The internal flash region of hal_flash: sectors 10 and 11 (0x080C0000, 2 x 128 KB).
+// The internal flash region of hal_flash is the image's linker script's (_dynaqpc_store_*):
+//   STM32F405/407 (ld/stm32f405.ld, paper-lab):  sectors 10-11, 0x080C0000, 2 x 128 KB
+//   STM32F427/429 2 MB (ld/stm32f427.ld, paper-sim): bank-2 sectors 20-23, 0x08180000, 4 x 128 KB
 #ifndef STM32F4_BOARD_H
 #define STM32F4_BOARD_H
 
@@ -13,11 +15,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-#define STM32F4_HAL_FLASH_BASE 0x080C0000u
-#define STM32F4_HAL_FLASH_FIRST_SECTOR 10u
-#define STM32F4_HAL_FLASH_SECTORS 2u
-#define STM32F4_HAL_FLASH_SECTOR_SIZE (128u * 1024u)
 
 /// Clocks (168 MHz from the 8 MHz crystal), the GPIO alternate functions of CAN1 and USART2, and
 /// the reset cause latched (RCC_CSR flags read and cleared). Call first in main(), before any

@@ -35,6 +35,13 @@
 #ifndef STM32F4_CFG_ERASE_WAIT_POLLS
 #define STM32F4_CFG_ERASE_WAIT_POLLS 400000000u
 #endif
+/// Polls of RF0R.RFOM0 after releasing a CAN receive FIFO slot before the interrupt handler
+/// stops draining (the release takes a few peripheral clocks; until it is done FMP0 and the
+/// output mailbox still show the frame just read). The interrupt stays pending while frames wait,
+/// so stopping early loses nothing.
+#ifndef STM32F4_CFG_CAN_RELEASE_POLLS
+#define STM32F4_CFG_CAN_RELEASE_POLLS 64u
+#endif
 /// Interrupt priorities (0 highest, 15 lowest; 4 bits on the STM32F4).
 #ifndef STM32F4_CFG_IRQ_PRIO_CAN
 #define STM32F4_CFG_IRQ_PRIO_CAN 5u
@@ -50,6 +57,7 @@ FW_STATIC_ASSERT(FW_IS_POW2(STM32F4_CFG_UART_RX_BYTES) && FW_IS_POW2(STM32F4_CFG
                  stm32f4_uart_rings_pow2);
 FW_STATIC_ASSERT(STM32F4_CFG_CAN1_FILTER_BANKS >= 1u && STM32F4_CFG_CAN1_FILTER_BANKS <= 27u,
                  stm32f4_can1_filter_banks);
+FW_STATIC_ASSERT(STM32F4_CFG_CAN_RELEASE_POLLS >= 1u, stm32f4_can_release_polls);
 FW_STATIC_ASSERT(STM32F4_CFG_HSE_HZ == 8000000u, stm32f4_clock_tree_assumes_8mhz_hse);
 
 #endif // STM32F4_CONFIG_H

@@ -17,6 +17,7 @@
 
 #include "hal/hal_can.h"
 #include "hal/hal_cpu.h"
+#include "hal/hal_flash.h"
 #include "hal/hal_uart.h"
 #include "stm32f4/stm32f4_config.h"
 #include "stm32f4/stm32f4_regs.h"
@@ -96,15 +97,40 @@ int stm32f4_can_setup(stm32f4_can_t *can, uint32_t pclk_hz, uint32_t bitrate,
 /// number (0..2), FW_ERR_INVAL (bad id, dlc or flags), or FW_ERR_FULL (all three busy).
 int stm32f4_can_write(stm32f4_can_t *can, const hal_can_frame_t *frame);
 
-/// Takes the oldest frame of FIFO 0 and releases its slot. Returns true if there was one.
-/// Sets *overrun when the FIFO overflowed since the last call (and clears the flag).
+/// Takes the oldest frame of FIFO 0 and releases its slot. Returns true if there was one; false
+/// when the FIFO is empty or the previous release is still in progress (RFOM0 still set: the
+/// output mailbox would show the frame already taken). Sets *overrun when the FIFO overflowed
+/// since the last call, and clears the flag.
 bool stm32f4_can_read(stm32f4_can_t *can, hal_can_frame_t *frame, bool *overrun);
+
+/// A CAN controller with the receive handler and the counters of hal_can.h.
+typedef struct stm32f4_can_port {
+    stm32f4_can_t *regs;
+    hal_can_rx_fn on_rx;  ///< called per frame in interrupt context; may be NULL
+    void *ctx;
+    hal_can_stats_t stats;
+} stm32f4_can_port_t;
+
+/// The FIFO 0 interrupt's work (message pending, FIFO overrun): reads out every frame waiting
+/// (at most 3), hands each to on_rx and releases its slot, counts frames and overruns. Stops
+/// early if a release does not complete within STM32F4_CFG_CAN_RELEASE_POLLS polls (the
+/// interrupt stays pending while FMP0 is not 0, so the rest comes on the next entry).
+void stm32f4_can_rx_irq(stm32f4_can_port_t *p);
+
+/// The status-change/error interrupt's work: counts a bus error when the error warning, error
+/// passive or bus-off flag is set, and clears MSR.ERRI.
+void stm32f4_can_sce_irq(stm32f4_can_port_t *p);
+
+/// hal_can_send's work: stm32f4_can_write, counting tx_frames or tx_dropped (FW_ERR_FULL).
+/// Returns FW_OK, FW_ERR_INVAL or FW_ERR_FULL. The caller masks interrupts (thread and
+/// interrupt senders share the mailboxes and the counters).
+int stm32f4_can_send(stm32f4_can_port_t *p, const hal_can_frame_t *frame);
 
 // ---- USART (stm32f4_usart.c) ----------------------------------------------------------------------
 
 /// A single-producer single-consumer byte ring (one side in an interrupt, one in thread code).
 typedef struct stm32f4_ring {
-    uint8_t *buf;
+    volatile uint8_t *buf;  ///< volatile: the byte is stored before the index that publishes it
     uint32_t size;  ///< a power of two
     volatile uint32_t head;  ///< written by the producer only
     volatile uint32_t tail;  ///< written by the consumer only
@@ -119,29 +145,49 @@ uint32_t stm32f4_ring_count(const stm32f4_ring_t *r);
 /// FW_ERR_INVAL when the achieved rate is more than 2 % off (or out of the register's range).
 int stm32f4_usart_brr(uint32_t pclk_hz, uint32_t baud, uint32_t *brr);
 
-/// A USART with its receive and transmit rings and counters.
+/// A USART with its receive and transmit rings, counters and receive notification.
 typedef struct stm32f4_usart_port {
     stm32f4_usart_t *regs;
     stm32f4_ring_t rx;
     stm32f4_ring_t tx;
     hal_uart_stats_t stats;
+    hal_uart_rx_fn on_rx;  ///< called (interrupt context) after each byte stored; may be NULL
+    void *ctx;
 } stm32f4_usart_port_t;
 
 /// 8N1 at `baud`, receiver and its interrupt on, transmitter on. Returns FW_OK or FW_ERR_INVAL.
 int stm32f4_usart_setup(stm32f4_usart_port_t *p, uint32_t pclk_hz, uint32_t baud);
 
 /// The interrupt handler's work: takes a received byte into the rx ring (counting overruns and
-/// framing/noise errors; an errored byte is dropped), feeds the transmitter from the tx ring and
+/// framing/noise errors; an errored byte is dropped, a byte that finds the ring full is counted
+/// as an overrun) and calls on_rx after storing it; feeds the transmitter from the tx ring and
 /// turns the TXE interrupt off when it is empty. Returns true when a byte was stored.
 bool stm32f4_usart_irq(stm32f4_usart_port_t *p);
 
-/// Queues bytes for transmission and enables the TXE interrupt. Returns how many were queued.
+/// Copies up to `cap` received bytes out of the rx ring, oldest first. Returns how many.
+/// Thread context (the one consumer); no masking needed.
+size_t stm32f4_usart_read(stm32f4_usart_port_t *p, uint8_t *buf, size_t cap);
+
+/// Queues bytes for transmission and enables the TXE interrupt. Returns how many were queued
+/// (0 before stm32f4_usart_setup). The caller masks interrupts (CR1 is shared with the handler).
 size_t stm32f4_usart_queue(stm32f4_usart_port_t *p, const uint8_t *data, size_t len);
 
 // ---- Internal flash (stm32f4_flash.c) ----------------------------------------------------------------
 
+/// Sectors of the largest STM32F4 map (RM0090 3.3, table 6: 2 MB in two banks). Sectors 0-11 are
+/// bank 1, the whole 1 MB of an F405/407 (table 5); sectors 12-23 are bank 2 of a 2 MB
+/// F42x/43x. Each bank: 4 x 16 KB, 1 x 64 KB, 7 x 128 KB.
+#define STM32F4_FLASH_SECTORS_MAX 24u
+
+/// Start address and size of RM0090 sector `sector`. Returns FW_OK or FW_ERR_INVAL (>= 24).
+int stm32f4_flash_sector(uint32_t sector, uint32_t *addr, uint32_t *size);
+
+/// The FLASH_CR.SNB code of a sector: 0-11 as they are, bank 2's 12-23 as 16-27.
+uint32_t stm32f4_flash_snb(uint32_t sector);
+
 /// The flash region: the flash interface's registers, the region's memory (sector `first_sector`
 /// at `mem`), its sectors, and what to call while waiting for a long erase (the watchdog kick).
+/// A region of 0 sectors is "no region": geometry says FW_ERR_NOSYS, the rest FW_ERR_INVAL.
 typedef struct stm32f4_flash_dev {
     stm32f4_flash_if_t *regs;
     volatile uint8_t *mem;
@@ -152,6 +198,19 @@ typedef struct stm32f4_flash_dev {
 } stm32f4_flash_dev_t;
 
 #define STM32F4_FLASH_WAIT_SLICE 4096u
+
+/// Checks a region against the sector map and the part: `count` (>= 2) sectors from
+/// `first_sector`, each `sector_size` bytes, the first at `addr`, all inside the part's
+/// `flash_kb` (the F_SIZE register). Returns FW_OK, or FW_ERR_NOSYS (the part has no such
+/// region: e.g. an image for a 2 MB F427 on a 1 MB part, or for a 1 MB F405 on a 512 KB F407xE).
+int stm32f4_flash_region_check(uint32_t addr, uint32_t first_sector, uint32_t count,
+                               uint32_t sector_size, uint32_t flash_kb);
+
+/// hal_flash_get_geometry of the region (write_align 4). FW_OK or FW_ERR_NOSYS (no region).
+int stm32f4_flash_geometry(const stm32f4_flash_dev_t *d, hal_flash_geometry_t *out);
+
+/// Copies `len` bytes at `offset` of the region. FW_OK or FW_ERR_INVAL (out of the region).
+int stm32f4_flash_read(const stm32f4_flash_dev_t *d, uint32_t offset, void *buf, size_t len);
 
 /// Erases one sector of the region (0-based). Returns FW_OK, FW_ERR_INVAL, FW_ERR_TIMEOUT or
 /// FW_ERR_IO (an error flag, or the sector did not read back 0xFF).

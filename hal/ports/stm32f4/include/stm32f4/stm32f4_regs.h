@@ -29,6 +29,8 @@ extern "C" {
 #define STM32F4_NVIC_IPR_BASE 0xE000E400u
 #define STM32F4_SCB_ICSR 0xE000ED04u
 #define STM32F4_SCB_CPACR 0xE000ED88u
+#define STM32F4_FLASH_MEM_BASE 0x08000000u  // main flash memory, sector 0
+#define STM32F4_FLASH_SIZE_REG 0x1FFF7A22u  // F_SIZE (RM0090 39.2): 16 bits, flash size in KB
 
 // ---- RCC (RM0090 7.3) ---------------------------------------------------------------------------
 typedef struct stm32f4_rcc {
@@ -118,7 +120,9 @@ typedef struct stm32f4_flash_if {
 #define FLASH_CR_PG (1u << 0)
 #define FLASH_CR_SER (1u << 1)
 #define FLASH_CR_SNB_SHIFT 3u
-#define FLASH_CR_SNB_MASK (0xFu << 3)
+// SNB is 5 bits on the F42x/43x (bank 2's sectors 12-23 are coded 16-27), 4 bits on the
+// F405/407 (bit 7 reserved, kept 0: their sectors 0-11 never set it).
+#define FLASH_CR_SNB_MASK (0x1Fu << 3)
 #define FLASH_CR_PSIZE_MASK (0x3u << 8)
 #define FLASH_CR_PSIZE_X32 (0x2u << 8)  // 32-bit parallelism: supply 2.7-3.6 V
 #define FLASH_CR_STRT (1u << 16)
