@@ -71,7 +71,8 @@ void declare(Options &o, TrainSettings &s)
     o.add_double("--gamma", "G", "discount (default: the scenario's)", &s.gamma, 0.0, 1.0);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
-                 "keep what set 1 learned: the firmware's flash image, saved at each episode end "
+                 "keep what set 1 learned: the firmware's flash image, replaced at the start and saved at "
+                 "each episode end "
                  "(dynaqpc-sim run --load FILE replays it)",
                  &s.save);
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
@@ -114,12 +115,18 @@ void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSe
         LockstepOptions lo;
         lo.seed = set_seed(s.seed, set);
         lo.plan_update_cycles = s.plan_cycles;
-        if (set == 1) {
+        if (set == 1 && !s.save.empty()) {
+            // A set learns from scratch: the firmware would restore an old image at boot.
+            if (std::remove(s.save.c_str()) != 0 && errno != ENOENT) {
+                throw UsageError("--save: cannot replace '" + s.save + "': " + std::strerror(errno));
+            }
             lo.flash_file = s.save;
         }
         Lockstep sim(*sb.world, cfg, lo);
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
-            emit(set, sim.run_episode());
+            EpisodeRow row = sim.run_episode();
+            row.episode = e;  // of this set; the firmware's own count is what it has ever run
+            emit(set, row);
         }
         if (s.counters) {
             std::fprintf(stderr, "set %u: %s\n", set, sim.counters().c_str());

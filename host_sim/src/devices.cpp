@@ -84,7 +84,7 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
         if (motor_encode_status(&motor_ctr_, &st, &f) == FW_OK) frames->push_back(f);
     }
     if (t % DeviceCycles::kGyro == 0) {
-        const double cdeg = std::clamp(world_.gyro_rate() * kRadToCdeg, -30000.0, 30000.0);
+        const double cdeg = std::clamp(world_.gyro_rate() * kRadToCdeg, -GYRO_RANGE_DEG_S * 100.0, GYRO_RANGE_DEG_S * 100.0);
         if (gyro_encode_rate(&gyro_ctr_, static_cast<std::int16_t>(std::lround(cdeg)), 25, GYRO_STATUS_OK, &f) == FW_OK)
             frames->push_back(f);
     }

@@ -211,7 +211,7 @@ struct Lockstep::Impl {
           << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
-          << " events_dropped=" << ss.events_dropped;
+          << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops;
         if (agent->kind == AGENT_DYNA_QPC) {
             o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
               << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "drivers/cricket.h"
+#include "drivers/gyro.h"
 #include "options.h"
 #include "world/scenario.h"
 
@@ -78,11 +79,16 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.n_ranges = static_cast<uint8_t>(sc->ranger.rays.size());
     r.step_m = static_cast<float>(sc->actions.step);
     r.turn_rad = static_cast<float>(sc->actions.turn);
+    r.aligned_actions = static_cast<uint8_t>(sc->actions.aligned);
     r.track_m = static_cast<float>(sc->robot.track);
     r.period_us = static_cast<uint32_t>(std::lround(sc->timing.control_period * 1e6));
-    // An action takes as many whole periods as the wheels need at their top speed.
+    // An action takes as many whole periods as the wheels need at their top speed, and a turn as
+    // many as keep it within 80 % of the gyro's measuring range (a saturated gyro loses heading).
     const double wheel_travel = std::max(sc->actions.step, sc->actions.turn * sc->robot.track / 2.0);
-    const double periods = std::ceil(wheel_travel / (sc->robot.max_speed * sc->timing.control_period) - 1e-9);
+    const double max_turn_rate = 0.8 * GYRO_RANGE_DEG_S * M_PI / 180.0;
+    const double periods = std::ceil(std::max(wheel_travel / sc->robot.max_speed, sc->actions.turn / max_turn_rate) /
+                                         sc->timing.control_period -
+                                     1e-9);
     r.action_periods = static_cast<uint8_t>(std::clamp(periods, 1.0, 255.0));
     r.reward_goal = static_cast<float>(sc->rewards.goal);
     r.reward_bump = static_cast<float>(sc->rewards.bump);

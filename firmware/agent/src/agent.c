@@ -84,12 +84,17 @@ void agent_reset(agent_t *ag, uint32_t seed)
 
 uint8_t agent_act(agent_t *ag, agent_state_t s)
 {
-    const uint32_t n = ag->space->n_actions;
     if (prng_unit(&ag->rng) < ag->params.epsilon) {
-        return (uint8_t)prng_below(&ag->rng, n);
+        return (uint8_t)prng_below(&ag->rng, ag->space->n_actions);
     }
-    // Greedy, with ties broken uniformly: while every value is still 0 the robot must not
-    // always pick action 0.
+    return agent_act_greedy(ag, s);
+}
+
+uint8_t agent_act_greedy(agent_t *ag, agent_state_t s)
+{
+    // Ties broken uniformly: while every value is still 0 the robot must not always pick
+    // action 0 (a replayed policy would drive into a wall forever from a state it never saw).
+    const uint32_t n = ag->space->n_actions;
     const float *row = qstore_row(&ag->q, s);
     uint32_t best = 0;
     uint32_t ties = 1;

@@ -40,17 +40,16 @@ void robot_ctrl_stop(robot_ctrl_t *c)
     wheels_(c, 0.0f, 0.0f);
 }
 
-static void start_action_(robot_ctrl_t *c, agent_state_t s)
+static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_pose_t *pose)
 {
     c->s = s;
-    c->a = c->learning ? agent_act(c->agent, s) : agent_greedy(c->agent, s);
+    c->a = c->learning ? agent_act(c->agent, s) : agent_act_greedy(c->agent, s);
     c->have_s = true;
     c->bump_latched = false;
-    c->periods_left = c->cfg->action_periods;
+    const robot_motion_t m = robot_action_motion(c->cfg, c->a, pose);
+    c->periods_left = m.periods;
     c->mode = ROBOT_MODE_ACTING;
-    float vl, vr;
-    robot_action_wheels(c->cfg, c->a, &vl, &vr);
-    wheels_(c, vl, vr);
+    wheels_(c, m.v_left, m.v_right);
 }
 
 static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
@@ -75,7 +74,7 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
     const agent_state_t s_next =
         robot_encode_state(cfg, &in->pose, robot_range_code(cfg, in->range_m, in->n_ranges));
     if (!c->have_s) {
-        start_action_(c, s_next);  // the episode's first state: nothing to learn yet
+        start_action_(c, s_next, &in->pose);  // the episode's first state: nothing to learn yet
         c->last_step = (robot_step_report_t){s_next, c->a, 0.0f, 0};
         c->step_done = true;
         return;
@@ -98,7 +97,7 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         end_episode_(c, in->now_us, goal);
         return;
     }
-    start_action_(c, s_next);
+    start_action_(c, s_next, &in->pose);
     c->last_step = (robot_step_report_t){s_next, c->a, r, c->step};
     c->step_done = true;
 }

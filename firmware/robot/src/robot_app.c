@@ -38,6 +38,7 @@ typedef struct robot_app {
     bool store_ok;
     bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
     bool moved_last_period;   // the wheels were commanded to move in the last period
+    uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
     uint8_t status_counter;
     robot_app_stats_t stats;
     uint64_t boot_us;
@@ -57,13 +58,23 @@ static void on_can_isr_(const hal_can_frame_t *frame, void *ctx)
     (void)sched_post(&app_.sched, &ev);  // a full queue counts the drop
 }
 
+// One EV_UART waits at a time: the handler drains every byte there is, and a post per byte would
+// let one 70-byte Cricket line fill the event queue and crowd out CAN frames. A failed post
+// leaves the flag clear, so the next byte tries again.
+static volatile bool uart_pending_;
+
 static void on_uart_isr_(void *ctx)
 {
     (void)ctx;
+    if (uart_pending_) {
+        return;
+    }
     sched_event_t ev;
     ev.type = EV_UART;
     ev.u.word = 0;
-    (void)sched_post(&app_.sched, &ev);
+    if (sched_post(&app_.sched, &ev) == FW_OK) {
+        uart_pending_ = true;
+    }
 }
 
 // ---- Events: into the drivers -------------------------------------------------------------------
@@ -122,6 +133,7 @@ static void on_uart_event_(const sched_event_t *ev, void *ctx)
     (void)ctx;
     uint8_t buf[64];
     size_t n;
+    uart_pending_ = false;  // before draining: a byte arriving from here on posts again
     while ((n = hal_uart_read(buf, sizeof buf)) > 0u) {
         (void)cricket_feed(&app_.cricket, buf, n, hal_time_us());
     }
@@ -163,11 +175,15 @@ static uint8_t sense_(robot_sense_t *in, uint64_t now)
         cricket_fix_t fix;
         const cricket_fix_state_t st = cricket_get_fix(&app_.cricket, now, &fix);
         fix_state = (uint8_t)st;
+        // While the robot drives, ranges from before and after the motion disagree and no fix
+        // solves (LOST); that is expected, so the pose counts as lost only when no fix has
+        // solved for the controller's pose timeout.
         if (st != CRICKET_FIX_LOST) {
             in->pose.x = fix.x_mm * 0.001f;
             in->pose.y = fix.y_mm * 0.001f;
-            in->pose_time_us = fix.oldest_us;
+            app_.last_fix_us = fix.oldest_us;
         }
+        in->pose_time_us = app_.last_fix_us;
         in->pose_ok = st == CRICKET_FIX_FRESH;
         in->pose.heading = gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG;
     }
@@ -295,6 +311,7 @@ int robot_app_init(const robot_app_options_t *opt)
         return FW_ERR_INVAL;
     }
     memset(&app_, 0, sizeof app_);
+    uart_pending_ = false;
     app_.opt = *opt;
     const robot_config_t *cfg = opt->cfg;
     int err = hal_time_init();

@@ -65,17 +65,77 @@ bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
     return dx * dx + dy * dy <= cfg->goal_r * cfg->goal_r;
 }
 
-void robot_action_wheels(const robot_config_t *cfg, uint8_t action, float *v_left, float *v_right)
+// Radians in [0, 2 pi).
+static float wrap_2pi_(float a)
 {
-    const float duration = (float)cfg->action_periods * (float)cfg->period_us * 1e-6f;
-    const float v = cfg->step_m / duration;
-    // A turn in place: each wheel travels turn * track / 2.
-    const float w = cfg->turn_rad * cfg->track_m * 0.5f / duration;
-    switch (action) {
-    case ROBOT_FORWARD: *v_left = v; *v_right = v; break;
-    case ROBOT_BACKWARD: *v_left = -v; *v_right = -v; break;
-    case ROBOT_TURN_LEFT: *v_left = -w; *v_right = w; break;
-    case ROBOT_TURN_RIGHT: *v_left = w; *v_right = -w; break;
-    default: *v_left = 0.0f; *v_right = 0.0f; break;
+    a = fmodf(a, 2.0f * ROBOT_PI);
+    return a < 0.0f ? a + 2.0f * ROBOT_PI : a;
+}
+
+// The signed turn from `heading` to the next multiple of `turn` counter-clockwise (left) or
+// clockwise, skipping a multiple nearer than turn / 4: a robot standing 2 degrees short of a
+// grid heading turns on to the one after it instead of creeping 2 degrees.
+static float aligned_turn_(float heading, float turn, bool left)
+{
+    const float h = wrap_2pi_(heading) / turn;  // in turns
+    const float k = left ? floorf(h + 0.25f) + 1.0f : ceilf(h - 0.25f) - 1.0f;
+    return (k - h) * turn;
+}
+
+// Distance along `dir` (radians) from the pose to a fifth of a cell beyond the edge of its cell.
+static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+{
+    const float cw = cfg->arena_w / (float)(1u << cfg->bits_x);
+    const float ch = cfg->arena_h / (float)(1u << cfg->bits_y);
+    const float c = cosf(dir), s = sinf(dir);
+    const float x0 = floorf(pose->x / cw) * cw, y0 = floorf(pose->y / ch) * ch;
+    float t = 1e9f;
+    if (c > 1e-3f) {
+        t = (x0 + cw - pose->x) / c;
+    } else if (c < -1e-3f) {
+        t = (x0 - pose->x) / c;
     }
+    if (s > 1e-3f) {
+        t = fminf(t, (y0 + ch - pose->y) / s);
+    } else if (s < -1e-3f) {
+        t = fminf(t, (y0 - pose->y) / s);
+    }
+    const float margin = 0.2f * fminf(cw, ch);
+    // At least the margin (a pose on the edge), at most a cell's diagonal and the margin.
+    return fminf(fmaxf(t, 0.0f) + margin, sqrtf(cw * cw + ch * ch) + margin);
+}
+
+robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose)
+{
+    const float period_s = (float)cfg->period_us * 1e-6f;
+    float dist = cfg->step_m, turn = cfg->turn_rad;
+    robot_motion_t m = {0.0f, 0.0f, cfg->action_periods};
+    if (cfg->aligned_actions) {
+        switch (action) {
+        case ROBOT_FORWARD: dist = aligned_step_(cfg, pose, pose->heading); break;
+        case ROBOT_BACKWARD: dist = aligned_step_(cfg, pose, pose->heading + ROBOT_PI); break;
+        case ROBOT_TURN_LEFT: turn = aligned_turn_(pose->heading, cfg->turn_rad, true); break;
+        case ROBOT_TURN_RIGHT: turn = -aligned_turn_(pose->heading, cfg->turn_rad, false); break;
+        default: break;
+        }
+        // Never faster than the fixed action: a longer step or turn takes more periods (a turn
+        // must also stay inside the gyro's measuring range, which the fixed turn was sized for).
+        const float ratio = action == ROBOT_FORWARD || action == ROBOT_BACKWARD
+                                ? dist / cfg->step_m
+                                : fabsf(turn) / cfg->turn_rad;
+        const float periods = ceilf(ratio * (float)cfg->action_periods - 1e-3f);
+        m.periods = (uint8_t)(periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods);
+    }
+    const float duration = (float)m.periods * period_s;
+    const float v = dist / duration;
+    // A turn in place: each wheel travels turn * track / 2.
+    const float w = turn * cfg->track_m * 0.5f / duration;
+    switch (action) {
+    case ROBOT_FORWARD: m.v_left = v; m.v_right = v; break;
+    case ROBOT_BACKWARD: m.v_left = -v; m.v_right = -v; break;
+    case ROBOT_TURN_LEFT: m.v_left = -w; m.v_right = w; break;
+    case ROBOT_TURN_RIGHT: m.v_left = w; m.v_right = -w; break;
+    default: break;
+    }
+    return m;
 }

@@ -3,7 +3,8 @@
 //
 // NOR semantics, as on the MCU: erasing a sector sets its bytes to 0xFF; programming can only
 // clear bits (1 -> 0); a byte is programmed once between erases. The region is a few equal
-// sectors reserved by the port (on the STM32F4: the last two 128 KB sectors); offsets are from
+// sectors the image's linker script reserves (STM32F405: sectors 10-11; F427/429 with 2 MB: bank-2
+// sectors 20-23, docs/flashing.md); offsets are from
 // the region's start. The firmware's persistence layer (firmware/robot) keeps two slots with a
 // CRC and a sequence number, so a power cut during a save never loses the last good copy.
 #ifndef HAL_FLASH_H
@@ -31,7 +32,8 @@ int hal_flash_get_geometry(hal_flash_geometry_t *out);
 int hal_flash_read(uint32_t offset, void *buf, size_t len);
 
 /// Erases one sector (every byte becomes 0xFF). Blocks until done: on the STM32F4 a 128 KB
-/// sector takes 1–2 s and stalls instruction fetch from flash, so the firmware erases only when
+/// sector takes 1–2 s and, in the bank the code runs from (the F405's only bank), stalls
+/// instruction fetch, so the firmware erases only when
 /// the robot is stopped (at an episode's end). Returns FW_OK, FW_ERR_INVAL or FW_ERR_IO.
 /// Context: thread.
 int hal_flash_erase(uint32_t sector);

@@ -475,6 +475,7 @@ bool Parser::line(const Tokens &t, Scenario *s)
         std::vector<Field> f = {
             {"step", T::Real, &s->actions.step, 0.001, 10.0},
             {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
+            {"aligned", T::Int, &s->actions.aligned, 0, 1},
         };
         return fields(t, f);
     }

@@ -101,17 +101,70 @@ static void test_range_code_bits(void **state)
 static void test_action_wheels_realise_the_step(void **state)
 {
     (void)state;
-    float vl, vr;
-    const float t = sim_->action_periods * sim_->period_us * 1e-6f;
-    robot_action_wheels(sim_, ROBOT_FORWARD, &vl, &vr);
-    assert_float_equal(vl * t, sim_->step_m, 1e-5);
-    assert_float_equal(vr, vl, 0);
-    robot_action_wheels(sim_, ROBOT_BACKWARD, &vl, &vr);
-    assert_float_equal(vl * t, -sim_->step_m, 1e-5);
-    robot_action_wheels(sim_, ROBOT_TURN_LEFT, &vl, &vr);
-    assert_float_equal((vr - vl) / sim_->track_m * t, sim_->turn_rad, 1e-5);  // counter-clockwise
-    robot_action_wheels(sim_, ROBOT_TURN_RIGHT, &vl, &vr);
-    assert_float_equal((vr - vl) / sim_->track_m * t, -sim_->turn_rad, 1e-5);
+    robot_config_t cfg = *sim_;
+    cfg.aligned_actions = 0;
+    const robot_pose_t pose = {1.1f, 2.2f, 0.3f};  // fixed actions do not depend on it
+    const float t = cfg.action_periods * cfg.period_us * 1e-6f;
+    robot_motion_t m = robot_action_motion(&cfg, ROBOT_FORWARD, &pose);
+    assert_int_equal(m.periods, cfg.action_periods);
+    assert_float_equal(m.v_left * t, cfg.step_m, 1e-5);
+    assert_float_equal(m.v_right, m.v_left, 0);
+    m = robot_action_motion(&cfg, ROBOT_BACKWARD, &pose);
+    assert_float_equal(m.v_left * t, -cfg.step_m, 1e-5);
+    m = robot_action_motion(&cfg, ROBOT_TURN_LEFT, &pose);
+    assert_float_equal((m.v_right - m.v_left) / cfg.track_m * t, cfg.turn_rad, 1e-5);  // counter-clockwise
+    m = robot_action_motion(&cfg, ROBOT_TURN_RIGHT, &pose);
+    assert_float_equal((m.v_right - m.v_left) / cfg.track_m * t, -cfg.turn_rad, 1e-5);
+}
+
+// Turn made by a motion, in radians, counter-clockwise positive.
+static float turn_of_(const robot_config_t *cfg, robot_motion_t m)
+{
+    return (m.v_right - m.v_left) / cfg->track_m * (float)m.periods * (float)cfg->period_us * 1e-6f;
+}
+
+static float travel_of_(const robot_config_t *cfg, robot_motion_t m)
+{
+    return m.v_left * (float)m.periods * (float)cfg->period_us * 1e-6f;
+}
+
+static void test_aligned_turns_end_on_the_grid_of_headings(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;
+    cfg.aligned_actions = 1;
+    const float deg = 3.14159265f / 180.0f;
+    robot_pose_t pose = {1.0f, 1.0f, 20.0f * deg};
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_LEFT, &pose)), 25.0f * deg, 1e-4);
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_RIGHT, &pose)), -20.0f * deg, 1e-4);
+    pose.heading = 43.0f * deg;  // 2 degrees short of a grid heading: on to the next one
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_LEFT, &pose)), 47.0f * deg, 1e-4);
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_RIGHT, &pose)), -43.0f * deg, 1e-4);
+    pose.heading = -1.0f * deg;  // wraps: 359 degrees
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_LEFT, &pose)), 46.0f * deg, 1e-4);
+    assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_RIGHT, &pose)), -44.0f * deg, 1e-4);
+}
+
+static void test_aligned_steps_cross_into_the_next_cell(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;  // 4.3 m / 8 = 0.5375 m by 3.2 m / 8 = 0.4 m cells
+    cfg.aligned_actions = 1;
+    const float cw = 0.5375f, ch = 0.4f, margin = 0.2f * ch;
+    robot_pose_t pose = {2.0f * cw + 0.1f, 3.0f * ch + 0.2f, 0.0f};  // heading +x
+    robot_motion_t m = robot_action_motion(&cfg, ROBOT_FORWARD, &pose);
+    assert_float_equal(travel_of_(&cfg, m), cw - 0.1f + margin, 1e-4);
+    assert_float_equal(m.v_right, m.v_left, 0);
+    assert_true(m.periods >= cfg.action_periods);
+    m = robot_action_motion(&cfg, ROBOT_BACKWARD, &pose);
+    assert_float_equal(travel_of_(&cfg, m), -(0.1f + margin), 1e-4);
+    pose.heading = 3.14159265f / 2.0f;  // +y: 0.2 m to the edge
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 0.2f + margin, 1e-4);
+    // Diagonal: whichever edge comes first, and the pose really ends in another cell.
+    pose.heading = 3.14159265f / 4.0f;
+    const float d = travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose));
+    const robot_pose_t end = {pose.x + d * cosf(pose.heading), pose.y + d * sinf(pose.heading), pose.heading};
+    assert_int_not_equal(robot_encode_state(&cfg, &pose, 0), robot_encode_state(&cfg, &end, 0));
 }
 
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------
@@ -321,6 +374,8 @@ int main(void)
         cmocka_unit_test(test_heading_sectors_wrap),
         cmocka_unit_test(test_range_code_bits),
         cmocka_unit_test(test_action_wheels_realise_the_step),
+        cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),
+        cmocka_unit_test(test_aligned_steps_cross_into_the_next_cell),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
         cmocka_unit_test(test_step_cap_ends_the_episode),
         cmocka_unit_test(test_bump_costs_and_is_counted),

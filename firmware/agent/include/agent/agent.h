@@ -102,6 +102,9 @@ void agent_reset(agent_t *ag, uint32_t seed);
 /// greedy one with ties broken uniformly at random.
 uint8_t agent_act(agent_t *ag, agent_state_t s);
 
+/// The greedy action in s with ties broken uniformly at random: how a learned policy is replayed.
+uint8_t agent_act_greedy(agent_t *ag, agent_state_t s);
+
 /// The greedy action in s, ties going to the lowest action number. Uses no randomness.
 uint8_t agent_greedy(const agent_t *ag, agent_state_t s);
 

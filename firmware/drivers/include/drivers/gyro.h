@@ -16,6 +16,9 @@
 #include "drivers/can_link.h"
 #include "hal/hal_can.h"
 
+/// Full scale of GYRO_RATE YawRate (docs/dynaqpc.dbc), deg/s: faster turns saturate the reading.
+#define GYRO_RANGE_DEG_S 300
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -71,7 +71,8 @@ typedef struct robot_ctrl {
     float episode_reward;
     uint64_t episode_start_us;
     float v_left, v_right;     // the wheel speeds being commanded
-    /// false: replay the policy — greedy actions, no updates, no planning. Default true.
+    /// false: replay the policy — greedy actions (ties at random), no updates, no planning.
+    /// Default true.
     bool learning;
     uint32_t safe_stops;       ///< times a safe stop was entered
     bool step_done;            ///< a real step happened in the last period (see last_step)

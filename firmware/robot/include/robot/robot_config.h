@@ -67,6 +67,14 @@ typedef struct robot_config {
     float turn_rad;        ///< turn of one step
     float track_m;         ///< wheel separation
     uint8_t action_periods;
+    /// Actions aligned to the state grid (0: fixed steps and turns). A turn ends on a multiple of
+    /// turn_rad, so the heading after it is the same every time; a step drives just past the edge
+    /// of the current cell, so it always leads to a neighbouring cell. With cells larger than a
+    /// step (paper-lab: 54 x 40 cm cells, 25 cm steps) fixed steps land in the same cell or the
+    /// next one depending on where in the cell the robot stood, a difference the state cannot
+    /// show; aligned actions make the outcome of (state, action) nearly deterministic, which is
+    /// what a table and its model can learn from in a few thousand steps (docs/scenarios.md).
+    uint8_t aligned_actions;
     /// After the action, wait with the wheels stopped for a fresh pose fix before observing
     /// (the paper's lab robot waited for a stable Cricket fix). 0: observe at once.
     uint8_t wait_for_fix;

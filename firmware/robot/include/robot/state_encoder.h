@@ -31,8 +31,17 @@ agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *
 /// True when the pose is inside the goal circle.
 bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose);
 
-/// Wheel speed targets (m/s) that realise `action` over action_periods control periods.
-void robot_action_wheels(const robot_config_t *cfg, uint8_t action, float *v_left, float *v_right);
+/// One action as the wheels carry it out: speed targets (m/s) held for `periods` control periods.
+typedef struct robot_motion {
+    float v_left, v_right;
+    uint8_t periods;
+} robot_motion_t;
+
+/// The motion that realises `action` from `pose`. Without cfg->aligned_actions: step_m or turn_rad
+/// over action_periods periods, whatever the pose. With it: a turn ends on the next multiple of
+/// turn_rad in its direction (at least a quarter of turn_rad away), a step ends a fifth of a cell
+/// past the edge of the current x-y cell along the heading (robot_config.h says why).
+robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
 
 #ifdef __cplusplus
 }

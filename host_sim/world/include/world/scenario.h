@@ -121,6 +121,7 @@ struct Encoding {
 struct ActionSpec {
     double step = 0.25;                         ///< m, forward/backward travel per action
     double turn = 0.78539816339744830962;       ///< rad, turn per action (45 degrees)
+    int aligned = 0;  ///< 1: turns end on multiples of `turn`, steps just past the next cell edge
 };
 
 struct Rewards {
