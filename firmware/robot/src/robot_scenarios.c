@@ -19,8 +19,9 @@ const robot_config_t robot_config_paper_sim = {
     .code_threshold_m = {1.0f, 1.0f, 1.0f, 1.0f},
     .n_ranges = 16,
     .tile_shift = {0, 0, 0, 0},
-    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.40f,
-    .action_periods = 1, .wait_for_fix = 0, .period_us = 192000u,
+    .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.40f,
+    // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
+    .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 0, .period_us = 192000u,
     .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
     .agent = AGENT_DYNA_QPC,
     .params = {0.9f, 0.9f, 0.9f, 0.01f, 1e-3f, 0.999f, 16, 1},
@@ -42,8 +43,9 @@ const robot_config_t robot_config_paper_lab = {
     .code_threshold_m = {0.30f, 0.30f, 0.30f, 0.0f},
     .n_ranges = 3,
     .tile_shift = {0, 0, 0, 0},
-    .step_m = 0.25f, .turn_rad = PI_F / 4.0f, .track_m = 0.18f,
-    .action_periods = 1, .wait_for_fix = 1, .period_us = 192000u,
+    .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.18f,
+    // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
+    .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 1, .period_us = 192000u,
     .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
     .agent = AGENT_DYNA_QPC,
     .params = {0.9f, 0.9f, 0.9f, 0.1f, 1e-3f, 0.999f, 16, 1},

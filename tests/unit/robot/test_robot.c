@@ -133,6 +133,7 @@ static void test_aligned_turns_end_on_the_grid_of_headings(void **state)
     (void)state;
     robot_config_t cfg = *lab_;
     cfg.aligned_actions = 1;
+    cfg.turn_rad = 3.14159265f / 4.0f;  // a grid of 45 degree headings
     const float deg = 3.14159265f / 180.0f;
     robot_pose_t pose = {1.0f, 1.0f, 20.0f * deg};
     assert_float_equal(turn_of_(&cfg, robot_action_motion(&cfg, ROBOT_TURN_LEFT, &pose)), 25.0f * deg, 1e-4);
@@ -182,6 +183,11 @@ static void bench_init_(const robot_config_t *cfg, agent_kind_t kind)
 {
     bench_.cfg = *cfg;
     bench_.cfg.agent = kind;
+    // These tests are about episodes, rewards and safety, so the actions are the plain fixed
+    // ones (one period, 45 degree turns); the aligned motions have their own tests above.
+    bench_.cfg.aligned_actions = 0;
+    bench_.cfg.action_periods = 1;
+    bench_.cfg.turn_rad = 3.14159265f / 4.0f;
     static agent_space_t space;
     robot_config_space(&bench_.cfg, &space);
     agent_config_t ac = {kind, &space, bench_.cfg.params, &agent_storage_paper_sim, 7};
@@ -306,7 +312,7 @@ static void test_waits_for_a_fix_taken_after_stopping(void **state)
     robot_ctrl_start_episode(&bench_.ctrl);
     bench_period_();  // first state from a fresh fix
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
-    for (int i = 0; i < lab_->action_periods; i++) {
+    for (int i = 0; i < bench_.cfg.action_periods; i++) {
         bench_period_();
     }
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);

@@ -165,6 +165,7 @@ void test_actions_random_sequence(void **state)
         world::Scenario s = shipped(name);
         s.obstacles.clear();
         s.arena_w = s.arena_h = 200.0;
+        s.actions.turn = M_PI / 4.0;  // what one period can turn (the shipped 90 degrees take two)
         world::World w(s, 21);
         world::RandomStream pick(21, 7);
         w.reset({100.0, 100.0, 0.0});
