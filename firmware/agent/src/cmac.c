@@ -246,44 +246,71 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 }
 
 FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
+FW_STATIC_ASSERT(FW_CFG_MAX_PROBE % 2 == 0, probe_windows_are_scanned_two_cells_at_a_time);
 
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
-                          int32_t *out)
+// Where `key` sits among the FW_CFG_MAX_PROBE cells from `cell` on, or NULL. Two cells at a time:
+// keys use at most 31 bits, so of two cells either is empty exactly when the top bit of both
+// keys or-ed together is set. Testing for the key before testing for empty cells finds nothing
+// more than the one-cell-at-a-time search: a key is never stored past an empty cell of its probe
+// path (cells are only ever emptied to be refilled at once, see evict_()).
+static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key)
 {
-    // The planner's inner loop, so lookup_() is written out here with the table's fields in
-    // registers. When a probe window does not wrap around the table's end (nearly always) it is
-    // scanned by pointer, without masking the index. Each cell's weights are added into one
-    // register per output as soon as it is found (at most CMAC_MAX_OUTPUTS = 6); the first cell
-    // missing or too little trained ends the search.
-    const uint32_t n_out = cmac->cfg.n_outputs;
+    const uint32_t *const end = cell + FW_CFG_MAX_PROBE;
+    for (; cell != end; cell += 2) {
+        const uint32_t k0 = cell[0];
+        const uint32_t k1 = cell[1];
+        if (k0 == key) {
+            return cell;
+        }
+        if (k1 == key) {
+            return cell + 1;
+        }
+        if ((k0 | k1) >> 31) {
+            return NULL;
+        }
+    }
+    return NULL;
+}
+
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out)
+{
+    // The planner's inner loop: about 17 cells per planning update, most of them in a full
+    // table. Two passes keep few values live at once (the Cortex-M4 has 13 registers to spare):
+    // first every tile's cell is found, so a missing one ends the search early; then each cell's
+    // training is checked and its weights are added, one register per output. A probe window
+    // that does not wrap around the table's end (nearly always) is scanned by pointer.
+    const uint32_t keep = ~cmac->action_field;
+    const uint32_t act = action << cmac->action_shift;
     const uint32_t n = cmac->n_patterns;
-    const uint32_t capacity = cmac->capacity;
     const uint32_t *const keys = cmac->keys;
+    const uint32_t capacity = cmac->capacity;
     const uint32_t home_shift = 32u - cmac->capacity_shift;
-    int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
+    uint32_t slot[FW_CFG_MAX_TILINGS];
     for (uint32_t t = 0; t < n; t++) {
-        const uint32_t key = tiles->key[t];
+        const uint32_t key = (tiles->key[t] & keep) | act;
         const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
-        uint32_t slot;
         if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *k = keys + home;
-            const uint32_t *const end = k + FW_CFG_MAX_PROBE;
-            while (*k != key) {
-                if (*k == CMAC_EMPTY || ++k == end) {
-                    return false;
-                }
+            const uint32_t *const cell = scan_window_(keys + home, key);
+            if (cell == NULL) {
+                return false;
             }
-            slot = (uint32_t)(k - keys);
+            slot[t] = (uint32_t)(cell - keys);
         } else {
-            slot = lookup_(cmac, key);
-            if (slot == capacity) {
+            slot[t] = lookup_(cmac, key);
+            if (slot[t] == capacity) {
                 return false;
             }
         }
-        if (cmac->counts[slot] < min_count) {
+    }
+    const uint32_t n_out = cmac->cfg.n_outputs;
+    const uint8_t *const counts = cmac->counts;
+    int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
+    for (uint32_t t = 0; t < n; t++) {
+        if (counts[slot[t]] < min_count) {
             return false;
         }
-        const int16_t *w = &cmac->weights[slot * n_out];
+        const int16_t *w = &cmac->weights[slot[t] * n_out];
         switch (n_out) {
         case 6: s5 += w[5]; /* fall through */
         case 5: s4 += w[4]; /* fall through */

@@ -96,18 +96,21 @@ static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_
     }
 }
 
-// The inverse of encode_(): false if a component falls outside its range.
+// The inverse of encode_(): the components of the state `pred` leads to from `from`, into `to`,
+// and that state packed. False if a component falls outside its range.
 static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t *pred,
-                    uint32_t *to)
+                    uint32_t *to, agent_state_t *packed)
 {
-    const uint32_t relative = ~(uint32_t)sp->absolute_mask;
-    const uint32_t circular = sp->circular_mask;
+    uint32_t relative = ~(uint32_t)sp->absolute_mask;
+    uint32_t circular = sp->circular_mask;
+    agent_state_t s = 0;
+    uint32_t shift = 0;
     for (uint32_t k = 0; k < sp->n_components; k++) {
         const uint32_t range = 1u << sp->bits[k];
         uint32_t v = (uint32_t)round_fixed_(pred[k]);  // two's complement: a negative is huge
-        if ((relative >> k) & 1u) {
+        if (relative & 1u) {
             v += from[k];
-            if ((circular >> k) & 1u) {
+            if (circular & 1u) {
                 v &= range - 1u;
             }
         }
@@ -115,7 +118,12 @@ static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t
             return false;
         }
         to[k] = v;
+        s |= v << shift;
+        shift += sp->bits[k];
+        relative >>= 1;
+        circular >>= 1;
     }
+    *packed = s;
     return true;
 }
 
@@ -149,13 +157,14 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     return stored;
 }
 
-// The forward prediction for `tiles` (keys of `from` with the action set): the next state's
-// components go to `to`. Counts a refusal in `untrusted`.
-static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
-                     uint32_t *to, int32_t *pred)
+// CMAC-Model's prediction for taking `a` in the state `from` (its components, and its tiles for
+// any action): the next state's components go to `to` and packed to `next`, the raw outputs to
+// `pred`. Counts a refusal in `untrusted`.
+static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles, uint32_t a,
+                     uint32_t *to, agent_state_t *next, int32_t *pred)
 {
-    if (!cmac_predict_trusted(&m->forward, tiles, m->min_count, pred) ||
-        !decode_(m->space, from, pred, to)) {
+    if (!cmac_predict_trusted(&m->forward, tiles, a, m->min_count, pred) ||
+        !decode_(m->space, from, pred, to, next)) {
         m->untrusted++;
         return false;
     }
@@ -169,19 +178,17 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
     cmac_tiles_of(&m->forward, q->comp, 0, &q->tiles);
 }
 
-bool model_query_predict(world_model_t *m, model_query_t *q, uint8_t a, model_step_t *out)
+bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out)
 {
-    const agent_space_t *sp = m->space;
+    const uint32_t n_comp = m->space->n_components;
     int32_t pred[CMAC_MAX_OUTPUTS];
     uint32_t to[FW_CFG_MAX_COMPONENTS];
 
-    cmac_tiles_set_action(&m->forward, &q->tiles, a);
-    if (!predict_(m, q->comp, &q->tiles, to, pred)) {
+    if (!predict_(m, q->comp, &q->tiles, a, to, &out->next, pred)) {
         return false;
     }
-    out->next = space_pack(sp, to);
-    out->reward = (float)pred[sp->n_components] / (float)CMAC_ONE;
-    out->terminal = (uint8_t)(pred[sp->n_components + 1u] >= CMAC_ONE / 2);
+    out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
+    out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
     return true;
 }
 
@@ -192,7 +199,7 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
     return model_query_predict(m, &q, a, out);
 }
 
-uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred_t *out)
+uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out)
 {
     const agent_space_t *sp = m->space;
     const uint32_t n_comp = sp->n_components;
@@ -200,30 +207,25 @@ uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred
     uint32_t back[FW_CFG_MAX_COMPONENTS];
     int32_t pred[CMAC_MAX_OUTPUTS];
     cmac_tiles_t tiles;
+    agent_state_t prev_state;
+    agent_state_t back_state;
     uint32_t n = 0;
 
     for (uint32_t a = 0; a < sp->n_actions; a++) {
-        cmac_tiles_set_action(&m->inverse, &q->tiles, a);
-        if (!cmac_predict_trusted(&m->inverse, &q->tiles, m->min_count, pred) ||
-            !decode_(sp, q->comp, pred, prev)) {
+        // CMAC-R shares CMAC-Model's key layout: the query's tiles serve both.
+        if (!cmac_predict_trusted(&m->inverse, &q->tiles, a, m->min_count, pred) ||
+            !decode_(sp, q->comp, pred, prev, &prev_state)) {
             continue;  // nothing trained arrives here by a: the common case, not worth counting
         }
         // CMAC-R averages when several states lead here by the same action; only a predecessor
         // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
         cmac_tiles_of(&m->forward, prev, a, &tiles);
-        if (!predict_(m, prev, &tiles, back, pred) || pred[n_comp + 1u] >= CMAC_ONE / 2) {
+        if (!predict_(m, prev, &tiles, a, back, &back_state, pred) ||
+            pred[n_comp + 1u] >= CMAC_ONE / 2 || back_state != q->state) {
             m->rejected++;
             continue;
         }
-        uint32_t k = 0;
-        while (k < n_comp && back[k] == q->comp[k]) {
-            k++;
-        }
-        if (k < n_comp) {
-            m->rejected++;
-            continue;
-        }
-        out[n].state = space_pack(sp, prev);
+        out[n].state = prev_state;
         out[n].action = (uint8_t)a;
         out[n].reward = (float)pred[n_comp] / (float)CMAC_ONE;
         n++;

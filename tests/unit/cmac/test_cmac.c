@@ -63,7 +63,7 @@ static void untrained_predicts_zero_with_no_confidence(void **state)
     assert_int_equal(cmac_predict(&m, &t, out), 0);
     assert_int_equal(out[0], 0);
     assert_int_equal(out[1], 0);
-    assert_false(cmac_predict_trusted(&m, &t, 1, out));
+    assert_false(cmac_predict_trusted(&m, &t, 1, 1, out));
 }
 
 // Fig. 7 with rate 1: one training makes the output equal the target (to rounding).
@@ -86,8 +86,8 @@ static void one_training_at_rate_one_hits_the_target(void **state)
     // Two inputs two values wide: of the 16 tilings only 2 x 2 are distinct.
     assert_int_equal(m.n_patterns, 4);
     assert_int_equal(m.stats.cells_used, 4);
-    assert_true(cmac_predict_trusted(&m, &t, 1, out));
-    assert_false(cmac_predict_trusted(&m, &t, 2, out));
+    assert_true(cmac_predict_trusted(&m, &t, 2, 1, out));
+    assert_false(cmac_predict_trusted(&m, &t, 2, 2, out));
 }
 
 // The rule moves every hit cell by rate / T of the error: at rate 1/2 the error halves.
@@ -413,7 +413,7 @@ static void train_reports_tiles_stored_in_a_full_table(void **state)
         // A full table makes room (the least-trained cell goes): every tile is stored, and is
         // trusted right after its training.
         assert_true(cmac_train(&m, &t, desired));
-        assert_true(cmac_predict_trusted(&m, &t, 1, out));
+        assert_true(cmac_predict_trusted(&m, &t, 0, 1, out));
     }
     assert_int_equal(m.stats.cells_used, 16u);
     assert_int_equal(m.stats.evicted, 24u);

@@ -115,11 +115,12 @@ static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles
 /// never been trained. Missing tiles contribute nothing.
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out);
 
-/// Like cmac_predict(), but gives up at the first cell trained fewer than `min_count` times
-/// (min_count >= 1): the planner's fast path. Returns true, with out[] filled, when every cell
-/// qualifies.
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
-                          int32_t *out);
+/// Like cmac_predict() for `tiles` re-targeted to `action` (as cmac_tiles_set_action() would,
+/// without changing them), but gives up at the first cell trained fewer than `min_count` times
+/// (min_count >= 1): the planner's fast path, which asks about one state for several actions.
+/// Returns true, with out[] filled, when every cell qualifies; false leaves out[] undefined.
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out);
 
 /// The paper's learning rule (Fig. 7, step d): each of the T cells moves by
 /// learning_rate / T * (desired - actual). Cells are created on first training.

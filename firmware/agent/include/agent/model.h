@@ -92,10 +92,10 @@ typedef struct model_query {
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q);
 
 /// model_predict() for the query's state.
-bool model_query_predict(world_model_t *m, model_query_t *q, uint8_t a, model_step_t *out);
+bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out);
 
 /// model_predecessors() for the query's state.
-uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred_t *out);
+uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out);
 
 #ifdef __cplusplus
 }
