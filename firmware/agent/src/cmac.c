@@ -129,6 +129,10 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
             cmac->carry_bits |= 1u << cmac->key_shift[cmac->tiled[j]];
         }
     }
+    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+        cmac->low_mask[k] = (1u << cfg->tile_shift[k]) - 1u;
+        cmac->low_shift[k] = (uint8_t)(cmac->key_shift[k] - cfg->tile_shift[k]);
+    }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
     return FW_OK;
@@ -155,24 +159,28 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     // (off >= 2^sh - (v mod 2^sh)). So every field of the undisplaced tiles goes into a common
     // part once, and a pattern only flips the fields its displacements carry into the next tile.
     const uint32_t n = cmac->n_patterns;
+    const uint32_t n_in = cmac->cfg.n_inputs;
     uint32_t common = action << cmac->action_shift;
-    for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
-        common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
-    }
     if (cmac->carry_bits != 0u) {
-        // Every tiled input's low bits, placed so that adding a pattern's displacements carries
-        // exactly into the tile indices that move to the next tile (see cmac_init()).
+        // Every tiled input's low bits (v mod 2^sh) go into a word of their own, placed so that
+        // adding a pattern's displacements carries exactly into the tile indices that move to
+        // the next tile (see cmac_init()); an exact input adds nothing there. No tiled input is
+        // circular on this path, and an exact one's value is within its range, so no field needs
+        // its tile mask.
         uint32_t low = 0;
-        for (uint32_t j = 0; j < cmac->n_tiled; j++) {
-            const uint32_t k = cmac->tiled[j];
-            const uint32_t sh = cmac->cfg.tile_shift[k];
-            low += (inputs[k] & ((1u << sh) - 1u)) << (cmac->key_shift[k] - sh);
+        for (uint32_t k = 0; k < n_in; k++) {
+            const uint32_t v = inputs[k];
+            common |= (v >> cmac->cfg.tile_shift[k]) << cmac->key_shift[k];
+            low += (v & cmac->low_mask[k]) << cmac->low_shift[k];
         }
         const uint32_t carries = cmac->carry_bits;
         for (uint32_t p = 0; p < n; p++) {
             tiles->key[p] = (common | p) + ((low + cmac->pattern_offsets[p]) & carries);
         }
         return;
+    }
+    for (uint32_t k = 0; k < n_in; k++) {
+        common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
     }
     for (uint32_t p = 0; p < n; p++) {
         tiles->key[p] = p | common;
@@ -252,11 +260,12 @@ FW_STATIC_ASSERT(FW_CFG_MAX_PROBE % 2 == 0, probe_windows_are_scanned_two_cells_
 // keys use at most 31 bits, so of two cells either is empty exactly when the top bit of both
 // keys or-ed together is set. Testing for the key before testing for empty cells finds nothing
 // more than the one-cell-at-a-time search: a key is never stored past an empty cell of its probe
-// path (cells are only ever emptied to be refilled at once, see evict_()).
-static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key)
+// path (cells are only ever emptied to be refilled at once, see evict_()). For the same reason
+// the test for empty cells only saves time, and in a full table, which has none, it is skipped.
+static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
 {
     const uint32_t *const end = cell + FW_CFG_MAX_PROBE;
-    for (; cell != end; cell += 2) {
+    do {
         const uint32_t k0 = cell[0];
         const uint32_t k1 = cell[1];
         if (k0 == key) {
@@ -265,52 +274,35 @@ static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key)
         if (k1 == key) {
             return cell + 1;
         }
-        if ((k0 | k1) >> 31) {
+        if (!full && ((k0 | k1) >> 31)) {
             return NULL;
         }
-    }
+        cell += 2;
+    } while (cell != end);
     return NULL;
 }
 
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
-                          uint32_t min_count, int32_t *out)
+#if defined(__GNUC__)
+#define ALWAYS_INLINE_ static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE_ static inline
+#endif
+
+// The second pass of cmac_predict_trusted(): checks each found cell's training and adds its
+// weights, one register per output. Inlined with a constant `n_out` the switch folds away, and a
+// CMAC of four outputs needs no register for the other two.
+ALWAYS_INLINE_ bool add_trusted_cells_(const cmac_t *cmac, const uint32_t *slot, uint32_t min_count,
+                                       int32_t *out, const uint32_t n_out)
 {
-    // The planner's inner loop: about 17 cells per planning update, most of them in a full
-    // table. Two passes keep few values live at once (the Cortex-M4 has 13 registers to spare):
-    // first every tile's cell is found, so a missing one ends the search early; then each cell's
-    // training is checked and its weights are added, one register per output. A probe window
-    // that does not wrap around the table's end (nearly always) is scanned by pointer.
-    const uint32_t keep = ~cmac->action_field;
-    const uint32_t act = action << cmac->action_shift;
-    const uint32_t n = cmac->n_patterns;
-    const uint32_t *const keys = cmac->keys;
-    const uint32_t capacity = cmac->capacity;
-    const uint32_t home_shift = 32u - cmac->capacity_shift;
-    uint32_t slot[FW_CFG_MAX_TILINGS];
-    for (uint32_t t = 0; t < n; t++) {
-        const uint32_t key = (tiles->key[t] & keep) | act;
-        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
-        if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *const cell = scan_window_(keys + home, key);
-            if (cell == NULL) {
-                return false;
-            }
-            slot[t] = (uint32_t)(cell - keys);
-        } else {
-            slot[t] = lookup_(cmac, key);
-            if (slot[t] == capacity) {
-                return false;
-            }
-        }
-    }
-    const uint32_t n_out = cmac->cfg.n_outputs;
     const uint8_t *const counts = cmac->counts;
+    const int16_t *const weights = cmac->weights;
+    const uint32_t *const end = slot + cmac->n_patterns;
     int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
-    for (uint32_t t = 0; t < n; t++) {
-        if (counts[slot[t]] < min_count) {
+    for (; slot != end; slot++) {
+        if (counts[*slot] < min_count) {
             return false;
         }
-        const int16_t *w = &cmac->weights[slot[t] * n_out];
+        const int16_t *w = &weights[*slot * n_out];
         switch (n_out) {
         case 6: s5 += w[5]; /* fall through */
         case 5: s4 += w[4]; /* fall through */
@@ -329,6 +321,47 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
     default: out[0] = s0;
     }
     return true;
+}
+
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out)
+{
+    // The planner's inner loop: about 17 cells per planning update, most of them in a full
+    // table. Two passes keep few values live at once (the Cortex-M4 has 13 registers to spare):
+    // first every tile's cell is found, so a missing one ends the search early; then each cell's
+    // training is checked and its weights are added. A probe window that does not wrap around
+    // the table's end (nearly always) is scanned by pointer.
+    const uint32_t keep = ~cmac->action_field;
+    const uint32_t act = action << cmac->action_shift;
+    const uint32_t n = cmac->n_patterns;
+    const uint32_t *const keys = cmac->keys;
+    const uint32_t capacity = cmac->capacity;
+    const uint32_t home_shift = 32u - cmac->capacity_shift;
+    const bool full = cmac->stats.cells_used == capacity;
+    uint32_t slot[FW_CFG_MAX_TILINGS];
+    for (uint32_t t = 0; t < n; t++) {
+        const uint32_t key = (tiles->key[t] & keep) | act;
+        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
+        if (home + FW_CFG_MAX_PROBE <= capacity) {
+            const uint32_t *const cell = full ? scan_window_(keys + home, key, true)
+                                              : scan_window_(keys + home, key, false);
+            if (cell == NULL) {
+                return false;
+            }
+            slot[t] = (uint32_t)(cell - keys);
+        } else {
+            slot[t] = lookup_(cmac, key);
+            if (slot[t] == capacity) {
+                return false;
+            }
+        }
+    }
+    // The robot's CMAC-Model has 6 outputs and its CMAC-R 4 (the maze's 4 and 2).
+    switch (cmac->cfg.n_outputs) {
+    case 6: return add_trusted_cells_(cmac, slot, min_count, out, 6);
+    case 4: return add_trusted_cells_(cmac, slot, min_count, out, 4);
+    default: return add_trusted_cells_(cmac, slot, min_count, out, cmac->cfg.n_outputs);
+    }
 }
 
 // num / den rounded to nearest, halves away from zero (den > 0).

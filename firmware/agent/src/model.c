@@ -64,12 +64,15 @@ static int32_t to_fixed_(float x)
     return (int32_t)(scaled >= 0.0f ? scaled + 0.5f : scaled - 0.5f);
 }
 
-// Nearest integer of a fixed-point value, halves away from zero. Shifts only non-negative values:
-// right-shifting a negative number is implementation-defined in C99.
-static int32_t round_fixed_(int32_t x)
+// Nearest integer of a fixed-point value, halves away from zero, as a two's complement word (a
+// negative is huge): floor((x + 128) / 256) for x >= 0, floor((x + 127) / 256) below. Both floors
+// are taken of x + 2^31, which is never negative, and the 2^23 that adds is taken off again: no
+// signed value is shifted (implementation-defined in C99), and no branch is taken. Needs
+// |x| < 2^31 - 128; a prediction is a sum of at most 16 int16 weights, below 2^20.
+static uint32_t round_fixed_(int32_t x)
 {
-    return x >= 0 ? (int32_t)(((uint32_t)x + CMAC_ONE / 2u) >> CMAC_FRAC_BITS)
-                  : -(int32_t)((0u - (uint32_t)x + CMAC_ONE / 2u) >> CMAC_FRAC_BITS);
+    const uint32_t biased = (uint32_t)x + 0x80000000u + CMAC_ONE / 2u - ((uint32_t)x >> 31);
+    return (biased >> CMAC_FRAC_BITS) - (0x80000000u >> CMAC_FRAC_BITS);
 }
 
 // The desired output for moving from `from` to `to`: per component, the change (wrapped to the
@@ -97,32 +100,36 @@ static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_
 }
 
 // The inverse of encode_(): the components of the state `pred` leads to from `from`, into `to`,
-// and that state packed. False if a component falls outside its range.
+// and that state packed. False if a component falls outside its range. (Walked by pointer: a
+// planning update decodes about 14 components.)
 static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t *pred,
                     uint32_t *to, agent_state_t *packed)
 {
+    const uint8_t *bits = sp->bits;
+    const uint8_t *const end = bits + sp->n_components;
     uint32_t relative = ~(uint32_t)sp->absolute_mask;
     uint32_t circular = sp->circular_mask;
     agent_state_t s = 0;
     uint32_t shift = 0;
-    for (uint32_t k = 0; k < sp->n_components; k++) {
-        const uint32_t range = 1u << sp->bits[k];
-        uint32_t v = (uint32_t)round_fixed_(pred[k]);  // two's complement: a negative is huge
+    do {
+        const uint32_t b = *bits++;
+        uint32_t v = round_fixed_(*pred++);
         if (relative & 1u) {
-            v += from[k];
+            v += *from;
             if (circular & 1u) {
-                v &= range - 1u;
+                v &= (1u << b) - 1u;
             }
         }
-        if (v >= range) {  // below 0 or at least the range
+        if (v >> b) {  // below 0 or past the range
             return false;
         }
-        to[k] = v;
+        *to++ = v;
         s |= v << shift;
-        shift += sp->bits[k];
+        shift += b;
+        from++;
         relative >>= 1;
         circular >>= 1;
-    }
+    } while (bits != end);
     *packed = s;
     return true;
 }
