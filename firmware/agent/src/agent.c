@@ -191,9 +191,24 @@ static float row_max_(const float *row, uint32_t n)
     return best;
 }
 
+// What a planning update leaves for the next one in the same agent_plan() call: the predecessors
+// it confirmed, each with its query (components and tiles). Confirming a predecessor was asking
+// CMAC-Model about it, and the answer was: it leads to `next` with the predecessor's reward, not
+// terminal. Prioritized sweeping works backwards, so the next update often pops one of them
+// (about a third of the updates on the grid robot), and then the model's prediction is already
+// known. Nothing trains the model between two updates of one agent_plan() call, so the answer is
+// still the model's; a real step trains it, and agent_plan() starts each call with none.
+typedef struct plan_carry {
+    model_pred_t pred[FW_CFG_MAX_ACTIONS];
+    model_query_t query[FW_CFG_MAX_ACTIONS];
+    agent_state_t next;
+    uint32_t n;
+} plan_carry_t;
+
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
-// model knows is queued by how much this change matters to it.
-static bool plan_qpc_(agent_t *ag)
+// model knows is queued by how much this change matters to it. `carry` (may be NULL) holds the
+// previous update's predecessors and receives this one's.
+static bool plan_qpc_(agent_t *ag, plan_carry_t *carry)
 {
     uint32_t key;
     float priority;
@@ -210,10 +225,22 @@ static bool plan_qpc_(agent_t *ag)
     const uint8_t a = (uint8_t)(key % n_actions);
     model_query_t here;
     model_step_t step;
-    model_query_init(&ag->model, s, &here);
-    if (!model_query_predict(&ag->model, &here, a, &step)) {
-        ag->stats.planning_skipped++;
-        return true;
+    uint32_t known = 0;
+    while (carry != NULL && known < carry->n &&
+           pq_key_(ag, carry->pred[known].state, carry->pred[known].action) != key) {
+        known++;
+    }
+    if (carry != NULL && known < carry->n) {
+        here = carry->query[known];
+        step.next = carry->next;
+        step.reward = carry->pred[known].reward;
+        step.terminal = 0;
+    } else {
+        model_query_init(&ag->model, s, &here);
+        if (!model_query_predict(&ag->model, &here, a, &step)) {
+            ag->stats.planning_skipped++;
+            return true;
+        }
     }
     const float target = target_(ag, step.reward, step.next, step.terminal);
     // Q(s, a) += alpha (target - Q(s, a)); a full Q store has no row for s, which then reads 0.
@@ -231,8 +258,14 @@ static bool plan_qpc_(agent_t *ag)
         (void)pq_push(&ag->pq, key, left);
     }
 
-    model_pred_t preds[FW_CFG_MAX_ACTIONS];
-    const uint32_t n = model_query_predecessors(&ag->model, &here, preds);
+    model_pred_t own[FW_CFG_MAX_ACTIONS];
+    model_pred_t *const preds = carry != NULL ? carry->pred : own;
+    const uint32_t n = model_query_predecessors(&ag->model, &here, preds,
+                                                carry != NULL ? carry->query : NULL);
+    if (carry != NULL) {
+        carry->next = s;
+        carry->n = n;
+    }
     if (n == 0u) {
         return true;
     }
@@ -267,7 +300,7 @@ bool agent_plan_step(agent_t *ag)
 {
     switch (ag->kind) {
     case AGENT_DYNA_QPC:
-        return plan_qpc_(ag);
+        return plan_qpc_(ag, NULL);
     case AGENT_DYNA_Q:
         return plan_dynaq_(ag);
     case AGENT_Q_LEARNING:
@@ -280,8 +313,10 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 {
     uint32_t done = 0;
     if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
+        plan_carry_t carry;
+        carry.n = 0;
         while (done < n && pq_size(&ag->pq) > 0u) {
-            (void)plan_qpc_(ag);
+            (void)plan_qpc_(ag, &carry);
             done++;
         }
         return done;

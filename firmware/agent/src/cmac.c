@@ -256,13 +256,21 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
 FW_STATIC_ASSERT(FW_CFG_MAX_PROBE % 2 == 0, probe_windows_are_scanned_two_cells_at_a_time);
 
+// The planner's lookups are a few small functions inlined into two callers, which GCC's -Os
+// would otherwise leave as calls.
+#if defined(__GNUC__)
+#define ALWAYS_INLINE_ static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE_ static inline
+#endif
+
 // Where `key` sits among the FW_CFG_MAX_PROBE cells from `cell` on, or NULL. Two cells at a time:
 // keys use at most 31 bits, so of two cells either is empty exactly when the top bit of both
 // keys or-ed together is set. Testing for the key before testing for empty cells finds nothing
 // more than the one-cell-at-a-time search: a key is never stored past an empty cell of its probe
 // path (cells are only ever emptied to be refilled at once, see evict_()). For the same reason
 // the test for empty cells only saves time, and in a full table, which has none, it is skipped.
-static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
+ALWAYS_INLINE_ const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
 {
     const uint32_t *const end = cell + FW_CFG_MAX_PROBE;
     do {
@@ -282,26 +290,16 @@ static const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool ful
     return NULL;
 }
 
-#if defined(__GNUC__)
-#define ALWAYS_INLINE_ static inline __attribute__((always_inline))
-#else
-#define ALWAYS_INLINE_ static inline
-#endif
-
-// The second pass of cmac_predict_trusted(): checks each found cell's training and adds its
-// weights, one register per output. Inlined with a constant `n_out` the switch folds away, and a
-// CMAC of four outputs needs no register for the other two.
-ALWAYS_INLINE_ bool add_trusted_cells_(const cmac_t *cmac, const uint32_t *slot, uint32_t min_count,
-                                       int32_t *out, const uint32_t n_out)
+// The second pass of cmac_predict_trusted(): adds the found cells' weights, one register per
+// output. Inlined with a constant `n_out` the switch folds away, and a CMAC of four outputs needs
+// no register for the other two.
+ALWAYS_INLINE_ void add_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out,
+                               const uint32_t n_out)
 {
-    const uint8_t *const counts = cmac->counts;
     const int16_t *const weights = cmac->weights;
     const uint32_t *const end = slot + cmac->n_patterns;
     int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
     for (; slot != end; slot++) {
-        if (counts[*slot] < min_count) {
-            return false;
-        }
         const int16_t *w = &weights[*slot * n_out];
         switch (n_out) {
         case 6: s5 += w[5]; /* fall through */
@@ -320,17 +318,17 @@ ALWAYS_INLINE_ bool add_trusted_cells_(const cmac_t *cmac, const uint32_t *slot,
     case 2: out[1] = s1; /* fall through */
     default: out[0] = s0;
     }
-    return true;
 }
 
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
-                          uint32_t min_count, int32_t *out)
+// What cmac_predict_trusted() does in its first pass: every tile's cell for `action`, into
+// slot[], and then whether each was trained at least `min_count` times. False at the first tile
+// without a cell. Two passes keep few values live at once (the Cortex-M4 has 13 registers to
+// spare): the cells are found first, so a missing one ends the search early, and their weights
+// are added after. A probe window that does not wrap around the table's end (nearly always) is
+// scanned by pointer.
+ALWAYS_INLINE_ bool find_trusted_cells_(const cmac_t *cmac, const cmac_tiles_t *tiles,
+                                        uint32_t action, uint32_t min_count, uint32_t *slot)
 {
-    // The planner's inner loop: about 17 cells per planning update, most of them in a full
-    // table. Two passes keep few values live at once (the Cortex-M4 has 13 registers to spare):
-    // first every tile's cell is found, so a missing one ends the search early; then each cell's
-    // training is checked and its weights are added. A probe window that does not wrap around
-    // the table's end (nearly always) is scanned by pointer.
     const uint32_t keep = ~cmac->action_field;
     const uint32_t act = action << cmac->action_shift;
     const uint32_t n = cmac->n_patterns;
@@ -338,7 +336,6 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
     const uint32_t capacity = cmac->capacity;
     const uint32_t home_shift = 32u - cmac->capacity_shift;
     const bool full = cmac->stats.cells_used == capacity;
-    uint32_t slot[FW_CFG_MAX_TILINGS];
     for (uint32_t t = 0; t < n; t++) {
         const uint32_t key = (tiles->key[t] & keep) | act;
         const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
@@ -356,12 +353,40 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
             }
         }
     }
+    // Every stored cell has been trained at least once (cmac_train() counts a new cell's first
+    // training at once, and evict_() ages no count below 1): only a higher bar needs a look.
+    if (min_count > 1u) {
+        for (uint32_t t = 0; t < n; t++) {
+            if (cmac->counts[slot[t]] < min_count) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The second pass: out[] = the found cells' weights added up.
+ALWAYS_INLINE_ void sum_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out)
+{
     // The robot's CMAC-Model has 6 outputs and its CMAC-R 4 (the maze's 4 and 2).
     switch (cmac->cfg.n_outputs) {
-    case 6: return add_trusted_cells_(cmac, slot, min_count, out, 6);
-    case 4: return add_trusted_cells_(cmac, slot, min_count, out, 4);
-    default: return add_trusted_cells_(cmac, slot, min_count, out, cmac->cfg.n_outputs);
+    case 6: add_cells_(cmac, slot, out, 6); break;
+    case 4: add_cells_(cmac, slot, out, 4); break;
+    default: add_cells_(cmac, slot, out, cmac->cfg.n_outputs); break;
     }
+}
+
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out)
+{
+    // The planner's inner loop: about 17 cells per planning update, most of them in a full
+    // table.
+    uint32_t slot[FW_CFG_MAX_TILINGS];
+    if (!find_trusted_cells_(cmac, tiles, action, min_count, slot)) {
+        return false;
+    }
+    sum_cells_(cmac, slot, out);
+    return true;
 }
 
 // num / den rounded to nearest, halves away from zero (den > 0).

@@ -206,33 +206,34 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
     return model_query_predict(m, &q, a, out);
 }
 
-uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out)
+uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
+                                  model_query_t *queries)
 {
     const agent_space_t *sp = m->space;
     const uint32_t n_comp = sp->n_components;
-    uint32_t prev[FW_CFG_MAX_COMPONENTS];
     uint32_t back[FW_CFG_MAX_COMPONENTS];
     int32_t pred[CMAC_MAX_OUTPUTS];
-    cmac_tiles_t tiles;
-    agent_state_t prev_state;
+    model_query_t scratch;
     agent_state_t back_state;
     uint32_t n = 0;
 
     for (uint32_t a = 0; a < sp->n_actions; a++) {
+        // The predecessor's query is built where it is kept if it is confirmed.
+        model_query_t *const prev = queries != NULL ? &queries[n] : &scratch;
         // CMAC-R shares CMAC-Model's key layout: the query's tiles serve both.
         if (!cmac_predict_trusted(&m->inverse, &q->tiles, a, m->min_count, pred) ||
-            !decode_(sp, q->comp, pred, prev, &prev_state)) {
+            !decode_(sp, q->comp, pred, prev->comp, &prev->state)) {
             continue;  // nothing trained arrives here by a: the common case, not worth counting
         }
         // CMAC-R averages when several states lead here by the same action; only a predecessor
         // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
-        cmac_tiles_of(&m->forward, prev, a, &tiles);
-        if (!predict_(m, prev, &tiles, a, back, &back_state, pred) ||
+        cmac_tiles_of(&m->forward, prev->comp, a, &prev->tiles);
+        if (!predict_(m, prev->comp, &prev->tiles, a, back, &back_state, pred) ||
             pred[n_comp + 1u] >= CMAC_ONE / 2 || back_state != q->state) {
             m->rejected++;
             continue;
         }
-        out[n].state = prev_state;
+        out[n].state = prev->state;
         out[n].action = (uint8_t)a;
         out[n].reward = (float)pred[n_comp] / (float)CMAC_ONE;
         n++;
@@ -244,5 +245,5 @@ uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out
 {
     model_query_t q;
     model_query_init(m, s, &q);
-    return model_query_predecessors(m, &q, out);
+    return model_query_predecessors(m, &q, out, NULL);
 }

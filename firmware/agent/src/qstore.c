@@ -76,16 +76,44 @@ static uint32_t find_(const qstore_t *qs, agent_state_t s)
     return qs->capacity;
 }
 
+// The row holding s, or capacity if it has none: find_() for reading, which is most of the
+// planner's lookups (about three per planning update). A probe window that does not wrap around
+// the table's end is scanned by pointer. It stops at s or at an empty row; no state is stored
+// past an empty row of its probe path (evict_() empties a row only for it to be filled at once),
+// so in a full table, which has none, only s is looked for.
+static uint32_t lookup_(const qstore_t *qs, agent_state_t s)
+{
+    const uint32_t home = qs->capacity_shift ? home_(qs, s) : 0u;
+    if (home + FW_CFG_MAX_PROBE > qs->capacity) {
+        const uint32_t slot = find_(qs, s);
+        return slot != qs->capacity && qs->keys[slot] == s ? slot : qs->capacity;
+    }
+    const uint32_t *const keys = qs->keys;
+    const uint32_t *k = keys + home;
+    const uint32_t *const end = k + FW_CFG_MAX_PROBE;
+    if (qs->rows_used == qs->capacity) {
+        while (*k != s) {
+            if (++k == end) {
+                return qs->capacity;
+            }
+        }
+    } else {
+        while (*k != s) {
+            if (*k == QSTORE_EMPTY || ++k == end) {
+                return qs->capacity;
+            }
+        }
+    }
+    return (uint32_t)(k - keys);
+}
+
 const float *qstore_row(const qstore_t *qs, agent_state_t s)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    const uint32_t slot = find_(qs, s);
-    if (slot == qs->capacity || qs->keys[slot] != s) {
-        return zero_row_;
-    }
-    return &qs->q[slot * qs->n_actions];
+    const uint32_t slot = lookup_(qs, s);
+    return slot == qs->capacity ? zero_row_ : &qs->q[slot * qs->n_actions];
 }
 
 // A full probe window: the new state takes the row of the window that has learned least (the
