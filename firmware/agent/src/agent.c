@@ -191,24 +191,28 @@ static float row_max_(const float *row, uint32_t n)
     return best;
 }
 
-// What a planning update leaves for the next one in the same agent_plan() call: the predecessors
-// it confirmed, each with its query (components and tiles). Confirming a predecessor was asking
-// CMAC-Model about it, and the answer was: it leads to `next` with the predecessor's reward, not
-// terminal. Prioritized sweeping works backwards, so the next update often pops one of them
-// (about a third of the updates on the grid robot), and then the model's prediction is already
-// known. Nothing trains the model between two updates of one agent_plan() call, so the answer is
-// still the model's; a real step trains it, and agent_plan() starts each call with none.
+// What planning updates pass on to the next ones in the same agent_plan() call: the last state
+// whose predecessors were found, those predecessors, and the queries (components and tiles) of
+// all of them. Nothing trains the model between two updates of one call (a real step does, and
+// each call starts with none of this), so what the model said then it would say again:
+// - confirming a predecessor was asking CMAC-Model about it, and the answer was "it leads to
+//   `here` with the predecessor's reward, not terminal". Prioritized sweeping works backwards,
+//   so an update often pops one of them (about a third of the updates on the grid robot);
+// - an update that pops another action of `here` (about one in ten) has the same predecessors.
 typedef struct plan_carry {
+    bool valid;          // `here` and the predecessors belong together
+    model_query_t here;  // the last state whose predecessors were found
+    uint32_t n;
     model_pred_t pred[FW_CFG_MAX_ACTIONS];
     model_query_t query[FW_CFG_MAX_ACTIONS];
-    agent_state_t next;
-    uint32_t n;
+    uint32_t rejected;   // what finding them added to the model's counters
+    uint32_t untrusted;
 } plan_carry_t;
 
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
-// model knows is queued by how much this change matters to it. `carry` (may be NULL) holds the
-// previous update's predecessors and receives this one's.
-static bool plan_qpc_(agent_t *ag, plan_carry_t *carry)
+// model knows is queued by how much this change matters to it. `c` holds what the previous
+// updates of this agent_plan() call found, and receives what this one finds.
+static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
 {
     uint32_t key;
     float priority;
@@ -223,21 +227,27 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *carry)
     const uint32_t n_actions = ag->space->n_actions;
     const agent_state_t s = key / n_actions;
     const uint8_t a = (uint8_t)(key % n_actions);
-    model_query_t here;
-    model_step_t step;
+    const bool same = c->valid && c->here.state == s;
     uint32_t known = 0;
-    while (carry != NULL && known < carry->n &&
-           pq_key_(ag, carry->pred[known].state, carry->pred[known].action) != key) {
+    while (c->valid && known < c->n &&
+           pq_key_(ag, c->pred[known].state, c->pred[known].action) != key) {
         known++;
     }
-    if (carry != NULL && known < carry->n) {
-        here = carry->query[known];
-        step.next = carry->next;
-        step.reward = carry->pred[known].reward;
+    model_step_t step;
+    if (c->valid && known < c->n) {
+        step.next = c->here.state;
+        step.reward = c->pred[known].reward;
         step.terminal = 0;
+        if (!same) {
+            c->here = c->query[known];
+            c->valid = false;
+        }
     } else {
-        model_query_init(&ag->model, s, &here);
-        if (!model_query_predict(&ag->model, &here, a, &step)) {
+        if (!same) {
+            c->valid = false;
+            model_query_init(&ag->model, s, &c->here);
+        }
+        if (!model_query_predict(&ag->model, &c->here, a, &step)) {
             ag->stats.planning_skipped++;
             return true;
         }
@@ -258,22 +268,26 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *carry)
         (void)pq_push(&ag->pq, key, left);
     }
 
-    model_pred_t own[FW_CFG_MAX_ACTIONS];
-    model_pred_t *const preds = carry != NULL ? carry->pred : own;
-    const uint32_t n = model_query_predecessors(&ag->model, &here, preds,
-                                                carry != NULL ? carry->query : NULL);
-    if (carry != NULL) {
-        carry->next = s;
-        carry->n = n;
+    if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
+        ag->model.rejected += c->rejected;
+        ag->model.untrusted += c->untrusted;
+    } else {
+        const uint32_t rejected = ag->model.rejected;
+        const uint32_t untrusted = ag->model.untrusted;
+        c->n = model_query_predecessors(&ag->model, &c->here, c->pred, c->query);
+        c->rejected = ag->model.rejected - rejected;
+        c->untrusted = ag->model.untrusted - untrusted;
+        c->valid = true;
     }
-    if (n == 0u) {
+    if (c->n == 0u) {
         return true;
     }
     const float value_here = ag->params.gamma * (row != NULL ? row_max_(row, n_actions) : 0.0f);
-    for (uint32_t i = 0; i < n; i++) {
-        const float p = abs_(preds[i].reward + value_here - agent_q(ag, preds[i].state, preds[i].action));
+    for (uint32_t i = 0; i < c->n; i++) {
+        const model_pred_t *pred = &c->pred[i];
+        const float p = abs_(pred->reward + value_here - agent_q(ag, pred->state, pred->action));
         if (p > ag->params.theta) {
-            (void)pq_push(&ag->pq, pq_key_(ag, preds[i].state, preds[i].action), p);
+            (void)pq_push(&ag->pq, pq_key_(ag, pred->state, pred->action), p);
         }
     }
     return true;
@@ -299,8 +313,11 @@ static bool plan_dynaq_(agent_t *ag)
 bool agent_plan_step(agent_t *ag)
 {
     switch (ag->kind) {
-    case AGENT_DYNA_QPC:
-        return plan_qpc_(ag, NULL);
+    case AGENT_DYNA_QPC: {
+        plan_carry_t carry;
+        carry.valid = false;
+        return plan_qpc_(ag, &carry);
+    }
     case AGENT_DYNA_Q:
         return plan_dynaq_(ag);
     case AGENT_Q_LEARNING:
@@ -314,7 +331,7 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
     uint32_t done = 0;
     if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
         plan_carry_t carry;
-        carry.n = 0;
+        carry.valid = false;
         while (done < n && pq_size(&ag->pq) > 0u) {
             (void)plan_qpc_(ag, &carry);
             done++;

@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
 
 static uint32_t log2_(uint32_t x)
 {
@@ -41,6 +42,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     cmac->weights = weights;
     cmac->capacity = capacity;
     cmac->capacity_shift = (uint8_t)log2_(capacity);
+    cmac->home_shift = (uint8_t)(32u - cmac->capacity_shift);
     const uint32_t tiling_bits = log2_(cfg->n_tilings);
 
     // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
@@ -161,6 +163,7 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     const uint32_t n = cmac->n_patterns;
     const uint32_t n_in = cmac->cfg.n_inputs;
     uint32_t common = action << cmac->action_shift;
+    tiles->action_bits = common;
     if (cmac->carry_bits != 0u) {
         // Every tiled input's low bits (v mod 2^sh) go into a word of their own, placed so that
         // adding a pattern's displacements carries exactly into the tile indices that move to
@@ -203,7 +206,7 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 
 static uint32_t home_(const cmac_t *cmac, uint32_t key)
 {
-    return (key * 0x9E3779B1u) >> (32u - cmac->capacity_shift);
+    return (key * 0x9E3779B1u) >> cmac->home_shift;
 }
 
 // The cell holding key, or the first empty cell on its probe path, or capacity when the probe
@@ -256,21 +259,13 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
 FW_STATIC_ASSERT(FW_CFG_MAX_PROBE % 2 == 0, probe_windows_are_scanned_two_cells_at_a_time);
 
-// The planner's lookups are a few small functions inlined into two callers, which GCC's -Os
-// would otherwise leave as calls.
-#if defined(__GNUC__)
-#define ALWAYS_INLINE_ static inline __attribute__((always_inline))
-#else
-#define ALWAYS_INLINE_ static inline
-#endif
-
 // Where `key` sits among the FW_CFG_MAX_PROBE cells from `cell` on, or NULL. Two cells at a time:
 // keys use at most 31 bits, so of two cells either is empty exactly when the top bit of both
 // keys or-ed together is set. Testing for the key before testing for empty cells finds nothing
 // more than the one-cell-at-a-time search: a key is never stored past an empty cell of its probe
 // path (cells are only ever emptied to be refilled at once, see evict_()). For the same reason
 // the test for empty cells only saves time, and in a full table, which has none, it is skipped.
-ALWAYS_INLINE_ const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
+AGENT_ALWAYS_INLINE const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
 {
     const uint32_t *const end = cell + FW_CFG_MAX_PROBE;
     do {
@@ -293,7 +288,7 @@ ALWAYS_INLINE_ const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, 
 // The second pass of cmac_predict_trusted(): adds the found cells' weights, one register per
 // output. Inlined with a constant `n_out` the switch folds away, and a CMAC of four outputs needs
 // no register for the other two.
-ALWAYS_INLINE_ void add_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out,
+AGENT_ALWAYS_INLINE void add_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out,
                                const uint32_t n_out)
 {
     const int16_t *const weights = cmac->weights;
@@ -320,44 +315,32 @@ ALWAYS_INLINE_ void add_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t
     }
 }
 
-// What cmac_predict_trusted() does in its first pass: every tile's cell for `action`, into
-// slot[], and then whether each was trained at least `min_count` times. False at the first tile
-// without a cell. Two passes keep few values live at once (the Cortex-M4 has 13 registers to
-// spare): the cells are found first, so a missing one ends the search early, and their weights
-// are added after. A probe window that does not wrap around the table's end (nearly always) is
-// scanned by pointer.
-ALWAYS_INLINE_ bool find_trusted_cells_(const cmac_t *cmac, const cmac_tiles_t *tiles,
-                                        uint32_t action, uint32_t min_count, uint32_t *slot)
+// What cmac_predict_trusted() does in its first pass: the cell of every tile, its key changed by
+// `change` (to another action), into slot[]. False at the first tile without a cell. Two passes
+// keep few values live at once (the Cortex-M4 has 13 registers to spare): the cells are found
+// first, so a missing one ends the search early, and their weights are added after. A probe
+// window that does not wrap around the table's end (nearly always) is scanned by pointer.
+// Inlined once for a full table and once for one with empty cells.
+AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t change,
+                                uint32_t *slot, const bool full)
 {
-    const uint32_t keep = ~cmac->action_field;
-    const uint32_t act = action << cmac->action_shift;
-    const uint32_t n = cmac->n_patterns;
     const uint32_t *const keys = cmac->keys;
     const uint32_t capacity = cmac->capacity;
-    const uint32_t home_shift = 32u - cmac->capacity_shift;
-    const bool full = cmac->stats.cells_used == capacity;
-    for (uint32_t t = 0; t < n; t++) {
-        const uint32_t key = (tiles->key[t] & keep) | act;
+    const uint32_t home_shift = cmac->home_shift;
+    const uint32_t *const end = slot + cmac->n_patterns;
+    const uint32_t *tile = tiles->key;
+    for (; slot != end; slot++, tile++) {
+        const uint32_t key = *tile ^ change;
         const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
         if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *const cell = full ? scan_window_(keys + home, key, true)
-                                              : scan_window_(keys + home, key, false);
+            const uint32_t *const cell = scan_window_(keys + home, key, full);
             if (cell == NULL) {
                 return false;
             }
-            slot[t] = (uint32_t)(cell - keys);
+            *slot = (uint32_t)(cell - keys);
         } else {
-            slot[t] = lookup_(cmac, key);
-            if (slot[t] == capacity) {
-                return false;
-            }
-        }
-    }
-    // Every stored cell has been trained at least once (cmac_train() counts a new cell's first
-    // training at once, and evict_() ages no count below 1): only a higher bar needs a look.
-    if (min_count > 1u) {
-        for (uint32_t t = 0; t < n; t++) {
-            if (cmac->counts[slot[t]] < min_count) {
+            *slot = lookup_(cmac, key);
+            if (*slot == capacity) {
                 return false;
             }
         }
@@ -366,7 +349,7 @@ ALWAYS_INLINE_ bool find_trusted_cells_(const cmac_t *cmac, const cmac_tiles_t *
 }
 
 // The second pass: out[] = the found cells' weights added up.
-ALWAYS_INLINE_ void sum_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out)
+AGENT_ALWAYS_INLINE void sum_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out)
 {
     // The robot's CMAC-Model has 6 outputs and its CMAC-R 4 (the maze's 4 and 2).
     switch (cmac->cfg.n_outputs) {
@@ -381,9 +364,22 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
 {
     // The planner's inner loop: about 17 cells per planning update, most of them in a full
     // table.
+    const uint32_t change = tiles->action_bits ^ (action << cmac->action_shift);
     uint32_t slot[FW_CFG_MAX_TILINGS];
-    if (!find_trusted_cells_(cmac, tiles, action, min_count, slot)) {
+    const bool found = cmac->stats.cells_used == cmac->capacity
+                           ? find_cells_(cmac, tiles, change, slot, true)
+                           : find_cells_(cmac, tiles, change, slot, false);
+    if (!found) {
         return false;
+    }
+    // Every stored cell has been trained at least once (cmac_train() counts a new cell's first
+    // training at once, and evict_() ages no count below 1): only a higher bar needs a look.
+    if (min_count > 1u) {
+        for (uint32_t t = 0; t < cmac->n_patterns; t++) {
+            if (cmac->counts[slot[t]] < min_count) {
+                return false;
+            }
+        }
     }
     sum_cells_(cmac, slot, out);
     return true;

@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
 
 // What an unknown state reads as. Large enough for any action count.
 static const float zero_row_[FW_CFG_MAX_ACTIONS];
@@ -81,7 +82,7 @@ static uint32_t find_(const qstore_t *qs, agent_state_t s)
 // the table's end is scanned by pointer. It stops at s or at an empty row; no state is stored
 // past an empty row of its probe path (evict_() empties a row only for it to be filled at once),
 // so in a full table, which has none, only s is looked for.
-static uint32_t lookup_(const qstore_t *qs, agent_state_t s)
+AGENT_ALWAYS_INLINE uint32_t lookup_(const qstore_t *qs, agent_state_t s)
 {
     const uint32_t home = qs->capacity_shift ? home_(qs, s) : 0u;
     if (home + FW_CFG_MAX_PROBE > qs->capacity) {
@@ -107,13 +108,19 @@ static uint32_t lookup_(const qstore_t *qs, agent_state_t s)
     return (uint32_t)(k - keys);
 }
 
-const float *qstore_row(const qstore_t *qs, agent_state_t s)
+// The row of s for reading; an unknown state reads as zeros.
+AGENT_ALWAYS_INLINE const float *row_of_(const qstore_t *qs, agent_state_t s)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
     const uint32_t slot = lookup_(qs, s);
     return slot == qs->capacity ? zero_row_ : &qs->q[slot * qs->n_actions];
+}
+
+const float *qstore_row(const qstore_t *qs, agent_state_t s)
+{
+    return row_of_(qs, s);
 }
 
 // A full probe window: the new state takes the row of the window that has learned least (the
@@ -152,11 +159,12 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    uint32_t slot = find_(qs, s);
+    uint32_t slot = lookup_(qs, s);  // the common case: s has its row
     if (slot == qs->capacity) {
-        slot = evict_(qs, s);
-    }
-    if (qs->keys[slot] == QSTORE_EMPTY) {
+        slot = find_(qs, s);
+        if (slot == qs->capacity) {
+            slot = evict_(qs, s);
+        }
         qs->keys[slot] = s;
         qs->rows_used++;
     }
@@ -165,7 +173,7 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
 
 float qstore_max(const qstore_t *qs, agent_state_t s)
 {
-    const float *row = qstore_row(qs, s);
+    const float *row = row_of_(qs, s);
     float best = row[0];
     for (uint32_t a = 1; a < qs->n_actions; a++) {
         if (row[a] > best) {

@@ -47,6 +47,7 @@ typedef struct cmac_stats {
 /// prediction and training. Only the first `n_patterns` entries are used (see cmac_t).
 typedef struct cmac_tiles {
     uint32_t key[FW_CFG_MAX_TILINGS];
+    uint32_t action_bits;  // the action's field in every key
 } cmac_tiles_t;
 
 /// A CMAC in caller-owned storage.
@@ -69,6 +70,7 @@ typedef struct cmac {
     int16_t *weights;   // capacity * n_outputs
     uint32_t capacity;
     uint8_t capacity_shift;
+    uint8_t home_shift;  // 32 - capacity_shift: a key's cell is the top bits of its hash
     uint8_t n_patterns;  // distinct tilings, <= n_tilings
     uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
     uint8_t action_shift;
@@ -104,11 +106,11 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 /// Re-targets tiles computed by cmac_tiles_of() to another action, without recomputing them.
 static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
 {
-    const uint32_t keep = ~cmac->action_field;
-    const uint32_t bits = action << cmac->action_shift;
+    const uint32_t change = tiles->action_bits ^ (action << cmac->action_shift);
     for (uint32_t p = 0; p < cmac->n_patterns; p++) {
-        tiles->key[p] = (tiles->key[p] & keep) | bits;
+        tiles->key[p] ^= change;
     }
+    tiles->action_bits ^= change;
 }
 
 /// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0). Each sum
