@@ -200,14 +200,24 @@ static float row_max_(const float *row, uint32_t n)
 //   so an update often pops one of them (about a third of the updates on the grid robot);
 // - an update that pops another action of `here` (about one in ten) has the same predecessors.
 typedef struct plan_carry {
-    bool valid;          // `here` and the predecessors belong together
-    model_query_t here;  // the last state whose predecessors were found
+    bool valid;           // `here` and the predecessors belong together
+    model_query_t *here;  // the last state whose predecessors were found
     uint32_t n;
     model_pred_t pred[FW_CFG_MAX_ACTIONS];
-    model_query_t query[FW_CFG_MAX_ACTIONS];
-    uint32_t rejected;   // what finding them added to the model's counters
+    model_query_t *query[FW_CFG_MAX_ACTIONS];  // pred[i]'s
+    uint32_t rejected;    // what finding them added to the model's counters
     uint32_t untrusted;
+    model_query_t store[FW_CFG_MAX_ACTIONS + 1];  // where `here` and `query` point, all apart
 } plan_carry_t;
+
+static void plan_carry_init_(plan_carry_t *c)
+{
+    c->valid = false;
+    c->here = &c->store[0];
+    for (uint32_t i = 0; i < FW_CFG_MAX_ACTIONS; i++) {
+        c->query[i] = &c->store[i + 1u];
+    }
+}
 
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
 // model knows is queued by how much this change matters to it. `c` holds what the previous
@@ -227,7 +237,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     const uint32_t n_actions = ag->space->n_actions;
     const agent_state_t s = key / n_actions;
     const uint8_t a = (uint8_t)(key % n_actions);
-    const bool same = c->valid && c->here.state == s;
+    const bool same = c->valid && c->here->state == s;
     uint32_t known = 0;
     while (c->valid && known < c->n &&
            pq_key_(ag, c->pred[known].state, c->pred[known].action) != key) {
@@ -235,19 +245,21 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     }
     model_step_t step;
     if (c->valid && known < c->n) {
-        step.next = c->here.state;
+        step.next = c->here->state;
         step.reward = c->pred[known].reward;
         step.terminal = 0;
-        if (!same) {
-            c->here = c->query[known];
+        if (!same) {  // the predecessor's query becomes `here`, its old place is free
+            model_query_t *const q = c->query[known];
+            c->query[known] = c->here;
+            c->here = q;
             c->valid = false;
         }
     } else {
         if (!same) {
             c->valid = false;
-            model_query_init(&ag->model, s, &c->here);
+            model_query_init(&ag->model, s, c->here);
         }
-        if (!model_query_predict(&ag->model, &c->here, a, &step)) {
+        if (!model_query_predict(&ag->model, c->here, a, &step)) {
             ag->stats.planning_skipped++;
             return true;
         }
@@ -274,7 +286,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     } else {
         const uint32_t rejected = ag->model.rejected;
         const uint32_t untrusted = ag->model.untrusted;
-        c->n = model_query_predecessors(&ag->model, &c->here, c->pred, c->query);
+        c->n = model_query_predecessors(&ag->model, c->here, c->pred, c->query);
         c->rejected = ag->model.rejected - rejected;
         c->untrusted = ag->model.untrusted - untrusted;
         c->valid = true;
@@ -315,7 +327,7 @@ bool agent_plan_step(agent_t *ag)
     switch (ag->kind) {
     case AGENT_DYNA_QPC: {
         plan_carry_t carry;
-        carry.valid = false;
+        plan_carry_init_(&carry);
         return plan_qpc_(ag, &carry);
     }
     case AGENT_DYNA_Q:
@@ -331,7 +343,7 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
     uint32_t done = 0;
     if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
         plan_carry_t carry;
-        carry.valid = false;
+        plan_carry_init_(&carry);
         while (done < n && pq_size(&ag->pq) > 0u) {
             (void)plan_qpc_(ag, &carry);
             done++;

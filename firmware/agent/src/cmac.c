@@ -6,6 +6,7 @@
 
 #include "fw/fw_base.h"
 #include "inline.h"
+#include "probe.h"
 
 static uint32_t log2_(uint32_t x)
 {
@@ -257,34 +258,6 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 }
 
 FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
-FW_STATIC_ASSERT(FW_CFG_MAX_PROBE % 2 == 0, probe_windows_are_scanned_two_cells_at_a_time);
-
-// Where `key` sits among the FW_CFG_MAX_PROBE cells from `cell` on, or NULL. Two cells at a time:
-// keys use at most 31 bits, so of two cells either is empty exactly when the top bit of both
-// keys or-ed together is set. Testing for the key before testing for empty cells finds nothing
-// more than the one-cell-at-a-time search: a key is never stored past an empty cell of its probe
-// path (cells are only ever emptied to be refilled at once, see evict_()). For the same reason
-// the test for empty cells only saves time, and in a full table, which has none, it is skipped.
-AGENT_ALWAYS_INLINE const uint32_t *scan_window_(const uint32_t *cell, uint32_t key, bool full)
-{
-    const uint32_t *const end = cell + FW_CFG_MAX_PROBE;
-    do {
-        const uint32_t k0 = cell[0];
-        const uint32_t k1 = cell[1];
-        if (k0 == key) {
-            return cell;
-        }
-        if (k1 == key) {
-            return cell + 1;
-        }
-        if (!full && ((k0 | k1) >> 31)) {
-            return NULL;
-        }
-        cell += 2;
-    } while (cell != end);
-    return NULL;
-}
-
 // The second pass of cmac_predict_trusted(): adds the found cells' weights, one register per
 // output. Inlined with a constant `n_out` the switch folds away, and a CMAC of four outputs needs
 // no register for the other two.
@@ -333,7 +306,7 @@ AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *til
         const uint32_t key = *tile ^ change;
         const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
         if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *const cell = scan_window_(keys + home, key, full);
+            const uint32_t *const cell = probe_scan(keys + home, key, full);
             if (cell == NULL) {
                 return false;
             }

@@ -207,7 +207,7 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
 }
 
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
-                                  model_query_t *queries)
+                                  model_query_t *const *queries)
 {
     const agent_space_t *sp = m->space;
     const uint32_t n_comp = sp->n_components;
@@ -219,7 +219,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
 
     for (uint32_t a = 0; a < sp->n_actions; a++) {
         // The predecessor's query is built where it is kept if it is confirmed.
-        model_query_t *const prev = queries != NULL ? &queries[n] : &scratch;
+        model_query_t *const prev = queries != NULL ? queries[n] : &scratch;
         // CMAC-R shares CMAC-Model's key layout: the query's tiles serve both.
         if (!cmac_predict_trusted(&m->inverse, &q->tiles, a, m->min_count, pred) ||
             !decode_(sp, q->comp, pred, prev->comp, &prev->state)) {

@@ -6,6 +6,7 @@
 
 #include "fw/fw_base.h"
 #include "inline.h"
+#include "probe.h"
 
 // What an unknown state reads as. Large enough for any action count.
 static const float zero_row_[FW_CFG_MAX_ACTIONS];
@@ -79,9 +80,7 @@ static uint32_t find_(const qstore_t *qs, agent_state_t s)
 
 // The row holding s, or capacity if it has none: find_() for reading, which is most of the
 // planner's lookups (about three per planning update). A probe window that does not wrap around
-// the table's end is scanned by pointer. It stops at s or at an empty row; no state is stored
-// past an empty row of its probe path (evict_() empties a row only for it to be filled at once),
-// so in a full table, which has none, only s is looked for.
+// the table's end is scanned by pointer (probe.h).
 AGENT_ALWAYS_INLINE uint32_t lookup_(const qstore_t *qs, agent_state_t s)
 {
     const uint32_t home = qs->capacity_shift ? home_(qs, s) : 0u;
@@ -89,23 +88,8 @@ AGENT_ALWAYS_INLINE uint32_t lookup_(const qstore_t *qs, agent_state_t s)
         const uint32_t slot = find_(qs, s);
         return slot != qs->capacity && qs->keys[slot] == s ? slot : qs->capacity;
     }
-    const uint32_t *const keys = qs->keys;
-    const uint32_t *k = keys + home;
-    const uint32_t *const end = k + FW_CFG_MAX_PROBE;
-    if (qs->rows_used == qs->capacity) {
-        while (*k != s) {
-            if (++k == end) {
-                return qs->capacity;
-            }
-        }
-    } else {
-        while (*k != s) {
-            if (*k == QSTORE_EMPTY || ++k == end) {
-                return qs->capacity;
-            }
-        }
-    }
-    return (uint32_t)(k - keys);
+    const uint32_t *const row = probe_scan(qs->keys + home, s, qs->rows_used == qs->capacity);
+    return row != NULL ? (uint32_t)(row - qs->keys) : qs->capacity;
 }
 
 // The row of s for reading; an unknown state reads as zeros.

@@ -95,12 +95,12 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 /// model_predict() for the query's state.
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out);
 
-/// model_predecessors() for the query's state. With `queries` (room for n_actions, or NULL),
-/// queries[i] also receives the query of out[i].state, ready for further questions, and
+/// model_predecessors() for the query's state. With `queries` (n_actions places apart from q, or
+/// NULL), *queries[i] also receives the query of out[i].state, ready for further questions, and
 /// CMAC-Model's prediction for out[i] is known to be: q's state, reward out[i].reward, not
 /// terminal (that is how a predecessor is confirmed).
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
-                                  model_query_t *queries);
+                                  model_query_t *const *queries);
 
 #ifdef __cplusplus
 }
