@@ -133,8 +133,8 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         }
     }
     for (uint32_t k = 0; k < cfg->n_inputs; k++) {
-        cmac->low_mask[k] = (1u << cfg->tile_shift[k]) - 1u;
         cmac->low_shift[k] = (uint8_t)(cmac->key_shift[k] - cfg->tile_shift[k]);
+        cmac->low_field[k] = ((1u << cfg->tile_shift[k]) - 1u) << cmac->low_shift[k];
     }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
@@ -168,14 +168,15 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     if (cmac->carry_bits != 0u) {
         // Every tiled input's low bits (v mod 2^sh) go into a word of their own, placed so that
         // adding a pattern's displacements carries exactly into the tile indices that move to
-        // the next tile (see cmac_init()); an exact input adds nothing there. No tiled input is
-        // circular on this path, and an exact one's value is within its range, so no field needs
-        // its tile mask.
+        // the next tile (see cmac_init()); an exact input adds nothing there. One shift places
+        // both parts of v: its tile index on its field of the key, its low bits just below. No
+        // tiled input is circular on this path, and an exact one's value is within its range,
+        // so no field needs its tile mask.
         uint32_t low = 0;
         for (uint32_t k = 0; k < n_in; k++) {
-            const uint32_t v = inputs[k];
-            common |= (v >> cmac->cfg.tile_shift[k]) << cmac->key_shift[k];
-            low += (v & cmac->low_mask[k]) << cmac->low_shift[k];
+            const uint32_t placed = inputs[k] << cmac->low_shift[k];
+            common |= placed & ~cmac->low_field[k];
+            low += placed & cmac->low_field[k];
         }
         const uint32_t carries = cmac->carry_bits;
         for (uint32_t p = 0; p < n; p++) {

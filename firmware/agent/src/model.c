@@ -32,6 +32,13 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     }
     m->space = space;
     m->min_count = min_count;
+    for (uint32_t k = 0; k < space->n_components; k++) {
+        // A change wraps around a circular component; a value predicted as such does not.
+        const bool absolute = (space->absolute_mask >> k) & 1u;
+        const bool circular = (space->circular_mask >> k) & 1u;
+        m->field[k].keep_from = absolute ? 0u : UINT32_MAX;
+        m->field[k].wrap = circular && !absolute ? (1u << space->bits[k]) - 1u : UINT32_MAX;
+    }
     cmac_config_t c;
     cmac_config_for_(&c, space, tilings, learning_rate, (uint8_t)(space->n_components + 2u));
     int err = cmac_init(&m->forward, &c, fwd->keys, fwd->counts, fwd->weights, fwd->cells);
@@ -100,35 +107,26 @@ static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_
 }
 
 // The inverse of encode_(): the components of the state `pred` leads to from `from`, into `to`,
-// and that state packed. False if a component falls outside its range. (Walked by pointer: a
-// planning update decodes about 14 components.)
-static bool decode_(const agent_space_t *sp, const uint32_t *from, const int32_t *pred,
+// and that state packed. False if a component falls outside its range. (A planning update
+// decodes about ten components: each component's kind is applied by masks, without a branch.)
+static bool decode_(const world_model_t *m, const uint32_t *from, const int32_t *pred,
                     uint32_t *to, agent_state_t *packed)
 {
-    const uint8_t *bits = sp->bits;
-    const uint8_t *const end = bits + sp->n_components;
-    uint32_t relative = ~(uint32_t)sp->absolute_mask;
-    uint32_t circular = sp->circular_mask;
+    const uint8_t *bits = m->space->bits;
+    const uint8_t *const end = bits + m->space->n_components;
+    const model_field_t *field = m->field;
     agent_state_t s = 0;
     uint32_t shift = 0;
     do {
         const uint32_t b = *bits++;
-        uint32_t v = round_fixed_(*pred++);
-        if (relative & 1u) {
-            v += *from;
-            if (circular & 1u) {
-                v &= (1u << b) - 1u;
-            }
-        }
+        const uint32_t v = (round_fixed_(*pred++) + (*from++ & field->keep_from)) & field->wrap;
+        field++;
         if (v >> b) {  // below 0 or past the range
             return false;
         }
         *to++ = v;
         s |= v << shift;
         shift += b;
-        from++;
-        relative >>= 1;
-        circular >>= 1;
     } while (bits != end);
     *packed = s;
     return true;
@@ -171,7 +169,7 @@ static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t 
                      uint32_t *to, agent_state_t *next, int32_t *pred)
 {
     if (!cmac_predict_trusted(&m->forward, tiles, a, m->min_count, pred) ||
-        !decode_(m->space, from, pred, to, next)) {
+        !decode_(m, from, pred, to, next)) {
         m->untrusted++;
         return false;
     }
@@ -222,7 +220,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
         model_query_t *const prev = queries != NULL ? queries[n] : &scratch;
         // CMAC-R shares CMAC-Model's key layout: the query's tiles serve both.
         if (!cmac_predict_trusted(&m->inverse, &q->tiles, a, m->min_count, pred) ||
-            !decode_(sp, q->comp, pred, prev->comp, &prev->state)) {
+            !decode_(m, q->comp, pred, prev->comp, &prev->state)) {
             continue;  // nothing trained arrives here by a: the common case, not worth counting
         }
         // CMAC-R averages when several states lead here by the same action; only a predecessor

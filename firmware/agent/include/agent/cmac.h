@@ -80,8 +80,9 @@ typedef struct cmac {
     // cmac_tiles_of()'s fast path (see there): carry_bits != 0 when it applies.
     uint32_t carry_bits;
     uint32_t pattern_offsets[FW_CFG_MAX_TILINGS];
-    uint32_t low_mask[FW_CFG_MAX_COMPONENTS];  // input k's values within a tile: 2^tile_shift - 1
-    uint8_t low_shift[FW_CFG_MAX_COMPONENTS];  // where they go: key_shift - tile_shift
+    uint8_t low_shift[FW_CFG_MAX_COMPONENTS];  // key_shift - tile_shift: input k's tile index
+                                               // lands on its field, its value within the tile
+    uint32_t low_field[FW_CFG_MAX_COMPONENTS];  // below it, in these bits
     uint32_t tile_mask[FW_CFG_MAX_COMPONENTS];  // all ones, or the wrap of a circular input
     uint8_t offset[FW_CFG_MAX_COMPONENTS][FW_CFG_MAX_TILINGS];  // per pattern displacement
     uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for

@@ -24,8 +24,15 @@ extern "C" {
 /// A prediction is trusted only when every one of its T cells has been trained at least
 /// `min_count` times and each predicted component lies in range. A predecessor from CMAC-R is
 /// trusted only if CMAC-Model, asked about it, leads back to the state it came from.
+/// How a predicted change applies to one component (see decode_() in model.c).
+typedef struct model_field {
+    uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
+    uint32_t wrap;       // 2^bits - 1 for the change of a circular component, else all ones
+} model_field_t;
+
 typedef struct world_model {
     const agent_space_t *space;
+    model_field_t field[FW_CFG_MAX_COMPONENTS];
     cmac_t forward;   // outputs: n_components changes, reward, terminal
     cmac_t inverse;   // outputs: n_components changes
     uint8_t min_count;
