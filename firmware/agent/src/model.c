@@ -132,6 +132,22 @@ static bool decode_(const world_model_t *m, const uint32_t *from, const int32_t 
     return true;
 }
 
+// Whether `pred` leads from `from` to exactly the components `to`: decode_() compared instead of
+// stored, for a predecessor's confirmation.
+static bool leads_to_(const world_model_t *m, const uint32_t *from, const int32_t *pred,
+                      const uint32_t *to)
+{
+    const model_field_t *field = m->field;
+    const model_field_t *const end = field + m->space->n_components;
+    do {
+        const uint32_t v = (round_fixed_(*pred++) + (*from++ & field->keep_from)) & field->wrap;
+        if (v != *to++) {
+            return false;
+        }
+    } while (++field != end);
+    return true;
+}
+
 // ---- Learning and predicting ---------------------------------------------------------------------
 
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
@@ -226,8 +242,15 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
         // CMAC-R averages when several states lead here by the same action; only a predecessor
         // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
         cmac_tiles_of(&m->forward, prev->comp, a, &prev->tiles);
-        if (!predict_(m, prev->comp, &prev->tiles, a, back, &back_state, pred) ||
-            pred[n_comp + 1u] >= CMAC_ONE / 2 || back_state != q->state) {
+        if (!cmac_predict_trusted(&m->forward, &prev->tiles, a, m->min_count, pred)) {
+            m->untrusted++;
+            m->rejected++;
+            continue;
+        }
+        if (pred[n_comp + 1u] >= CMAC_ONE / 2 || !leads_to_(m, prev->comp, pred, q->comp)) {
+            if (!decode_(m, prev->comp, pred, back, &back_state)) {
+                m->untrusted++;  // as model_predict() counts a prediction out of range
+            }
             m->rejected++;
             continue;
         }
