@@ -150,11 +150,11 @@ static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
     return s * ag->space->n_actions + a;
 }
 
-// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key.
-// Cells are never evicted, so the model will never trust such a pair: popping it is a skip that
-// needs no model lookup. The bit is the same at every push of the pair (a real step's training
-// finds the same tiles missing; requeues and predecessors are pairs the model just predicted),
-// so the queue sees one key per pair, as without the bit.
+// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key,
+// and popping it is a skip that needs no model lookup (a miss in a full window probes all
+// FW_CFG_MAX_PROBE slots). With eviction this is rare: only a window held entirely by the same
+// training refuses a tile. Should a later real step store the pair's tiles, that step queues it
+// again without the bit.
 #define UNPLANNABLE_BIT 0x80000000u
 // States have at most 24 bits, so s * n_actions + a stays below the bit.
 FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
@@ -297,7 +297,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     const float value_here = ag->params.gamma * (row != NULL ? row_max_(row, n_actions) : 0.0f);
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
-        const float p = abs_(pred->reward + value_here - agent_q(ag, pred->state, pred->action));
+        const float p = abs_(pred->reward + value_here - qstore_row(&ag->q, pred->state)[pred->action]);
         if (p > ag->params.theta) {
             (void)pq_push(&ag->pq, pq_key_(ag, pred->state, pred->action), p);
         }

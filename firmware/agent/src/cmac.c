@@ -178,9 +178,14 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
             common |= placed & ~cmac->low_field[k];
             low += placed & cmac->low_field[k];
         }
+        // Pattern p's key: the common part with p in its lowest bits (where the common part has
+        // none), plus its carries.
         const uint32_t carries = cmac->carry_bits;
-        for (uint32_t p = 0; p < n; p++) {
-            tiles->key[p] = (common | p) + ((low + cmac->pattern_offsets[p]) & carries);
+        const uint32_t *offset = cmac->pattern_offsets;
+        uint32_t *key = tiles->key;
+        uint32_t *const end = key + n;
+        for (; key != end; key++, common++) {
+            *key = common + ((low + *offset++) & carries);
         }
         return;
     }

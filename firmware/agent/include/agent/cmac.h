@@ -54,8 +54,9 @@ typedef struct cmac_tiles {
 ///
 /// Collision policy: the table stores each tile's full key beside its weights, so two tiles
 /// never share a cell: the approximation is exact until the table is full. A tile that finds
-/// no free cell within FW_CFG_MAX_PROBE slots is not stored and counts as `dropped`; it reads
-/// as untrained. Cells are never evicted.
+/// no free cell within FW_CFG_MAX_PROBE slots takes the least-trained cell of that window
+/// (`evicted`), whose old tile then reads as untrained; only when every cell of the window is
+/// held by the same training is the tile not stored (`dropped`).
 ///
 /// Duplicate tilings are merged. The inputs are integers, so an input whose tiles are w values
 /// wide can only be split w ways, and of the T tilings at most the product of the widths are
@@ -130,9 +131,9 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
 /// The paper's learning rule (Fig. 7, step d): each of the T cells moves by
 /// learning_rate / T * (desired - actual). Cells are created on first training.
 /// `desired` holds n_outputs fixed-point values.
-/// Returns true when every tile has its cell; false when a tile found no free cell within the
-/// probe limit (counted in `dropped`). Cells are never evicted, so such a tile never gets one:
-/// every prediction over these tiles stays untrusted until cmac_clear().
+/// Returns true when every tile has its cell; false when a tile found no cell it could take
+/// within the probe limit (counted in `dropped`): predictions over these tiles stay untrusted
+/// until a later training stores them.
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
 
 #ifdef __cplusplus

@@ -75,7 +75,7 @@ void model_clear(world_model_t *m);
 
 /// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal), CMAC-R on (s', a) -> s.
 /// Returns false when one of CMAC-Model's tiles for (s, a) found no room in its table: then
-/// model_predict() refuses (s, a) until model_clear(), as cells are never evicted.
+/// model_predict() refuses (s, a) until a later training stores that tile.
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
