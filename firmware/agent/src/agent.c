@@ -155,11 +155,11 @@ static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
     return s * ag->space->n_actions + a;
 }
 
-// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key.
-// Cells are never evicted, so the model will never trust such a pair: popping it is a skip that
-// needs no model lookup. The bit is the same at every push of the pair (a real step's training
-// finds the same tiles missing; requeues and predecessors are pairs the model just predicted),
-// so the queue sees one key per pair, as without the bit.
+// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key,
+// and popping it is a skip that needs no model lookup (a miss in a full window probes all
+// FW_CFG_MAX_PROBE slots). With eviction this is rare: only a window held entirely by the same
+// training refuses a tile. Should a later real step store the pair's tiles, that step queues it
+// again without the bit.
 #define UNPLANNABLE_BIT 0x80000000u
 // States have at most 24 bits, so s * n_actions + a stays below the bit.
 FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
@@ -196,9 +196,38 @@ static float row_max_(const float *row, uint32_t n)
     return best;
 }
 
+// What planning updates pass on to the next ones in the same agent_plan() call: the last state
+// whose predecessors were found, those predecessors, and the queries (components and tiles) of
+// all of them. Nothing trains the model between two updates of one call (a real step does, and
+// each call starts with none of this), so what the model said then it would say again:
+// - confirming a predecessor was asking CMAC-Model about it, and the answer was "it leads to
+//   `here` with the predecessor's reward, not terminal". Prioritized sweeping works backwards,
+//   so an update often pops one of them (about a third of the updates on the grid robot);
+// - an update that pops another action of `here` (about one in ten) has the same predecessors.
+typedef struct plan_carry {
+    bool valid;           // `here` and the predecessors belong together
+    model_query_t *here;  // the last state whose predecessors were found
+    uint32_t n;
+    model_pred_t pred[FW_CFG_MAX_ACTIONS];
+    model_query_t *query[FW_CFG_MAX_ACTIONS];  // pred[i]'s
+    uint32_t rejected;    // what finding them added to the model's counters
+    uint32_t untrusted;
+    model_query_t store[FW_CFG_MAX_ACTIONS + 1];  // where `here` and `query` point, all apart
+} plan_carry_t;
+
+static void plan_carry_init_(plan_carry_t *c)
+{
+    c->valid = false;
+    c->here = &c->store[0];
+    for (uint32_t i = 0; i < FW_CFG_MAX_ACTIONS; i++) {
+        c->query[i] = &c->store[i + 1u];
+    }
+}
+
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
-// model knows is queued by how much this change matters to it.
-static bool plan_qpc_(agent_t *ag)
+// model knows is queued by how much this change matters to it. `c` holds what the previous
+// updates of this agent_plan() call found, and receives what this one finds.
+static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
 {
     uint32_t key;
     float priority;
@@ -213,12 +242,32 @@ static bool plan_qpc_(agent_t *ag)
     const uint32_t n_actions = ag->space->n_actions;
     const agent_state_t s = key / n_actions;
     const uint8_t a = (uint8_t)(key % n_actions);
-    model_query_t here;
+    const bool same = c->valid && c->here->state == s;
+    uint32_t known = 0;
+    while (c->valid && known < c->n &&
+           pq_key_(ag, c->pred[known].state, c->pred[known].action) != key) {
+        known++;
+    }
     model_step_t step;
-    model_query_init(&ag->model, s, &here);
-    if (!model_query_predict(&ag->model, &here, a, &step)) {
-        ag->stats.planning_skipped++;
-        return true;
+    if (c->valid && known < c->n) {
+        step.next = c->here->state;
+        step.reward = c->pred[known].reward;
+        step.terminal = 0;
+        if (!same) {  // the predecessor's query becomes `here`, its old place is free
+            model_query_t *const q = c->query[known];
+            c->query[known] = c->here;
+            c->here = q;
+            c->valid = false;
+        }
+    } else {
+        if (!same) {
+            c->valid = false;
+            model_query_init(&ag->model, s, c->here);
+        }
+        if (!model_query_predict(&ag->model, c->here, a, &step)) {
+            ag->stats.planning_skipped++;
+            return true;
+        }
     }
     const float target = target_(ag, step.reward, step.next, step.terminal);
     // Q(s, a) += alpha (target - Q(s, a)); a full Q store has no row for s, which then reads 0.
@@ -236,16 +285,26 @@ static bool plan_qpc_(agent_t *ag)
         (void)pq_push(&ag->pq, key, left);
     }
 
-    model_pred_t preds[FW_CFG_MAX_ACTIONS];
-    const uint32_t n = model_query_predecessors(&ag->model, &here, preds);
-    if (n == 0u) {
+    if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
+        ag->model.rejected += c->rejected;
+        ag->model.untrusted += c->untrusted;
+    } else {
+        const uint32_t rejected = ag->model.rejected;
+        const uint32_t untrusted = ag->model.untrusted;
+        c->n = model_query_predecessors(&ag->model, c->here, c->pred, c->query);
+        c->rejected = ag->model.rejected - rejected;
+        c->untrusted = ag->model.untrusted - untrusted;
+        c->valid = true;
+    }
+    if (c->n == 0u) {
         return true;
     }
     const float value_here = ag->params.gamma * (row != NULL ? row_max_(row, n_actions) : 0.0f);
-    for (uint32_t i = 0; i < n; i++) {
-        const float p = abs_(preds[i].reward + value_here - agent_q(ag, preds[i].state, preds[i].action));
+    for (uint32_t i = 0; i < c->n; i++) {
+        const model_pred_t *pred = &c->pred[i];
+        const float p = abs_(pred->reward + value_here - qstore_row(&ag->q, pred->state)[pred->action]);
         if (p > ag->params.theta) {
-            (void)pq_push(&ag->pq, pq_key_(ag, preds[i].state, preds[i].action), p);
+            (void)pq_push(&ag->pq, pq_key_(ag, pred->state, pred->action), p);
         }
     }
     return true;
@@ -271,8 +330,11 @@ static bool plan_dynaq_(agent_t *ag)
 bool agent_plan_step(agent_t *ag)
 {
     switch (ag->kind) {
-    case AGENT_DYNA_QPC:
-        return plan_qpc_(ag);
+    case AGENT_DYNA_QPC: {
+        plan_carry_t carry;
+        plan_carry_init_(&carry);
+        return plan_qpc_(ag, &carry);
+    }
     case AGENT_DYNA_Q:
         return plan_dynaq_(ag);
     case AGENT_Q_LEARNING:
@@ -285,8 +347,10 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 {
     uint32_t done = 0;
     if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
+        plan_carry_t carry;
+        plan_carry_init_(&carry);
         while (done < n && pq_size(&ag->pq) > 0u) {
-            (void)plan_qpc_(ag);
+            (void)plan_qpc_(ag, &carry);
             done++;
         }
         return done;

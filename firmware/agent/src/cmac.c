@@ -5,6 +5,8 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
+#include "probe.h"
 
 static uint32_t log2_(uint32_t x)
 {
@@ -41,6 +43,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     cmac->weights = weights;
     cmac->capacity = capacity;
     cmac->capacity_shift = (uint8_t)log2_(capacity);
+    cmac->home_shift = (uint8_t)(32u - cmac->capacity_shift);
     const uint32_t tiling_bits = log2_(cfg->n_tilings);
 
     // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
@@ -129,6 +132,10 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
             cmac->carry_bits |= 1u << cmac->key_shift[cmac->tiled[j]];
         }
     }
+    for (uint32_t k = 0; k < cfg->n_inputs; k++) {
+        cmac->low_shift[k] = (uint8_t)(cmac->key_shift[k] - cfg->tile_shift[k]);
+        cmac->low_field[k] = ((1u << cfg->tile_shift[k]) - 1u) << cmac->low_shift[k];
+    }
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
     return FW_OK;
@@ -155,24 +162,35 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     // (off >= 2^sh - (v mod 2^sh)). So every field of the undisplaced tiles goes into a common
     // part once, and a pattern only flips the fields its displacements carry into the next tile.
     const uint32_t n = cmac->n_patterns;
+    const uint32_t n_in = cmac->cfg.n_inputs;
     uint32_t common = action << cmac->action_shift;
-    for (uint32_t k = 0; k < cmac->cfg.n_inputs; k++) {
-        common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
-    }
+    tiles->action_bits = common;
     if (cmac->carry_bits != 0u) {
-        // Every tiled input's low bits, placed so that adding a pattern's displacements carries
-        // exactly into the tile indices that move to the next tile (see cmac_init()).
+        // Every tiled input's low bits (v mod 2^sh) go into a word of their own, placed so that
+        // adding a pattern's displacements carries exactly into the tile indices that move to
+        // the next tile (see cmac_init()); an exact input adds nothing there. One shift places
+        // both parts of v: its tile index on its field of the key, its low bits just below. No
+        // tiled input is circular on this path, and an exact one's value is within its range,
+        // so no field needs its tile mask.
         uint32_t low = 0;
-        for (uint32_t j = 0; j < cmac->n_tiled; j++) {
-            const uint32_t k = cmac->tiled[j];
-            const uint32_t sh = cmac->cfg.tile_shift[k];
-            low += (inputs[k] & ((1u << sh) - 1u)) << (cmac->key_shift[k] - sh);
+        for (uint32_t k = 0; k < n_in; k++) {
+            const uint32_t placed = inputs[k] << cmac->low_shift[k];
+            common |= placed & ~cmac->low_field[k];
+            low += placed & cmac->low_field[k];
         }
+        // Pattern p's key: the common part with p in its lowest bits (where the common part has
+        // none), plus its carries.
         const uint32_t carries = cmac->carry_bits;
-        for (uint32_t p = 0; p < n; p++) {
-            tiles->key[p] = (common | p) + ((low + cmac->pattern_offsets[p]) & carries);
+        const uint32_t *offset = cmac->pattern_offsets;
+        uint32_t *key = tiles->key;
+        uint32_t *const end = key + n;
+        for (; key != end; key++, common++) {
+            *key = common + ((low + *offset++) & carries);
         }
         return;
+    }
+    for (uint32_t k = 0; k < n_in; k++) {
+        common |= ((inputs[k] >> cmac->cfg.tile_shift[k]) & cmac->tile_mask[k]) << cmac->key_shift[k];
     }
     for (uint32_t p = 0; p < n; p++) {
         tiles->key[p] = p | common;
@@ -195,7 +213,7 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 
 static uint32_t home_(const cmac_t *cmac, uint32_t key)
 {
-    return (key * 0x9E3779B1u) >> (32u - cmac->capacity_shift);
+    return (key * 0x9E3779B1u) >> cmac->home_shift;
 }
 
 // The cell holding key, or the first empty cell on its probe path, or capacity when the probe
@@ -246,44 +264,17 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
 }
 
 FW_STATIC_ASSERT(CMAC_MAX_OUTPUTS <= 6, predict_sums_at_most_six_outputs);
-
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
-                          int32_t *out)
+// The second pass of cmac_predict_trusted(): adds the found cells' weights, one register per
+// output. Inlined with a constant `n_out` the switch folds away, and a CMAC of four outputs needs
+// no register for the other two.
+AGENT_ALWAYS_INLINE void add_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out,
+                               const uint32_t n_out)
 {
-    // The planner's inner loop, so lookup_() is written out here with the table's fields in
-    // registers. When a probe window does not wrap around the table's end (nearly always) it is
-    // scanned by pointer, without masking the index. Each cell's weights are added into one
-    // register per output as soon as it is found (at most CMAC_MAX_OUTPUTS = 6); the first cell
-    // missing or too little trained ends the search.
-    const uint32_t n_out = cmac->cfg.n_outputs;
-    const uint32_t n = cmac->n_patterns;
-    const uint32_t capacity = cmac->capacity;
-    const uint32_t *const keys = cmac->keys;
-    const uint32_t home_shift = 32u - cmac->capacity_shift;
+    const int16_t *const weights = cmac->weights;
+    const uint32_t *const end = slot + cmac->n_patterns;
     int32_t s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
-    for (uint32_t t = 0; t < n; t++) {
-        const uint32_t key = tiles->key[t];
-        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
-        uint32_t slot;
-        if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *k = keys + home;
-            const uint32_t *const end = k + FW_CFG_MAX_PROBE;
-            while (*k != key) {
-                if (*k == CMAC_EMPTY || ++k == end) {
-                    return false;
-                }
-            }
-            slot = (uint32_t)(k - keys);
-        } else {
-            slot = lookup_(cmac, key);
-            if (slot == capacity) {
-                return false;
-            }
-        }
-        if (cmac->counts[slot] < min_count) {
-            return false;
-        }
-        const int16_t *w = &cmac->weights[slot * n_out];
+    for (; slot != end; slot++) {
+        const int16_t *w = &weights[*slot * n_out];
         switch (n_out) {
         case 6: s5 += w[5]; /* fall through */
         case 5: s4 += w[4]; /* fall through */
@@ -301,6 +292,75 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
     case 2: out[1] = s1; /* fall through */
     default: out[0] = s0;
     }
+}
+
+// What cmac_predict_trusted() does in its first pass: the cell of every tile, its key changed by
+// `change` (to another action), into slot[]. False at the first tile without a cell. Two passes
+// keep few values live at once (the Cortex-M4 has 13 registers to spare): the cells are found
+// first, so a missing one ends the search early, and their weights are added after. A probe
+// window that does not wrap around the table's end (nearly always) is scanned by pointer.
+// Inlined once for a full table and once for one with empty cells.
+AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t change,
+                                uint32_t *slot, const bool full)
+{
+    const uint32_t *const keys = cmac->keys;
+    const uint32_t capacity = cmac->capacity;
+    const uint32_t home_shift = cmac->home_shift;
+    const uint32_t *const end = slot + cmac->n_patterns;
+    const uint32_t *tile = tiles->key;
+    for (; slot != end; slot++, tile++) {
+        const uint32_t key = *tile ^ change;
+        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
+        if (home + FW_CFG_MAX_PROBE <= capacity) {
+            const uint32_t *const cell = probe_scan(keys + home, key, full);
+            if (cell == NULL) {
+                return false;
+            }
+            *slot = (uint32_t)(cell - keys);
+        } else {
+            *slot = lookup_(cmac, key);
+            if (*slot == capacity) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The second pass: out[] = the found cells' weights added up.
+AGENT_ALWAYS_INLINE void sum_cells_(const cmac_t *cmac, const uint32_t *slot, int32_t *out)
+{
+    // The robot's CMAC-Model has 6 outputs and its CMAC-R 4 (the maze's 4 and 2).
+    switch (cmac->cfg.n_outputs) {
+    case 6: add_cells_(cmac, slot, out, 6); break;
+    case 4: add_cells_(cmac, slot, out, 4); break;
+    default: add_cells_(cmac, slot, out, cmac->cfg.n_outputs); break;
+    }
+}
+
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out)
+{
+    // The planner's inner loop: about 17 cells per planning update, most of them in a full
+    // table.
+    const uint32_t change = tiles->action_bits ^ (action << cmac->action_shift);
+    uint32_t slot[FW_CFG_MAX_TILINGS];
+    const bool found = cmac->stats.cells_used == cmac->capacity
+                           ? find_cells_(cmac, tiles, change, slot, true)
+                           : find_cells_(cmac, tiles, change, slot, false);
+    if (!found) {
+        return false;
+    }
+    // Every stored cell has been trained at least once (cmac_train() counts a new cell's first
+    // training at once, and evict_() ages no count below 1): only a higher bar needs a look.
+    if (min_count > 1u) {
+        for (uint32_t t = 0; t < cmac->n_patterns; t++) {
+            if (cmac->counts[slot[t]] < min_count) {
+                return false;
+            }
+        }
+    }
+    sum_cells_(cmac, slot, out);
     return true;
 }
 

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
 
 // 2 * capacity index slots and every heap position (2 * i + 2) must fit in 32 bits.
 #define PQ_MAX_CAPACITY (1u << 30)
@@ -71,10 +72,10 @@ static void index_remove(pqueue_t *pq, uint32_t hole)
     pq->index_keys[hole] = PQ_NO_KEY;
 }
 
-static void heap_place(pqueue_t *pq, uint32_t pos, pq_item_t item)
+AGENT_ALWAYS_INLINE void heap_place(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
 {
-    pq->heap[pos] = item;
-    pq->index_pos[item.slot] = pos;
+    pq->heap[pos] = *item;
+    pq->index_pos[item->slot] = pos;
 }
 
 // Both sifts carry the item in hand and move the others one level, writing it once at the end.
@@ -88,10 +89,10 @@ static void heap_sift_up(pqueue_t *pq, uint32_t pos)
         if (!(item.priority > pq->heap[parent].priority)) {
             break;
         }
-        heap_place(pq, pos, pq->heap[parent]);
+        heap_place(pq, pos, &pq->heap[parent]);
         pos = parent;
     }
-    heap_place(pq, pos, item);
+    heap_place(pq, pos, &item);
 }
 
 static void heap_sift_down(pqueue_t *pq, uint32_t pos)
@@ -107,10 +108,10 @@ static void heap_sift_down(pqueue_t *pq, uint32_t pos)
         if (!(pq->heap[child].priority > item.priority)) {
             break;
         }
-        heap_place(pq, pos, pq->heap[child]);
+        heap_place(pq, pos, &pq->heap[child]);
         pos = child;
     }
-    heap_place(pq, pos, item);
+    heap_place(pq, pos, &item);
 }
 
 // The minimum of a max-heap is always among the leaves, the second half of the array, so only
@@ -207,7 +208,7 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
     item.key = key;
     item.priority = priority;
     item.slot = slot;
-    heap_place(pq, pos, item);
+    heap_place(pq, pos, &item);
     heap_sift_up(pq, pos);
     ++pq->stats.pushed;
     return true;

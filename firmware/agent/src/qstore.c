@@ -5,6 +5,8 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
+#include "probe.h"
 
 // What an unknown state reads as. Large enough for any action count.
 static const float zero_row_[FW_CFG_MAX_ACTIONS];
@@ -76,16 +78,33 @@ static uint32_t find_(const qstore_t *qs, agent_state_t s)
     return qs->capacity;
 }
 
-const float *qstore_row(const qstore_t *qs, agent_state_t s)
+// The row holding s, or capacity if it has none: find_() for reading, which is most of the
+// planner's lookups (about three per planning update). A probe window that does not wrap around
+// the table's end is scanned by pointer (probe.h).
+AGENT_ALWAYS_INLINE uint32_t lookup_(const qstore_t *qs, agent_state_t s)
+{
+    const uint32_t home = qs->capacity_shift ? home_(qs, s) : 0u;
+    if (home + FW_CFG_MAX_PROBE > qs->capacity) {
+        const uint32_t slot = find_(qs, s);
+        return slot != qs->capacity && qs->keys[slot] == s ? slot : qs->capacity;
+    }
+    const uint32_t *const row = probe_scan(qs->keys + home, s, qs->rows_used == qs->capacity);
+    return row != NULL ? (uint32_t)(row - qs->keys) : qs->capacity;
+}
+
+// The row of s for reading; an unknown state reads as zeros.
+AGENT_ALWAYS_INLINE const float *row_of_(const qstore_t *qs, agent_state_t s)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    const uint32_t slot = find_(qs, s);
-    if (slot == qs->capacity || qs->keys[slot] != s) {
-        return zero_row_;
-    }
-    return &qs->q[slot * qs->n_actions];
+    const uint32_t slot = lookup_(qs, s);
+    return slot == qs->capacity ? zero_row_ : &qs->q[slot * qs->n_actions];
+}
+
+const float *qstore_row(const qstore_t *qs, agent_state_t s)
+{
+    return row_of_(qs, s);
 }
 
 // A full probe window: the new state takes the row of the window that has learned least (the
@@ -124,11 +143,12 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    uint32_t slot = find_(qs, s);
+    uint32_t slot = lookup_(qs, s);  // the common case: s has its row
     if (slot == qs->capacity) {
-        slot = evict_(qs, s);
-    }
-    if (qs->keys[slot] == QSTORE_EMPTY) {
+        slot = find_(qs, s);
+        if (slot == qs->capacity) {
+            slot = evict_(qs, s);
+        }
         qs->keys[slot] = s;
         qs->rows_used++;
     }
@@ -137,7 +157,7 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
 
 float qstore_max(const qstore_t *qs, agent_state_t s)
 {
-    const float *row = qstore_row(qs, s);
+    const float *row = row_of_(qs, s);
     float best = row[0];
     for (uint32_t a = 1; a < qs->n_actions; a++) {
         if (row[a] > best) {

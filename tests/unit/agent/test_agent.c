@@ -181,6 +181,92 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
     assert_false(agent_plan_step(&agent_));
 }
 
+// agent_plan(n) passes what one planning update found on to the next (the model's answers
+// about the predecessors it confirmed): that must plan exactly as n calls of agent_plan_step(),
+// which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
+// grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
+// alike at every step and end with the same bytes learned and the same counters.
+typedef AGENT_MEMORY_STRUCT(64, 64, 8, 16) small_memory_t;
+static small_memory_t memory_a_;
+static small_memory_t memory_b_;
+static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);
+static const agent_storage_t storage_b_ = AGENT_STORAGE_OF(memory_b_);
+static agent_t agent_b_;
+// x, y (3 bits, tiles 2 wide), heading (2 bits, circular); actions: forward, back, left, right.
+static const agent_space_t grid_ = {3, {3, 3, 2}, {1, 1, 0}, 0x4, 0, 4};
+
+static agent_state_t grid_step_(agent_state_t s, uint8_t a, float *reward)
+{
+    uint32_t c[3];
+    space_unpack(&grid_, s, c);
+    static const int dx[4] = {1, 0, -1, 0};
+    static const int dy[4] = {0, 1, 0, -1};
+    const int sign = a == 0 ? 1 : -1;
+    if (a >= 2) {
+        c[2] = (c[2] + (a == 2 ? 1u : 3u)) & 3u;
+    } else {
+        const int x = (int)c[0] + sign * dx[c[2]];
+        const int y = (int)c[1] + sign * dy[c[2]];
+        if (x >= 0 && x < 8 && y >= 0 && y < 8) {
+            c[0] = (uint32_t)x;
+            c[1] = (uint32_t)y;
+        }
+    }
+    *reward = c[0] == 7 && c[1] == 7 ? 1.0f : -0.01f;
+    return space_pack(&grid_, c);
+}
+
+static void plan_calls_plan_as_single_steps_would(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.space = &grid_;
+    c.params.alpha = 0.9f;
+    c.params.gamma = 0.9f;
+    c.params.plan_alpha = 0.999f;
+    c.params.epsilon = 0.2f;
+    c.storage = &storage_a_;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    c.storage = &storage_b_;
+    assert_int_equal(agent_init(&agent_b_, &c), FW_OK);
+    agent_state_t s = 0;
+    for (int i = 0; i < 3000; i++) {
+        const uint8_t a = agent_act(&agent_, s);
+        assert_int_equal(agent_act(&agent_b_, s), a);
+        float r;
+        const agent_state_t next = grid_step_(s, a, &r);
+        const bool goal = r > 0.0f;
+        agent_observe(&agent_, s, a, r, next, goal);
+        agent_observe(&agent_b_, s, a, r, next, goal);
+        const uint32_t done = agent_plan(&agent_, 5);
+        uint32_t steps = 0;
+        while (steps < 5 && agent_plan_step(&agent_b_)) {
+            steps++;
+        }
+        assert_int_equal(done, steps);
+        s = goal ? 0 : next;
+    }
+    agent_region_t ra[AGENT_MAX_REGIONS];
+    agent_region_t rb[AGENT_MAX_REGIONS];
+    const uint32_t n = agent_learned_regions(&agent_, ra);
+    assert_int_equal(agent_learned_regions(&agent_b_, rb), n);
+    for (uint32_t i = 0; i < n; i++) {
+        assert_int_equal(ra[i].size, rb[i].size);
+        assert_memory_equal(ra[i].data, rb[i].data, ra[i].size);
+    }
+    assert_memory_equal(&agent_.stats, &agent_b_.stats, sizeof agent_.stats);
+    assert_memory_equal(&agent_.pq.stats, &agent_b_.pq.stats, sizeof agent_.pq.stats);
+    assert_int_equal(agent_.model.untrusted, agent_b_.model.untrusted);
+    assert_int_equal(agent_.model.rejected, agent_b_.model.rejected);
+    // The run did what it is meant to cover: full tables, and predecessors found and refused.
+    assert_int_equal(agent_.model.forward.stats.cells_used, 64);
+    assert_true(agent_.model.forward.stats.evicted > 0);
+    assert_true(agent_.q.dropped > 0);
+    assert_true(agent_.pq.stats.dropped > 0);
+    assert_true(agent_.model.rejected > 0);
+    assert_true(agent_.stats.planning_updates > 3000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -192,6 +278,7 @@ int main(void)
         cmocka_unit_test(dyna_q_replays_observed_transitions),
         cmocka_unit_test(dyna_qpc_skips_what_the_model_cannot_predict),
         cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),
+        cmocka_unit_test(plan_calls_plan_as_single_steps_would),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

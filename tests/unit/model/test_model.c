@@ -85,6 +85,49 @@ static void inverse_model_finds_predecessors(void **state)
     assert_int_equal(model_predecessors(&m, 0, preds), 0);
 }
 
+// The planner keeps what confirming a predecessor asked: its query, and the forward prediction,
+// which leads back to the state asked about. Both must be what fresh questions would answer.
+static void predecessors_come_with_their_queries(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &robot_, 16, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    const agent_state_t here = robot_state(10, 4, 1);
+    model_learn(&m, robot_state(9, 4, 1), 0, -1.0f, here, false);   // forward
+    model_learn(&m, robot_state(11, 4, 1), 1, -2.0f, here, false);  // backward
+    model_learn(&m, robot_state(10, 3, 1), 2, -3.0f, here, false);  // a turn
+    model_learn(&m, robot_state(8, 4, 1), 0, -1.0f, robot_state(9, 4, 1), false);
+    model_query_t q;
+    model_query_init(&m, here, &q);
+    model_query_t store[4];
+    model_query_t *const queries[4] = {&store[0], &store[1], &store[2], &store[3]};
+    model_pred_t preds[4];
+    const uint32_t n = model_query_predecessors(&m, &q, preds, queries);
+    assert_int_equal(n, 3);
+    for (uint32_t i = 0; i < n; i++) {
+        model_query_t fresh;
+        model_query_init(&m, preds[i].state, &fresh);
+        assert_int_equal(queries[i]->state, preds[i].state);
+        assert_memory_equal(queries[i]->comp, fresh.comp, sizeof fresh.comp[0] * robot_.n_components);
+        model_step_t step;
+        assert_true(model_query_predict(&m, queries[i], preds[i].action, &step));
+        assert_int_equal(step.next, here);
+        assert_float_equal(step.reward, preds[i].reward, 0.0f);
+        assert_int_equal(step.terminal, 0);
+        // Asked further, the kept query answers as a fresh one.
+        model_pred_t a[4];
+        model_pred_t b[4];
+        const uint32_t na = model_query_predecessors(&m, queries[i], a, NULL);
+        assert_int_equal(model_query_predecessors(&m, &fresh, b, NULL), na);
+        for (uint32_t j = 0; j < na; j++) {
+            assert_int_equal(a[j].state, b[j].state);
+            assert_int_equal(a[j].action, b[j].action);
+            assert_float_equal(a[j].reward, b[j].reward, 0.0f);
+        }
+        assert_true(i != 0 || na == 1);  // (9, 4, 1) has a predecessor of its own
+    }
+}
+
 // A bump (the state does not change) is not taught to CMAC-R: it must not hide the real
 // predecessor that arrives by the same action.
 static void self_loops_do_not_overwrite_predecessors(void **state)
@@ -168,6 +211,7 @@ int main(void)
         cmocka_unit_test(learns_and_predicts_a_transition),
         cmocka_unit_test(circular_component_wraps),
         cmocka_unit_test(inverse_model_finds_predecessors),
+        cmocka_unit_test(predecessors_come_with_their_queries),
         cmocka_unit_test(self_loops_do_not_overwrite_predecessors),
         cmocka_unit_test(unconfirmed_predecessors_are_rejected),
         cmocka_unit_test(out_of_range_predictions_are_untrusted),

@@ -47,14 +47,16 @@ typedef struct cmac_stats {
 /// prediction and training. Only the first `n_patterns` entries are used (see cmac_t).
 typedef struct cmac_tiles {
     uint32_t key[FW_CFG_MAX_TILINGS];
+    uint32_t action_bits;  // the action's field in every key
 } cmac_tiles_t;
 
 /// A CMAC in caller-owned storage.
 ///
 /// Collision policy: the table stores each tile's full key beside its weights, so two tiles
 /// never share a cell: the approximation is exact until the table is full. A tile that finds
-/// no free cell within FW_CFG_MAX_PROBE slots is not stored and counts as `dropped`; it reads
-/// as untrained. Cells are never evicted.
+/// no free cell within FW_CFG_MAX_PROBE slots takes the least-trained cell of that window
+/// (`evicted`), whose old tile then reads as untrained; only when every cell of the window is
+/// held by the same training is the tile not stored (`dropped`).
 ///
 /// Duplicate tilings are merged. The inputs are integers, so an input whose tiles are w values
 /// wide can only be split w ways, and of the T tilings at most the product of the widths are
@@ -69,6 +71,7 @@ typedef struct cmac {
     int16_t *weights;   // capacity * n_outputs
     uint32_t capacity;
     uint8_t capacity_shift;
+    uint8_t home_shift;  // 32 - capacity_shift: a key's cell is the top bits of its hash
     uint8_t n_patterns;  // distinct tilings, <= n_tilings
     uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
     uint8_t action_shift;
@@ -78,6 +81,9 @@ typedef struct cmac {
     // cmac_tiles_of()'s fast path (see there): carry_bits != 0 when it applies.
     uint32_t carry_bits;
     uint32_t pattern_offsets[FW_CFG_MAX_TILINGS];
+    uint8_t low_shift[FW_CFG_MAX_COMPONENTS];  // key_shift - tile_shift: input k's tile index
+                                               // lands on its field, its value within the tile
+    uint32_t low_field[FW_CFG_MAX_COMPONENTS];  // below it, in these bits
     uint32_t tile_mask[FW_CFG_MAX_COMPONENTS];  // all ones, or the wrap of a circular input
     uint8_t offset[FW_CFG_MAX_COMPONENTS][FW_CFG_MAX_TILINGS];  // per pattern displacement
     uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for
@@ -102,11 +108,11 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 /// Re-targets tiles computed by cmac_tiles_of() to another action, without recomputing them.
 static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
 {
-    const uint32_t keep = ~cmac->action_field;
-    const uint32_t bits = action << cmac->action_shift;
+    const uint32_t change = tiles->action_bits ^ (action << cmac->action_shift);
     for (uint32_t p = 0; p < cmac->n_patterns; p++) {
-        tiles->key[p] = (tiles->key[p] & keep) | bits;
+        tiles->key[p] ^= change;
     }
+    tiles->action_bits ^= change;
 }
 
 /// Predicts: out[j] = sum over the T tiles of weight j (fixed point, CMAC_ONE = 1.0). Each sum
@@ -115,18 +121,19 @@ static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles
 /// never been trained. Missing tiles contribute nothing.
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out);
 
-/// Like cmac_predict(), but gives up at the first cell trained fewer than `min_count` times
-/// (min_count >= 1): the planner's fast path. Returns true, with out[] filled, when every cell
-/// qualifies.
-bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t min_count,
-                          int32_t *out);
+/// Like cmac_predict() for `tiles` re-targeted to `action` (as cmac_tiles_set_action() would,
+/// without changing them), but gives up at the first cell trained fewer than `min_count` times
+/// (min_count >= 1): the planner's fast path, which asks about one state for several actions.
+/// Returns true, with out[] filled, when every cell qualifies; false leaves out[] undefined.
+bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
+                          uint32_t min_count, int32_t *out);
 
 /// The paper's learning rule (Fig. 7, step d): each of the T cells moves by
 /// learning_rate / T * (desired - actual). Cells are created on first training.
 /// `desired` holds n_outputs fixed-point values.
-/// Returns true when every tile has its cell; false when a tile found no free cell within the
-/// probe limit (counted in `dropped`). Cells are never evicted, so such a tile never gets one:
-/// every prediction over these tiles stays untrusted until cmac_clear().
+/// Returns true when every tile has its cell; false when a tile found no cell it could take
+/// within the probe limit (counted in `dropped`): predictions over these tiles stay untrusted
+/// until a later training stores them.
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
 
 #ifdef __cplusplus

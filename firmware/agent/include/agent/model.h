@@ -24,8 +24,15 @@ extern "C" {
 /// A prediction is trusted only when every one of its T cells has been trained at least
 /// `min_count` times and each predicted component lies in range. A predecessor from CMAC-R is
 /// trusted only if CMAC-Model, asked about it, leads back to the state it came from.
+/// How a predicted change applies to one component (see decode_() in model.c).
+typedef struct model_field {
+    uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
+    uint32_t wrap;       // 2^bits - 1 for the change of a circular component, else all ones
+} model_field_t;
+
 typedef struct world_model {
     const agent_space_t *space;
+    model_field_t field[FW_CFG_MAX_COMPONENTS];
     cmac_t forward;   // outputs: n_components changes, reward, terminal
     cmac_t inverse;   // outputs: n_components changes
     uint8_t min_count;
@@ -68,7 +75,7 @@ void model_clear(world_model_t *m);
 
 /// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal), CMAC-R on (s', a) -> s.
 /// Returns false when one of CMAC-Model's tiles for (s, a) found no room in its table: then
-/// model_predict() refuses (s, a) until model_clear(), as cells are never evicted.
+/// model_predict() refuses (s, a) until a later training stores that tile.
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
@@ -81,7 +88,8 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
 uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out);
 
 /// A state made ready for several queries: its components and its tile keys, computed once
-/// (CMAC-Model and CMAC-R share one key layout, so the same keys serve both).
+/// (CMAC-Model and CMAC-R share one key layout, so the same keys serve both; each query names
+/// its action, so the keys' own action field does not matter).
 typedef struct model_query {
     agent_state_t state;
     uint32_t comp[FW_CFG_MAX_COMPONENTS];
@@ -92,10 +100,14 @@ typedef struct model_query {
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q);
 
 /// model_predict() for the query's state.
-bool model_query_predict(world_model_t *m, model_query_t *q, uint8_t a, model_step_t *out);
+bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out);
 
-/// model_predecessors() for the query's state.
-uint32_t model_query_predecessors(world_model_t *m, model_query_t *q, model_pred_t *out);
+/// model_predecessors() for the query's state. With `queries` (n_actions places apart from q, or
+/// NULL), *queries[i] also receives the query of out[i].state, ready for further questions, and
+/// CMAC-Model's prediction for out[i] is known to be: q's state, reward out[i].reward, not
+/// terminal (that is how a predecessor is confirmed).
+uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
+                                  model_query_t *const *queries);
 
 #ifdef __cplusplus
 }
