@@ -193,8 +193,8 @@ static uint32_t lateness_bucket(uint64_t lateness_us)
         bits++;
         lateness_us >>= 1;
     }
-    return bits < (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS - 1u ? bits
-                                                               : (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS - 1u;
+    const uint32_t last = (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS - 1u;
+    return bits < last ? bits : last;
 }
 
 static void run_task(sched_t *s, uint32_t id, uint64_t now)
