@@ -5,9 +5,12 @@
 # it) at --speed X for --seconds S of wall time, with dynaqpc-monitor as an independent listener,
 # all in a private network namespace (nothing else on the bus; never the host's network), and
 # prints the frames each program sent against the frames received:
-#   devices->firmware: frames_sent=N frames_received=N dropped=N     (exact: the firmware joins
-#                      the bus before the devices' first frame and leaves after their last)
+#   devices->firmware: frames_sent=N frames_received=N dropped=N     (exact: the devices run
+#                      with --wait-firmware, so the firmware is on the bus before their first
+#                      frame, and it leaves 2 s after their last)
 #   all frames, monitor: frames_sent=N frames_received=N dropped=N counter_gaps=N
+# then the firmware's control-task timing (misses against its tolerance, lateness percentiles in
+# firmware and wall time) and, with Cricket beacons (paper-lab), the serial line's bytes.
 # Exit 0 when nothing was dropped, 1 otherwise or on a failure.
 #   tools/bench_bus.sh [--seconds S] [--speed X] [--scenario NAME] [--bin DIR]
 # The issue's target is a 10-minute run at 10x: tools/bench_bus.sh --seconds 600 --speed 10.
@@ -58,19 +61,22 @@ timeout $LIMIT "$MONITOR" --duration $((SECONDS_WALL + 8)) --refresh 0 > "$TMP/m
 PIDS="$!"
 MON=$!
 sleep 4
-timeout $LIMIT "$BIN/dynaqpc-fw" --scenario "$SCENARIO" --speed "$SPEED" --duration $((SECONDS_WALL + 2)) \
-    > "$TMP/fw.out" 2>&1 &
-FW=$!
-PIDS="$PIDS $FW"
-n=0
-until grep -q ready "$TMP/fw.out" 2>/dev/null; do
-    n=$((n + 1)); [ $n -gt 100 ] && { echo "bench_bus: dynaqpc-fw did not start" >&2; cat "$TMP/fw.out" >&2; exit 1; }
-    sleep 0.1
-done
-timeout $LIMIT "$BIN/dynaqpc-sim" devices --scenario "$SCENARIO" --speed "$SPEED" --supervise \
+# The devices first: they open the Cricket pty (if the scenario has beacons) and wait, sending
+# nothing, until they hear the firmware.
+timeout $LIMIT "$BIN/dynaqpc-sim" devices --scenario "$SCENARIO" --speed "$SPEED" --supervise --wait-firmware \
     --duration "$SECONDS_WALL" > "$TMP/devices.out" 2>&1 &
 DEV=$!
 PIDS="$PIDS $DEV"
+n=0
+until grep -q ready "$TMP/devices.out" 2>/dev/null; do
+    n=$((n + 1)); [ $n -gt 100 ] && { echo "bench_bus: dynaqpc-sim devices did not start" >&2; cat "$TMP/devices.out" >&2; exit 1; }
+    sleep 0.1
+done
+TTY=$(sed -n 's/^cricket_tty=//p' "$TMP/devices.out" | head -n 1)
+timeout $LIMIT "$BIN/dynaqpc-fw" --scenario "$SCENARIO" --speed "$SPEED" --duration $((SECONDS_WALL + 2)) \
+    ${TTY:+--cricket-tty "$TTY"} > "$TMP/fw.out" 2>&1 &
+FW=$!
+PIDS="$PIDS $FW"
 wait $DEV; DRC=$?
 wait $FW; FRC=$?
 wait $MON; MRC=$?
@@ -89,10 +95,15 @@ fw_recv=$(field "$TMP/fw.out" bus: frames_received)
 mon_recv=$(sed -n 's/^\([0-9]*\) frames, .*/\1/p' "$TMP/monitor.out" | tail -n 1)
 gaps=$(sed -n 's/.* \([0-9]*\) frames lost (counter gaps).*/\1/p' "$TMP/monitor.out" | tail -n 1)
 episodes=$(grep -c '^episode=' "$TMP/devices.out")
-grep -h '^devices: stopped\|^dynaqpc-fw: stopped\|^episodes=' "$TMP/devices.out" "$TMP/fw.out"
+grep -h '^devices: stopped\|^dynaqpc-fw: stopped\|^episodes=\|^control: \|^status: ' "$TMP/devices.out" "$TMP/fw.out"
 echo "scenario=$SCENARIO speed=${SPEED}x wall_s=$SECONDS_WALL episodes=$episodes"
 echo "devices->firmware: frames_sent=$dev_sent frames_received=$fw_recv dropped=$((dev_sent - fw_recv))"
-echo "firmware->devices: firmware frames_sent=$fw_sent devices frames_received=$dev_recv (the devices join later and leave earlier)"
+echo "firmware->devices: firmware frames_sent=$fw_sent devices frames_received=$dev_recv (the devices leave 2 s earlier)"
 total=$((dev_sent + fw_sent))
 echo "all frames, monitor: frames_sent=$total frames_received=$mon_recv dropped=$((total - mon_recv)) counter_gaps=$gaps"
+if [ -n "$TTY" ]; then
+    echo "cricket serial: devices pty_bytes=$(field "$TMP/devices.out" devices: pty_bytes) pty_dropped=$(field "$TMP/devices.out" devices: pty_dropped)" \
+        "firmware uart_rx_bytes=$(field "$TMP/fw.out" episodes uart_rx_bytes) uart_overruns=$(field "$TMP/fw.out" episodes uart_overruns)" \
+        "uart_discarded=$(field "$TMP/fw.out" episodes uart_discarded)"
+fi
 [ $((dev_sent - fw_recv)) -eq 0 ] && [ $((total - mon_recv)) -eq 0 ] && [ "$gaps" -eq 0 ]

@@ -15,11 +15,13 @@
 // simulator's scenario_bridge; the firmware itself is untouched C99.
 #include <pthread.h>
 #include <signal.h>
+#include <sys/prctl.h>
 
 #include <atomic>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -36,6 +38,7 @@
 #include "options.h"
 #include "robot/robot_app.h"
 #include "scenario_bridge.h"
+#include "sched/sched.h"
 #include "world/scenario.h"
 
 namespace {
@@ -97,6 +100,37 @@ void *rx_thread(void *)
         }
     }
     return nullptr;
+}
+
+// One task's timing on exit, in firmware time (what the robot's control loop lived through: at
+// --speed X the simulated world runs X times faster too), then the same lateness in wall time
+// (firmware time / X): the PC's wake-up latency, which is what makes a host run late, not the
+// firmware. Percentiles are bounds from the scheduler's log2 histogram (within a factor of 2).
+void print_task_timing(sched_task_id_t id, const sched_task_stats_t &ts, double speed)
+{
+    sched_lateness_t l;
+    if (sched_get_lateness(robot_app_sched(), id, &l) != 0) return;
+    const char *name = l.name != nullptr ? l.name : "task";
+    const std::uint32_t p50 = sched_lateness_percentile_us(&l, 500), p90 = sched_lateness_percentile_us(&l, 900),
+                        p99 = sched_lateness_percentile_us(&l, 990);
+    std::printf("%s: period_us=%u tolerance_us=%u runs=%u misses=%u late=%u skipped=%u overruns=%u "
+                "lateness_us p50<=%u p90<=%u p99<=%u max=%u\n",
+                name, l.period_us, l.tolerance_us, ts.runs, ts.misses, ts.late, ts.skipped, ts.overruns, p50, p90,
+                p99, l.worst_us);
+    const auto wall = [speed](std::uint32_t us) { return static_cast<double>(us) / speed; };
+    std::printf("%s: wall-clock at %gx (the host's wake-up latency): tolerance_us=%.0f lateness_us p50<=%.0f "
+                "p90<=%.0f p99<=%.0f max=%.0f\n",
+                name, speed, wall(l.tolerance_us), wall(p50), wall(p90), wall(p99), wall(l.worst_us));
+    std::printf("%s: lateness_hist_us", name);
+    for (std::uint32_t b = 0; b < FW_CFG_SCHED_LATENESS_BUCKETS; b++) {
+        if (l.bucket[b] == 0) continue;
+        if (b + 1 == FW_CFG_SCHED_LATENESS_BUCKETS) {
+            std::printf(" >%u:%u", sched_lateness_bucket_max_us(b - 1), l.bucket[b]);
+        } else {
+            std::printf(" <=%u:%u", sched_lateness_bucket_max_us(b), l.bucket[b]);
+        }
+    }
+    std::printf("\n");
 }
 
 agent_kind_t kind_of(const std::string &name)
@@ -201,6 +235,9 @@ int run(const std::vector<std::string> &args)
                                         : "no");
     std::fflush(stdout);
 
+    // Linux lets a sleeping thread wake up to 50 us late by default (timer slack) to batch
+    // wake-ups; at --speed X that is X times as much firmware time, for nothing: ask for 1 ns.
+    (void)prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     const auto wall0 = std::chrono::steady_clock::now();
     bool cricket_lost_reported = false;
     while (!g_stop.load()) {
@@ -235,10 +272,14 @@ int run(const std::vector<std::string> &args)
                 static_cast<double>(hal_time_us()) * 1e-6);
     std::printf("episodes=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
                 "control_runs=%u misses=%u skipped=%u worst_lateness_us=%u events_dropped=%u q_rows=%u/%u uart_rx_bytes=%u "
-                "uart_overruns=%u\n",
+                "uart_overruns=%u uart_discarded=%u\n",
                 st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
-                agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns);
+                agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns,
+                hal_host_uart_discarded());
+    for (std::uint32_t i = 0; i < ss.task_count; i++) {
+        print_task_timing(static_cast<sched_task_id_t>(i), ss.task[i], s.speed);
+    }
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64
                 " malformed=%" PRIu64 " can_rx_accepted=%u\n",
                 g_bus.frames_sent(), g_bus.send_errors(), g_bus.frames_received(), g_bus.frames_malformed(),

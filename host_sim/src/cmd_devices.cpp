@@ -11,6 +11,7 @@
 #include <poll.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cinttypes>
@@ -59,7 +60,14 @@ struct DevicesSettings {
     double duration = 0.0;
     bool supervise = false;
     std::uint32_t episodes = 0;
+    bool wait_firmware = false;
 };
+
+// A frame only the firmware sends: its status (every second, first 1 ms after boot) or its pose.
+bool from_firmware(const hal_can_frame_t &f)
+{
+    return f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID || f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID;
+}
 
 // The operator: puts the robot down at a random start, starts an episode with TOOL_CMD, waits for
 // the firmware's TLM_EPISODE, and again.
@@ -70,7 +78,7 @@ public:
     /// A frame from the firmware, at world time t_us. Returns true when an episode ended.
     bool on_frame(const hal_can_frame_t &f, std::uint64_t t_us)
     {
-        if (!fw_seen_ && (f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID || f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID)) {
+        if (!fw_seen_ && from_firmware(f)) {
             fw_seen_ = true;
         }
         if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
@@ -169,6 +177,9 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     o.add_flag("--supervise", "act as the operator: random start, TOOL_CMD START_EPISODE, one line per episode",
                &s.supervise);
     o.add_uint("--episodes", "N", "with --supervise: stop after N episodes", &s.episodes, 1, 100000000);
+    o.add_flag("--wait-firmware", "send nothing (no frames, no Cricket lines) until the firmware is heard on "
+               "the bus; world time starts then (for an exact frame count: tools/bench_bus.sh)",
+               &s.wait_firmware);
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
@@ -205,6 +216,30 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     std::vector<hal_can_frame_t> frames;
     std::string serial;
     std::uint64_t t_us = 0, late_steps = 0, pty_bytes = 0, pty_dropped = 0;
+    if (s.wait_firmware) {
+        // The devices are switched on once the firmware runs: the firmware then hears their first
+        // frame and the Cricket line's first byte. The heard frame goes to the supervisor below.
+        const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                std::chrono::duration<double>(s.duration > 0.0 ? s.duration : 1e9));
+        bool heard = false;
+        hal_can_frame_t first{};
+        while (!heard && !g_stop.load() && Clock::now() < give_up) {
+            receive_until(bus, std::min(give_up, Clock::now() + std::chrono::milliseconds(100)),
+                          [&](const hal_can_frame_t &f) {
+                              if (!heard && from_firmware(f)) {
+                                  heard = true;
+                                  first = f;
+                              }
+                          });
+        }
+        if (!heard) {
+            if (g_stop.load()) return kExitOk;
+            throw std::runtime_error("--wait-firmware: the firmware was not heard on the bus");
+        }
+        if (s.supervise) (void)sup.on_frame(first, 0);
+        std::printf("devices: firmware heard; starting\n");
+        std::fflush(stdout);
+    }
     const auto wall0 = Clock::now();
     const auto wall_of = [&](std::uint64_t t) {
         return wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(t) * 1000.0 / s.speed));

@@ -362,8 +362,11 @@ int robot_app_init(const robot_app_options_t *opt)
     if (err) {
         return err;
     }
-    const sched_task_config_t control = {"control", control_task_, NULL, cfg->period_us, 0u, 0u, 0u};
-    const sched_task_config_t status = {"status", status_task_, NULL, STATUS_PERIOD_US, 1000u, 0u, 0u};
+    // A run more than FW_CFG_SCHED_TOLERANCE_PERMILLE of its period late is a deadline miss.
+    const sched_task_config_t control = {"control", control_task_, NULL, cfg->period_us, 0u,
+                                         sched_tolerance_us(cfg->period_us), 0u};
+    const sched_task_config_t status = {"status", status_task_, NULL, STATUS_PERIOD_US, 1000u,
+                                        sched_tolerance_us(STATUS_PERIOD_US), 0u};
     if (sched_add_task(&app_.sched, &control) < 0 || sched_add_task(&app_.sched, &status) < 0) {
         return FW_ERR_NOMEM;
     }

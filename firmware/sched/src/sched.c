@@ -184,6 +184,19 @@ static void note_period_start(sched_t *s)
     s->period_started = true;
 }
 
+// Log2 buckets: a fixed, small table covers microseconds to seconds, and the bucket of a value
+// is its bit length, so recording a run costs a few shifts and no division.
+static uint32_t lateness_bucket(uint64_t lateness_us)
+{
+    uint32_t bits = 0;
+    while (lateness_us != 0u) {
+        bits++;
+        lateness_us >>= 1;
+    }
+    const uint32_t last = (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS - 1u;
+    return bits < last ? bits : last;
+}
+
 static void run_task(sched_t *s, uint32_t id, uint64_t now)
 {
     sched_task_t *t = &s->tasks[id];
@@ -199,9 +212,13 @@ static void run_task(sched_t *s, uint32_t id, uint64_t now)
 
     uint64_t lateness = now - release;
     bool missed = lateness > t->cfg.tolerance_us;
+    if (missed) {
+        ts->late++;
+    }
     if (lateness > ts->worst_lateness_us) {
         ts->worst_lateness_us = clamp_u32(lateness);
     }
+    t->lateness[lateness_bucket(lateness)]++;
     if (id == s->period_task) {
         note_period_start(s);
     }
@@ -332,4 +349,59 @@ void sched_get_stats(const sched_t *s, sched_stats_t *out)
     if (out->periods_measured == 0u) {
         out->idle_steps_min_period = 0u;
     }
+}
+
+uint32_t sched_tolerance_us(uint32_t period_us)
+{
+    return (uint32_t)((uint64_t)period_us * (uint64_t)FW_CFG_SCHED_TOLERANCE_PERMILLE / 1000u);
+}
+
+int sched_get_lateness(const sched_t *s, sched_task_id_t id, sched_lateness_t *out)
+{
+    if (s == NULL || out == NULL || id >= s->task_count) {
+        return FW_ERR_INVAL;
+    }
+    const sched_task_t *t = &s->tasks[id];
+    memset(out, 0, sizeof *out);
+    for (uint32_t b = 0; b < (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS; b++) {
+        out->bucket[b] = t->lateness[b];
+        out->runs = add_sat_u32(out->runs, t->lateness[b]);
+    }
+    out->worst_us = t->stats.worst_lateness_us;
+    out->name = t->cfg.name;
+    out->period_us = t->cfg.period_us;
+    out->tolerance_us = t->cfg.tolerance_us;
+    return FW_OK;
+}
+
+uint32_t sched_lateness_bucket_max_us(uint32_t b)
+{
+    if (b >= (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS - 1u) {
+        return UINT32_MAX;
+    }
+    return (uint32_t)(((uint64_t)1u << b) - 1u);
+}
+
+uint32_t sched_lateness_percentile_us(const sched_lateness_t *l, uint32_t permille)
+{
+    if (l == NULL || l->runs == 0u) {
+        return 0u;
+    }
+    if (permille > 1000u) {
+        permille = 1000u;
+    }
+    // The rank of the run that reaches the share, counted from 1 (at least the first run).
+    uint64_t rank = ((uint64_t)l->runs * permille + 999u) / 1000u;
+    if (rank == 0u) {
+        rank = 1u;
+    }
+    uint64_t seen = 0;
+    for (uint32_t b = 0; b < (uint32_t)FW_CFG_SCHED_LATENESS_BUCKETS; b++) {
+        seen += l->bucket[b];
+        if (seen >= rank) {
+            uint32_t limit = sched_lateness_bucket_max_us(b);
+            return limit < l->worst_us ? limit : l->worst_us;
+        }
+    }
+    return l->worst_us;
 }

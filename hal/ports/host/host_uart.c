@@ -6,6 +6,13 @@
 // The reader thread polls with a short timeout instead of blocking in read(), so that closing
 // never waits on a line that stays silent; a pty whose other side went away reads EIO, which
 // ends the reader rather than spinning on it.
+//
+// A real UART hears only the bytes that arrive after it is enabled. A tty, though, keeps what the
+// other side wrote before anybody opened it (a pty buffers several KB): handed to the ring at
+// once, that backlog overran it at every start of a program that opened its Cricket line after
+// the listener began to stream. So opening a path discards the backlog, and bytes fed before
+// hal_uart_init() are not stored either; both are counted apart (hal_host_uart_discarded()),
+// because they are not overruns: the receiver was off, not too slow.
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -35,6 +42,7 @@ static uint8_t tx_[FW_CFG_HOST_UART_TX_CAPACITY];
 static uint32_t tx_head_;
 static uint32_t tx_count_;
 static hal_uart_stats_t stats_;
+static uint32_t discarded_;
 
 // Device-path mode.
 static int fd_ = -1;
@@ -117,7 +125,11 @@ size_t hal_host_uart_feed(const uint8_t *data, size_t len)
         }
     }
     stats_.rx_bytes += (uint32_t)stored;
-    stats_.rx_overruns += (uint32_t)(len - stored);
+    if (ready_) {
+        stats_.rx_overruns += (uint32_t)(len - stored);
+    } else {
+        discarded_ += (uint32_t)len;
+    }
     hal_uart_rx_fn fn = on_rx_;
     void *ctx = rx_ctx_;
     pthread_mutex_unlock(&lock_);
@@ -235,6 +247,36 @@ static void *reader_main(void *arg)
     return NULL;
 }
 
+uint32_t hal_host_uart_discarded(void)
+{
+    pthread_mutex_lock(&lock_);
+    uint32_t n = discarded_;
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+// Reads and counts what the tty holds from before the open, then flushes whatever the kernel
+// still had queued behind it (the part beyond the line discipline's buffer). Bounded: a line that
+// streams faster than it can be read ends the loop after FLUSH_MAX_READS reads anyway.
+#define FLUSH_MAX_READS 4096
+static uint32_t discard_backlog(int fd)
+{
+    uint8_t buf[256];
+    uint32_t n = 0;
+    for (int i = 0; i < FLUSH_MAX_READS; i++) {
+        ssize_t r = read(fd, buf, sizeof buf);
+        if (r > 0) {
+            n += (uint32_t)r;
+        } else if (r < 0 && errno == EINTR) {
+            continue;
+        } else {
+            break; // EAGAIN: nothing more waiting; 0 or an error: the reader will see it too
+        }
+    }
+    (void)tcflush(fd, TCIFLUSH);
+    return n;
+}
+
 int hal_host_uart_open_path(const char *path)
 {
     if (path == NULL) {
@@ -252,6 +294,7 @@ int hal_host_uart_open_path(const char *path)
     pthread_mutex_lock(&lock_);
     int rc = configure_tty(fd, baud_);
     if (rc == FW_OK) {
+        discarded_ += discard_backlog(fd);
         fd_ = fd;
         stop_ = false;
         alive_ = true;
@@ -310,5 +353,6 @@ void host_uart_reset(void)
     rx_head_ = rx_tail_ = 0;
     tx_head_ = tx_count_ = 0;
     memset(&stats_, 0, sizeof stats_);
+    discarded_ = 0;
     pthread_mutex_unlock(&lock_);
 }

@@ -5,8 +5,11 @@
 // anything using pyserial, minicom, screen) opens the slave path as if it were /dev/ttyUSB0.
 // The line is raw (no echo, no line editing, no CR/LF translation): bytes pass unchanged.
 //
-// Bytes written while nobody has the slave open may be lost (pyserial also flushes its input when
-// it opens the port), as with a real serial line: the Cricket listener just keeps streaming.
+// Bytes written while nobody has the slave open are kept by the kernel (20 KB measured on
+// Linux; then pty_write() returns 0) and handed to whoever opens the slave next, all at once. A
+// real serial line keeps nothing for a receiver that is off, so readers drop that backlog:
+// pyserial flushes its input when it opens the port, and the host port's UART discards and counts
+// it (hal_host_uart_open_path()). The Cricket listener just keeps streaming, as the real one does.
 // Closing the master hangs up the slave: a reader sees end of stream.
 #ifndef PTY_H
 #define PTY_H

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include "fw/fw_base.h"
@@ -417,8 +418,9 @@ static void test_uart_ring_and_overruns(void **state)
     for (size_t i = 0; i < sizeof buf; i++) {
         buf[i] = (uint8_t)(i * 7u);
     }
-    // Before init: nothing stored, everything counted as lost.
+    // Before init the receiver is off: nothing stored, counted as discarded (not an overrun).
     assert_int_equal(hal_host_uart_feed(buf, 10), 0);
+    assert_int_equal(hal_host_uart_discarded(), 10);
     assert_int_equal(hal_uart_init(100u, uart_rx, NULL), FW_ERR_INVAL);
     assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
     assert_int_equal(hal_host_uart_feed(buf, 100), 100);
@@ -432,7 +434,8 @@ static void test_uart_ring_and_overruns(void **state)
     hal_uart_stats_t st;
     hal_uart_get_stats(&st);
     assert_int_equal(st.rx_bytes, FW_CFG_HOST_UART_RX_CAPACITY);
-    assert_int_equal(st.rx_overruns, 10u + (220u - (FW_CFG_HOST_UART_RX_CAPACITY - 100u)) + 5u);
+    assert_int_equal(st.rx_overruns, (220u - (FW_CFG_HOST_UART_RX_CAPACITY - 100u)) + 5u);
+    assert_int_equal(hal_host_uart_discarded(), 10); // overruns once on are not discards
     assert_int_equal(st.rx_errors, 1);
     // Oldest first, across the wrap.
     uint8_t r[FW_CFG_HOST_UART_RX_CAPACITY];
@@ -521,6 +524,63 @@ static void test_uart_pty(void **state)
     }
     assert_false(hal_host_uart_path_alive());
     hal_host_uart_close_path();
+}
+
+// A listener that streams before the firmware opens its line: the tty's backlog (more than the
+// ring holds) is discarded at the open, counted apart, and is no overrun; what comes after is
+// received whole.
+static void test_uart_pty_backlog_discarded_at_open(void **state)
+{
+    (void)state;
+    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0) {
+        skip();
+    }
+    assert_int_equal(grantpt(master), 0);
+    assert_int_equal(unlockpt(master), 0);
+    struct termios t;
+    assert_int_equal(tcgetattr(master, &t), 0);
+    // Raw (as pty_open() makes it): no echo, no line editing, bytes pass unchanged.
+    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    t.c_oflag &= ~(tcflag_t)OPOST;
+    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
+    char slave[128];
+    snprintf(slave, sizeof slave, "%s", ptsname(master));
+
+    static uint8_t backlog[4u * FW_CFG_HOST_UART_RX_CAPACITY];
+    memset(backlog, 'b', sizeof backlog);
+    assert_int_equal(write(master, backlog, sizeof backlog), (ssize_t)sizeof backlog);
+
+    assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
+    assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
+    assert_int_equal(hal_host_uart_discarded(), sizeof backlog);
+    const char line[] = "VR=2.0,ID=01:02:03:04:05:06:07:08,DB=14,DR=423\r\n";
+    assert_int_equal(write(master, line, sizeof line - 1), (ssize_t)(sizeof line - 1));
+    uint8_t r[64];
+    assert_int_equal(read_n(r, sizeof line - 1), sizeof line - 1);
+    assert_memory_equal(r, line, sizeof line - 1);
+    hal_uart_stats_t st;
+    hal_uart_get_stats(&st);
+    assert_int_equal(st.rx_bytes, sizeof line - 1);
+    assert_int_equal(st.rx_overruns, 0);
+
+    // Once open, a burst larger than the ring that nobody reads is a real overrun, and counted.
+    static uint8_t burst[2u * FW_CFG_HOST_UART_RX_CAPACITY];
+    memset(burst, 'x', sizeof burst);
+    assert_int_equal(write(master, burst, sizeof burst), (ssize_t)sizeof burst);
+    for (int tries = 0; tries < 400; tries++) {
+        hal_uart_get_stats(&st);
+        if (st.rx_bytes + st.rx_overruns >= sizeof line - 1 + sizeof burst) {
+            break;
+        }
+        (void)poll(NULL, 0, 5);
+    }
+    assert_int_equal(st.rx_bytes, sizeof line - 1 + FW_CFG_HOST_UART_RX_CAPACITY);
+    assert_int_equal(st.rx_overruns, sizeof burst - FW_CFG_HOST_UART_RX_CAPACITY);
+    assert_int_equal(hal_host_uart_discarded(), sizeof backlog);
+    hal_host_uart_close_path();
+    close(master);
 }
 
 // ---- Clock, CPU, watchdog -----------------------------------------------------------------------
@@ -656,6 +716,7 @@ int main(void)
         cmocka_unit_test_setup(test_uart_ring_and_overruns, setup),
         cmocka_unit_test_setup(test_uart_write_and_take, setup),
         cmocka_unit_test_setup(test_uart_pty, setup),
+        cmocka_unit_test_setup(test_uart_pty_backlog_discarded_at_open, setup),
         cmocka_unit_test_setup(test_lockstep_clock_and_account, setup),
         cmocka_unit_test_setup(test_realtime_clock, setup),
         cmocka_unit_test_setup(test_irq_nesting, setup),

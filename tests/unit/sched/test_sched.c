@@ -243,6 +243,7 @@ static void test_overrun_by_cost_is_missed_and_not_made_up(void **state)
     assert_int_equal(st.task[0].runs + st.task[0].skipped, 11);
     assert_int_equal(st.task[0].misses, 11);
     assert_int_equal(st.task[0].overruns, 5);
+    assert_int_equal(st.task[0].late, 2); // 5 ms late (releases 20, 70 ms); 1 ms allowed
     assert_int_equal(st.task[0].worst_lateness_us, 5000);
     assert_int_equal(st.task[0].worst_run_us, 25000);
 }
@@ -288,6 +289,175 @@ static void test_overrun_by_time_jump(void **state)
     assert_int_equal(b.starts[5], 47500u);
     // Order around the jump: a(0) b(2.5) b(7.5) a(10) b(12.5) b(17.5) a(20) b(42.5@45) a(40@45).
     assert_memory_equal(order_, "abbabbaba", 9);
+}
+
+// ---- Deadline tolerance and the lateness histogram -----------------------------------------------
+
+// A task that takes a scripted time per run (virtual time: it advances the clock itself), to
+// delay a task released at the same moment by exactly that much.
+typedef struct blocker {
+    const uint64_t *run_us;
+    uint32_t n_runs;
+    uint32_t n;
+} blocker_t;
+
+static void blocker_task(void *ctx)
+{
+    blocker_t *b = ctx;
+    if (b->n < b->n_runs && b->run_us[b->n] != 0u) {
+        assert_int_equal(hal_host_time_advance_us(b->run_us[b->n]), FW_OK);
+    }
+    b->n++;
+}
+
+static void test_lateness_against_tolerance(void **state)
+{
+    (void)state;
+    // Both released every 20 ms; the blocker (id 0) wins the tie, so the control task starts as
+    // late as the blocker's run lasts: 0, 500, 1000 (exactly the tolerance), 1001, 5000, 0 us.
+    static const uint64_t runs[] = {0u, 500u, 1000u, 1001u, 5000u, 0u};
+    static blocker_t blk;
+    static recorder_t ctl;
+    memset(&blk, 0, sizeof blk);
+    memset(&ctl, 0, sizeof ctl);
+    blk.run_us = runs;
+    blk.n_runs = 6;
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    sched_task_config_t tb = {"blocker", blocker_task, &blk, 20000u, 0u, 20000u, 0u};
+    sched_task_config_t tc = {"control", record_task, &ctl, 20000u, 0u, 1000u, 0u};
+    assert_int_equal(sched_add_task(&s_, &tb), 0);
+    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    (void)run_until(&s_, 5u * 20000u + 1u);
+
+    assert_int_equal(ctl.n, 6);
+    for (uint32_t k = 0; k < 6; k++) {
+        assert_int_equal(ctl.starts[k], (uint64_t)k * 20000u + runs[k]);
+    }
+    sched_stats_t st;
+    sched_get_stats(&s_, &st);
+    // Within the tolerance (0, 500, 1000 us late) is on time; beyond it (1001, 5000) a miss.
+    assert_int_equal(st.task[1].runs, 6);
+    assert_int_equal(st.task[1].misses, 2);
+    assert_int_equal(st.task[1].late, 2);
+    assert_int_equal(st.task[1].skipped, 0);
+    assert_int_equal(st.task[1].overruns, 0);
+    assert_int_equal(st.task[1].worst_lateness_us, 5000);
+    // The blocker itself always started on time.
+    assert_int_equal(st.task[0].misses, 0);
+    assert_int_equal(st.task[0].late, 0);
+
+    sched_lateness_t l;
+    assert_int_equal(sched_get_lateness(&s_, 1, &l), FW_OK);
+    assert_int_equal(l.runs, 6);
+    assert_int_equal(l.worst_us, 5000);
+    assert_string_equal(l.name, "control");
+    assert_int_equal(l.period_us, 20000);
+    assert_int_equal(l.tolerance_us, 1000);
+    // 0, 0 -> bucket 0; 500 -> [256, 511] = 9; 1000, 1001 -> [512, 1023] = 10; 5000 -> 13.
+    for (uint32_t b = 0; b < FW_CFG_SCHED_LATENESS_BUCKETS; b++) {
+        uint32_t expect = b == 0u ? 2u : b == 9u ? 1u : b == 10u ? 2u : b == 13u ? 1u : 0u;
+        assert_int_equal(l.bucket[b], expect);
+    }
+    // Percentiles are bucket limits: half the runs started <= 511 us late (the third of six),
+    // five of six <= 1023 us, all of them at the worst, 5000 us (not the bucket's 8191).
+    assert_int_equal(sched_lateness_percentile_us(&l, 0u), 0u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 333u), 0u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 500u), 511u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 833u), 1023u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 900u), 5000u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 1000u), 5000u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 5000u), 5000u);
+
+    assert_int_equal(sched_get_lateness(&s_, 2, &l), FW_ERR_INVAL);
+    assert_int_equal(sched_get_lateness(NULL, 0, &l), FW_ERR_INVAL);
+    assert_int_equal(sched_get_lateness(&s_, 0, NULL), FW_ERR_INVAL);
+}
+
+static void test_zero_tolerance_counts_any_lateness(void **state)
+{
+    (void)state;
+    // The same delays with tolerance 0: every late start is a miss.
+    static const uint64_t runs[] = {0u, 1u, 0u, 3u};
+    static blocker_t blk;
+    static recorder_t ctl;
+    memset(&blk, 0, sizeof blk);
+    memset(&ctl, 0, sizeof ctl);
+    blk.run_us = runs;
+    blk.n_runs = 4;
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    sched_task_config_t tb = {"blocker", blocker_task, &blk, 10000u, 0u, 0u, 0u};
+    sched_task_config_t tc = {"control", record_task, &ctl, 10000u, 0u, 0u, 0u};
+    assert_int_equal(sched_add_task(&s_, &tb), 0);
+    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    (void)run_until(&s_, 3u * 10000u + 1u);
+    sched_stats_t st;
+    sched_get_stats(&s_, &st);
+    assert_int_equal(st.task[1].runs, 4);
+    assert_int_equal(st.task[1].misses, 2);
+    assert_int_equal(st.task[1].late, 2);
+    sched_lateness_t l;
+    assert_int_equal(sched_get_lateness(&s_, 1, &l), FW_OK);
+    assert_int_equal(l.bucket[0], 2);
+    assert_int_equal(l.bucket[1], 1); // 1 us
+    assert_int_equal(l.bucket[2], 1); // 2 .. 3 us
+    assert_int_equal(sched_lateness_percentile_us(&l, 500u), 0u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 750u), 1u);
+    assert_int_equal(sched_lateness_percentile_us(&l, 990u), 3u);
+}
+
+static void test_lateness_buckets_and_tolerance_rule(void **state)
+{
+    (void)state;
+    assert_int_equal(sched_lateness_bucket_max_us(0u), 0u);
+    assert_int_equal(sched_lateness_bucket_max_us(1u), 1u);
+    assert_int_equal(sched_lateness_bucket_max_us(2u), 3u);
+    assert_int_equal(sched_lateness_bucket_max_us(10u), 1023u);
+    assert_int_equal(sched_lateness_bucket_max_us(FW_CFG_SCHED_LATENESS_BUCKETS - 2u),
+                     (1u << (FW_CFG_SCHED_LATENESS_BUCKETS - 2u)) - 1u);
+    assert_int_equal(sched_lateness_bucket_max_us(FW_CFG_SCHED_LATENESS_BUCKETS - 1u), UINT32_MAX);
+    assert_int_equal(sched_lateness_bucket_max_us(1000u), UINT32_MAX);
+    assert_int_equal(sched_lateness_percentile_us(NULL, 500u), 0u);
+    sched_lateness_t none;
+    memset(&none, 0, sizeof none);
+    assert_int_equal(sched_lateness_percentile_us(&none, 990u), 0u);
+
+    // The rule: a documented share of the period; 10 % by default (the paper's 0.192 s period:
+    // 19.2 ms); no overflow at the largest period.
+    assert_int_equal(sched_tolerance_us(1000u), FW_CFG_SCHED_TOLERANCE_PERMILLE);
+    assert_int_equal(sched_tolerance_us(UINT32_MAX),
+                     (uint32_t)((uint64_t)UINT32_MAX * FW_CFG_SCHED_TOLERANCE_PERMILLE / 1000u));
+#if FW_CFG_SCHED_TOLERANCE_PERMILLE == 100
+    assert_int_equal(sched_tolerance_us(192000u), 19200u);
+#endif
+
+    // A run later than the whole histogram lands in the last bucket; its percentile is the worst.
+    static const uint64_t runs[] = {(uint64_t)1u << (FW_CFG_SCHED_LATENESS_BUCKETS + 1u)};
+    static blocker_t blk;
+    static recorder_t ctl;
+    memset(&blk, 0, sizeof blk);
+    memset(&ctl, 0, sizeof ctl);
+    blk.run_us = runs;
+    blk.n_runs = 1;
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    const uint32_t period = (uint32_t)runs[0] * 2u;
+    sched_task_config_t tb = {"blocker", blocker_task, &blk, period, 0u, 0u, 0u};
+    sched_task_config_t tc = {"control", record_task, &ctl, period, 0u, sched_tolerance_us(period), 0u};
+    assert_int_equal(sched_add_task(&s_, &tb), 0);
+    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    (void)run_until(&s_, runs[0] + 1u);
+    sched_lateness_t l;
+    assert_int_equal(sched_get_lateness(&s_, 1, &l), FW_OK);
+    assert_int_equal(l.runs, 1);
+    assert_int_equal(l.bucket[FW_CFG_SCHED_LATENESS_BUCKETS - 1u], 1);
+    assert_int_equal(sched_lateness_percentile_us(&l, 500u), (uint32_t)runs[0]);
+    sched_stats_t st;
+    sched_get_stats(&s_, &st);
+#if FW_CFG_SCHED_TOLERANCE_PERMILLE < 500
+    assert_int_equal(st.task[1].misses, 1); // half a period late: beyond the tolerance
+#endif
 }
 
 static void test_task_added_late_keeps_grid(void **state)
@@ -648,6 +818,9 @@ int main(void)
         cmocka_unit_test_setup(test_idle_forever_misses_nothing, setup),
         cmocka_unit_test_setup(test_overrun_by_cost_is_missed_and_not_made_up, setup),
         cmocka_unit_test_setup(test_overrun_by_time_jump, setup),
+        cmocka_unit_test_setup(test_lateness_against_tolerance, setup),
+        cmocka_unit_test_setup(test_zero_tolerance_counts_any_lateness, setup),
+        cmocka_unit_test_setup(test_lateness_buckets_and_tolerance_rule, setup),
         cmocka_unit_test_setup(test_task_added_late_keeps_grid, setup),
         cmocka_unit_test_setup(test_idle_stops_and_waits_for_deadline, setup),
         cmocka_unit_test_setup(test_idle_pass_is_bounded_when_time_stands_still, setup),

@@ -5,6 +5,8 @@
 //   - CAN frames (motor controller, gyro, range board, GPS, tool commands) and Cricket serial
 //     bytes arrive by interrupt and are posted into the scheduler's event queue;
 //   - the control task, every cfg->period_us: sense -> observe -> act -> command, then telemetry;
+//     a run that starts more than sched_tolerance_us(period) (FW_CFG_SCHED_TOLERANCE_PERMILLE,
+//     10 %) after its release is a deadline miss (so is the 1 s status task's, by the same rule);
 //   - idle time: the agent's planning updates (cfg->planning == 0) until the next deadline nears;
 //   - at each episode's end, what was learned is saved to flash; at boot it is restored.
 // One instance per program (the firmware is a singleton, as on the MCU).

@@ -38,7 +38,8 @@ typedef struct sched_task_config {
     uint32_t period_us;     ///< > 0
     uint32_t phase_us;      ///< first release after the epoch; < period_us
     /// Lateness allowed: a run that starts more than this after its release is a miss. 0 allows
-    /// none (exact in lock-step; on an MCU allow for wake-up latency and the other tasks).
+    /// none (exact in lock-step only). sched_tolerance_us(period_us) is the project's rule:
+    /// FW_CFG_SCHED_TOLERANCE_PERMILLE of the period (10 %), see sched_config.h for why.
     uint32_t tolerance_us;
     /// CPU cycles one run takes, passed to hal_cpu_account() after each run (0 = unknown: not
     /// accounted). Lets the host's lock-step mode charge the run's time to virtual time.
@@ -91,6 +92,8 @@ typedef struct sched_task_stats {
     uint32_t misses;             ///< releases missed (each release counted at most once)
     uint32_t skipped;            ///< of the misses, releases never run
     uint32_t overruns;           ///< of the misses, runs still going at the next release
+    uint32_t late;               ///< of the misses, runs started more than tolerance_us late
+                                 ///< (a run both late and overrunning is one miss)
     uint32_t worst_lateness_us;  ///< largest start - release over the runs
     uint32_t worst_run_us;       ///< longest run (start to end, including accounted cycles)
 } sched_task_stats_t;
@@ -120,10 +123,24 @@ typedef struct sched_stats {
 } sched_stats_t;
 
 /// A scheduler. Opaque in use; public so that the caller owns its storage (declare it static).
+/// How late a task's runs started: a histogram of start - release over its runs.
+typedef struct sched_lateness {
+    /// Runs by lateness: [0] started at the release, [k] (1 .. B-2) 2^(k-1) .. 2^k - 1 us late,
+    /// [B-1] at least 2^(B-2) us late (B = FW_CFG_SCHED_LATENESS_BUCKETS).
+    /// sched_lateness_bucket_max_us(k) is bucket k's upper limit.
+    uint32_t bucket[FW_CFG_SCHED_LATENESS_BUCKETS];
+    uint32_t runs;          ///< runs counted (the sum of the buckets)
+    uint32_t worst_us;      ///< the largest lateness (worst_lateness_us)
+    const char *name;       ///< the task's name, period and tolerance, to read the figures by
+    uint32_t period_us;
+    uint32_t tolerance_us;
+} sched_lateness_t;
+
 typedef struct sched_task {
     sched_task_config_t cfg;
     uint64_t next_release_us; // the oldest release not yet run or skipped
     sched_task_stats_t stats;
+    uint32_t lateness[FW_CFG_SCHED_LATENESS_BUCKETS];
 } sched_task_t;
 
 typedef struct sched_handler {
@@ -200,6 +217,25 @@ void sched_get_stats(const sched_t *s, sched_stats_t *out);
 
 /// Events queued now. Context: any.
 uint32_t sched_pending_events(const sched_t *s);
+
+/// The project's deadline tolerance for a task of period `period_us`:
+/// period_us * FW_CFG_SCHED_TOLERANCE_PERMILLE / 1000, rounded down. Context: any.
+uint32_t sched_tolerance_us(uint32_t period_us);
+
+/// Copies task `id`'s lateness histogram into `out`. Returns FW_OK or FW_ERR_INVAL (NULL, no
+/// such task). Context: thread.
+int sched_get_lateness(const sched_t *s, sched_task_id_t id, sched_lateness_t *out);
+
+/// The largest lateness bucket `b` of a sched_lateness_t holds: 0 for bucket 0, 2^b - 1 us for
+/// the buckets in between, UINT32_MAX for the last one (and beyond). Context: any.
+uint32_t sched_lateness_bucket_max_us(uint32_t b);
+
+/// An upper bound on the lateness of the `permille` / 1000 share of runs that started earliest
+/// (500: the median, 990: the 99th percentile; above 1000 counts as 1000): the upper limit of
+/// the bucket in which that share is reached, but never more than worst_us (so 1000 gives
+/// worst_us). Log2 buckets: the bound is within a factor of 2. 0 when there were no runs.
+/// Context: any.
+uint32_t sched_lateness_percentile_us(const sched_lateness_t *l, uint32_t permille);
 
 #ifdef __cplusplus
 }

@@ -149,7 +149,8 @@ uint32_t hal_host_can_bitrate(void);
 /// Bytes arrive on the line: as many as fit go into the receive ring (rx_bytes), the rest are
 /// lost and counted (rx_overruns); then, if any were stored, the rx notify runs as an interrupt
 /// (irq mutex held) and the CPU is woken. Returns the number stored. Before hal_uart_init()
-/// nothing is stored (all counted as overruns). Context: any thread.
+/// the receiver is off: nothing is stored, and the bytes are counted in
+/// hal_host_uart_discarded(), not as overruns. Context: any thread.
 size_t hal_host_uart_feed(const uint8_t *data, size_t len);
 
 /// A framing or noise error on the line: the byte is dropped and counted in rx_errors.
@@ -162,7 +163,10 @@ size_t hal_host_uart_take_tx(uint8_t *buf, size_t cap);
 /// baud of hal_uart_init() (115200 if called before), non-blocking, and starts a reader thread
 /// that feeds received bytes through hal_host_uart_feed(). hal_uart_write() then writes to the
 /// device. Returns FW_OK, FW_ERR_IO (cannot open, not a tty, thread not started) or
-/// FW_ERR_INVAL (NULL, baud not a standard termios speed). Context: thread, at boot.
+/// FW_ERR_INVAL (NULL, baud not a standard termios speed). What the tty held from before the
+/// open (a pty keeps what its writer sent while nobody listened) is discarded and counted in
+/// hal_host_uart_discarded(): a UART hears only what arrives after it is switched on.
+/// Context: thread, at boot.
 int hal_host_uart_open_path(const char *path);
 
 /// Stops the reader thread and closes the device (no-op if none). Context: thread.
@@ -171,6 +175,12 @@ void hal_host_uart_close_path(void);
 /// True while a device path is open and its reader has not seen end-of-file or an error (a pty
 /// whose other side closed).
 bool hal_host_uart_path_alive(void);
+
+/// Bytes the receiver never heard because it was off, not because it was slow: fed before
+/// hal_uart_init(), or read and discarded by hal_host_uart_open_path() as the tty's backlog
+/// (bytes the kernel still queued beyond its line buffer are flushed uncounted). Not in
+/// hal_uart_stats_t's rx_overruns. Reset by hal_host_reset(). Context: any thread.
+uint32_t hal_host_uart_discarded(void);
 
 // ---- Flash --------------------------------------------------------------------------------------
 

@@ -1,0 +1,76 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# e2e.cricket_start: the Cricket listener streams before the firmware opens its serial line (as
+# when dynaqpc-sim devices starts first, which it must to print the pty). The firmware must not
+# count that backlog as UART overruns: it is discarded at the open (uart_discarded), and every
+# byte after it is received (uart_overruns=0). paper-lab at 10x in a private network namespace.
+#   run_cricket_start.sh <bin dir> [--inside]
+# Exit 0 pass, 1 fail. A namespace that cannot be created is a failure (no run on the host's bus).
+BIN=$1
+SPEED=10
+
+if [ "$2" != "--inside" ]; then
+    if ! unshare -n true 2>/dev/null; then
+        echo "FAIL: cannot create a private network namespace (unshare -n: needs root or user namespaces)"
+        exit 1
+    fi
+    exec timeout -k 5 60 unshare -n sh "$0" "$BIN" --inside
+fi
+
+ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "FAIL: cannot route multicast over lo"; exit 1; }
+TMP=$(mktemp -d) || exit 1
+PIDS=""
+cleanup() {
+    for p in $PIDS; do kill "$p" 2>/dev/null; done
+    for p in $PIDS; do wait "$p" 2>/dev/null; done
+    rm -rf "$TMP"
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM
+
+fail() {
+    echo "FAIL: $*"
+    for f in devices fw; do
+        [ -f "$TMP/$f.out" ] && { echo "--- $f"; tail -n 20 "$TMP/$f.out"; }
+    done
+    exit 1
+}
+
+# Field $2 of the last line of file $1 that has it.
+field() { sed -n "s/.*[ ]$2=\([0-9]*\).*/\1/p;s/^$2=\([0-9]*\).*/\1/p" "$1" | tail -n 1; }
+
+# The devices stop first (the firmware then sees the line close), so every byte they wrote was
+# either discarded at the open, received or lost while the firmware had the line open.
+timeout 30 "$BIN/dynaqpc-sim" devices --scenario paper-lab --speed $SPEED --duration 5 > "$TMP/devices.out" 2>&1 &
+DEV=$!
+PIDS="$DEV"
+n=0
+until grep -q '^cricket_tty=' "$TMP/devices.out" 2>/dev/null; do
+    n=$((n + 1)); [ $n -gt 100 ] && fail "dynaqpc-sim devices printed no cricket_tty"
+    sleep 0.1
+done
+TTY=$(sed -n 's/^cricket_tty=//p' "$TMP/devices.out" | head -n 1)
+sleep 1.5  # 15 s of world time: a backlog larger than the UART's ring (several Cricket lines)
+timeout 30 "$BIN/dynaqpc-fw" --scenario paper-lab --speed $SPEED --cricket-tty "$TTY" --duration 6 \
+    > "$TMP/fw.out" 2>&1 &
+FW=$!
+PIDS="$PIDS $FW"
+wait "$DEV"; DRC=$?
+wait "$FW"; FRC=$?
+PIDS=""
+cat "$TMP/devices.out" "$TMP/fw.out"
+[ $DRC -eq 0 ] || fail "dynaqpc-sim devices exited with $DRC"
+[ $FRC -eq 0 ] || fail "dynaqpc-fw exited with $FRC"
+
+written=$(field "$TMP/devices.out" pty_bytes)
+rx=$(field "$TMP/fw.out" uart_rx_bytes)
+overruns=$(field "$TMP/fw.out" uart_overruns)
+discarded=$(field "$TMP/fw.out" uart_discarded)
+[ -n "$written" ] && [ -n "$rx" ] && [ -n "$overruns" ] && [ -n "$discarded" ] || fail "counters missing"
+echo "pty_bytes=$written uart_discarded=$discarded uart_rx_bytes=$rx uart_overruns=$overruns"
+[ "$discarded" -gt 256 ] || fail "no backlog was discarded at the open (uart_discarded=$discarded)"
+[ "$overruns" -eq 0 ] || fail "a normal start overran the UART (uart_overruns=$overruns)"
+[ "$rx" -gt 0 ] || fail "no Cricket bytes received after the open"
+[ $((discarded + rx + overruns)) -le "$written" ] || fail "the firmware counted more bytes than were written"
+echo "PASS"
+exit 0
