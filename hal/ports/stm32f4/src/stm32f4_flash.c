@@ -56,9 +56,8 @@ int stm32f4_flash_region_check(uint32_t addr, uint32_t first_sector, uint32_t co
     const uint64_t part_end = (uint64_t)STM32F4_FLASH_MEM_BASE + (uint64_t)flash_kb * KB;
     uint32_t expect = addr;
     for (uint32_t i = 0; i < count; i++) {
-        uint32_t a, size;
-        (void)stm32f4_flash_sector(first_sector + i, &a, &size);
-        if (a != expect || size != sector_size || (uint64_t)a + size > part_end) {
+        uint32_t a = 0, size = 0;
+        if (stm32f4_flash_sector(first_sector + i, &a, &size) != FW_OK || a != expect || size != sector_size || (uint64_t)a + size > part_end) {
             return FW_ERR_NOSYS;
         }
         expect = a + size;
