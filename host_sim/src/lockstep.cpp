@@ -216,6 +216,10 @@ struct Lockstep::Impl {
             o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
               << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped;
         }
+        if (agent->kind == AGENT_DYNA_Q) {
+            o << " table=" << agent->table.count << "/" << agent->table.capacity
+              << " table_dropped=" << agent->table.dropped;
+        }
         return o.str();
     }
 };
