@@ -61,7 +61,8 @@ demo() {
     local bin=build/host-release/bin out=results/paper-lab
     mkdir -p "$out"
     log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each)"
-    .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2
+    .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2 \
+        --learned-steps 50
     log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $out/dyna-qpc.flash"
     "$bin/dynaqpc-sim" train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 150 --seed 7 \
         --save "$out/dyna-qpc.flash" --csv "$out/dyna-qpc-150.csv" --counters
