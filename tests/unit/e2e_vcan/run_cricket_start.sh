@@ -17,24 +17,8 @@ if [ "$2" != "--inside" ]; then
     exec timeout -k 5 60 unshare -n sh "$0" "$BIN" --inside
 fi
 
-ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "FAIL: cannot route multicast over lo"; exit 1; }
-TMP=$(mktemp -d) || exit 1
-PIDS=""
-cleanup() {
-    for p in $PIDS; do kill "$p" 2>/dev/null; done
-    for p in $PIDS; do wait "$p" 2>/dev/null; done
-    rm -rf "$TMP"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-
-fail() {
-    echo "FAIL: $*"
-    for f in devices fw; do
-        [ -f "$TMP/$f.out" ] && { echo "--- $f"; tail -n 20 "$TMP/$f.out"; }
-    done
-    exit 1
-}
+LOGS="devices fw"
+. "$(dirname "$0")/netns.sh"
 
 # Field $2 of the last line of file $1 that has it.
 field() { sed -n "s/.*[ ]$2=\([0-9]*\).*/\1/p;s/^$2=\([0-9]*\).*/\1/p" "$1" | tail -n 1; }

@@ -26,24 +26,8 @@ if [ "$3" != "--inside" ]; then
     exec timeout -k 5 120 unshare -n sh "$0" "$BIN" "$REPO" --inside
 fi
 
-ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "FAIL: cannot route multicast over lo"; exit 1; }
-TMP=$(mktemp -d) || exit 1
-PIDS=""
-cleanup() {
-    for p in $PIDS; do kill "$p" 2>/dev/null; done
-    for p in $PIDS; do wait "$p" 2>/dev/null; done
-    rm -rf "$TMP"
-}
-trap cleanup EXIT
-trap 'exit 1' INT TERM
-
-fail() {
-    echo "FAIL: $*"
-    for f in listener fw devices; do
-        [ -f "$TMP/$f.out" ] && { echo "--- $f"; tail -n 20 "$TMP/$f.out"; }
-    done
-    exit 1
-}
+LOGS="listener fw devices"
+. "$(dirname "$0")/netns.sh"
 
 # Waits up to $2 seconds for a line matching $3 in file $1.
 wait_for() {
