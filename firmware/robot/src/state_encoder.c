@@ -88,7 +88,9 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
     const float cw = cfg->arena_w / (float)(1u << cfg->bits_x);
     const float ch = cfg->arena_h / (float)(1u << cfg->bits_y);
     const float c = cosf(dir), s = sinf(dir);
-    const float x0 = floorf(pose->x / cw) * cw, y0 = floorf(pose->y / ch) * ch;
+    // The cell the state encodes (cell_() also clamps a pose just outside the arena).
+    const float x0 = (float)cell_(pose->x, cfg->arena_w, cfg->bits_x) * cw;
+    const float y0 = (float)cell_(pose->y, cfg->arena_h, cfg->bits_y) * ch;
     float t = 1e9f;
     if (c > 1e-3f) {
         t = (x0 + cw - pose->x) / c;
@@ -111,18 +113,23 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
     float dist = cfg->step_m, turn = cfg->turn_rad;
     robot_motion_t m = {0.0f, 0.0f, cfg->action_periods};
     if (cfg->aligned_actions) {
-        switch (action) {
-        case ROBOT_FORWARD: dist = aligned_step_(cfg, pose, pose->heading); break;
-        case ROBOT_BACKWARD: dist = aligned_step_(cfg, pose, pose->heading + ROBOT_PI); break;
-        case ROBOT_TURN_LEFT: turn = aligned_turn_(pose->heading, cfg->turn_rad, true); break;
-        case ROBOT_TURN_RIGHT: turn = -aligned_turn_(pose->heading, cfg->turn_rad, false); break;
-        default: break;
-        }
         // Never faster than the fixed action: a longer step or turn takes more periods (a turn
         // must also stay inside the gyro's measuring range, which the fixed turn was sized for).
-        const float ratio = action == ROBOT_FORWARD || action == ROBOT_BACKWARD
-                                ? dist / cfg->step_m
-                                : fabsf(turn) / cfg->turn_rad;
+        float ratio = 1.0f;  // of this motion to the fixed one
+        switch (action) {
+        case ROBOT_FORWARD:
+        case ROBOT_BACKWARD:
+            dist = aligned_step_(cfg, pose, pose->heading + (action == ROBOT_BACKWARD ? ROBOT_PI : 0.0f));
+            ratio = dist / cfg->step_m;
+            break;
+        case ROBOT_TURN_LEFT:
+        case ROBOT_TURN_RIGHT:  // both positive: the wheels below give the direction
+            turn = fabsf(aligned_turn_(pose->heading, cfg->turn_rad, action == ROBOT_TURN_LEFT));
+            ratio = turn / cfg->turn_rad;
+            break;
+        default:
+            break;
+        }
         const float periods = ceilf(ratio * (float)cfg->action_periods - 1e-3f);
         m.periods = (uint8_t)(periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods);
     }
