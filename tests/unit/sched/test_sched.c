@@ -310,6 +310,23 @@ static void blocker_task(void *ctx)
     b->n++;
 }
 
+// Starts a scheduler with the blocker (id 0, tolerance blocker_tol_us) and a recorded control task
+// (id 1, tolerance tol_us), both released every period_us: control run k starts runs[k] late.
+static void start_blocked_control_(blocker_t *blk, recorder_t *ctl, const uint64_t *runs, uint32_t n,
+                                   uint32_t period_us, uint32_t blocker_tol_us, uint32_t tol_us)
+{
+    memset(blk, 0, sizeof *blk);
+    memset(ctl, 0, sizeof *ctl);
+    blk->run_us = runs;
+    blk->n_runs = n;
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    sched_task_config_t tb = {"blocker", blocker_task, blk, period_us, 0u, blocker_tol_us, 0u};
+    sched_task_config_t tc = {"control", record_task, ctl, period_us, 0u, tol_us, 0u};
+    assert_int_equal(sched_add_task(&s_, &tb), 0);
+    assert_int_equal(sched_add_task(&s_, &tc), 1);
+}
+
 static void test_lateness_against_tolerance(void **state)
 {
     (void)state;
@@ -318,16 +335,7 @@ static void test_lateness_against_tolerance(void **state)
     static const uint64_t runs[] = {0u, 500u, 1000u, 1001u, 5000u, 0u};
     static blocker_t blk;
     static recorder_t ctl;
-    memset(&blk, 0, sizeof blk);
-    memset(&ctl, 0, sizeof ctl);
-    blk.run_us = runs;
-    blk.n_runs = 6;
-    sched_config_t cfg = {0};
-    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
-    sched_task_config_t tb = {"blocker", blocker_task, &blk, 20000u, 0u, 20000u, 0u};
-    sched_task_config_t tc = {"control", record_task, &ctl, 20000u, 0u, 1000u, 0u};
-    assert_int_equal(sched_add_task(&s_, &tb), 0);
-    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    start_blocked_control_(&blk, &ctl, runs, 6u, 20000u, 20000u, 1000u);
     (void)run_until(&s_, 5u * 20000u + 1u);
 
     assert_int_equal(ctl.n, 6);
@@ -381,16 +389,7 @@ static void test_zero_tolerance_counts_any_lateness(void **state)
     static const uint64_t runs[] = {0u, 1u, 0u, 3u};
     static blocker_t blk;
     static recorder_t ctl;
-    memset(&blk, 0, sizeof blk);
-    memset(&ctl, 0, sizeof ctl);
-    blk.run_us = runs;
-    blk.n_runs = 4;
-    sched_config_t cfg = {0};
-    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
-    sched_task_config_t tb = {"blocker", blocker_task, &blk, 10000u, 0u, 0u, 0u};
-    sched_task_config_t tc = {"control", record_task, &ctl, 10000u, 0u, 0u, 0u};
-    assert_int_equal(sched_add_task(&s_, &tb), 0);
-    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    start_blocked_control_(&blk, &ctl, runs, 4u, 10000u, 0u, 0u);
     (void)run_until(&s_, 3u * 10000u + 1u);
     sched_stats_t st;
     sched_get_stats(&s_, &st);
@@ -436,17 +435,8 @@ static void test_lateness_buckets_and_tolerance_rule(void **state)
     static const uint64_t runs[] = {(uint64_t)1u << (FW_CFG_SCHED_LATENESS_BUCKETS + 1u)};
     static blocker_t blk;
     static recorder_t ctl;
-    memset(&blk, 0, sizeof blk);
-    memset(&ctl, 0, sizeof ctl);
-    blk.run_us = runs;
-    blk.n_runs = 1;
-    sched_config_t cfg = {0};
-    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
     const uint32_t period = (uint32_t)runs[0] * 2u;
-    sched_task_config_t tb = {"blocker", blocker_task, &blk, period, 0u, 0u, 0u};
-    sched_task_config_t tc = {"control", record_task, &ctl, period, 0u, sched_tolerance_us(period), 0u};
-    assert_int_equal(sched_add_task(&s_, &tb), 0);
-    assert_int_equal(sched_add_task(&s_, &tc), 1);
+    start_blocked_control_(&blk, &ctl, runs, 1u, period, 0u, sched_tolerance_us(period));
     (void)run_until(&s_, runs[0] + 1u);
     sched_lateness_t l;
     assert_int_equal(sched_get_lateness(&s_, 1, &l), FW_OK);
