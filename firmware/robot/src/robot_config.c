@@ -45,6 +45,13 @@ int robot_config_check(const robot_config_t *c)
         c->step_cap == 0u) {
         return FW_ERR_INVAL;
     }
+    // An aligned step ends inside the next cell, not beyond it.
+    const float cell_w = c->arena_w / (float)(1u << c->bits_x);
+    const float cell_h = c->arena_h / (float)(1u << c->bits_y);
+    if (c->aligned_actions &&
+        (!finite_positive_(c->step_past_m) || !(c->step_past_m < (cell_w < cell_h ? cell_w : cell_h)))) {
+        return FW_ERR_INVAL;
+    }
     // Cricket needs three beacons for a fix.
     if (c->pose_source == ROBOT_POSE_CRICKET && (c->n_beacons < 3u || c->n_beacons > ROBOT_MAX_BEACONS)) {
         return FW_ERR_INVAL;

@@ -22,6 +22,7 @@ const robot_config_t robot_config_paper_sim = {
     .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.40f,
     // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
     .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 0, .period_us = 192000u,
+    .step_past_m = 0.05f,  // a fifth of the 25 cm cell
     .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
     .agent = AGENT_DYNA_QPC,
     .params = {0.9f, 0.9f, 0.9f, 0.01f, 1e-3f, 0.999f, 16, 1},
@@ -46,6 +47,9 @@ const robot_config_t robot_config_paper_lab = {
     .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.18f,
     // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
     .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 1, .period_us = 192000u,
+    // 16 cm into a 54 x 40 cm cell: the front IR then reads a wall at the next cell edge ahead at
+    // 25 cm (x) or 12 cm (y), well inside its 30 cm bit (docs/scenarios.md).
+    .step_past_m = 0.16f,
     .reward_goal = 100.0f, .reward_bump = -100.0f, .reward_step = -1.0f,
     .agent = AGENT_DYNA_QPC,
     .params = {0.9f, 0.9f, 0.9f, 0.1f, 1e-3f, 0.999f, 16, 1},

@@ -82,7 +82,7 @@ static float aligned_turn_(float heading, float turn, bool left)
     return (k - h) * turn;
 }
 
-// Distance along `dir` (radians) from the pose to a fifth of a cell beyond the edge of its cell.
+// Distance along `dir` (radians) from the pose to step_past_m beyond the edge of its cell.
 static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
     const float cw = cfg->arena_w / (float)(1u << cfg->bits_x);
@@ -102,7 +102,7 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
     } else if (s < -1e-3f) {
         t = fminf(t, (y0 - pose->y) / s);
     }
-    const float margin = 0.2f * fminf(cw, ch);
+    const float margin = cfg->step_past_m;
     // At least the margin (a pose on the edge), at most a cell's diagonal and the margin.
     return fminf(fmaxf(t, 0.0f) + margin, sqrtf(cw * cw + ch * ch) + margin);
 }

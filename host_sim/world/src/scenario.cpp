@@ -61,7 +61,7 @@ private:
     std::vector<int> ray_lines_;
     std::vector<int> code_bit_lines_;
     std::vector<int> beacon_lines_;
-    int goal_line_ = 0, arena_line_ = 0, encode_line_ = 0, cricket_line_ = 0, timing_line_ = 0;
+    int goal_line_ = 0, arena_line_ = 0, encode_line_ = 0, actions_line_ = 0, cricket_line_ = 0, timing_line_ = 0;
     int robot_line_ = 0, ranger_line_ = 0;
     std::vector<bool> ray_has_mount_;
     bool sensor_bits_given_ = false;
@@ -472,10 +472,12 @@ bool Parser::line(const Tokens &t, Scenario *s)
     }
     if (key == "actions") {
         if (!single(key)) return false;
+        actions_line_ = line_;
         std::vector<Field> f = {
             {"step", T::Real, &s->actions.step, 0.001, 10.0},
             {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
             {"aligned", T::Int, &s->actions.aligned, 0, 1},
+            {"past", T::Real, &s->actions.past, 0.001, 10.0},
         };
         return fields(t, f);
     }
@@ -562,6 +564,12 @@ bool Parser::validate(Scenario *s)
     if (e.x_bits + e.y_bits + e.heading_bits + e.sensor_bits > 32) {
         return fail_at(encode_line_ != 0 ? encode_line_ : last_line_,
                        "encode: more than 32 state bits in all");
+    }
+    const double cell_side = std::min(s->arena_w / (1 << e.x_bits), s->arena_h / (1 << e.y_bits));
+    if (s->actions.past >= cell_side) {
+        return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
+                                          " is not inside the next cell (cells are " + fmt_num(cell_side) +
+                                          " m on their smaller side)");
     }
     for (const Obstacle &o : s->obstacles) {
         double ex = 0.0, ey = 0.0;  // half extents of the bounding box

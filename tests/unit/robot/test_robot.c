@@ -35,6 +35,11 @@ static void test_shipped_configs_are_valid(void **state)
     bad = *sim_;
     bad.bits_x = 12;  // 12 + 5 + 4 + 4 = 25 bits: more than a state holds
     assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+    bad = *lab_;
+    bad.step_past_m = 0.4f;  // an aligned step would skip the 40 cm cell it should end in
+    assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
+    bad.aligned_actions = 0;  // fixed steps do not use it
+    assert_int_equal(robot_config_check(&bad), FW_OK);
 }
 
 static void test_position_cells_and_clamping(void **state)
@@ -151,7 +156,7 @@ static void test_aligned_steps_cross_into_the_next_cell(void **state)
     (void)state;
     robot_config_t cfg = *lab_;  // 4.3 m / 8 = 0.5375 m by 3.2 m / 8 = 0.4 m cells
     cfg.aligned_actions = 1;
-    const float cw = 0.5375f, ch = 0.4f, margin = 0.2f * ch;
+    const float cw = 0.5375f, ch = 0.4f, margin = cfg.step_past_m;
     robot_pose_t pose = {2.0f * cw + 0.1f, 3.0f * ch + 0.2f, 0.0f};  // heading +x
     robot_motion_t m = robot_action_motion(&cfg, ROBOT_FORWARD, &pose);
     assert_float_equal(travel_of_(&cfg, m), cw - 0.1f + margin, 1e-4);

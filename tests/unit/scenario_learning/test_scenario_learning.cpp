@@ -105,6 +105,7 @@ void expect_same_config(const robot_config_t &a, const robot_config_t &b)
     assert_float_equal(a.track_m, b.track_m, 1e-6);
     assert_int_equal(a.action_periods, b.action_periods);
     assert_int_equal(a.aligned_actions, b.aligned_actions);
+    assert_float_equal(a.step_past_m, b.step_past_m, 1e-6);
     assert_int_equal(a.wait_for_fix, b.wait_for_fix);
     assert_int_equal(a.period_us, b.period_us);
     assert_float_equal(a.reward_goal, b.reward_goal, 1e-6);

@@ -149,6 +149,7 @@ const BadFile kBadFiles[] = {
     {"no_room.scn", 1, "no room for a start pose"},
     {"bad_ray_index.scn", 6, "code_bit ray index 4"},
     {"bad_timing.scn", 6, "not a whole number"},
+    {"bad_past.scn", 7, "actions past 0.5 is not inside the next cell"},
     {"unknown_field.scn", 3, "unknown field 'wheels'"},
     {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
     {"garbage.bin", 3, "not a text file"},

@@ -75,6 +75,11 @@ typedef struct robot_config {
     /// show; aligned actions make the outcome of (state, action) nearly deterministic, which is
     /// what a table and its model can learn from in a few thousand steps (docs/scenarios.md).
     uint8_t aligned_actions;
+    /// Aligned steps end this far past the edge of the cell they leave (m, less than the smaller
+    /// side of a cell). Where in the next cell the robot stops decides what its rangers see of
+    /// the cell after it; choose it so a wall one cell ahead reads the same every time
+    /// (docs/scenarios.md, "Aligned actions").
+    float step_past_m;
     /// After the action, wait with the wheels stopped for a fresh pose fix before observing
     /// (the paper's lab robot waited for a stable Cricket fix). 0: observe at once.
     uint8_t wait_for_fix;
