@@ -59,21 +59,24 @@ demo() {
     setup
     build host-release
     local bin=build/host-release/bin out=results/paper-lab
-    mkdir -p "$out"
+    # The long run and its replay go beside the experiment's CSVs, not among them: the experiment
+    # reads every training CSV in $out as one agent's runs.
+    local long=$out/demo
+    mkdir -p "$long"
     log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each)"
     .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2 \
         --learned-steps 50
-    log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $out/dyna-qpc.flash"
+    log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $long/dyna-qpc.flash"
     "$bin/dynaqpc-sim" train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 150 --seed 7 \
-        --save "$out/dyna-qpc.flash" --csv "$out/dyna-qpc-150.csv" --counters
+        --save "$long/dyna-qpc.flash" --csv "$long/dyna-qpc-150.csv" --counters
     log "the firmware reboots with that flash and drives greedily, without learning, from 10 random starts"
-    "$bin/dynaqpc-sim" run --scenario paper-lab --load "$out/dyna-qpc.flash" --starts 10 \
-        --trajectory "$out/trajectory.csv" --arena "$out/arena.json" > "$out/replay.csv"
+    "$bin/dynaqpc-sim" run --scenario paper-lab --load "$long/dyna-qpc.flash" --starts 10 \
+        --trajectory "$long/trajectory.csv" --arena "$long/arena.json" > "$long/replay.csv"
     .venv/bin/dynaqpc-experiment trajectory --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results \
-        --load "$out/dyna-qpc.flash" --starts 5 >/dev/null
+        --load "$long/dyna-qpc.flash" --starts 5 >/dev/null
     log "robot time to learn (Table 1 of the paper, reproduced)"
     cat "$out/table1.md"
-    log "plots and CSVs are in $out/ (fig13.png: learning curves; trajectories.png: the replayed paths)"
+    log "plots and CSVs are in $out/ (fig13.png: learning curves; trajectories.png: the replayed paths; demo/: the long run)"
 }
 
 run_tests() {

@@ -108,22 +108,28 @@ def read_runs(path: str) -> Dict[str, AgentRuns]:
     return out
 
 
-def read_csv_dir(directory: str) -> Dict[str, AgentRuns]:
-    """Every training CSV in a folder (trajectory CSVs, told apart by their header, are left out)."""
+def read_csvs(paths: Sequence[str], where: str) -> Dict[str, AgentRuns]:
+    """The runs in these training CSVs, by agent; an agent may appear in only one of them."""
     runs: Dict[str, AgentRuns] = {}
-    paths = sorted(Path(directory).glob("*.csv"))
     for p in paths:
-        with open(p, newline="", encoding="utf-8") as f:
-            header = f.readline().strip().split(",")
-        if header == TRAJECTORY_COLUMNS:
-            continue
         for agent, r in read_runs(str(p)).items():
             if agent in runs:
-                raise ToolError(f"agent {agent} appears in more than one CSV in {directory}")
+                raise ToolError(f"agent {agent} appears in more than one CSV in {where}")
             runs[agent] = r
     if not runs:
-        raise ToolError(f"no training CSVs in {directory}")
+        raise ToolError(f"no training CSVs in {where}")
     return runs
+
+
+def read_csv_dir(directory: str) -> Dict[str, AgentRuns]:
+    """Every training CSV in a folder (trajectory CSVs, told apart by their header, are left out)."""
+    paths = []
+    for p in sorted(Path(directory).glob("*.csv")):
+        with open(p, newline="", encoding="utf-8") as f:
+            header = f.readline().strip().split(",")
+        if header != TRAJECTORY_COLUMNS:
+            paths.append(str(p))
+    return read_csvs(paths, directory)
 
 
 def trailing_mean(values: Sequence[float], window: int) -> List[float]:
@@ -320,9 +326,11 @@ def plot_trajectories(traj_csv: str, arena_json: Optional[str], path: str, title
 
 
 def plot_all(csv_dir: str, out_dir: str, settings: LearnSettings, title: str = "",
-             trajectory: Optional[str] = None, arena: Optional[str] = None) -> str:
-    """fig13.png, table1.md and (when a trajectory CSV is there) trajectories.png. Returns the table."""
-    runs = read_csv_dir(csv_dir)
+             trajectory: Optional[str] = None, arena: Optional[str] = None,
+             csvs: Optional[Sequence[str]] = None) -> str:
+    """fig13.png, table1.md and (when a trajectory CSV is there) trajectories.png, from `csvs` or else
+    every training CSV in csv_dir. Returns the table."""
+    runs = read_csvs(csvs, csv_dir) if csvs is not None else read_csv_dir(csv_dir)
     os.makedirs(out_dir, exist_ok=True)
     plot_fig13(runs, os.path.join(out_dir, "fig13.png"), title)
     table = table1_markdown({a: summarise(r, settings) for a, r in runs.items()}, settings, title)
@@ -363,8 +371,10 @@ def _csv_complete(path: str) -> bool:
 def cmd_run(args) -> int:
     out_dir = os.path.join(args.results, args.scenario)
     os.makedirs(out_dir, exist_ok=True)
+    csvs = []
     for agent in args.agents.split(","):
         csv_path = os.path.join(out_dir, f"{agent}.csv")
+        csvs.append(csv_path)
         if args.skip_existing and _csv_complete(csv_path):
             print(f"{csv_path} exists: skipped")
             continue
@@ -379,7 +389,8 @@ def cmd_run(args) -> int:
                   "--jobs", str(args.jobs)] + shlex.split(args.sim_args))
     if args.load:
         _run_trajectory(args, out_dir)
-    table = plot_all(out_dir, out_dir, _settings(args), args.scenario)
+    # Only this run's CSVs: the folder may hold others (tools/dev.sh demo's long run, a user's).
+    table = plot_all(out_dir, out_dir, _settings(args), args.scenario, csvs=csvs)
     print(table)
     print(f"wrote {out_dir}/fig13.png, {out_dir}/table1.md")
     return 0

@@ -129,6 +129,21 @@ def test_run_skip_existing_does_not_call_the_simulator(csv_dir, tmp_path):
     assert rc == 2
 
 
+def test_run_reads_only_its_own_csvs(csv_dir, tmp_path):
+    # tools/dev.sh demo keeps a longer Dyna-QPC run beside the experiment's CSVs; a second
+    # experiment run in the same folder must not mistake it for its own.
+    results = tmp_path / "results"
+    (results / "s").mkdir(parents=True)
+    for name in ("q.csv", "dyna-qpc.csv"):
+        (results / "s" / name).write_bytes((csv_dir / name).read_bytes())
+    write_runs(results / "s" / "dyna-qpc-150.csv", "dyna-qpc", [[70] * 150])
+    rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q,dyna-qpc",
+                          "--skip-existing", "--sim", str(tmp_path / "no-such-sim")])
+    assert rc == 0
+    table = (results / "s" / "table1.md").read_text()
+    assert "| 12 |" in table and "| 150 |" not in table
+
+
 def test_arena_errors_are_named(tmp_path):
     from dynaqpc_tools.arena import load_arena
 
