@@ -39,7 +39,7 @@ typedef struct robot_motion {
 
 /// The motion that realises `action` from `pose`. Without cfg->aligned_actions: step_m or turn_rad
 /// over action_periods periods, whatever the pose. With it: a turn ends on the next multiple of
-/// turn_rad in its direction (at least a quarter of turn_rad away), a step ends a fifth of a cell
+/// turn_rad in its direction (at least a quarter of turn_rad away), a step ends step_past_m
 /// past the edge of the current x-y cell along the heading (robot_config.h says why).
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
 
