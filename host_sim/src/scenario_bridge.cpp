@@ -80,9 +80,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.step_m = static_cast<float>(sc->actions.step);
     r.turn_rad = static_cast<float>(sc->actions.turn);
     r.aligned_actions = static_cast<uint8_t>(sc->actions.aligned);
-    const double cell_side = std::min(sc->arena_w / (1 << sc->encoding.x_bits),
-                                      sc->arena_h / (1 << sc->encoding.y_bits));
-    r.step_past_m = static_cast<float>(sc->actions.past > 0.0 ? sc->actions.past : 0.2 * cell_side);
+    r.step_past_m = static_cast<float>(sc->actions.past);
     r.track_m = static_cast<float>(sc->robot.track);
     r.period_us = static_cast<uint32_t>(std::lround(sc->timing.control_period * 1e6));
     // An action takes as many whole periods as the wheels need at their top speed, and a turn as

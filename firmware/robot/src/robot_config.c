@@ -48,8 +48,8 @@ int robot_config_check(const robot_config_t *c)
     // An aligned step ends inside the next cell, not beyond it.
     const float cell_w = c->arena_w / (float)(1u << c->bits_x);
     const float cell_h = c->arena_h / (float)(1u << c->bits_y);
-    if (c->aligned_actions &&
-        (!finite_positive_(c->step_past_m) || !(c->step_past_m < (cell_w < cell_h ? cell_w : cell_h)))) {
+    const float cell = cell_w < cell_h ? cell_w : cell_h;
+    if (c->aligned_actions && (!finite_positive_(c->step_past_m) || !(c->step_past_m < cell))) {
         return FW_ERR_INVAL;
     }
     // Cricket needs three beacons for a fix.

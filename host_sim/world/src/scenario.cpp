@@ -566,7 +566,9 @@ bool Parser::validate(Scenario *s)
                        "encode: more than 32 state bits in all");
     }
     const double cell_side = std::min(s->arena_w / (1 << e.x_bits), s->arena_h / (1 << e.y_bits));
-    if (s->actions.past >= cell_side) {
+    if (s->actions.past == 0.0) {  // not given
+        s->actions.past = 0.2 * cell_side;
+    } else if (s->actions.past >= cell_side) {
         return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
                                           " is not inside the next cell (cells are " + fmt_num(cell_side) +
                                           " m on their smaller side)");

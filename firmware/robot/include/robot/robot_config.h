@@ -78,7 +78,7 @@ typedef struct robot_config {
     /// Aligned steps end this far past the edge of the cell they leave (m, less than the smaller
     /// side of a cell). Where in the next cell the robot stops decides what its rangers see of
     /// the cell after it; choose it so a wall one cell ahead reads the same every time
-    /// (docs/scenarios.md, "Aligned actions").
+    /// (docs/scenarios.md, "Where a step stops").
     float step_past_m;
     /// After the action, wait with the wheels stopped for a fresh pose fix before observing
     /// (the paper's lab robot waited for a stable Cricket fix). 0: observe at once.

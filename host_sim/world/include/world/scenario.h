@@ -122,7 +122,7 @@ struct ActionSpec {
     double step = 0.25;                         ///< m, forward/backward travel per action
     double turn = 0.78539816339744830962;       ///< rad, turn per action (45 degrees)
     int aligned = 0;  ///< 1: turns end on multiples of `turn`, steps just past the next cell edge
-    double past = 0.0;  ///< m an aligned step ends past the cell edge; 0: a fifth of the smaller cell side
+    double past = 0.0;  ///< m an aligned step ends past the cell edge; if not given, the parser sets a fifth of the smaller cell side
 };
 
 struct Rewards {
