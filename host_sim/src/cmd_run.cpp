@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc-sim run: the firmware boots with what it learned (a flash image saved by `train
-// --save`) and drives greedily, without learning, from random starts.
+// --save`) and drives greedily from random starts: frozen (what the image holds, nothing more), or
+// with --learn as a robot in service, still learning from every step.
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -24,7 +25,8 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
     std::string scenario, load, trajectory, arena, agent = "dyna-qpc";
     std::uint32_t starts = 10, seed = 1, step_cap = 0;
-    Options o("run", "replay a learned policy greedily (no learning) from random start poses");
+    bool learn = false;
+    Options o("run", "replay a learned policy greedily from random start poses");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
     o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
     o.add_choice("--agent", "NAME", "the algorithm that learned it: q, dyna-q or dyna-qpc (default dyna-qpc)",
@@ -33,6 +35,11 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
     o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,
                100000000);
+    o.add_flag("--learn",
+               "keep learning while driving, as a robot in service does: greedy actions (epsilon 0), "
+               "every real step learned and planned on; the --load file is not changed "
+               "(default: frozen, no learning)",
+               &learn);
     o.add_string("--trajectory", "OUT",
                  "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &trajectory);
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &arena);
@@ -51,6 +58,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     robot_config_t cfg = sb.robot;
     cfg.agent = agent == "q" ? AGENT_Q_LEARNING : agent == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
     if (o.seen("--step-cap")) cfg.step_cap = step_cap;
+    if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");
         if (f == nullptr) throw UsageError("--arena: cannot open '" + arena + "': " + std::strerror(errno));
@@ -66,7 +74,8 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     LockstepOptions lo;
     lo.seed = seed;
     lo.flash_file = load;
-    lo.evaluate = true;
+    lo.evaluate = !learn;
+    lo.flash_read_only = true;
     std::unique_ptr<Lockstep> sim_ptr;
     try {
         sim_ptr = std::make_unique<Lockstep>(*sb.world, cfg, lo);
@@ -98,8 +107,8 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     }
     if (traj != nullptr && traj != stdout) std::fclose(traj);
     std::sort(steps.begin(), steps.end());
-    std::fprintf(stderr, "%s on %s: reached the goal from %u of %u starts", agent.c_str(), sb.name.c_str(), reached,
-                 starts);
+    std::fprintf(stderr, "%s on %s (%s): reached the goal from %u of %u starts", agent.c_str(), sb.name.c_str(),
+                 learn ? "learning" : "frozen", reached, starts);
     if (!steps.empty()) {
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
     }

@@ -42,6 +42,8 @@ struct Lockstep::Impl {
     const agent_storage_t *storage = nullptr;
     std::uint64_t t_us = 0;
     std::uint64_t dt_us = 0;
+    std::uint64_t pause_us = 0;  // between episodes (scenario `start pause`)
+    bool evaluate = false;
     std::uint8_t tool_ctr = 0;
     bool restored = false;
     std::function<void(const TrajectoryPoint &)> sink;
@@ -59,6 +61,8 @@ struct Lockstep::Impl {
     {
         cfg.name = world.scenario().name.c_str();
         dt_us = static_cast<std::uint64_t>(std::llround(sc.timing.physics_dt * 1e6));
+        pause_us = static_cast<std::uint64_t>(std::llround(sc.start.pause * 1e6));
+        evaluate = opt.evaluate;
         hal_host_reset();
         hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);
         hal_host_cpu_set_hz(kCpuHz);
@@ -67,7 +71,8 @@ struct Lockstep::Impl {
             throw std::runtime_error("host flash: cannot configure 4 x 128 KB");
         }
         if (!opt.flash_file.empty()) {
-            const int err = hal_host_flash_attach_file(opt.flash_file.c_str());
+            const int err = opt.flash_read_only ? hal_host_flash_load_file(opt.flash_file.c_str())
+                                                : hal_host_flash_attach_file(opt.flash_file.c_str());
             if (err != 0) {
                 throw std::runtime_error(opt.flash_file + ": not a flash image of this firmware (size) or unreadable");
             }
@@ -81,7 +86,7 @@ struct Lockstep::Impl {
         ao.evaluate = opt.evaluate;
         ao.persist = true;
         ao.auto_start = false;
-        if (cfg.planning == 0) {
+        if (opt.plan_update_cycles > 0) {  // idle planning takes the MCU's time
             ao.plan_cycles = opt.plan_update_cycles;
             ao.plan_budget_us = opt.plan_update_cycles / (kCpuHz / 1000000u) + 1u;
         }
@@ -195,6 +200,13 @@ struct Lockstep::Impl {
         row.reached_goal = episode.reached_goal;
         row.bumps = episode.bumps;
         row.robot_time_s = static_cast<double>(episode_end_us - episode_start_us) * 1e-6;
+        // The operator carries the robot to its next start; the firmware's idle time plans.
+        if (!evaluate) {
+            const std::uint64_t pause_end_us = t_us + pause_us;
+            while (t_us < pause_end_us) {
+                tick();
+            }
+        }
         row.updates = agent_updates(agent) - updates0;
         row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         return row;
@@ -214,7 +226,10 @@ struct Lockstep::Impl {
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops;
         if (agent->kind == AGENT_DYNA_QPC) {
             o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
-              << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped;
+              << " cmac_inv=" << agent->model.inverse.stats.cells_used << "/" << agent->model.inverse.capacity
+              << " cmac_evicted=" << agent->model.forward.stats.evicted + agent->model.inverse.stats.evicted
+              << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped
+              << " model_untrusted=" << agent->model.untrusted << " model_rejected=" << agent->model.rejected;
         }
         if (agent->kind == AGENT_DYNA_Q) {
             o << " table=" << agent->table.count << "/" << agent->table.capacity

@@ -51,6 +51,9 @@ struct LockstepOptions {
     /// Flash image file of the firmware ("" = RAM only). The firmware saves what it learned there
     /// at episode ends and restores it at boot, as on the robot.
     std::string flash_file;
+    /// Boot from flash_file but never write it: the firmware's saves change a copy in RAM
+    /// (dynaqpc-sim run --learn).
+    bool flash_read_only = false;
     /// Replay greedily without learning (dynaqpc-sim run).
     bool evaluate = false;
     /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0).

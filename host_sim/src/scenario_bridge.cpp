@@ -66,6 +66,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.goal_x = static_cast<float>(sc->goal.cx);
     r.goal_y = static_cast<float>(sc->goal.cy);
     r.goal_r = static_cast<float>(sc->goal.radius);
+    r.goal_cells = sc->goal.cells ? 1u : 0u;
     r.bits_x = static_cast<uint8_t>(sc->encoding.x_bits);
     r.bits_y = static_cast<uint8_t>(sc->encoding.y_bits);
     r.bits_heading = static_cast<uint8_t>(sc->encoding.heading_bits);

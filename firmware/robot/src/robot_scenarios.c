@@ -37,7 +37,7 @@ const robot_config_t robot_config_paper_sim = {
 const robot_config_t robot_config_paper_lab = {
     .name = "paper-lab",
     .arena_w = 4.3f, .arena_h = 3.2f,
-    .goal_x = 3.75f, .goal_y = 2.55f, .goal_r = 0.3f,
+    .goal_x = 3.75f, .goal_y = 2.55f, .goal_r = 0.3f, .goal_cells = 1,
     .bits_x = 3, .bits_y = 3, .bits_heading = 4, .bits_code = 3,
     // IR 0 front, 1 front-left, 2 front-right: one bit each, obstacle within 30 cm.
     .rays_of_bit = {0x1u, 0x2u, 0x4u, 0u},

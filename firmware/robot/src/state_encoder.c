@@ -60,8 +60,16 @@ agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *
 
 bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
 {
-    const float dx = pose->x - cfg->goal_x;
-    const float dy = pose->y - cfg->goal_y;
+    float x = pose->x;
+    float y = pose->y;
+    if (cfg->goal_cells) {  // the centre of the pose's cell stands for the pose
+        const float cell_w = cfg->arena_w / (float)(1u << cfg->bits_x);
+        const float cell_h = cfg->arena_h / (float)(1u << cfg->bits_y);
+        x = ((float)cell_(pose->x, cfg->arena_w, cfg->bits_x) + 0.5f) * cell_w;
+        y = ((float)cell_(pose->y, cfg->arena_h, cfg->bits_y) + 0.5f) * cell_h;
+    }
+    const float dx = x - cfg->goal_x;
+    const float dy = y - cfg->goal_y;
     return dx * dx + dy * dy <= cfg->goal_r * cfg->goal_r;
 }
 

@@ -178,6 +178,26 @@ int hal_host_flash_configure(uint32_t sector_size, uint32_t sector_count, uint32
     return FW_OK;
 }
 
+// Reads a whole region image from fd into the image. The image changes only once the whole file
+// has been read: a short read, or a file of another size, loses nothing.
+static int read_image_locked(int fd, uint32_t size)
+{
+    static uint8_t staging[FW_CFG_HOST_FLASH_CAPACITY];
+    size_t done = 0;
+    while (done < size) {
+        ssize_t r = pread(fd, &staging[done], size - done, (off_t)done);
+        if (r < 0 && errno == EINTR) {
+            continue;
+        }
+        if (r <= 0) {
+            return FW_ERR_IO;
+        }
+        done += (size_t)r;
+    }
+    memcpy(image_, staging, size);
+    return FW_OK;
+}
+
 int hal_host_flash_attach_file(const char *path)
 {
     if (path == NULL) {
@@ -200,28 +220,37 @@ int hal_host_flash_attach_file(const char *path)
     } else if (st.st_size != (off_t)size) {
         rc = FW_ERR_CORRUPT;
     } else {
-        // Read into the image only once the whole file has been read: a short read loses
-        // nothing.
-        static uint8_t staging[FW_CFG_HOST_FLASH_CAPACITY];
-        size_t done = 0;
-        while (done < size) {
-            ssize_t r = pread(fd, &staging[done], size - done, (off_t)done);
-            if (r < 0 && errno == EINTR) {
-                continue;
-            }
-            if (r <= 0) {
-                rc = FW_ERR_IO;
-                break;
-            }
-            done += (size_t)r;
-        }
-        if (rc == FW_OK) {
-            memcpy(image_, staging, size);
-        }
+        rc = read_image_locked(fd, size);
     }
     if (rc == FW_OK) {
         fd_ = fd;
     } else if (fd >= 0) {
+        close(fd);
+    }
+    pthread_mutex_unlock(&lock_);
+    return rc;
+}
+
+int hal_host_flash_load_file(const char *path)
+{
+    if (path == NULL) {
+        return FW_ERR_INVAL;
+    }
+    hal_host_flash_detach_file();
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    const uint32_t size = region_size();
+    int rc;
+    const int fd = open(path, O_RDONLY);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        rc = FW_ERR_IO;
+    } else if (st.st_size != (off_t)size) {
+        rc = FW_ERR_CORRUPT;
+    } else {
+        rc = read_image_locked(fd, size);
+    }
+    if (fd >= 0) {
         close(fd);
     }
     pthread_mutex_unlock(&lock_);

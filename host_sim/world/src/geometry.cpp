@@ -39,10 +39,33 @@ double clearance(const Scenario &s, double x, double y)
     return d;
 }
 
+namespace {
+
+// The centre of the state-grid cell holding v: `extent` cut into 2^bits cells, clamped to the
+// edge cells as the firmware's state encoder does.
+double cell_centre(double v, double extent, int bits)
+{
+    const double cells = std::ldexp(1.0, bits);
+    const double c = std::floor(std::clamp(v / extent * cells, 0.0, cells - 1.0));
+    return (c + 0.5) * extent / cells;
+}
+
+}  // namespace
+
+bool in_goal(const Scenario &s, double x, double y)
+{
+    if (s.goal.cells) {
+        x = cell_centre(x, s.arena_w, s.encoding.x_bits);
+        y = cell_centre(y, s.arena_h, s.encoding.y_bits);
+    }
+    return std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius;
+}
+
 bool start_position_ok(const Scenario &s, double x, double y)
 {
     double need = robot_radius(s.robot) + s.start.margin;
-    if (std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius + s.start.margin) {
+    if (std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius + s.start.margin ||
+        in_goal(s, x, y)) {
         return false;
     }
     return clearance(s, x, y) >= need;

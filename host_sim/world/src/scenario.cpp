@@ -261,8 +261,14 @@ bool Parser::line(const Tokens &t, Scenario *s)
         return true;
     }
     if (key == "goal") {
-        if (!single(key) || !count(t, 3, 3, "goal <cx m> <cy m> <radius m>")) return false;
+        if (!single(key) || !count(t, 3, 4, "goal <cx m> <cy m> <radius m> [cells]")) return false;
         goal_line_ = line_;
+        if (t.size() == 5) {
+            if (t[4] != "cells") {
+                return fail("goal: '" + std::string(t[4]) + "' after the radius (only 'cells')");
+            }
+            s->goal.cells = true;
+        }
         return number(t[1], "goal cx", -kBig, kBig, &s->goal.cx) &&
                number(t[2], "goal cy", -kBig, kBig, &s->goal.cy) &&
                number(t[3], "goal radius", 0.01, kBig, &s->goal.radius);
@@ -453,7 +459,8 @@ bool Parser::line(const Tokens &t, Scenario *s)
     }
     if (key == "start") {
         if (!single(key)) return false;
-        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0}};
+        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0},
+                                {"pause", T::Real, &s->start.pause, 0.0, 3600.0}};
         return fields(t, f);
     }
     if (key == "encode") {
@@ -601,6 +608,21 @@ bool Parser::validate(Scenario *s)
                 return fail_at(goal_line_, "goal overlaps the obstacle on line " +
                                                std::to_string(o.line));
             }
+        }
+    }
+    if (g.cells) {  // some cell of the state grid must have its centre in the circle
+        const int nx = 1 << s->encoding.x_bits;
+        const int ny = 1 << s->encoding.y_bits;
+        bool any = false;
+        for (int j = 0; j < ny && !any; ++j) {
+            for (int i = 0; i < nx && !any; ++i) {
+                any = std::hypot((i + 0.5) * s->arena_w / nx - g.cx,
+                                 (j + 0.5) * s->arena_h / ny - g.cy) <= g.radius;
+            }
+        }
+        if (!any) {
+            return fail_at(goal_line_, "goal ... cells: no cell of the state grid has its centre "
+                                       "in the circle (make it larger, or drop 'cells')");
         }
     }
     for (std::size_t i = 0; i < s->cricket.beacons.size(); ++i) {

@@ -321,8 +321,7 @@ void World::clear_bump() { impl_->bump.bumped = false; }
 bool World::in_goal() const
 {
     const Pose p = pose();
-    const Goal &g = impl_->sc.goal;
-    return std::hypot(p.x - g.cx, p.y - g.cy) <= g.radius;
+    return world::in_goal(impl_->sc, p.x, p.y);
 }
 
 double World::time_s() const { return impl_->time; }

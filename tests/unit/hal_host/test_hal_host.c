@@ -228,6 +228,43 @@ static void test_flash_file_round_trip(void **state)
     assert_int_equal(unlink(path), 0);
 }
 
+// Loading a file boots from it without backing it: what the firmware writes stays in RAM.
+static void test_flash_load_file_leaves_the_file(void **state)
+{
+    (void)state;
+    char path[256];
+    temp_path(path, sizeof path);
+    const uint8_t d[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    const uint8_t e[8] = {9, 9, 9, 9, 9, 9, 9, 9};
+    assert_int_equal(hal_host_flash_load_file(path), FW_ERR_IO);  // it must exist
+    assert_int_equal(hal_host_flash_attach_file(path), FW_OK);
+    assert_int_equal(hal_flash_write(SECTOR, d, 8), FW_OK);
+    hal_host_flash_detach_file();
+
+    assert_int_equal(hal_host_flash_configure(SECTOR, 4u, 4u), FW_OK);
+    assert_int_equal(hal_host_flash_load_file(path), FW_OK);
+    uint8_t r[8];
+    assert_int_equal(hal_flash_read(SECTOR, r, 8), FW_OK);
+    assert_memory_equal(r, d, 8);
+    assert_int_equal(hal_flash_erase(1), FW_OK);
+    assert_int_equal(hal_flash_write(SECTOR, e, 8), FW_OK);
+    assert_int_equal(hal_flash_read(SECTOR, r, 8), FW_OK);
+    assert_memory_equal(r, e, 8);
+    // The file still holds what it held.
+    assert_int_equal(hal_host_flash_configure(SECTOR, 4u, 4u), FW_OK);
+    assert_int_equal(hal_host_flash_load_file(path), FW_OK);
+    assert_int_equal(hal_flash_read(SECTOR, r, 8), FW_OK);
+    assert_memory_equal(r, d, 8);
+    // A file of another size is refused and the image is untouched.
+    assert_int_equal(hal_host_flash_configure(SECTOR, 2u, 4u), FW_OK);
+    assert_int_equal(hal_flash_write(0, e, 8), FW_OK);
+    assert_int_equal(hal_host_flash_load_file(path), FW_ERR_CORRUPT);
+    assert_int_equal(hal_flash_read(0, r, 8), FW_OK);
+    assert_memory_equal(r, e, 8);
+    assert_int_equal(hal_host_flash_load_file(NULL), FW_ERR_INVAL);
+    assert_int_equal(unlink(path), 0);
+}
+
 // ---- CAN ----------------------------------------------------------------------------------------
 
 #define RX_LOG 16
@@ -710,6 +747,7 @@ int main(void)
         cmocka_unit_test_setup(test_flash_alignment_and_range, flash_setup),
         cmocka_unit_test_setup(test_flash_power_cut, flash_setup),
         cmocka_unit_test_setup(test_flash_file_round_trip, flash_setup),
+        cmocka_unit_test_setup(test_flash_load_file_leaves_the_file, flash_setup),
         cmocka_unit_test_setup(test_can_init_and_filters, setup),
         cmocka_unit_test_setup(test_can_send_and_take, setup),
         cmocka_unit_test_setup(test_can_transport, setup),

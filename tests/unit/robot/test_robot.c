@@ -63,6 +63,30 @@ static void test_position_cells_and_clamping(void **state)
     assert_true(c[0] < 32 && c[1] < 32 && c[2] < 16);
 }
 
+// paper-lab's goal is the cells whose centres are in its circle: of its 8 x 8 grid (0.5375 x 0.4 m
+// cells) cells (6, 6) and (7, 6), centres (3.49, 2.6) and (4.03, 2.6), 0.26 and 0.29 m from
+// (3.75, 2.55) with r = 0.3: x from 3.225 m to the wall, y from 2.4 to 2.8 m.
+static void test_goal_as_cells(void **state)
+{
+    (void)state;
+    const robot_config_t *lab = &robot_config_paper_lab;
+    assert_true(lab->goal_cells);
+    robot_pose_t p = {3.30f, 2.45f, 0.0f};  // in cell (6, 6), 0.46 m from the circle's centre
+    assert_true(robot_in_goal(lab, &p));
+    p = (robot_pose_t){4.25f, 2.79f, 1.0f};  // the far corner of cell (7, 6)
+    assert_true(robot_in_goal(lab, &p));
+    p = (robot_pose_t){3.75f, 2.30f, 0.0f};  // in the circle, in cell (6, 5)
+    assert_false(robot_in_goal(lab, &p));
+    p = (robot_pose_t){3.20f, 2.55f, 0.0f};  // cell (5, 6)
+    assert_false(robot_in_goal(lab, &p));
+    robot_config_t circle = *lab;
+    circle.goal_cells = 0;
+    p = (robot_pose_t){3.75f, 2.30f, 0.0f};
+    assert_true(robot_in_goal(&circle, &p));
+    p = (robot_pose_t){3.30f, 2.45f, 0.0f};
+    assert_false(robot_in_goal(&circle, &p));
+}
+
 static void test_heading_sectors_wrap(void **state)
 {
     (void)state;
@@ -373,8 +397,35 @@ static void test_idle_planning_when_planning_is_zero(void **state)
     while (robot_ctrl_plan(&bench_.ctrl) && n < 100000) {
         n++;
     }
-    assert_true(n > 0 && n < 100000);  // the idle hook works until the queue runs dry
-    assert_int_equal(st->planning_updates, n);
+    // The idle hook works until the queue runs dry and a review of the Q store finds nothing.
+    assert_true(n > 0 && n < 100000);
+    assert_true(st->planning_updates > 0 && st->planning_updates <= n);
+    assert_true(agent_settled(&agent_paper_sim));
+}
+
+// With a fixed N the control task plans after each step; idle time plans only between episodes,
+// while the robot stands still, until the agent is settled.
+static void test_fixed_planning_settles_between_episodes(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    for (int i = 0; i < 30; i++) {
+        bench_period_();
+    }
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    assert_false(robot_ctrl_plan(&bench_.ctrl));  // driving: the N updates were the planning
+    robot_ctrl_stop(&bench_.ctrl);
+    uint32_t n = 0;
+    while (robot_ctrl_plan(&bench_.ctrl) && n < 100000) {
+        n++;
+    }
+    assert_true(n > 0 && n < 100000);
+    assert_true(agent_settled(&agent_paper_sim));
+    bench_.ctrl.learning = false;  // a frozen replay leaves what it loaded as it is
+    agent_observe(&agent_paper_sim, 1, 0, -1.0f, 2, false);
+    assert_false(robot_ctrl_plan(&bench_.ctrl));
 }
 
 int main(void)
@@ -382,6 +433,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_configs_are_valid),
         cmocka_unit_test(test_position_cells_and_clamping),
+        cmocka_unit_test(test_goal_as_cells),
         cmocka_unit_test(test_heading_sectors_wrap),
         cmocka_unit_test(test_range_code_bits),
         cmocka_unit_test(test_action_wheels_realise_the_step),
@@ -394,6 +446,7 @@ int main(void)
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),
         cmocka_unit_test(test_fixed_planning_runs_after_each_step),
         cmocka_unit_test(test_idle_planning_when_planning_is_zero),
+        cmocka_unit_test(test_fixed_planning_settles_between_episodes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

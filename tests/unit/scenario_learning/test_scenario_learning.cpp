@@ -90,6 +90,7 @@ void expect_same_config(const robot_config_t &a, const robot_config_t &b)
     assert_float_equal(a.goal_x, b.goal_x, 1e-6);
     assert_float_equal(a.goal_y, b.goal_y, 1e-6);
     assert_float_equal(a.goal_r, b.goal_r, 1e-6);
+    assert_int_equal(a.goal_cells, b.goal_cells);
     assert_int_equal(a.bits_x, b.bits_x);
     assert_int_equal(a.bits_y, b.bits_y);
     assert_int_equal(a.bits_heading, b.bits_heading);

@@ -93,6 +93,44 @@ void test_paper_lab_parses(void **state)
     assert_int_equal(s.learning.step_cap, 200);
     assert_int_equal(s.learning.sets, 5);
     assert_int_equal(s.learning.episodes, 20);
+    assert_true(s.goal.cells);
+    assert_true(s.start.pause == 10.0);
+}
+
+// `goal ... cells`: the goal is the cells of the state grid whose centres are in the circle. In
+// a 4 x 4 m arena with 2 x 2 bits (1 m cells), a 0.6 m circle at (2.5, 2.5) holds one centre.
+void test_goal_cells(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode x 2 y 2 heading 2\n";
+    world::Scenario s;
+    std::string err;
+    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6 cells\n", "g.scn", &s, &err));
+    assert_true(s.goal.cells);
+    assert_true(world::in_goal(s, 2.01, 2.99));   // in the cell, outside the circle
+    assert_true(world::in_goal(s, 2.5, 2.5));
+    assert_false(world::in_goal(s, 2.5, 1.99));   // inside the circle, in the cell below
+    assert_false(world::in_goal(s, 3.05, 2.5));
+    // Every pose in the goal's cell is refused as a start, the circle too.
+    assert_false(world::start_position_ok(s, 2.1, 2.9));
+    // Without 'cells' the circle itself is the goal.
+    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\n", "g.scn", &s, &err));
+    assert_false(s.goal.cells);
+    assert_false(world::in_goal(s, 2.01, 2.99));
+    assert_true(world::in_goal(s, 2.5, 2.0));
+    // A word other than 'cells', and a circle that holds no cell centre: file:line errors.
+    assert_false(world::parse_scenario(head + "goal 2.5 2.5 0.6 squares\n", "g.scn", &s, &err));
+    assert_true(starts_with(err, "g.scn:6: goal: 'squares' after the radius (only 'cells')"));
+    assert_false(world::parse_scenario(head + "goal 2.0 2.0 0.3 cells\n", "g.scn", &s, &err));
+    assert_true(starts_with(err, "g.scn:6: goal ... cells: no cell of the state grid"));
+    // The pause between episodes: seconds, 0 by default, at most an hour.
+    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\n", "g.scn", &s, &err));
+    assert_true(s.start.pause == 0.0);
+    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\nstart pause 2.5\n", "g.scn", &s, &err));
+    assert_true(s.start.pause == 2.5);
+    assert_false(world::parse_scenario(head + "goal 2.5 2.5 0.6\nstart pause -1\n", "g.scn", &s, &err));
+    assert_true(starts_with(err, "g.scn:7: ") && err.find("out of range") != std::string::npos);
 }
 
 void test_name_resolution(void **state)
@@ -290,6 +328,7 @@ int run_scenario_tests(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_paper_sim_parses),
         cmocka_unit_test(test_paper_lab_parses),
+        cmocka_unit_test(test_goal_cells),
         cmocka_unit_test(test_name_resolution),
         cmocka_unit_test(test_doc_example),
         cmocka_unit_test(test_bad_files),

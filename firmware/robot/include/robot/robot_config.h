@@ -50,6 +50,10 @@ typedef struct robot_config {
     // The arena and the goal (metres, arena frame: origin at a corner, x along the width).
     float arena_w, arena_h;
     float goal_x, goal_y, goal_r;
+    /// 0: the goal is reached when the pose is inside the circle. 1: when the pose is in a cell
+    /// of the state grid whose centre is inside the circle, so that reaching the goal is a
+    /// function of the state the agent sees (docs/scenarios.md, "The goal as cells").
+    uint8_t goal_cells;
 
     // State encoding: x, y, heading and the range code, in this many bits each (component 0 is x).
     uint8_t bits_x, bits_y, bits_heading, bits_code;

@@ -35,6 +35,9 @@ struct Obstacle {
 
 struct Goal {
     double cx = 0.0, cy = 0.0, radius = 0.0;  ///< reached when the robot's centre is inside
+    /// `goal ... cells`: reached when the robot's centre is in a cell of the state grid whose
+    /// centre is inside the circle (see in_goal()).
+    bool cells = false;
 };
 
 /// A differential-drive robot: a rectangle centred on the wheel axle's midpoint.
@@ -110,6 +113,9 @@ struct SolverSpec {
 
 struct StartSpec {
     double margin = 0.05;  ///< m of free space beyond the robot's circumscribed circle
+    /// s between an episode's end and the next start: the operator carrying the robot. The
+    /// firmware's idle time then plans (robot_ctrl_plan()); robot_time_s does not count it.
+    double pause = 0.0;
 };
 
 /// The firmware's state encoding (bits per component); the world only carries it.
@@ -174,6 +180,11 @@ std::string resolve_scenario_path(const std::string &name_or_path);
 /// resolve_scenario_path, read (at most kMaxFileBytes), parse_scenario. Errors as parse_scenario,
 /// or "<path>: cannot open: <reason>" / "<path>: file too large".
 bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *error);
+
+/// Whether a robot centred at (x, y) is in the goal: inside the circle, or with `goal ... cells`
+/// in a cell of the state grid (the encoding's x and y bits over the arena) whose centre is.
+/// The firmware's robot_in_goal() computes the same in single precision.
+bool in_goal(const Scenario &s, double x, double y);
 
 /// The radius of the robot's circumscribed circle (half its diagonal), m.
 double robot_radius(const RobotSpec &robot);

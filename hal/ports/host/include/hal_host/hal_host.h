@@ -195,6 +195,12 @@ int hal_host_flash_configure(uint32_t sector_size, uint32_t sector_count, uint32
 /// file. Returns FW_OK, FW_ERR_CORRUPT, FW_ERR_IO or FW_ERR_INVAL (NULL).
 int hal_host_flash_attach_file(const char *path);
 
+/// Loads a file into the region without backing it: erases and writes change the image in RAM
+/// only, so the file stays as it was (a replay that keeps learning from a saved image). The file
+/// must exist and be exactly the region's size, else FW_ERR_IO / FW_ERR_CORRUPT and the image does
+/// not change. Detaches any backing file. Returns FW_OK, FW_ERR_CORRUPT, FW_ERR_IO or FW_ERR_INVAL.
+int hal_host_flash_load_file(const char *path);
+
 /// Closes the backing file (its contents stay). No-op if none.
 void hal_host_flash_detach_file(void);
 
