@@ -42,8 +42,6 @@ struct Lockstep::Impl {
     const agent_storage_t *storage = nullptr;
     std::uint64_t t_us = 0;
     std::uint64_t dt_us = 0;
-    std::uint64_t pause_us = 0;  // between episodes (scenario `start pause`)
-    bool evaluate = false;
     std::uint8_t tool_ctr = 0;
     bool restored = false;
     std::function<void(const TrajectoryPoint &)> sink;
@@ -61,8 +59,6 @@ struct Lockstep::Impl {
     {
         cfg.name = world.scenario().name.c_str();
         dt_us = static_cast<std::uint64_t>(std::llround(sc.timing.physics_dt * 1e6));
-        pause_us = static_cast<std::uint64_t>(std::llround(sc.start.pause * 1e6));
-        evaluate = opt.evaluate;
         hal_host_reset();
         hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);
         hal_host_cpu_set_hz(kCpuHz);
@@ -200,13 +196,6 @@ struct Lockstep::Impl {
         row.reached_goal = episode.reached_goal;
         row.bumps = episode.bumps;
         row.robot_time_s = static_cast<double>(episode_end_us - episode_start_us) * 1e-6;
-        // The operator carries the robot to its next start; the firmware's idle time plans.
-        if (!evaluate) {
-            const std::uint64_t pause_end_us = t_us + pause_us;
-            while (t_us < pause_end_us) {
-                tick();
-            }
-        }
         row.updates = agent_updates(agent) - updates0;
         row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         return row;

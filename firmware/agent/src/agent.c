@@ -396,6 +396,8 @@ uint32_t agent_review_step(agent_t *ag)
     }
     model_query_t q;
     model_query_init(&ag->model, s, &q);
+    // Most actions of a row were never tried: refusing them is the common case, not counted.
+    const uint32_t untrusted = ag->model.untrusted;
     uint32_t queued = 0;
     for (uint8_t a = 0; a < ag->space->n_actions; a++) {
         model_step_t step;
@@ -409,6 +411,7 @@ uint32_t agent_review_step(agent_t *ag)
             queued++;
         }
     }
+    ag->model.untrusted = untrusted;
     if (queued > 0u) {
         ag->review_quiet = 0;
     }

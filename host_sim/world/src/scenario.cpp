@@ -459,8 +459,7 @@ bool Parser::line(const Tokens &t, Scenario *s)
     }
     if (key == "start") {
         if (!single(key)) return false;
-        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0},
-                                {"pause", T::Real, &s->start.pause, 0.0, 3600.0}};
+        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0}};
         return fields(t, f);
     }
     if (key == "encode") {

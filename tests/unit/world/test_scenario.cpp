@@ -94,7 +94,6 @@ void test_paper_lab_parses(void **state)
     assert_int_equal(s.learning.sets, 5);
     assert_int_equal(s.learning.episodes, 20);
     assert_true(s.goal.cells);
-    assert_true(s.start.pause == 10.0);
 }
 
 // `goal ... cells`: the goal is the cells of the state grid whose centres are in the circle. In
@@ -124,13 +123,6 @@ void test_goal_cells(void **state)
     assert_true(starts_with(err, "g.scn:6: goal: 'squares' after the radius (only 'cells')"));
     assert_false(world::parse_scenario(head + "goal 2.0 2.0 0.3 cells\n", "g.scn", &s, &err));
     assert_true(starts_with(err, "g.scn:6: goal ... cells: no cell of the state grid"));
-    // The pause between episodes: seconds, 0 by default, at most an hour.
-    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\n", "g.scn", &s, &err));
-    assert_true(s.start.pause == 0.0);
-    assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\nstart pause 2.5\n", "g.scn", &s, &err));
-    assert_true(s.start.pause == 2.5);
-    assert_false(world::parse_scenario(head + "goal 2.5 2.5 0.6\nstart pause -1\n", "g.scn", &s, &err));
-    assert_true(starts_with(err, "g.scn:7: ") && err.find("out of range") != std::string::npos);
 }
 
 void test_name_resolution(void **state)

@@ -113,9 +113,6 @@ struct SolverSpec {
 
 struct StartSpec {
     double margin = 0.05;  ///< m of free space beyond the robot's circumscribed circle
-    /// s between an episode's end and the next start: the operator carrying the robot. The
-    /// firmware's idle time then plans (robot_ctrl_plan()); robot_time_s does not count it.
-    double pause = 0.0;
 };
 
 /// The firmware's state encoding (bits per component); the world only carries it.
