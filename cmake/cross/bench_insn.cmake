@@ -24,13 +24,9 @@ message("${out}")
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "the emulator image exited with ${rc}")
 endif()
-string(REGEX MATCHALL "insn_count=[0-9]+ windows=[0-9]+" reports "${err}")
-list(LENGTH reports n_reports)
-if(NOT n_reports EQUAL 2)
-    message(FATAL_ERROR "the plugin printed ${n_reports} counts, not 2 (planning, review)")
+if(NOT err MATCHES "insn_count=([0-9]+) windows=([0-9]+)")
+    message(FATAL_ERROR "the plugin printed no count")
 endif()
-list(GET reports 0 report)
-string(REGEX MATCH "insn_count=([0-9]+) windows=([0-9]+)" _ "${report}")
 set(insns ${CMAKE_MATCH_1})
 set(windows ${CMAKE_MATCH_2})
 if(NOT out MATCHES "planning_updates=([0-9]+)")
@@ -47,26 +43,11 @@ message("instructions_per_update=${per_update} profile=${PROFILE} cpu=cortex-m4 
         "${windows} agent_plan calls, which made ${updates} planning updates; calls that found "
         "nothing to plan on are counted too, as in tests/bench)")
 
-# The review: one idle step's worth of agent_review_step() calls per window.
-list(GET reports 1 report)
-string(REGEX MATCH "insn_count=([0-9]+) windows=([0-9]+)" _ "${report}")
-set(review_insns ${CMAKE_MATCH_1})
-set(review_windows ${CMAKE_MATCH_2})
-if(review_windows EQUAL 0)
-    message(FATAL_ERROR "no review steps")
-endif()
-math(EXPR per_review "(${review_insns} + ${review_windows} / 2) / ${review_windows}")
-message("instructions_per_review_step=${per_review} profile=${PROFILE} cpu=cortex-m4 "
-        "(${review_windows} idle review steps of 4 Q rows each, a full pass over the Q store)")
-
 # Hot spots: the counted instructions by function (the plugin's 1000 hottest blocks, mapped
 # through the symbol table).
 execute_process(COMMAND ${NM} -n ${ELF} OUTPUT_VARIABLE sorted)
 string(REGEX MATCHALL "[0-9a-f]+ [Tt] [A-Za-z0-9_.]+" fsyms "${sorted}")
-# Only the planning report's hot blocks: those printed before the review's count.
-string(FIND "${err}" "insn_count=" review_at REVERSE)
-string(SUBSTRING "${err}" 0 ${review_at} planning_err)
-string(REGEX MATCHALL "hot pc=0x[0-9a-f]+ insns=[0-9]+" hot "${planning_err}")
+string(REGEX MATCHALL "hot pc=0x[0-9a-f]+ insns=[0-9]+" hot "${err}")
 set(functions "")
 foreach(h ${hot})
     string(REGEX MATCH "pc=0x([0-9a-f]+) insns=([0-9]+)" _ "${h}")

@@ -82,7 +82,7 @@ struct Lockstep::Impl {
         ao.evaluate = opt.evaluate;
         ao.persist = true;
         ao.auto_start = false;
-        if (opt.plan_update_cycles > 0) {  // idle planning takes the MCU's time
+        if (cfg.planning == 0) {
             ao.plan_cycles = opt.plan_update_cycles;
             ao.plan_budget_us = opt.plan_update_cycles / (kCpuHz / 1000000u) + 1u;
         }

@@ -66,8 +66,6 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     }
     prng_seed(&ag->rng, cfg->seed);
     ag->stats = (agent_stats_t){0};
-    ag->review_row = 0;
-    ag->review_quiet = 0;
     return FW_OK;
 }
 
@@ -82,8 +80,6 @@ void agent_reset(agent_t *ag, uint32_t seed)
     }
     prng_seed(&ag->rng, seed);
     ag->stats = (agent_stats_t){0};
-    ag->review_row = 0;
-    ag->review_quiet = 0;
 }
 
 uint8_t agent_act(agent_t *ag, agent_state_t s)
@@ -175,7 +171,6 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
     const float target = target_(ag, r, s_next, terminal);
     const float priority = abs_(target - agent_q(ag, s, a));
     ag->stats.real_steps++;
-    ag->review_quiet = 0;  // a real step may disagree with anything the review passed
     if (q_update_(ag, s, a, target, ag->params.alpha)) {
         ag->stats.real_updates++;
     }
@@ -366,71 +361,6 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
     return done;
 }
 
-bool agent_idle_step(agent_t *ag)
-{
-    if (agent_plan_step(ag)) {
-        return true;
-    }
-    if (ag->kind != AGENT_DYNA_QPC || agent_settled(ag)) {
-        return false;  // Q-learning has nothing to do; Dyna-Q has nothing observed yet
-    }
-    for (uint32_t i = 0; i < AGENT_REVIEW_ROWS; i++) {
-        (void)agent_review_step(ag);
-    }
-    return true;
-}
-
-uint32_t agent_review_step(agent_t *ag)
-{
-    if (ag->kind != AGENT_DYNA_QPC) {
-        return 0;
-    }
-    const uint32_t row_index = ag->review_row;
-    ag->review_row = (row_index + 1u) & (ag->q.capacity - 1u);
-    if (ag->review_quiet < ag->q.capacity) {
-        ag->review_quiet++;
-    }
-    agent_state_t s;
-    if (!qstore_row_state(&ag->q, row_index, &s)) {
-        return 0;
-    }
-    model_query_t q;
-    model_query_init(&ag->model, s, &q);
-    // Most actions of a row were never tried: refusing them is the common case, not counted.
-    const uint32_t untrusted = ag->model.untrusted;
-    uint32_t queued = 0;
-    for (uint8_t a = 0; a < ag->space->n_actions; a++) {
-        model_step_t step;
-        if (!model_query_predict(&ag->model, &q, a, &step)) {
-            continue;
-        }
-        const float p = abs_(target_(ag, step.reward, step.next, step.terminal) -
-                             qstore_row(&ag->q, s)[a]);
-        if (p > ag->params.theta) {
-            (void)pq_push(&ag->pq, pq_key_(ag, s, a), p);
-            queued++;
-        }
-    }
-    ag->model.untrusted = untrusted;
-    if (queued > 0u) {
-        ag->review_quiet = 0;
-    }
-    return queued;
-}
-
-bool agent_settled(const agent_t *ag)
-{
-    switch (ag->kind) {
-    case AGENT_DYNA_QPC:
-        return pq_size(&ag->pq) == 0u && ag->review_quiet >= ag->q.capacity;
-    case AGENT_DYNA_Q:
-        return ag->table.count == 0u;
-    case AGENT_Q_LEARNING:
-    default:
-        return true;
-    }
-}
-
 // ---- Saving and restoring what was learned ----------------------------------------------------
 
 static uint32_t add_region_(agent_region_t *out, uint32_t n, void *data, uint32_t size)
@@ -493,7 +423,6 @@ void agent_learned_restored(agent_t *ag)
         ag->model.inverse.stats.cells_used =
             count_used_(ag->model.inverse.keys, ag->model.inverse.capacity);
         pq_clear(&ag->pq);
-        ag->review_quiet = 0;  // restored values are reviewed before the agent is settled
     } else if (ag->kind == AGENT_DYNA_Q) {
         ag->table.count = count_used_(ag->table.index_keys, DYNAQ_INDEX_SLOTS(ag->table.capacity));
     }

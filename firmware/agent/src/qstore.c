@@ -155,16 +155,6 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
     return &qs->q[slot * qs->n_actions];
 }
 
-bool qstore_row_state(const qstore_t *qs, uint32_t row, agent_state_t *s)
-{
-    if (qs->dense) {
-        *s = row;
-        return true;
-    }
-    *s = qs->keys[row];
-    return qs->keys[row] != QSTORE_EMPTY;
-}
-
 float qstore_max(const qstore_t *qs, agent_state_t s)
 {
     const float *row = row_of_(qs, s);

@@ -169,11 +169,8 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
 
 bool robot_ctrl_plan(robot_ctrl_t *c)
 {
-    // With a fixed N (the paper's protocol) the control task plans N updates per step, and idle
-    // time is for between episodes: the robot stands at the goal, or waits to be put down at the
-    // next start, and settles what it learned (agent_plan_step()).
-    if (!c->learning || (c->cfg->planning > 0u && c->mode != ROBOT_MODE_IDLE)) {
+    if (c->cfg->planning > 0u || !c->learning) {
         return false;
     }
-    return agent_idle_step(c->agent);
+    return agent_plan_step(c->agent);
 }

@@ -2,6 +2,7 @@
 // dynaqpc world: distances in the arena (scenario validation and start poses) and the sensor code.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "world/scenario.h"
 
@@ -52,6 +53,29 @@ double cell_centre(double v, double extent, int bits)
 
 }  // namespace
 
+double goal_cells_distance(const Scenario &s, double x, double y)
+{
+    const double nx = std::ldexp(1.0, s.encoding.x_bits);
+    const double ny = std::ldexp(1.0, s.encoding.y_bits);
+    const double cw = s.arena_w / nx, ch = s.arena_h / ny;
+    const Goal &g = s.goal;
+    // Only cells under the circle's bounding box can have their centre inside it.
+    const double i0 = std::max(0.0, std::floor((g.cx - g.radius) / cw));
+    const double i1 = std::min(nx - 1.0, std::floor((g.cx + g.radius) / cw));
+    const double j0 = std::max(0.0, std::floor((g.cy - g.radius) / ch));
+    const double j1 = std::min(ny - 1.0, std::floor((g.cy + g.radius) / ch));
+    double d = std::numeric_limits<double>::infinity();
+    for (double j = j0; j <= j1; j += 1.0) {
+        for (double i = i0; i <= i1; i += 1.0) {
+            if (std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy) > g.radius) continue;
+            const double dx = std::max({i * cw - x, 0.0, x - (i + 1.0) * cw});
+            const double dy = std::max({j * ch - y, 0.0, y - (j + 1.0) * ch});
+            d = std::min(d, std::hypot(dx, dy));
+        }
+    }
+    return d;
+}
+
 bool in_goal(const Scenario &s, double x, double y)
 {
     if (s.goal.cells) {
@@ -63,9 +87,12 @@ bool in_goal(const Scenario &s, double x, double y)
 
 bool start_position_ok(const Scenario &s, double x, double y)
 {
-    double need = robot_radius(s.robot) + s.start.margin;
-    if (std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius + s.start.margin ||
-        in_goal(s, x, y)) {
+    const double m = s.start.margin;
+    double need = robot_radius(s.robot) + m;
+    if (std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius + m) {
+        return false;
+    }
+    if (s.goal.cells && goal_cells_distance(s, x, y) <= m) {
         return false;
     }
     return clearance(s, x, y) >= need;

@@ -610,16 +610,14 @@ bool Parser::validate(Scenario *s)
         }
     }
     if (g.cells) {  // some cell of the state grid must have its centre in the circle
-        const int nx = 1 << s->encoding.x_bits;
-        const int ny = 1 << s->encoding.y_bits;
-        bool any = false;
-        for (int j = 0; j < ny && !any; ++j) {
-            for (int i = 0; i < nx && !any; ++i) {
-                any = std::hypot((i + 0.5) * s->arena_w / nx - g.cx,
-                                 (j + 0.5) * s->arena_h / ny - g.cy) <= g.radius;
-            }
+        // Bounded work for every start drawn later: at most 64 x 64 cells under the circle.
+        const double cw = s->arena_w / std::ldexp(1.0, s->encoding.x_bits);
+        const double ch = s->arena_h / std::ldexp(1.0, s->encoding.y_bits);
+        if (2.0 * g.radius / cw > 63.0 || 2.0 * g.radius / ch > 63.0) {
+            return fail_at(goal_line_, "goal ... cells: the circle spans more than 64 cells of the "
+                                       "state grid (fewer bits, or drop 'cells')");
         }
-        if (!any) {
+        if (!std::isfinite(goal_cells_distance(*s, g.cx, g.cy))) {
             return fail_at(goal_line_, "goal ... cells: no cell of the state grid has its centre "
                                        "in the circle (make it larger, or drop 'cells')");
         }

@@ -121,66 +121,6 @@ static void dyna_qpc_plans_back_through_predecessors(void **state)
     assert_int_equal(agent_.pq.stats.dropped, 0);
 }
 
-// CMAC-R keeps one predecessor per (state, action), the last one seen. Here cell 0 is reached
-// by "left" from cell 1 and from cell 2 (a slide, seen last); when cell 0's value rises,
-// prioritized sweeping reaches (2, left) and never (1, left). Idle time's review finds that
-// stale pair by comparing it with CMAC-Model's backup, and then settles.
-static void dyna_qpc_review_reaches_what_sweeping_cannot(void **state)
-{
-    (void)state;
-    agent_config_t c = config(AGENT_DYNA_QPC);
-    c.params.gamma = 0.9f;
-    assert_int_equal(agent_init(&agent_, &c), FW_OK);
-    assert_false(agent_settled(&agent_));  // nothing reviewed yet
-    agent_observe(&agent_, 1, 0, 0.0f, 0, false);
-    agent_observe(&agent_, 2, 0, 0.0f, 0, false);  // CMAC-R's predecessor of (0, left) is now 2
-    agent_observe(&agent_, 0, 1, 1.0f, 1, true);
-    const uint32_t done = agent_plan(&agent_, 1000);
-    assert_true(done > 0 && done < 1000);
-    assert_float_equal(agent_q(&agent_, 0, 1), 1.0f, 1e-6f);
-    assert_float_equal(agent_q(&agent_, 2, 0), 0.9f, 1e-5f);
-    assert_float_equal(agent_q(&agent_, 1, 0), 0.0f, 0.0f);  // stale: 0 + 0.9 max Q(0) = 0.9
-    uint32_t idle = 0;
-    while (agent_idle_step(&agent_) && idle < 100000u) {
-        idle++;
-    }
-    assert_true(idle < 100000u);  // it settles
-    assert_true(agent_settled(&agent_));
-    assert_float_equal(agent_q(&agent_, 1, 0), 0.9f, 1e-5f);
-    // The review is bounded work: a pass over the Q store, AGENT_REVIEW_ROWS rows a step.
-    assert_true(idle >= agent_.q.capacity / AGENT_REVIEW_ROWS);
-    // A real step can disagree with what the review passed: it is not settled again until a new
-    // pass finds nothing.
-    agent_observe(&agent_, 3, 0, 0.0f, 2, false);
-    assert_false(agent_settled(&agent_));
-    assert_true(agent_idle_step(&agent_));
-    while (agent_idle_step(&agent_) && idle < 200000u) {
-        idle++;
-    }
-    assert_true(agent_settled(&agent_));
-}
-
-// Idle time for the other agents: Q-learning has nothing to do, Dyna-Q replays without end.
-static void idle_step_of_each_agent(void **state)
-{
-    (void)state;
-    agent_config_t c = config(AGENT_Q_LEARNING);
-    assert_int_equal(agent_init(&agent_, &c), FW_OK);
-    agent_observe(&agent_, 0, 1, 0.0f, 1, false);
-    assert_true(agent_settled(&agent_));
-    assert_false(agent_idle_step(&agent_));
-    assert_int_equal(agent_review_step(&agent_), 0);
-    c = config(AGENT_DYNA_Q);
-    assert_int_equal(agent_init(&agent_, &c), FW_OK);
-    assert_false(agent_idle_step(&agent_));  // nothing observed to replay
-    agent_observe(&agent_, 0, 1, 0.0f, 1, false);
-    for (int i = 0; i < 100; i++) {
-        assert_true(agent_idle_step(&agent_));
-    }
-    assert_false(agent_settled(&agent_));
-    assert_int_equal(agent_.stats.planning_updates, 100);
-}
-
 // Dyna-Q replays observed transitions at random; enough of them converge the same corridor.
 static void dyna_q_replays_observed_transitions(void **state)
 {
@@ -335,8 +275,6 @@ int main(void)
         cmocka_unit_test(greedy_breaks_ties_low_and_act_breaks_them_randomly),
         cmocka_unit_test(epsilon_explores_at_its_rate),
         cmocka_unit_test(dyna_qpc_plans_back_through_predecessors),
-        cmocka_unit_test(dyna_qpc_review_reaches_what_sweeping_cannot),
-        cmocka_unit_test(idle_step_of_each_agent),
         cmocka_unit_test(dyna_q_replays_observed_transitions),
         cmocka_unit_test(dyna_qpc_skips_what_the_model_cannot_predict),
         cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),

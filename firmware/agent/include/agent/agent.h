@@ -84,8 +84,6 @@ typedef struct agent {
     dynaq_table_t table;  // Dyna-Q
     prng_t rng;
     agent_stats_t stats;
-    uint32_t review_row;    // Dyna-QPC's review: the next Q row it looks at
-    uint32_t review_quiet;  // rows reviewed since anything was queued (capacity: settled)
 } agent_t;
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
@@ -122,33 +120,9 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
 /// stop early.
 bool agent_plan_step(agent_t *ag);
 
-/// Up to n planning updates, stopping early when there is nothing to plan on: the paper's
-/// planning of a real step (Fig. 3 g). Returns how many calls did work.
+/// Up to n planning updates, stopping early when there is nothing to plan on. Returns how many
+/// calls did work.
 uint32_t agent_plan(agent_t *ag, uint32_t n);
-
-/// One step of idle-time work, a bounded amount: a planning update (agent_plan_step()) while
-/// there is one; when Dyna-QPC's queue is empty, the review of the next AGENT_REVIEW_ROWS rows of
-/// the Q store (agent_review_step()), which queues what it finds stale. Returns false once there
-/// is nothing left to do (agent_settled()), so an idle loop can stop early.
-bool agent_idle_step(agent_t *ag);
-
-/// Rows one agent_idle_step() reviews: about the work of one planning update (each row asks
-/// CMAC-Model about every action).
-#define AGENT_REVIEW_ROWS 4u
-
-/// Dyna-QPC's review of one Q row. CMAC-R names one predecessor per (state, action): when a
-/// value changes, prioritized sweeping reaches that one, and any other state that leads there by
-/// the same action keeps a value computed from the old one. A greedy policy can then take a step
-/// that no longer pays, and a frozen one can repeat it forever. The review walks the Q store a
-/// row at a time, compares every action CMAC-Model can predict with its one-step backup, and
-/// queues the pairs that are off by more than theta; prioritized sweeping does the rest. Returns
-/// how many pairs of the row it queued (0 for the other agents).
-uint32_t agent_review_step(agent_t *ag);
-
-/// True when idle time has nothing left to do: Dyna-QPC's queue is empty and a whole pass of
-/// the review over the Q store has found nothing since the last real step or queued pair.
-/// Q-learning is always settled; Dyna-Q only before its first step (its replay has no end).
-bool agent_settled(const agent_t *ag);
 
 /// Q(s, a).
 float agent_q(const agent_t *ag, agent_state_t s, uint8_t a);

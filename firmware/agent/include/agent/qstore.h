@@ -3,7 +3,6 @@
 #ifndef AGENT_QSTORE_H
 #define AGENT_QSTORE_H
 
-#include <stdbool.h>
 #include <stdint.h>
 
 #include "agent/space.h"
@@ -49,10 +48,6 @@ const float *qstore_row(const qstore_t *qs, agent_state_t s);
 
 /// The row of state s for writing, created if needed; NULL (and counted) if the table is full.
 float *qstore_row_for_update(qstore_t *qs, agent_state_t s);
-
-/// The state whose values row `row` (< capacity) holds, into *s; false for an empty row of a
-/// hashed table. Every row of a dense table holds its own state.
-bool qstore_row_state(const qstore_t *qs, uint32_t row, agent_state_t *s);
 
 /// max over a of Q(s, a).
 float qstore_max(const qstore_t *qs, agent_state_t s);

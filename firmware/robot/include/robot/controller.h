@@ -94,11 +94,9 @@ void robot_ctrl_stop(robot_ctrl_t *c);
 /// One control period: reads the sensors, advances the episode, returns the wheel speeds.
 void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *sense, float *v_left, float *v_right);
 
-/// One step of idle-time planning (agent_idle_step()). When cfg->planning is 0 ("as many as idle
-/// allows") idle time is all the planning there is. With a fixed planning number the N updates
-/// run right after each real step's learning, as in the paper's Fig. 3, and idle time plans only
-/// between episodes (the robot stopped, mode ROBOT_MODE_IDLE). Returns false when there is
-/// nothing to do (not learning, driving with a fixed N, or the agent is settled).
+/// One planning update in idle time, when cfg->planning is 0 ("as many as idle allows"). With a
+/// fixed planning number the updates run right after each real step's learning, as in the
+/// paper's Fig. 3, and this returns false. Returns false when there is nothing to plan on.
 bool robot_ctrl_plan(robot_ctrl_t *c);
 
 #ifdef __cplusplus

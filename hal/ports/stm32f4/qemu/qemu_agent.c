@@ -12,8 +12,6 @@
 // bench_mark_report() follows the learning run: the QEMU plugin tools/qemu/insn_count.c counts
 // the instructions executed between the marks, which with planning_updates gives the
 // instructions per planning update on this CPU (cmake/cross/bench_insn.cmake does the division).
-// A second report follows a full pass of idle time's review over the learned Q store
-// (agent_review_step(), AGENT_REVIEW_ROWS rows per idle step): instructions per review step.
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -128,23 +126,6 @@ int main(void)
     semihost_kv("cmac_cells_used", ag->model.forward.stats.cells_used);
     semihost_kv("first10_mean_steps", first10 / 10u);
     semihost_kv("last10_mean_steps", last10 / 10u);
-    semihost_puts("\n");
-
-    // One pass of the review over the Q store, as agent_idle_step() does it once the queue is
-    // empty; what it queues is left for later (it is not planning's cost).
-    const uint32_t review_steps = ag->q.capacity / AGENT_REVIEW_ROWS;
-    uint32_t review_queued = 0;
-    for (uint32_t i = 0; i < review_steps; i++) {
-        bench_mark_begin();
-        for (uint32_t r = 0; r < AGENT_REVIEW_ROWS; r++) {
-            review_queued += agent_review_step(ag);
-        }
-        bench_mark_end();
-    }
-    bench_mark_report();
-    semihost_kv("review_steps", review_steps);
-    semihost_kv("review_queued", review_queued);
-    semihost_kv("q_rows_used", ag->q.rows_used);
     semihost_puts("\n");
 
     // The greedy policy from fixed starts (a world generator of its own, so the starts do not

@@ -183,6 +183,10 @@ bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *
 /// The firmware's robot_in_goal() computes the same in single precision.
 bool in_goal(const Scenario &s, double x, double y);
 
+/// The distance from (x, y) to the nearest goal cell (`goal ... cells`): 0 inside one, infinity
+/// when no cell's centre is in the circle.
+double goal_cells_distance(const Scenario &s, double x, double y);
+
 /// The radius of the robot's circumscribed circle (half its diagonal), m.
 double robot_radius(const RobotSpec &robot);
 
