@@ -24,7 +24,7 @@ namespace dynaqpc {
 int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
     std::string scenario, load, trajectory, arena, agent = "dyna-qpc";
-    std::uint32_t starts = 10, seed = 1, step_cap = 0;
+    std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0;
     bool learn = false;
     Options o("run", "replay a learned policy greedily from random start poses");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
@@ -40,6 +40,10 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
                "every real step learned and planned on; the --load file is not changed "
                "(default: frozen, no learning)",
                &learn);
+    o.add_uint("--planning", "N",
+               "with --learn: planning updates after each real step, 0 = as many as the MCU's idle "
+               "time allows (default: the scenario's)",
+               &planning, 0, 1000000);
     o.add_string("--trajectory", "OUT",
                  "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &trajectory);
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &arena);
@@ -49,6 +53,9 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         return kExitOk;
     }
     if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    if (o.seen("--planning") && !learn) {
+        throw UsageError("--planning: only with --learn (a frozen replay plans nothing)");
+    }
     if (!o.seen("--load")) throw UsageError("--load: required (a file written by train --save)");
     struct stat st;
     if (stat(load.c_str(), &st) != 0) {
@@ -58,6 +65,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     robot_config_t cfg = sb.robot;
     cfg.agent = agent == "q" ? AGENT_Q_LEARNING : agent == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
     if (o.seen("--step-cap")) cfg.step_cap = step_cap;
+    if (o.seen("--planning")) cfg.planning = planning;
     if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");

@@ -1,0 +1,39 @@
+# SPDX-License-Identifier: MIT
+# cmake -DSIM=<dynaqpc-sim> -DWORK=<scratch dir> -P check_run_learn.cmake
+# A trained image replayed frozen and with --learn: both replays work, report what they did, and
+# the image file is byte-for-byte what train --save wrote (a replay never writes it).
+cmake_minimum_required(VERSION 3.25)
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+set(image "${WORK}/lab.flash")
+
+function(sim)
+    execute_process(COMMAND "${SIM}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+        TIMEOUT 300)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "dynaqpc-sim ${ARGN}: exit ${rc}\n${err}")
+    endif()
+    set(out "${out}" PARENT_SCOPE)
+    set(err "${err}" PARENT_SCOPE)
+endfunction()
+
+sim(train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 4 --seed 5 --quiet --save "${image}")
+file(SHA256 "${image}" trained)
+sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 2)
+if(NOT err MATCHES "\\(frozen\\): reached the goal from [0-3] of 3 starts")
+    message(FATAL_ERROR "frozen replay: unexpected report: ${err}")
+endif()
+sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 2 --learn --planning 0)
+if(NOT err MATCHES "\\(learning\\): reached the goal from [0-3] of 3 starts")
+    message(FATAL_ERROR "learning replay: unexpected report: ${err}")
+endif()
+string(REGEX MATCHALL "\n[0-9]+,[0-9]+,[01]," rows "\n${out}")
+list(LENGTH rows n)
+if(NOT n EQUAL 3)
+    message(FATAL_ERROR "learning replay: ${n} result rows, not 3:\n${out}")
+endif()
+file(SHA256 "${image}" after)
+if(NOT trained STREQUAL after)
+    message(FATAL_ERROR "the replays changed ${image}")
+endif()
+message(STATUS "both replays ran; ${image} unchanged (${after})")
