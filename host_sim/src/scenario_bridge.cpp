@@ -150,8 +150,17 @@ std::string arena_json(const world::Scenario &sc)
               << "}";
         }
     }
-    o << "],\"goal\":{\"cx\":" << sc.goal.cx << ",\"cy\":" << sc.goal.cy << ",\"r\":" << sc.goal.radius
-      << "},\"beacons\":[";
+    o << "],\"goal\":{\"cx\":" << sc.goal.cx << ",\"cy\":" << sc.goal.cy << ",\"r\":" << sc.goal.radius;
+    if (sc.goal.cells) {  // the goal is these cells; the circle only chose them
+        o << ",\"cells\":[";
+        const std::vector<world::CellBox> cells = world::goal_cells(sc);
+        for (std::size_t i = 0; i < cells.size(); i++) {
+            const world::CellBox &c = cells[i];
+            o << (i ? "," : "") << "[" << c.x0 << "," << c.y0 << "," << c.x1 << "," << c.y1 << "]";
+        }
+        o << "]";
+    }
+    o << "},\"beacons\":[";
     for (std::size_t i = 0; i < sc.cricket.beacons.size(); i++) {
         const world::Beacon &bc = sc.cricket.beacons[i];
         o << (i ? "," : "") << "{\"id\":\"" << bc.id << "\",\"x\":" << bc.x << ",\"y\":" << bc.y

@@ -6,7 +6,7 @@ Format (metres, degrees)::
     {"width": W, "height": H,
      "obstacles": [{"kind": "box", "cx": .., "cy": .., "w": .., "h": .., "angle_deg": ..},
                    {"kind": "circle", "cx": .., "cy": .., "r": ..}],
-     "goal": {"cx": .., "cy": .., "r": ..},
+     "goal": {"cx": .., "cy": .., "r": .., "cells": [[x0, y0, x1, y1], ..]},
      "beacons": [{"id": "..", "x": .., "y": .., "z": ..}]}
 """
 
@@ -54,6 +54,14 @@ def load_arena(path: str) -> Dict[str, Any]:
         for k in ("cx", "cy"):
             _num(a["goal"], k, "goal")
         _num(a["goal"], "r", "goal", True)
+        cells = a["goal"].get("cells", [])
+        if not isinstance(cells, list):
+            raise ToolError("arena: goal.cells must be a list")
+        for i, c in enumerate(cells):
+            if (not isinstance(c, list) or len(c) != 4 or
+                    not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                            for v in c) or c[2] <= c[0] or c[3] <= c[1]):
+                raise ToolError(f"arena: goal.cells[{i}] must be [x0, y0, x1, y1] with x1 > x0, y1 > y0")
     for i, b in enumerate(a.get("beacons", [])):
         for k in ("x", "y", "z"):
             _num(b, k, f"beacons[{i}]")
@@ -79,7 +87,13 @@ def draw_arena(ax, arena: Dict[str, Any]) -> None:
         else:
             ax.add_patch(Circle((ob["cx"], ob["cy"]), ob["r"], facecolor="0.6", edgecolor="0.3"))
     goal = arena.get("goal")
-    if goal:
+    if goal and goal.get("cells"):  # the goal is the cells; the circle that chose them is outlined
+        for i, (x0, y0, x1, y1) in enumerate(goal["cells"]):
+            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="tab:green", alpha=0.35,
+                                   edgecolor="tab:green", label="goal" if i == 0 else None))
+        ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], fill=False, edgecolor="tab:green",
+                            linestyle="--"))
+    elif goal:
         ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], facecolor="tab:green", alpha=0.35,
                             edgecolor="tab:green", label="goal"))
     for b in arena.get("beacons", []):

@@ -154,3 +154,27 @@ def test_arena_errors_are_named(tmp_path):
     p.write_text("{not json")
     with pytest.raises(ToolError, match="cannot read arena"):
         load_arena(str(p))
+
+
+def test_arena_goal_cells_are_drawn_and_checked(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    from dynaqpc_tools.arena import draw_arena, load_arena
+
+    p = tmp_path / "a.json"
+    p.write_text('{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, '
+                 '"cells": [[2.5, 1.5, 3.0, 2.0], [3.0, 1.5, 3.5, 2.0]]}}')
+    arena = load_arena(str(p))
+    fig, ax = plt.subplots()
+    draw_arena(ax, arena)
+    green = [q for q in ax.patches if isinstance(q, Rectangle) and q.get_label() != "_nolegend_"
+             and q.get_width() == 0.5]
+    assert len(green) == 2
+    plt.close(fig)
+    p.write_text('{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, "cells": [[1, 1, 0, 2]]}}')
+    with pytest.raises(ToolError, match=r"goal\.cells\[0\]"):
+        load_arena(str(p))

@@ -53,8 +53,9 @@ double cell_centre(double v, double extent, int bits)
 
 }  // namespace
 
-double goal_cells_distance(const Scenario &s, double x, double y)
+std::vector<CellBox> goal_cells(const Scenario &s)
 {
+    std::vector<CellBox> out;
     const double nx = std::ldexp(1.0, s.encoding.x_bits);
     const double ny = std::ldexp(1.0, s.encoding.y_bits);
     const double cw = s.arena_w / nx, ch = s.arena_h / ny;
@@ -64,14 +65,23 @@ double goal_cells_distance(const Scenario &s, double x, double y)
     const double i1 = std::min(nx - 1.0, std::floor((g.cx + g.radius) / cw));
     const double j0 = std::max(0.0, std::floor((g.cy - g.radius) / ch));
     const double j1 = std::min(ny - 1.0, std::floor((g.cy + g.radius) / ch));
-    double d = std::numeric_limits<double>::infinity();
     for (double j = j0; j <= j1; j += 1.0) {
         for (double i = i0; i <= i1; i += 1.0) {
-            if (std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy) > g.radius) continue;
-            const double dx = std::max({i * cw - x, 0.0, x - (i + 1.0) * cw});
-            const double dy = std::max({j * ch - y, 0.0, y - (j + 1.0) * ch});
-            d = std::min(d, std::hypot(dx, dy));
+            if (std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy) <= g.radius) {
+                out.push_back({i * cw, j * ch, (i + 1.0) * cw, (j + 1.0) * ch});
+            }
         }
+    }
+    return out;
+}
+
+double goal_cells_distance(const Scenario &s, double x, double y)
+{
+    double d = std::numeric_limits<double>::infinity();
+    for (const CellBox &c : goal_cells(s)) {
+        const double dx = std::max({c.x0 - x, 0.0, x - c.x1});
+        const double dy = std::max({c.y0 - y, 0.0, y - c.y1});
+        d = std::min(d, std::hypot(dx, dy));
     }
     return d;
 }

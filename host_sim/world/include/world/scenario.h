@@ -183,8 +183,17 @@ bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *
 /// The firmware's robot_in_goal() computes the same in single precision.
 bool in_goal(const Scenario &s, double x, double y);
 
-/// The distance from (x, y) to the nearest goal cell (`goal ... cells`): 0 inside one, infinity
-/// when no cell's centre is in the circle.
+/// An axis-aligned cell of the state grid, m.
+struct CellBox {
+    double x0, y0, x1, y1;
+};
+
+/// The cells of the state grid whose centres are inside the goal circle (what `goal ... cells`
+/// makes the goal), whether or not the scenario says `cells`.
+std::vector<CellBox> goal_cells(const Scenario &s);
+
+/// The distance from (x, y) to the nearest of goal_cells(): 0 inside one, infinity when there
+/// are none.
 double goal_cells_distance(const Scenario &s, double x, double y);
 
 /// The radius of the robot's circumscribed circle (half its diagonal), m.
