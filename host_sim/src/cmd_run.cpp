@@ -105,10 +105,12 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     }
     std::vector<std::uint32_t> steps;
     std::uint32_t reached = 0;
+    std::uint64_t updates = 0;
     std::printf("start,steps,reached_goal,bumps,robot_time_s\n");
     for (current = 1; current <= starts; current++) {
         const EpisodeRow r = sim.run_episode();
         std::printf("%u,%u,%d,%u,%.1f\n", current, r.steps, r.reached_goal ? 1 : 0, r.bumps, r.robot_time_s);
+        updates += r.updates;
         if (r.reached_goal) {
             reached++;
             steps.push_back(r.steps);
@@ -121,7 +123,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     if (!steps.empty()) {
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
     }
-    std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "; Q updates %llu\n", static_cast<unsigned long long>(updates));
     return kExitOk;
 }
 

@@ -54,7 +54,7 @@ struct LockstepOptions {
     /// Boot from flash_file but never write it: the firmware's saves change a copy in RAM
     /// (dynaqpc-sim run --learn).
     bool flash_read_only = false;
-    /// Replay greedily without learning (dynaqpc-sim run).
+    /// Replay greedily without learning (dynaqpc-sim run without --learn).
     bool evaluate = false;
     /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0).
     std::uint32_t plan_update_cycles = 0;

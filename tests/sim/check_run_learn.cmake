@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 # cmake -DSIM=<dynaqpc-sim> -DWORK=<scratch dir> -P check_run_learn.cmake
-# A trained image replayed frozen and with --learn: both replays work, report what they did, and
-# the image file is byte-for-byte what train --save wrote (a replay never writes it).
+# A trained image replayed frozen and with --learn: the frozen replay updates nothing, the learning
+# one does, and the image file is byte-for-byte what train --save wrote (a replay never writes
+# it). The arena file carries paper-lab's two goal cells.
 cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
@@ -19,12 +20,16 @@ endfunction()
 
 sim(train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 4 --seed 5 --quiet --save "${image}")
 file(SHA256 "${image}" trained)
-sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 2)
-if(NOT err MATCHES "\\(frozen\\): reached the goal from [0-3] of 3 starts")
+sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 2 --arena "${WORK}/arena.json")
+file(READ "${WORK}/arena.json" arena)
+if(NOT arena MATCHES "\"cells\":\\[\\[3\\.225,2\\.4,3\\.7625,2\\.8\\],\\[3\\.7625,2\\.4,4\\.3,2\\.8\\]\\]")
+    message(FATAL_ERROR "arena JSON without paper-lab's goal cells: ${arena}")
+endif()
+if(NOT err MATCHES "\\(frozen\\): reached the goal from [0-3] of 3 starts.*; Q updates 0\n")
     message(FATAL_ERROR "frozen replay: unexpected report: ${err}")
 endif()
 sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 2 --learn --planning 0)
-if(NOT err MATCHES "\\(learning\\): reached the goal from [0-3] of 3 starts")
+if(NOT err MATCHES "\\(learning\\): reached the goal from [0-3] of 3 starts.*; Q updates [1-9][0-9]*\n")
     message(FATAL_ERROR "learning replay: unexpected report: ${err}")
 endif()
 string(REGEX MATCHALL "\n[0-9]+,[0-9]+,[01]," rows "\n${out}")

@@ -6,7 +6,7 @@ Format (metres, degrees)::
     {"width": W, "height": H,
      "obstacles": [{"kind": "box", "cx": .., "cy": .., "w": .., "h": .., "angle_deg": ..},
                    {"kind": "circle", "cx": .., "cy": .., "r": ..}],
-     "goal": {"cx": .., "cy": .., "r": .., "cells": [[x0, y0, x1, y1], ..]},
+     "goal": {"cx": .., "cy": .., "r": .., ["cells": [[x0, y0, x1, y1], ..]]},
      "beacons": [{"id": "..", "x": .., "y": .., "z": ..}]}
 """
 

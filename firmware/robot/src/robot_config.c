@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "robot/state_encoder.h"
 
 static bool finite_positive_(float v)
 {
@@ -26,6 +27,12 @@ int robot_config_check(const robot_config_t *c)
     agent_space_t sp;
     robot_config_space(c, &sp);
     if (c->bits_code > ROBOT_MAX_CODE_BITS || space_validate(&sp) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
+    // Goal cells: the cell centre nearest the goal's is the centre of the cell holding it; if
+    // that one is outside the circle, so is every other, and the goal could never be reached.
+    const robot_pose_t goal_centre = {c->goal_x, c->goal_y, 0.0f};
+    if (c->goal_cells > 1u || (c->goal_cells && !robot_in_goal(c, &goal_centre))) {
         return FW_ERR_INVAL;
     }
     // Each code bit looks at existing sensors with a real threshold.

@@ -85,6 +85,16 @@ static void test_goal_as_cells(void **state)
     assert_true(robot_in_goal(&circle, &p));
     p = (robot_pose_t){3.30f, 2.45f, 0.0f};
     assert_false(robot_in_goal(&circle, &p));
+    // A configuration whose goal cells are empty is refused: a 5 cm circle on a cell corner
+    // holds no cell centre (the nearest are 0.34 m away).
+    robot_config_t empty = *lab;
+    empty.goal_x = 3.225f;
+    empty.goal_y = 2.4f;
+    empty.goal_r = 0.05f;
+    assert_int_equal(robot_config_check(lab), FW_OK);
+    assert_int_equal(robot_config_check(&empty), FW_ERR_INVAL);
+    empty.goal_cells = 0;
+    assert_int_equal(robot_config_check(&empty), FW_OK);
 }
 
 static void test_heading_sectors_wrap(void **state)

@@ -114,7 +114,7 @@ void test_goal_cells(void **state)
     // Every pose in the goal's cell, or within the start margin of it, is refused as a start:
     // (2.02, 2.98) is 0.68 m from the circle's centre, beyond its radius plus margin (0.65 m).
     assert_false(world::start_position_ok(s, 2.02, 2.98));
-    assert_false(world::start_position_ok(s, 1.97, 2.5));   // 3 cm from the cell's edge
+    assert_false(world::start_position_ok(s, 1.97, 2.97));  // 0.71 m out, 3 cm from the cell
     assert_true(world::start_position_ok(s, 1.5, 2.5));
     // Without 'cells' the circle itself is the goal.
     assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\n", "g.scn", &s, &err));
@@ -126,6 +126,9 @@ void test_goal_cells(void **state)
     assert_true(starts_with(err, "g.scn:6: goal: 'squares' after the radius (only 'cells')"));
     assert_false(world::parse_scenario(head + "goal 2.0 2.0 0.3 cells\n", "g.scn", &s, &err));
     assert_true(starts_with(err, "g.scn:6: goal ... cells: no cell of the state grid"));
+    // (1.5, 1.5) and (2.5, 2.5) are 0.7071068 m from (2, 2): on the circle, for a float.
+    assert_false(world::parse_scenario(head + "goal 2 2 0.70711 cells\n", "g.scn", &s, &err));
+    assert_true(starts_with(err, "g.scn:6: goal ... cells: a cell centre lies on the circle"));
     assert_false(world::parse_scenario("arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
                                        "ranger kind ir min 0.1 max 0.8\nray 0\n"
                                        "encode x 10 y 2 heading 2\ngoal 2 2 0.5 cells\n",

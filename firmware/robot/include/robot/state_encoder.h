@@ -28,7 +28,8 @@ uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint3
 agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *pose,
                                  uint32_t range_code);
 
-/// True when the pose is inside the goal circle.
+/// True when the pose is inside the goal circle, or with cfg->goal_cells when the centre of the
+/// pose's state cell is (docs/scenarios.md, "The goal as cells").
 bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose);
 
 /// One action as the wheels carry it out: speed targets (m/s) held for `periods` control periods.
