@@ -222,7 +222,7 @@ struct Lockstep::Impl {
         }
         if (agent->kind == AGENT_DYNA_Q) {
             o << " table=" << agent->table.count << "/" << agent->table.capacity
-              << " table_dropped=" << agent->table.dropped;
+              << " table_evicted=" << agent->table.evicted;
         }
         return o.str();
     }

@@ -29,7 +29,36 @@ void dynaq_clear(dynaq_table_t *t)
         t->index_keys[i] = DYNAQ_EMPTY;
     }
     t->count = 0;
-    t->dropped = 0;
+    t->oldest = 0;
+    t->evicted = 0;
+}
+
+static uint32_t home_(const dynaq_table_t *t, agent_state_t s)
+{
+    return (s * 0x9E3779B1u) & t->index_mask;
+}
+
+// Linear probing without tombstones (Knuth's Algorithm R): empty the slot, then move back every
+// key after it in its run that would no longer be found from its home slot.
+static void unindex_(dynaq_table_t *t, agent_state_t s)
+{
+    uint32_t hole = home_(t, s);
+    while (t->index_keys[hole] != s) {
+        hole = (hole + 1u) & t->index_mask;
+    }
+    t->index_keys[hole] = DYNAQ_EMPTY;
+    for (uint32_t j = (hole + 1u) & t->index_mask; t->index_keys[j] != DYNAQ_EMPTY;
+         j = (j + 1u) & t->index_mask) {
+        const uint32_t h = home_(t, t->index_keys[j]);
+        // The key at j stays if its home lies cyclically in (hole, j].
+        const bool stays = hole <= j ? (h > hole && h <= j) : (h > hole || h <= j);
+        if (!stays) {
+            t->index_keys[hole] = t->index_keys[j];
+            t->index_rec[hole] = t->index_rec[j];
+            t->index_keys[j] = DYNAQ_EMPTY;
+            hole = j;
+        }
+    }
 }
 
 void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
@@ -37,21 +66,30 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
 {
     // The index has twice as many slots as there are records, so its load stays at or below
     // one half and a probe always ends at the key or at an empty slot.
-    uint32_t slot = (s * 0x9E3779B1u) & t->index_mask;
+    uint32_t slot = home_(t, s);
     while (t->index_keys[slot] != s && t->index_keys[slot] != DYNAQ_EMPTY) {
         slot = (slot + 1u) & t->index_mask;
     }
     if (t->index_keys[slot] == DYNAQ_EMPTY) {
-        if (t->count == t->capacity) {
-            t->dropped++;
-            return;
+        uint32_t rec_no = t->count;
+        if (t->count == t->capacity) {  // the oldest state makes room
+            rec_no = t->oldest;
+            t->oldest = (t->oldest + 1u) & (t->capacity - 1u);
+            unindex_(t, t->records[rec_no].state);
+            t->evicted++;
+            slot = home_(t, s);  // the move-back may have emptied a slot before this one
+            while (t->index_keys[slot] != DYNAQ_EMPTY) {
+                slot = (slot + 1u) & t->index_mask;
+            }
+        } else {
+            t->count++;
         }
-        dynaq_record_t *fresh = &t->records[t->count];
+        dynaq_record_t *fresh = &t->records[rec_no];
         fresh->state = s;
         fresh->tried = 0;
         fresh->terminal = 0;
         t->index_keys[slot] = s;
-        t->index_rec[slot] = t->count++;
+        t->index_rec[slot] = rec_no;
     }
     dynaq_record_t *rec = &t->records[t->index_rec[slot]];
     const uint8_t bit = (uint8_t)(1u << a);

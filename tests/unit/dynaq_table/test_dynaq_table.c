@@ -85,20 +85,62 @@ static void samples_states_then_actions_uniformly(void **state)
     assert_in_range(hits[1][3], 9500, 10500);
 }
 
-static void full_table_drops_new_states_and_counts(void **state)
+// The index finds the state's record (or nothing) exactly as a brute-force search of the records.
+static void expect_index_consistent_(const dynaq_table_t *t)
+{
+    uint32_t keys = 0;
+    for (uint32_t i = 0; i <= t->index_mask; i++) {
+        if (t->index_keys[i] == DYNAQ_EMPTY) {
+            continue;
+        }
+        keys++;
+        assert_true(t->index_rec[i] < t->count);
+        assert_int_equal(t->records[t->index_rec[i]].state, t->index_keys[i]);
+    }
+    assert_int_equal(keys, t->count);
+}
+
+static uint8_t tried_of_(const dynaq_table_t *t, agent_state_t s)
+{
+    for (uint32_t i = 0; i < t->count; i++) {
+        if (t->records[i].state == s) {
+            return t->records[i].tried;
+        }
+    }
+    return 0;
+}
+
+// A full table forgets the state it stored longest ago (first in, first out) and counts it;
+// states that collide in the index stay findable after others leave (keys s * 64 all share
+// their low bits before hashing, and the sequence wraps the ring several times).
+static void full_table_forgets_the_oldest_state_and_counts(void **state)
 {
     (void)state;
     dynaq_table_t t;
     setup_table(&t);
     for (uint32_t s = 0; s < 100; s++) {
-        dynaq_remember(&t, s * 7919u, 0, 0.0f, 0, false);
+        dynaq_remember(&t, s * 7919u, 0, (float)s, 0, false);
     }
     assert_int_equal(t.count, 64);
-    assert_int_equal(t.dropped, 36);
-    dynaq_remember(&t, 0, 1, 0.0f, 0, false);  // a known state still takes new actions
-    assert_int_equal(t.dropped, 36);
+    assert_int_equal(t.evicted, 36);
+    expect_index_consistent_(&t);
+    assert_int_equal(tried_of_(&t, 35u * 7919u), 0);     // forgotten
+    assert_int_equal(tried_of_(&t, 36u * 7919u), 0x1);   // the oldest kept
+    dynaq_remember(&t, 99u * 7919u, 1, 0.0f, 0, false);  // a known state takes a new action
+    assert_int_equal(t.evicted, 36);
+    assert_int_equal(tried_of_(&t, 99u * 7919u), 0x3);
+    for (uint32_t s = 0; s < 1000; s++) {
+        dynaq_remember(&t, (s % 300u) * 64u, (uint8_t)(s & 3u), 0.0f, 1, false);
+        expect_index_consistent_(&t);
+    }
+    assert_int_equal(t.count, 64);
+    // The last 64 states remembered are the ones the table holds.
+    for (uint32_t s = 1000 - 64; s < 1000; s++) {
+        assert_true(tried_of_(&t, (s % 300u) * 64u) != 0);
+    }
     dynaq_clear(&t);
     assert_int_equal(t.count, 0);
+    assert_int_equal(t.evicted, 0);
 }
 
 int main(void)
@@ -107,7 +149,7 @@ int main(void)
         cmocka_unit_test(empty_table_has_nothing_to_sample),
         cmocka_unit_test(samples_only_what_was_observed_and_the_latest_outcome),
         cmocka_unit_test(samples_states_then_actions_uniformly),
-        cmocka_unit_test(full_table_drops_new_states_and_counts),
+        cmocka_unit_test(full_table_forgets_the_oldest_state_and_counts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

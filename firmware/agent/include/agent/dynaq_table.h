@@ -25,8 +25,9 @@ typedef struct dynaq_record {
 } dynaq_record_t;
 
 /// Records live in a dense array (so a uniformly random observed state is one index) and an
-/// open-addressing index maps a state to its record. When the array is full, transitions from
-/// new states are not stored and are counted.
+/// open-addressing index maps a state to its record. When the array is full, a new state takes
+/// the record of the state first stored longest ago (first in, first out, as a replay buffer),
+/// and the forgotten state is counted.
 typedef struct dynaq_table {
     dynaq_record_t *records;  // capacity
     uint32_t *index_keys;     // 2 * capacity slots, DYNAQ_EMPTY when empty
@@ -34,8 +35,9 @@ typedef struct dynaq_table {
     uint32_t capacity;
     uint32_t count;
     uint32_t index_mask;
+    uint32_t oldest;   ///< once full: the record a new state takes next
     uint8_t n_actions;
-    uint32_t dropped;  ///< transitions lost because the table was full
+    uint32_t evicted;  ///< states forgotten to make room for new ones
 } dynaq_table_t;
 
 #define DYNAQ_EMPTY UINT32_MAX
