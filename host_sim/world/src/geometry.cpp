@@ -53,37 +53,61 @@ double cell_centre(double v, double extent, int bits)
 
 }  // namespace
 
-std::vector<CellBox> goal_cells(const Scenario &s)
+namespace {
+
+// Calls f(cell, distance of its centre from the goal's) for every cell of the state grid under the
+// goal circle's bounding box: the only cells whose centres can be inside it (or on it). At most
+// 64 x 64 for a valid scenario (the parser's bound), and nothing is allocated: start sampling
+// asks about up to a million points.
+template <typename F>
+void for_cells_under_goal(const Scenario &s, F f)
 {
-    std::vector<CellBox> out;
     const double nx = std::ldexp(1.0, s.encoding.x_bits);
     const double ny = std::ldexp(1.0, s.encoding.y_bits);
     const double cw = s.arena_w / nx, ch = s.arena_h / ny;
     const Goal &g = s.goal;
-    // Only cells under the circle's bounding box can have their centre inside it.
     const double i0 = std::max(0.0, std::floor((g.cx - g.radius) / cw));
     const double i1 = std::min(nx - 1.0, std::floor((g.cx + g.radius) / cw));
     const double j0 = std::max(0.0, std::floor((g.cy - g.radius) / ch));
     const double j1 = std::min(ny - 1.0, std::floor((g.cy + g.radius) / ch));
     for (double j = j0; j <= j1; j += 1.0) {
         for (double i = i0; i <= i1; i += 1.0) {
-            if (std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy) <= g.radius) {
-                out.push_back({i * cw, j * ch, (i + 1.0) * cw, (j + 1.0) * ch});
-            }
+            const CellBox c = {i * cw, j * ch, (i + 1.0) * cw, (j + 1.0) * ch};
+            f(c, std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy));
         }
     }
+}
+
+}  // namespace
+
+std::vector<CellBox> goal_cells(const Scenario &s)
+{
+    std::vector<CellBox> out;
+    for_cells_under_goal(s, [&](const CellBox &c, double d) {
+        if (d <= s.goal.radius) out.push_back(c);
+    });
     return out;
 }
 
 double goal_cells_distance(const Scenario &s, double x, double y)
 {
-    double d = std::numeric_limits<double>::infinity();
-    for (const CellBox &c : goal_cells(s)) {
+    double best = std::numeric_limits<double>::infinity();
+    for_cells_under_goal(s, [&](const CellBox &c, double d) {
+        if (d > s.goal.radius) return;
         const double dx = std::max({c.x0 - x, 0.0, x - c.x1});
         const double dy = std::max({c.y0 - y, 0.0, y - c.y1});
-        d = std::min(d, std::hypot(dx, dy));
-    }
-    return d;
+        best = std::min(best, std::hypot(dx, dy));
+    });
+    return best;
+}
+
+double goal_cell_centre_margin(const Scenario &s)
+{
+    double margin = std::numeric_limits<double>::infinity();
+    for_cells_under_goal(s, [&](const CellBox &, double d) {
+        margin = std::min(margin, std::abs(d - s.goal.radius));
+    });
+    return margin;
 }
 
 bool in_goal(const Scenario &s, double x, double y)

@@ -619,19 +619,12 @@ bool Parser::validate(Scenario *s)
         }
         // The firmware decides in single precision: a centre on the circle could be the goal
         // here and not there.
-        const double i0 = std::max(0.0, std::floor((g.cx - g.radius) / cw) - 1.0);
-        const double j0 = std::max(0.0, std::floor((g.cy - g.radius) / ch) - 1.0);
-        for (double j = j0; j * ch <= g.cy + g.radius + ch; j += 1.0) {
-            for (double i = i0; i * cw <= g.cx + g.radius + cw; i += 1.0) {
-                if (std::abs(std::hypot((i + 0.5) * cw - g.cx, (j + 0.5) * ch - g.cy) - g.radius) <
-                    1e-4) {
-                    return fail_at(goal_line_, "goal ... cells: a cell centre lies on the circle "
-                                               "(within 0.1 mm), where the firmware's single "
-                                               "precision may disagree; change the radius");
-                }
-            }
+        if (goal_cell_centre_margin(*s) < 1e-4) {
+            return fail_at(goal_line_, "goal ... cells: a cell centre lies on the circle "
+                                       "(within 0.1 mm), where the firmware's single "
+                                       "precision may disagree; change the radius");
         }
-        if (!std::isfinite(goal_cells_distance(*s, g.cx, g.cy))) {
+        if (goal_cells(*s).empty()) {
             return fail_at(goal_line_, "goal ... cells: no cell of the state grid has its centre "
                                        "in the circle (make it larger, or drop 'cells')");
         }

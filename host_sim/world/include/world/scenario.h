@@ -196,6 +196,10 @@ std::vector<CellBox> goal_cells(const Scenario &s);
 /// are none.
 double goal_cells_distance(const Scenario &s, double x, double y);
 
+/// How close any cell centre comes to the goal circle itself (|distance − radius|, m): where it
+/// is tiny, double and the firmware's float can disagree about that cell.
+double goal_cell_centre_margin(const Scenario &s);
+
 /// The radius of the robot's circumscribed circle (half its diagonal), m.
 double robot_radius(const RobotSpec &robot);
 
