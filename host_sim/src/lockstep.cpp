@@ -8,6 +8,7 @@
 // frames and bytes a robot's controller would.
 #include "lockstep.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -42,6 +43,7 @@ struct Lockstep::Impl {
     const agent_storage_t *storage = nullptr;
     std::uint64_t t_us = 0;
     std::uint64_t dt_us = 0;
+    std::uint64_t max_lead_us = 0;  // the most the firmware's clock ran past the next tick
     std::uint8_t tool_ctr = 0;
     bool restored = false;
     std::function<void(const TrajectoryPoint &)> sink;
@@ -142,14 +144,25 @@ struct Lockstep::Impl {
         if (!serial.empty()) {
             (void)hal_host_uart_feed(reinterpret_cast<const std::uint8_t *>(serial.data()), serial.size());
         }
-        // The firmware runs until it waits for a time after now. Each pass is bounded; the
-        // bound here only guards against a firmware bug spinning the simulator.
+        // The firmware runs until it waits for a time after now, or until its clock reaches the
+        // next physics step. Idle planning never runs out of work while it has time, and on a
+        // robot the next sensor frame interrupts it; here that frame is delivered by the next
+        // tick, so the firmware must not plan past it: a firmware clock ahead of the world stamps
+        // the next frames late and compresses their spacing (the gyro's integration broke
+        // when idle planning ran up to 350 ms ahead). A pass is bounded (at most
+        // FW_CFG_SCHED_IDLE_STEPS_PER_PASS planning steps), so the lead stays under one pass;
+        // the largest is counted in max_lead_us. The pass bound only guards against a firmware
+        // bug spinning the simulator.
+        const std::uint64_t next_tick_us = t_us + dt_us;
         for (int pass = 0; pass < 100000; pass++) {
             robot_app_step();
             take_tx();
-            if (hal_host_wait_deadline() > hal_time_us()) {
+            if (hal_host_wait_deadline() > hal_time_us() || hal_time_us() >= next_tick_us) {
                 break;
             }
+        }
+        if (hal_time_us() > next_tick_us) {
+            max_lead_us = std::max<std::uint64_t>(max_lead_us, hal_time_us() - next_tick_us);
         }
         if (sink && t_us % cfg.period_us == 0) {
             const world::Pose p = world.pose();
@@ -208,11 +221,12 @@ struct Lockstep::Impl {
         sched_stats_t ss;
         sched_get_stats(robot_app_sched(), &ss);
         std::ostringstream o;
-        o << "q_rows=" << agent->q.rows_used << "/" << agent->q.capacity << " q_dropped=" << agent->q.dropped
+        o << "q_rows=" << agent->q.rows_used << "/" << agent->q.capacity << " q_dropped=" << agent->q.dropped << " q_plan_refused=" << agent->q.plan_refused
           << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
-          << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops;
+          << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
+          << " clock_lead_max_us=" << max_lead_us;
         if (agent->kind == AGENT_DYNA_QPC) {
             o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
               << " cmac_inv=" << agent->model.inverse.stats.cells_used << "/" << agent->model.inverse.capacity

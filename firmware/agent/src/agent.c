@@ -139,10 +139,12 @@ static float abs_(float x)
     return x < 0.0f ? -x : x;
 }
 
-// Q(s, a) += alpha * (target - Q(s, a)). False when the Q store is full and s has no row.
-static bool q_update_(agent_t *ag, agent_state_t s, uint8_t a, float target, float alpha)
+// Q(s, a) += alpha * (target - Q(s, a)). A real step's write may forget another state to make
+// room; a planning write may not (qstore_row_for_plan) and returns false when s has no row.
+static bool q_update_(agent_t *ag, agent_state_t s, uint8_t a, float target, float alpha,
+                      bool planning)
 {
-    float *row = qstore_row_for_update(&ag->q, s);
+    float *row = planning ? qstore_row_for_plan(&ag->q, s) : qstore_row_for_update(&ag->q, s);
     if (row == NULL) {
         return false;
     }
@@ -171,7 +173,7 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
     const float target = target_(ag, r, s_next, terminal);
     const float priority = abs_(target - agent_q(ag, s, a));
     ag->stats.real_steps++;
-    if (q_update_(ag, s, a, target, ag->params.alpha)) {
+    if (q_update_(ag, s, a, target, ag->params.alpha, false)) {
         ag->stats.real_updates++;
     }
     if (ag->kind == AGENT_DYNA_QPC) {
@@ -270,8 +272,9 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
         }
     }
     const float target = target_(ag, step.reward, step.next, step.terminal);
-    // Q(s, a) += alpha (target - Q(s, a)); a full Q store has no row for s, which then reads 0.
-    float *row = qstore_row_for_update(&ag->q, s);
+    // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
+    // which then has no row and reads 0.
+    float *row = qstore_row_for_plan(&ag->q, s);
     float q_sa = 0.0f;
     if (row != NULL) {
         row[a] += ag->params.plan_alpha * (target - row[a]);
@@ -321,7 +324,7 @@ static bool plan_dynaq_(agent_t *ag)
     if (!dynaq_sample(&ag->table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
         return false;
     }
-    if (q_update_(ag, s, a, target_(ag, r, s_next, terminal), ag->params.plan_alpha)) {
+    if (q_update_(ag, s, a, target_(ag, r, s_next, terminal), ag->params.plan_alpha, true)) {
         ag->stats.planning_updates++;
     }
     return true;

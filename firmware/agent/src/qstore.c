@@ -53,6 +53,7 @@ void qstore_clear(qstore_t *qs)
     }
     qs->rows_used = 0;
     qs->dropped = 0;
+    qs->plan_refused = 0;
 }
 
 // Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive states,
@@ -148,6 +149,24 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
         slot = find_(qs, s);
         if (slot == qs->capacity) {
             slot = evict_(qs, s);
+        }
+        qs->keys[slot] = s;
+        qs->rows_used++;
+    }
+    return &qs->q[slot * qs->n_actions];
+}
+
+float *qstore_row_for_plan(qstore_t *qs, agent_state_t s)
+{
+    if (qs->dense) {
+        return &qs->q[s * qs->n_actions];
+    }
+    uint32_t slot = lookup_(qs, s);
+    if (slot == qs->capacity) {
+        slot = find_(qs, s);
+        if (slot == qs->capacity) {
+            qs->plan_refused++;
+            return NULL;
         }
         qs->keys[slot] = s;
         qs->rows_used++;

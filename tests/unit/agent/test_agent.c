@@ -262,9 +262,10 @@ static void plan_calls_plan_as_single_steps_would(void **state)
     assert_int_equal(agent_.model.forward.stats.cells_used, 64);
     assert_true(agent_.model.forward.stats.evicted > 0);
     assert_true(agent_.q.dropped > 0);
+    assert_true(agent_.q.plan_refused > 0);  // planning found the Q store full, forgot nothing
     assert_true(agent_.pq.stats.dropped > 0);
     assert_true(agent_.model.rejected > 0);
-    assert_true(agent_.stats.planning_updates > 3000);
+    assert_true(agent_.stats.planning_updates > 2000);
 }
 
 int main(void)

@@ -80,6 +80,38 @@ static void full_table_forgets_what_it_learned_least(void **state)
     assert_non_null(qstore_row_for_update(&qs, 999));
 }
 
+static void planning_never_forgets_a_state(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 20), FW_OK);
+    for (uint32_t s = 1000; s < 2000; s++) {  // real steps fill the table
+        qstore_row_for_update(&qs, s)[0] = -1.0f;
+    }
+    uint32_t known[256];
+    uint32_t n_known = 0;
+    for (uint32_t i = 0; i < 256; i++) {
+        if (keys_[i] != QSTORE_EMPTY) {
+            known[n_known++] = keys_[i];
+        }
+    }
+    const uint32_t dropped = qs.dropped;
+    assert_non_null(qstore_row_for_plan(&qs, known[0]));  // a known state plans in its row
+    uint32_t refused = 0;
+    for (uint32_t s = 5000; s < 6000; s++) {  // unknown states find no free row, or take one
+        refused += qstore_row_for_plan(&qs, s) == NULL;
+    }
+    assert_true(refused > 0);
+    assert_int_equal(qs.plan_refused, refused);
+    assert_int_equal(qs.dropped, dropped);  // planning forgot nothing
+    for (uint32_t i = 0; i < n_known; i++) {
+        assert_float_equal(qstore_row(&qs, known[i])[0], -1.0f, 0.0f);
+    }
+    qstore_clear(&qs);
+    assert_non_null(qstore_row_for_plan(&qs, 5000));  // a free row is taken
+    assert_int_equal(qs.rows_used, 1);
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -96,6 +128,7 @@ int main(void)
         cmocka_unit_test(large_spaces_are_hashed_and_unknown_states_read_zero),
         cmocka_unit_test(distinct_states_keep_distinct_values),
         cmocka_unit_test(full_table_forgets_what_it_learned_least),
+        cmocka_unit_test(planning_never_forgets_a_state),
         cmocka_unit_test(init_rejects_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -29,6 +29,7 @@ typedef struct qstore {
     uint8_t capacity_shift;
     uint32_t rows_used;  ///< rows holding a state (hashed) or written at least once (dense: 0)
     uint32_t dropped;    ///< states forgotten to make room: a full probe window reuses the row that learned least
+    uint32_t plan_refused; ///< planning writes refused: the state had no row and no free slot (planning never evicts)
 } qstore_t;
 
 /// Marks an empty row in hashed mode.
@@ -46,8 +47,15 @@ void qstore_clear(qstore_t *qs);
 /// The n_actions values of state s, read-only. An unknown state gives a row of zeros.
 const float *qstore_row(const qstore_t *qs, agent_state_t s);
 
-/// The row of state s for writing, created if needed; NULL (and counted) if the table is full.
+/// The row of state s for a real step's write, created if needed. A full probe window forgets the
+/// row that learned least (counted in `dropped`); never NULL.
 float *qstore_row_for_update(qstore_t *qs, agent_state_t s);
+
+/// The row of state s for a planning write: the existing row, or a new one in a free slot of its
+/// probe window. Planning never forgets a state to make room (that churned tens of millions of
+/// rows per set on paper-sim, each a state real experience had taught): with no free slot it
+/// returns NULL and counts `plan_refused`.
+float *qstore_row_for_plan(qstore_t *qs, agent_state_t s);
 
 /// max over a of Q(s, a).
 float qstore_max(const qstore_t *qs, agent_state_t s);
