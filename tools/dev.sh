@@ -63,7 +63,7 @@ demo() {
     # reads every training CSV in $out as one agent's runs.
     local long=$out/demo
     mkdir -p "$long"
-    log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each)"
+    log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each); Table 1 at the end"
     .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2 \
         --learned-steps 50
     log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $long/dyna-qpc.flash"
@@ -74,9 +74,7 @@ demo() {
         --trajectory "$long/trajectory.csv" --arena "$long/arena.json" > "$long/replay.csv"
     .venv/bin/dynaqpc-experiment trajectory --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results \
         --load "$long/dyna-qpc.flash" --starts 5 >/dev/null
-    log "robot time to learn (Table 1 of the paper, reproduced)"
-    cat "$out/table1.md"
-    log "plots and CSVs are in $out/ (fig13.png: learning curves; trajectories.png: the replayed paths; demo/: the long run)"
+    log "plots and CSVs are in $out/ (table1.md: Table 1, printed above; fig13.png: learning curves; trajectories.png: the replayed paths; demo/: the long run)"
 }
 
 run_tests() {

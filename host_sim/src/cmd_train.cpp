@@ -28,6 +28,7 @@ struct TrainSettings {
     std::string scenario;
     std::string agent;
     std::uint32_t sets = 1;
+    std::uint32_t first_set = 1;
     std::uint32_t episodes = 0;
     std::uint32_t planning = 0;
     std::uint32_t seed = 1;
@@ -49,6 +50,10 @@ void declare(Options &o, TrainSettings &s)
     o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc", &s.agent, {"q", "dyna-q", "dyna-qpc"});
     o.add_uint("--sets", "N", "independent sets, each learning from scratch (default 1)", &s.sets, 1,
                100000);
+    o.add_uint("--first-set", "K",
+               "number the sets K..K+N-1 with their seeds, so blocks of sets run apart give the rows "
+               "of one run (default 1)",
+               &s.first_set, 1, 100000);
     o.add_uint("--episodes", "E", "episodes per set (default: the scenario's)", &s.episodes, 1,
                10000000);
     o.add_uint("--planning", "N",
@@ -71,7 +76,7 @@ void declare(Options &o, TrainSettings &s)
     o.add_double("--gamma", "G", "discount (default: the scenario's)", &s.gamma, 0.0, 1.0);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
-                 "keep what set 1 learned: the firmware's flash image, replaced at the start and saved at "
+                 "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "
                  "each episode end "
                  "(dynaqpc-sim run --load FILE replays it)",
                  &s.save);
@@ -111,11 +116,11 @@ template <typename Emit>
 void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSettings &s,
               std::uint32_t first, std::uint32_t stride, Emit emit)
 {
-    for (std::uint32_t set = first; set <= s.sets; set += stride) {
+    for (std::uint32_t set = first; set < s.first_set + s.sets; set += stride) {
         LockstepOptions lo;
         lo.seed = set_seed(s.seed, set);
         lo.plan_update_cycles = s.plan_cycles;
-        if (set == 1 && !s.save.empty()) {
+        if (set == s.first_set && !s.save.empty()) {
             // A set learns from scratch: the firmware would restore an old image at boot.
             if (std::remove(s.save.c_str()) != 0 && errno != ENOENT) {
                 throw UsageError("--save: cannot replace '" + s.save + "': " + std::strerror(errno));
@@ -209,14 +214,17 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     std::uint64_t done = 0;
     auto take = [&](std::uint32_t set, const EpisodeRow &r, const std::string &line) {
         (void)set;
-        if (out != nullptr) std::fputs(line.c_str(), out);
+        if (out != nullptr) {
+            std::fputs(line.c_str(), out);
+            std::fflush(out);  // a row per episode as it ends: dynaqpc-experiment counts them for its progress bar
+        }
         steps_sum[r.episode] += r.steps;
         time_sum[r.episode] += r.robot_time_s;
         progress.tick(++done);
     };
     const std::uint32_t jobs = std::min(s.jobs, s.sets);
     if (jobs <= 1) {
-        run_sets(sb, cfg, s, 1, 1, [&](std::uint32_t set, const EpisodeRow &r) {
+        run_sets(sb, cfg, s, s.first_set, 1, [&](std::uint32_t set, const EpisodeRow &r) {
             take(set, r, csv_row(s.agent, set, r, s.no_wall_time));
         });
     } else {
@@ -235,7 +243,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
                 std::FILE *w = fdopen(p[1], "w");
                 int status = 0;
                 try {
-                    run_sets(sb, cfg, s, 1 + j, jobs, [&](std::uint32_t set, const EpisodeRow &r) {
+                    run_sets(sb, cfg, s, s.first_set + j, jobs, [&](std::uint32_t set, const EpisodeRow &r) {
                         std::fputs(csv_row(s.agent, set, r, s.no_wall_time).c_str(), w);
                         std::fflush(w);
                     });

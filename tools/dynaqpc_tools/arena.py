@@ -98,8 +98,11 @@ def draw_arena(ax, arena: Dict[str, Any]) -> None:
                             edgecolor="tab:green", label="goal"))
     for b in arena.get("beacons", []):
         ax.plot(b["x"], b["y"], marker="^", color="tab:purple", markersize=7)
-        ax.annotate(str(b.get("id", "")), (b["x"], b["y"]), textcoords="offset points", xytext=(4, 4),
-                    fontsize=7, color="tab:purple")
+        # The label leans into the room, so a beacon on a wall or in a corner keeps it on the plot.
+        right, up = b["x"] < w / 2, b["y"] < h / 2
+        ax.annotate(str(b.get("id", "")), (b["x"], b["y"]), textcoords="offset points",
+                    xytext=(5 if right else -5, 5 if up else -5), ha="left" if right else "right",
+                    va="bottom" if up else "top", fontsize=7, color="tab:purple")
     margin = 0.05 * max(w, h)
     ax.set_xlim(-margin, w + margin)
     ax.set_ylim(-margin, h + margin)

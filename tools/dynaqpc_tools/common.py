@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import argparse
+import math
 import os
 import sys
 from pathlib import Path
@@ -102,3 +104,50 @@ def run_main(fn) -> int:
     except ToolError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+
+
+class ToolArgumentParser(argparse.ArgumentParser):
+    """argparse with a user error as one line (naming the option) and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def int_in(lo: Optional[int] = None, hi: Optional[int] = None):
+    """An argparse type: an integer in [lo, hi]."""
+
+    def conv(text: str) -> int:
+        try:
+            v = int(text, 0)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if (lo is not None and v < lo) or (hi is not None and v > hi):
+            raise argparse.ArgumentTypeError(f"{v} is outside {_range_text(lo, hi)}")
+        return v
+
+    return conv
+
+
+def float_in(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bool = False):
+    """An argparse type: a finite number in [lo, hi] (or (lo, hi] with lo_open)."""
+
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        bad = not math.isfinite(v) or (lo is not None and (v <= lo if lo_open else v < lo)) or \
+            (hi is not None and v > hi)
+        if bad:
+            raise argparse.ArgumentTypeError(f"{text} is outside {_range_text(lo, hi, lo_open)}")
+        return v
+
+    return conv
+
+
+def _range_text(lo, hi, lo_open: bool = False) -> str:
+    if hi is None:
+        return f"{'>' if lo_open else '>='} {lo:g}" if lo is not None else "the range"
+    if lo is None:
+        return f"<= {hi:g}"
+    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"

@@ -2,8 +2,10 @@
 """dynaqpc-experiment: aggregation and Table 1 from hand-made CSVs with known answers; PNGs."""
 
 import json
+import subprocess
 
 import pytest
+from conftest import c_binary
 
 from dynaqpc_tools import experiment
 from dynaqpc_tools.common import ToolError
@@ -27,7 +29,7 @@ def write_runs(path, agent, sets, robot_time=100.0):
 @pytest.fixture
 def csv_dir(tmp_path):
     write_runs(tmp_path / "q.csv", "q", [SET1, SET2])
-    write_runs(tmp_path / "dyna-qpc.csv", "dyna-qpc", [[600, 400, 50, 50, 50, 50, 50, 50, 50, 50, 50, 50]],
+    write_runs(tmp_path / "dyna-qpc.csv", "dyna-qpc", [[600, 400, 50, 50, 50, 50, 50, 50, 50, 50, 50, 50]] * 2,
                robot_time=36.0)
     return tmp_path
 
@@ -40,33 +42,149 @@ def test_learned_episode_index():
     assert experiment.trailing_mean([2, 4, 6, 8], 3) == [2, 3, 4, 6]
 
 
+def _by_agent(runs):
+    return {r.agent: r for r in runs}
+
+
 def test_table1_numbers(csv_dir):
-    runs = experiment.read_csv_dir(str(csv_dir))
+    runs = _by_agent(experiment.read_csv_dir(str(csv_dir)))
     assert sorted(runs) == ["dyna-qpc", "q"]
     q = experiment.summarise(runs["q"], LearnSettings(smooth=1))
-    assert q.learn_episodes == [5, 8]
-    assert q.learn_hours == pytest.approx([500 / 3600, 800 / 3600])
+    assert [(r.learned, r.episodes) for r in q.sets] == [(True, 5), (True, 8)]
+    # Real steps to learn: the steps of episodes 1..i.
+    assert [r.steps for r in q.sets] == [2700, 4010]
+    sm, ssd = q.steps_mean_sd
+    assert sm == pytest.approx(3355) and ssd == pytest.approx(1310 / 2 ** 0.5)
     hm, hsd = q.hours_mean_sd
     assert hm == pytest.approx(650 / 3600) and hsd == pytest.approx(150 * 2 ** 0.5 / 3600)
-    em, esd = q.episodes_mean_sd
-    assert em == pytest.approx(6.5) and esd == pytest.approx(1.5 * 2 ** 0.5)
     assert q.mean_steps_at == {10: 100.0, 50: None, 100: None, 200: None}
-    assert q.first_mean_below == 4  # 950, 900, 550, 250
+    # updates = 10 x steps: 9 planning updates per real step.
+    assert q.planning_per_step == pytest.approx(9.0)
+    assert q.s_per_step == pytest.approx(100.0 * 24 / (sum(SET1) + sum(SET2)))
     assert q.updates == 10 * (sum(SET1) + sum(SET2)) and q.wall_s == pytest.approx(12.0)
     # An absolute threshold.
     q150 = experiment.summarise(runs["q"], LearnSettings(learned_steps=150, smooth=1))
-    assert q150.learn_episodes == [5, 8]
+    assert [r.episodes for r in q150.sets] == [5, 8]
+    # Never learned: every set counts its whole run, and the count says 0/2.
     q99 = experiment.summarise(runs["q"], LearnSettings(learned_steps=99, smooth=1))
-    assert q99.learn_episodes == [] and q99.hours_mean_sd == (None, None)
+    assert q99.n_learned == 0 and [r.steps for r in q99.sets] == [sum(SET1), sum(SET2)]
+    assert q99.steps_mean_sd[0] == pytest.approx((sum(SET1) + sum(SET2)) / 2)
 
     dq = experiment.summarise(runs["dyna-qpc"], LearnSettings(smooth=1))
-    assert dq.learn_episodes == [3] and dq.learn_hours == pytest.approx([108 / 3600])
-    table = experiment.table1_markdown({"q": q, "dyna-qpc": dq}, LearnSettings(smooth=1), "unit")
+    assert [r.episodes for r in dq.sets] == [3, 3] and dq.sets[0].robot_time_s == pytest.approx(108)
+    table = experiment.table_markdown([q, dq], LearnSettings(smooth=1), "paper-lab")
     rows = [ln for ln in table.splitlines() if ln.startswith("| ")]
-    assert rows[1].startswith("| Q-learning | 2 | 12 | 0.18 ± 0.06 | 6.5 ± 2.1 | 2/2 | 100.0 | – | – | – | 4 | – |")
-    assert rows[2].startswith("| Dyna-QPC | 1 | 12 | 0.03 ± 0.00 | 3.0 ± 0.0 | 1/1 |")
-    assert rows[2].endswith("| 5.2 h |")
-    assert "2,019 real steps" in table
+    assert rows[0].count("|") == 11  # one column per measure: ep. 10 only (12 episodes), the paper's
+    assert rows[1].startswith("| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | "
+                              "6.5 ± 2.1 | 0.307 | 100.0 | – |")
+    assert rows[2].startswith("| Dyna-QPC | scenario's | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
+    assert rows[2].endswith("| 2,019 steps (1.12 h) |")
+    assert "paper 0.192" in table
+
+
+def test_table_command_at_several_budgets(tmp_path, capsys):
+    # The same agent at two budgets (named <agent>-p<N>.csv) is two rows, budget order, idle last.
+    write_runs(tmp_path / "dyna-q-p0.csv", "dyna-q", [[60, 40, 40, 40, 40, 40]])
+    write_runs(tmp_path / "dyna-q-p5.csv", "dyna-q", [[300, 200, 100, 60, 45, 40]])
+    write_runs(tmp_path / "q.csv", "q", [[300, 300, 300, 300, 300, 300]])
+    rc = experiment.main(["table", "--csv", str(tmp_path / "dyna-q-p0.csv"), str(tmp_path / "dyna-q-p5.csv"),
+                          str(tmp_path / "q.csv"), "--threshold", "50", "--smooth", "2",
+                          "--out", str(tmp_path / "t.md")])
+    assert rc == 0
+    rows = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("| ")]
+    assert [r.split(" | ")[:2] for r in rows[1:]] == [["| Q-learning", "none (Q-learning)"], ["| Dyna-Q", "5"],
+                                                      ["| Dyna-Q", "idle time (MCU model)"]]
+    # q never learns: its whole run (1,800 steps), 0/1. N=5: (45+40)/2 <= 50 from episode 6 on; idle: (60+40)/2 from episode 2.
+    assert "| 0/1 | 1,800 ± 0 |" in rows[1]
+    assert "| 1/1 | 745 ± 0 |" in rows[2]
+    assert "| 1/1 | 100 ± 0 |" in rows[3]
+    assert (tmp_path / "t.md").read_text().count("| Dyna-Q |") == 2
+
+
+def test_measure_is_the_reusable_entry(csv_dir):
+    summaries, table = experiment.measure([str(csv_dir / "q.csv"), str(csv_dir / "dyna-qpc.csv")],
+                                          threshold=150, smooth=1, scenario="paper-sim")
+    assert [s.agent for s in summaries] == ["q", "dyna-qpc"]
+    assert summaries[0].n_learned == 2
+    assert "| 5.2 h (18,618 s) |" in table and "unable to learn" in table
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--smooth", "0"], "--smooth: 0 is outside"),
+    (["--learned-factor", "-1"], "--learned-factor: -1 is outside"),
+    (["--threshold", "nan"], "--threshold"),
+    (["--final-window", "x"], "'x' is not an integer"),
+])
+def test_numeric_arguments_are_range_checked(csv_dir, capsys, argv, message):
+    with pytest.raises(SystemExit) as e:
+        experiment.main(["table", "--csv", str(csv_dir / "q.csv"), *argv])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--sets", "0"], "--sets: 0 is outside"),
+    (["--jobs", "-5"], "--jobs: -5 is outside"),
+    (["--planning", "5,-1"], "--planning"),
+    (["--planning", "5,5"], "twice"),
+    (["--agents", "q,sarsa"], "sarsa"),
+    (["--starts", "0"], "--starts"),
+])
+def test_run_arguments_are_range_checked(tmp_path, capsys, argv, message):
+    with pytest.raises(SystemExit) as e:
+        experiment.main(["run", "--scenario", "paper-lab", "--results", str(tmp_path), *argv])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_user_errors_are_one_line_and_status_2(tmp_path, capsys, csv_dir):
+    garbage = tmp_path / "garbage.csv"
+    garbage.write_bytes(bytes(range(256)) * 4)
+    assert experiment.main(["table", "--csv", str(garbage)]) == 2
+    assert experiment.main(["table", "--csv", str(tmp_path / "missing.csv")]) == 2
+    # An output folder that cannot be made (a file is in the way).
+    (tmp_path / "file").write_text("x")
+    assert experiment.main(["plot", "--csv-dir", str(csv_dir), "--out", str(tmp_path / "file" / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 3 and all(ln.startswith("error: ") for ln in err)
+    assert "not UTF-8" in err[0] or "not a training CSV" in err[0]
+    with pytest.raises(ToolError, match="cannot write"):
+        experiment.plot_fig13(experiment.read_runs(str(csv_dir / "q.csv")).values(),
+                              str(tmp_path / "no" / "such" / "fig.png"))
+
+
+def test_run_never_overwrites_a_file_that_is_not_a_training_csv(tmp_path):
+    results = tmp_path / "results" / "paper-lab"
+    results.mkdir(parents=True)
+    (results / "q.csv").write_text("my notes, not a CSV of ours\n")
+    rc = experiment.main(["run", "--scenario", "paper-lab", "--results", str(tmp_path / "results"),
+                          "--agents", "q", "--sets", "1", "--episodes", "1", "--sim", "/bin/false"])
+    assert rc == 2
+    assert (results / "q.csv").read_text() == "my notes, not a CSV of ours\n"
+
+
+def test_blocks_of_sets_give_the_rows_of_one_run(tmp_path):
+    """The runner's process per set (--first-set K --sets 1), merged, is byte for byte what one
+    `train --sets N` writes: the real simulator, both ways."""
+    sim = c_binary("dynaqpc-sim")
+    if not sim.is_file():
+        pytest.skip(f"{sim} not built")
+    whole = tmp_path / "whole.csv"
+    subprocess.run([str(sim), "train", "--scenario", "paper-lab", "--agent", "dyna-qpc", "--sets", "3",
+                    "--episodes", "2", "--seed", "3", "--no-wall-time", "--quiet", "--csv", str(whole)], check=True)
+    merged = tmp_path / "merged.csv"
+    experiment.run_sets(str(sim), "paper-lab", "dyna-qpc", str(merged), sets=3, episodes=2, seed=3, jobs=2,
+                        extra=["--no-wall-time"], progress=False)
+    assert merged.read_bytes() == whole.read_bytes()
+    assert len(whole.read_text().splitlines()) == 7
+    # With --planning the budget reaches the simulator: planning updates per step change.
+    p1000 = tmp_path / "dyna-qpc-p1000.csv"
+    experiment.run_sets(str(sim), "paper-lab", "dyna-qpc", str(p1000), sets=1, episodes=2, seed=3, planning=1000,
+                        progress=False)
+    assert p1000.read_bytes() != whole.read_bytes()
+    assert experiment.scenario_protocol("paper-lab") == (5, 20)
 
 
 def test_bad_csvs_are_refused_with_the_line(tmp_path):
@@ -110,7 +228,7 @@ def test_plot_command_writes_fig13_table_and_trajectories(csv_dir, tmp_path, cap
     assert experiment.main(["plot", "--csv-dir", str(csv_dir), "--out", str(out), "--smooth", "1"]) == 0
     assert _is_png(out / "fig13.png") and _is_png(out / "trajectories.png")
     table = (out / "table1.md").read_text()
-    assert "| Q-learning | 2 | 12 | 0.18 ± 0.06 |" in table
+    assert "| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 |" in table
     assert "Q-learning" in capsys.readouterr().out
 
 
@@ -120,12 +238,12 @@ def test_run_skip_existing_does_not_call_the_simulator(csv_dir, tmp_path):
     for name in ("q.csv", "dyna-qpc.csv"):
         (results / "s" / name).write_bytes((csv_dir / name).read_bytes())
     rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q,dyna-qpc",
-                          "--skip-existing", "--sim", str(tmp_path / "no-such-sim")])
+                          "--skip-existing", "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
     assert rc == 0
     assert _is_png(results / "s" / "fig13.png")
     # Without --skip-existing the missing simulator is a clear error, not a traceback.
     rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q",
-                          "--sim", str(tmp_path / "no-such-sim")])
+                          "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
     assert rc == 2
 
 
@@ -138,10 +256,10 @@ def test_run_reads_only_its_own_csvs(csv_dir, tmp_path):
         (results / "s" / name).write_bytes((csv_dir / name).read_bytes())
     write_runs(results / "s" / "dyna-qpc-150.csv", "dyna-qpc", [[70] * 150])
     rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q,dyna-qpc",
-                          "--skip-existing", "--sim", str(tmp_path / "no-such-sim")])
+                          "--skip-existing", "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
     assert rc == 0
     table = (results / "s" / "table1.md").read_text()
-    assert "| 12 |" in table and "| 150 |" not in table
+    assert "| 2/2 | 1,250 ± 0 |" in table and table.count("| Dyna-QPC |") == 1
 
 
 def test_arena_errors_are_named(tmp_path):

@@ -1,0 +1,25 @@
+# SPDX-License-Identifier: MIT
+"""dynaqpc-experiment: the paper's protocol, end to end, measured at matched compute.
+
+By concern:
+  runs         reading the simulator's CSVs (training runs, trajectories)
+  stats        when a set learned, what it cost, Table 1 (`measure()` is the reusable entry)
+  plots        Fig. 13 and the trajectories
+  orchestrate  running dynaqpc-sim train, a process per set, with a progress bar
+  cli          the command line
+"""
+
+from .cli import build_parser, main
+from .orchestrate import default_sim, run_sets, scenario_protocol
+from .plots import plot_fig13, plot_trajectories
+from .runs import (AGENT_LABELS, AGENTS, COLUMNS, TRAJECTORY_COLUMNS, AgentRuns, read_csv_dir, read_csvs,
+                   read_runs, read_trajectory)
+from .stats import (PAPER_STEP_S, AgentSummary, LearnSettings, SetResult, learned_episode_index, measure,
+                    set_results, summarise, summarise_all, table_markdown, trailing_mean)
+
+__all__ = [
+    "AGENT_LABELS", "AGENTS", "COLUMNS", "TRAJECTORY_COLUMNS", "PAPER_STEP_S", "AgentRuns", "AgentSummary",
+    "LearnSettings", "SetResult", "build_parser", "default_sim", "learned_episode_index", "main", "measure",
+    "plot_fig13", "plot_trajectories", "read_csv_dir", "read_csvs", "read_runs", "read_trajectory", "run_sets",
+    "scenario_protocol", "set_results", "summarise", "summarise_all", "table_markdown", "trailing_mean",
+]

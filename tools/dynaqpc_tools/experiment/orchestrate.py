@@ -1,0 +1,181 @@
+# SPDX-License-Identifier: MIT
+"""Running the simulator: `dynaqpc-sim train` for one agent, its sets spread over processes.
+
+Each set runs in its own process (`--first-set K --sets 1`); set K gets the same seed and so the
+same rows as in one `--sets N` run, so a block of sets run anywhere (another process, a Dask
+worker) merges into the CSV one run would have written. The simulator writes a row as each
+episode ends, and the rows counted as they arrive drive the progress bar.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import List, Optional, Sequence, Tuple
+
+from ..common import ToolError, repo_root
+from .runs import COLUMNS, is_training_csv_header, read_runs
+
+
+def default_sim() -> str:
+    root = repo_root()
+    return str((root or Path.cwd()) / "build" / "host-release" / "bin" / "dynaqpc-sim")
+
+
+def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
+    """(sets, episodes) of the scenario's `learning` line: a scenario file, or a built-in name
+    read from host_sim/scenarios/NAME.scn. None when neither can be read."""
+    candidates = [Path(scenario)]
+    root = repo_root()
+    if root is not None:
+        candidates.append(root / "host_sim" / "scenarios" / f"{scenario}.scn")
+    for path in candidates:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            continue
+        for line in text.splitlines():
+            words = line.split("#", 1)[0].split()
+            if words[:1] == ["learning"]:
+                kv = dict(zip(words[1::2], words[2::2]))
+                try:
+                    return int(kv.get("sets", 1)), int(kv["episodes"])
+                except (KeyError, ValueError):
+                    return None
+    return None
+
+
+def check_output_csv(path: str) -> None:
+    """Refuses to overwrite a file that is not a training CSV: it is not ours to replace."""
+    p = Path(path)
+    if p.exists() and (not p.is_file() or (p.stat().st_size > 0 and not is_training_csv_header(p))):
+        raise ToolError(f"{path}: exists and is not a training CSV; not overwriting it")
+
+
+def train_command(sim: str, scenario: str, agent: str, seed: int, sets: int, episodes: int,
+                  planning: Optional[int] = None, extra: Sequence[str] = (), first_set: int = 1) -> List[str]:
+    cmd = [sim, "train", "--scenario", scenario, "--agent", agent, "--sets", str(sets),
+           "--episodes", str(episodes), "--seed", str(seed)]
+    if first_set != 1:
+        cmd += ["--first-set", str(first_set)]
+    if planning is not None and agent != "q":
+        cmd += ["--planning", str(planning)]
+    return cmd + list(extra)
+
+
+def _tail(path: str) -> str:
+    try:
+        lines = Path(path).read_text(encoding="utf-8", errors="replace").strip().splitlines()
+    except OSError:
+        return ""
+    return lines[-1] if lines else ""
+
+
+class _SetProcess:
+    def __init__(self, cmd: List[str], csv_path: str, err_path: str):
+        self.csv_path, self.err_path = csv_path, err_path
+        self.rows = 0
+        self._offset = 0
+        self._header = False
+        with open(err_path, "wb") as err:
+            try:
+                self.proc = subprocess.Popen(cmd + ["--csv", csv_path, "--quiet"], stdout=subprocess.DEVNULL,
+                                             stderr=err)
+            except OSError as e:
+                raise ToolError(f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset "
+                                "host-release && cmake --build --preset host-release)") from None
+
+    def new_rows(self) -> int:
+        """Rows (episodes) written since the last call."""
+        try:
+            with open(self.csv_path, "rb") as f:
+                f.seek(self._offset)
+                chunk = f.read()
+        except OSError:
+            return 0
+        complete = chunk[: chunk.rfind(b"\n") + 1]
+        self._offset += len(complete)
+        n = complete.count(b"\n")
+        if n and not self._header:  # the first line is the header
+            self._header, n = True, n - 1
+        self.rows += n
+        return n
+
+
+def run_sets(sim: str, scenario: str, agent: str, csv_path: str, sets: int, episodes: int, seed: int,
+             jobs: int = 1, planning: Optional[int] = None, extra: Sequence[str] = (),
+             first_set: int = 1, progress: bool = True, desc: str = "") -> None:
+    """Trains sets first_set..first_set+sets-1 of one agent, `jobs` processes at a time, and
+    writes their rows in set order into csv_path (the rows `--sets N` would have written)."""
+    from tqdm import tqdm
+
+    check_output_csv(csv_path)
+    shown = train_command(sim, scenario, agent, seed, sets, episodes, planning, extra, first_set)
+    print("$ " + " ".join(shlex.quote(c) for c in shown) + f" --csv {shlex.quote(csv_path)}"
+          + (f"   (one process per set, {jobs} at a time)" if jobs > 1 and sets > 1 else ""), flush=True)
+    out_dir = os.path.dirname(os.path.abspath(csv_path))
+    os.makedirs(out_dir, exist_ok=True)
+    bar = tqdm(total=sets * episodes, desc=desc or agent, unit="episode", file=sys.stderr,
+               disable=not progress or None, dynamic_ncols=True, leave=True)
+    started = time.monotonic()
+    with tempfile.TemporaryDirectory(prefix=".sets-", dir=out_dir) as tmp:
+        pending = list(range(first_set, first_set + sets))
+        running = {}
+        done = []
+        try:
+            while pending or running:
+                while pending and len(running) < jobs:
+                    k = pending.pop(0)
+                    cmd = train_command(sim, scenario, agent, seed, 1, episodes, planning, extra, k)
+                    running[k] = _SetProcess(cmd, os.path.join(tmp, f"set{k}.csv"), os.path.join(tmp, f"set{k}.err"))
+                time.sleep(0.1)
+                for k, sp in list(running.items()):
+                    rc = sp.proc.poll()
+                    bar.update(sp.new_rows())
+                    if rc is None:
+                        continue
+                    del running[k]
+                    if rc != 0:
+                        raise ToolError(f"{sim} train (set {k} of {agent}) exited with status {rc}: "
+                                        f"{_tail(sp.err_path)}")
+                    done.append(k)
+                    bar.set_postfix_str(f"set {len(done)}/{sets}")
+        finally:
+            for sp in running.values():
+                sp.proc.kill()
+                sp.proc.wait()
+            bar.close()
+        merged = os.path.join(tmp, "merged.csv")
+        with open(merged, "w", encoding="utf-8") as out:
+            out.write(",".join(COLUMNS) + "\n")
+            for k in sorted(done):
+                with open(os.path.join(tmp, f"set{k}.csv"), encoding="utf-8") as f:
+                    f.readline()
+                    out.write(f.read())
+        runs = read_runs(merged).get(agent)
+        if runs is None or len(runs.sets) != sets or len(runs.episodes) != episodes:
+            raise ToolError(f"{sim} train for {agent}: rows missing from the simulator's output")
+        try:
+            os.replace(merged, csv_path)
+        except OSError as e:
+            raise ToolError(f"cannot write {csv_path}: {e.strerror or e}") from None
+    if not bar.disable:
+        return
+    print(f"{desc or agent}: {sets} sets x {episodes} episodes in {time.monotonic() - started:.0f} s", flush=True)
+
+
+def run_command(cmd: List[str]) -> None:
+    """Runs a simulator command in the foreground; a failure is a ToolError."""
+    print("$ " + " ".join(shlex.quote(c) for c in cmd), flush=True)
+    try:
+        rc = subprocess.call(cmd)
+    except OSError as e:
+        raise ToolError(f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset host-release && "
+                        "cmake --build --preset host-release)") from None
+    if rc != 0:
+        raise ToolError(f"{cmd[0]} exited with status {rc}")

@@ -1,0 +1,243 @@
+# SPDX-License-Identifier: MIT
+"""What a run measures: when a set learned, what it cost, and Table 1.
+
+Learned, per set: the trailing mean of steps per episode over `smooth` (5) episodes stays at or
+below the threshold from some episode i to the end of the set. The threshold is absolute
+(`learned_steps`, e.g. 50 on paper-lab, 500 on paper-sim) or else `learned_factor` (1.5) times
+the mean of the set's last `final_window` (10) episodes.
+
+Real steps to learn: the steps of episodes 1..i, the episode at whose end the trailing mean
+reaches the threshold for good. Robot time to learn: the robot time of the same episodes. A set
+that never learns counts its whole run, so the mean over ALL sets is never flattered by leaving
+the slow sets out; "learned k/n" is shown beside it.
+
+Planning updates per real step: the CSV's `updates` column counts the agent's Q updates in the
+episode, real plus planning (agent_updates() of firmware/agent: stats.real_updates +
+stats.planning_updates, taken per episode in host_sim/src/lockstep.cpp). Each real step makes one
+real Q update, so planning updates per real step = (updates - steps) / steps, summed over every
+episode of every set. Q-learning shows 0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence
+
+from ..common import ToolError
+from .runs import AGENT_LABELS, AGENTS, AgentRuns
+
+REPORT_EPISODES = (10, 50, 100, 200)
+#: The paper's sampling interval: one real step.
+PAPER_STEP_S = 0.192
+#: The paper's figures per scenario and agent (Table 1 for the simulation, section 4.4 for the lab).
+PAPER = {
+    "paper-sim": {"dyna-qpc": "5.2 h (18,618 s)", "dyna-q": "8.9 h (32,193 s)", "q": "unable to learn"},
+    "paper-lab": {"dyna-qpc": "2,019 steps (1.12 h)"},
+}
+
+
+def trailing_mean(values: Sequence[float], window: int) -> List[float]:
+    out, acc = [], 0.0
+    for i, v in enumerate(values):
+        acc += v
+        if i >= window:
+            acc -= values[i - window]
+        out.append(acc / min(i + 1, window))
+    return out
+
+
+def learned_episode_index(steps: Sequence[float], threshold: float, smooth: int = 1) -> Optional[int]:
+    """0-based index of the first episode from which the smoothed curve stays <= threshold."""
+    curve = trailing_mean(list(steps), max(1, smooth))
+    idx = None
+    for i in range(len(curve) - 1, -1, -1):
+        if curve[i] <= threshold:
+            idx = i
+        else:
+            break
+    return idx
+
+
+@dataclass
+class LearnSettings:
+    learned_steps: Optional[float] = None
+    learned_factor: float = 1.5
+    final_window: int = 10
+    smooth: int = 5
+
+    def check(self) -> None:
+        if self.learned_steps is not None and not (self.learned_steps > 0 and math.isfinite(self.learned_steps)):
+            raise ToolError(f"--threshold/--learned-steps: {self.learned_steps:g} is not a positive number")
+        if not (self.learned_factor > 0 and math.isfinite(self.learned_factor)):
+            raise ToolError(f"--learned-factor: {self.learned_factor:g} is not a positive number")
+        if self.final_window < 1:
+            raise ToolError(f"--final-window: {self.final_window} is not at least 1")
+        if self.smooth < 1:
+            raise ToolError(f"--smooth: {self.smooth} is not at least 1")
+
+    def rule(self) -> str:
+        if self.learned_steps is not None:
+            return f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_steps:g}"
+        return (f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_factor:g} x "
+                f"the set's mean of its last {self.final_window} episodes")
+
+
+@dataclass
+class SetResult:
+    set: int
+    learned: bool
+    episodes: int        # to learn (1-based episode i), or the whole run
+    steps: float         # real steps to learn, or the whole run's
+    robot_time_s: float  # the same episodes' robot time
+
+
+def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
+    out = []
+    for s, row_steps, row_time in zip(runs.sets, runs.steps, runs.robot_time_s):
+        if settings.learned_steps is not None:
+            threshold = settings.learned_steps
+        else:
+            tail = row_steps[-settings.final_window:]
+            threshold = settings.learned_factor * float(sum(tail)) / len(tail)
+        i = learned_episode_index(list(row_steps), threshold, settings.smooth)
+        n = len(row_steps) if i is None else i + 1
+        out.append(SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n]))))
+    return out
+
+
+def mean_sd(xs: Sequence[float]):
+    if not xs:
+        return None, None
+    m = sum(xs) / len(xs)
+    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) if len(xs) > 1 else 0.0
+    return m, sd
+
+
+@dataclass
+class AgentSummary:
+    agent: str
+    label: str
+    source: str
+    budget: Optional[int]
+    n_sets: int
+    n_episodes: int
+    sets: List[SetResult]
+    real_steps: int
+    robot_time_s: float
+    updates: int
+    wall_s: float
+    mean_steps_at: Dict[int, Optional[float]]
+
+    @property
+    def n_learned(self) -> int:
+        return sum(1 for r in self.sets if r.learned)
+
+    @property
+    def steps_mean_sd(self):
+        """Real steps to learn over ALL sets (a set that never learned counts its whole run)."""
+        return mean_sd([r.steps for r in self.sets])
+
+    @property
+    def hours_mean_sd(self):
+        return mean_sd([r.robot_time_s / 3600.0 for r in self.sets])
+
+    @property
+    def episodes_mean_sd(self):
+        return mean_sd([float(r.episodes) for r in self.sets])
+
+    @property
+    def planning_per_step(self) -> float:
+        """(updates - steps) / steps over the whole run: planning Q updates per real step."""
+        return (self.updates - self.real_steps) / self.real_steps if self.real_steps else 0.0
+
+    @property
+    def s_per_step(self) -> float:
+        return self.robot_time_s / self.real_steps if self.real_steps else 0.0
+
+
+def summarise(runs: AgentRuns, settings: LearnSettings, label: Optional[str] = None) -> AgentSummary:
+    mean_curve = runs.steps.mean(axis=0)
+    at = {e: (float(mean_curve[e - 1]) if e <= len(mean_curve) else None) for e in REPORT_EPISODES}
+    return AgentSummary(runs.agent, label or AGENT_LABELS.get(runs.agent, runs.agent), runs.source,
+                        runs.budget, len(runs.sets), len(runs.episodes), set_results(runs, settings),
+                        int(runs.steps.sum()), float(runs.robot_time_s.sum()), runs.total_updates,
+                        runs.wall_s, at)
+
+
+def agent_rank(agent: str) -> int:
+    return AGENTS.index(agent) if agent in AGENTS else len(AGENTS)
+
+
+def summarise_all(runs: Sequence[AgentRuns], settings: LearnSettings) -> List[AgentSummary]:
+    """Summaries in table order (budget, then Q, Dyna-Q, Dyna-QPC). An agent that appears more
+    than once (several budgets or CSVs) is labelled with its CSV's name."""
+    from pathlib import Path
+
+    settings.check()
+    count: Dict[str, int] = {}
+    for r in runs:
+        count[r.agent] = count.get(r.agent, 0) + 1
+    out = []
+    for r in runs:
+        label = AGENT_LABELS.get(r.agent, r.agent)
+        if count[r.agent] > 1 and r.budget is None and r.source:
+            label += f" ({Path(r.source).name})"
+        out.append(summarise(r, settings, label))
+    return sorted(out, key=lambda s: (-1 if s.budget is None else (s.budget if s.budget else 10 ** 9),
+                                      agent_rank(s.agent), s.label))
+
+
+def budget_text(s: AgentSummary) -> str:
+    if s.agent == "q":
+        return "none (Q-learning)"
+    if s.budget is None:
+        return "scenario's"
+    return "idle time (MCU model)" if s.budget == 0 else f"{s.budget:,}"
+
+
+def _pm(m, sd, fmt):
+    return "–" if m is None else f"{fmt.format(m)} ± {fmt.format(sd)}"
+
+
+def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, scenario: str = "") -> str:
+    """Table 1 for one scenario: one row per agent and planning budget."""
+    if not summaries:
+        raise ToolError("no runs to tabulate")
+    paper = PAPER.get(scenario, {})
+    n_max = max(s.n_episodes for s in summaries)
+    at_eps = [e for e in REPORT_EPISODES if e <= n_max]
+    head = ["Agent", "Planning budget", "Planning updates / real step", "Sets learned",
+            "Real steps to learn", "Robot time to learn (h)", "Episodes to learn",
+            f"Robot s / real step (paper {PAPER_STEP_S})"]
+    head += [f"Mean steps ep. {e}" for e in at_eps]
+    if paper:
+        head.append("Paper")
+    lines = []
+    if scenario:
+        lines += [f"### Table 1: {scenario}", ""]
+    lines += ["| " + " | ".join(head) + " |", "|---|---|" + "---:|" * (len(head) - 2)]
+    for s in summaries:
+        cells = [s.label, budget_text(s), f"{s.planning_per_step:,.1f}", f"{s.n_learned}/{s.n_sets}",
+                 _pm(*s.steps_mean_sd, "{:,.0f}"), _pm(*s.hours_mean_sd, "{:.2f}"),
+                 _pm(*s.episodes_mean_sd, "{:.1f}"), f"{s.s_per_step:.3f}"]
+        cells += [f"{s.mean_steps_at[e]:.1f}" if s.mean_steps_at[e] is not None else "–" for e in at_eps]
+        if paper:
+            cells.append(paper.get(s.agent, "–"))
+        lines.append("| " + " | ".join(cells) + " |")
+    lines += ["", f"Learned: {settings.rule()} to the end of the set. Real steps and robot time to learn: "
+              "those of the episodes up to that point, mean ± sample sd over ALL sets (a set that never "
+              "learned counts its whole run). Planning updates / real step: (updates - steps) / steps "
+              "from the CSV's updates column (real plus planning Q updates).", ""]
+    return "\n".join(lines)
+
+
+def measure(csv_paths: Sequence[str], threshold: Optional[float] = None, smooth: int = 5,
+            scenario: str = "", learned_factor: float = 1.5, final_window: int = 10):
+    """The reusable measurement: reads training CSVs (an agent may appear in several, e.g. at
+    several budgets), returns (summaries, Table 1 as markdown)."""
+    from .runs import read_csvs
+
+    settings = LearnSettings(threshold, learned_factor, final_window, smooth)
+    summaries = summarise_all(read_csvs(csv_paths, allow_repeats=True), settings)
+    return summaries, table_markdown(summaries, settings, scenario)
