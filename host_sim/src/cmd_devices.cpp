@@ -203,6 +203,10 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     BusLink bus;
     bus.open();
     Supervisor sup(world, sb.robot, bus);
+    // Without a supervisor an operator (dynaqpc-operator start) starts the episodes: the robot
+    // is put down at a random start, as the supervisor would, not at the arena's centre (which
+    // may be in the goal, ending the first episode at its first step).
+    if (!s.supervise) world.reset(world.sample_start_pose());
     std::printf("devices: %s, speed %gx, %s; ready\n", sb.name.c_str(), s.speed,
                 s.supervise ? "supervising" : "no supervisor");
     std::fflush(stdout);

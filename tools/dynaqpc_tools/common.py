@@ -151,3 +151,14 @@ def _range_text(lo, hi, lo_open: bool = False) -> str:
     if lo is None:
         return f"<= {hi:g}"
     return f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
+
+
+def crc8_sae_j1850(data: bytes) -> int:
+    """CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, xorout 0xFF), the Crc of MOTOR_CMD and TOOL_CMD over
+    the id (low byte, high byte) and the data bytes before it (docs/can-protocol.md)."""
+    crc = 0xFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+    return crc ^ 0xFF

@@ -29,6 +29,7 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->bump_latched = false;
     c->episode_start_us = UINT64_MAX;  // set at the first period
     c->stopped_at_us = 0;
+    c->safe_stop_held = false;
     c->mode = ROBOT_MODE_WAIT_FIX;
     wheels_(c, 0.0f, 0.0f);
 }
@@ -36,6 +37,19 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
 void robot_ctrl_stop(robot_ctrl_t *c)
 {
     c->mode = ROBOT_MODE_IDLE;
+    c->have_s = false;
+    c->safe_stop_held = false;
+    wheels_(c, 0.0f, 0.0f);
+}
+
+void robot_ctrl_safe_stop(robot_ctrl_t *c)
+{
+    if (c->mode != ROBOT_MODE_SAFE_STOP) {
+        c->safe_stops++;
+        c->resume_mode = c->mode;
+    }
+    c->mode = ROBOT_MODE_SAFE_STOP;
+    c->safe_stop_held = true;  // unlike a sensor's safe stop, only the operator lifts it
     c->have_s = false;
     wheels_(c, 0.0f, 0.0f);
 }
@@ -126,7 +140,7 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
                 c->mode = ROBOT_MODE_SAFE_STOP;
             }
             wheels_(c, 0.0f, 0.0f);
-        } else if (c->mode == ROBOT_MODE_SAFE_STOP) {
+        } else if (c->mode == ROBOT_MODE_SAFE_STOP && !c->safe_stop_held) {
             // Back: the interrupted action's outcome is unknown, so it is not learned from.
             c->have_s = false;
             c->mode = ROBOT_MODE_WAIT_FIX;

@@ -91,8 +91,10 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
         robot_ctrl_start_episode(&app_.ctrl);
         break;
     case TLM_CMD_STOP:
-    case TLM_CMD_SAFE_STOP:
         robot_ctrl_stop(&app_.ctrl);
+        break;
+    case TLM_CMD_SAFE_STOP:
+        robot_ctrl_safe_stop(&app_.ctrl);  // FW_STATUS shows SAFE_STOP until START or STOP
         break;
     case TLM_CMD_SAVE_LEARNED:
         if (app_.store_ok && learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) == FW_OK) {

@@ -318,6 +318,33 @@ static void test_bump_costs_and_is_counted(void **state)
     assert_float_equal(bench_.ctrl.last_episode.reward, -102.0f, 1e-6);
 }
 
+static void test_operator_safe_stop_holds_until_start(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    const uint32_t steps = agent_paper_sim.stats.real_steps;
+    robot_ctrl_safe_stop(&bench_.ctrl);
+    for (int i = 0; i < 5; i++) {  // bus and pose are fine: it stays stopped all the same
+        bench_period_();
+        assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
+        assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.v_right, 0.0f, 0);
+    }
+    assert_int_equal(agent_paper_sim.stats.real_steps, steps);
+    assert_int_equal(bench_.ctrl.safe_stops, 1);
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    robot_ctrl_safe_stop(&bench_.ctrl);
+    robot_ctrl_stop(&bench_.ctrl);
+    bench_period_();
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_IDLE);
+}
+
 static void test_safe_stop_on_bus_loss_and_resume(void **state)
 {
     (void)state;
@@ -427,6 +454,7 @@ int main(void)
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
         cmocka_unit_test(test_step_cap_ends_the_episode),
         cmocka_unit_test(test_bump_costs_and_is_counted),
+        cmocka_unit_test(test_operator_safe_stop_holds_until_start),
         cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),
         cmocka_unit_test(test_fixed_planning_runs_after_each_step),

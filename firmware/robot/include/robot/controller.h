@@ -35,7 +35,8 @@ typedef enum robot_mode {
     ROBOT_MODE_IDLE = 0,       ///< stopped, waiting for the start of an episode
     ROBOT_MODE_ACTING = 1,     ///< driving the current action
     ROBOT_MODE_WAIT_FIX = 2,   ///< stopped after an action (or at the start), waiting for a pose fix
-    ROBOT_MODE_SAFE_STOP = 3,  ///< stopped: the pose or the bus went silent; resumes when back
+    ROBOT_MODE_SAFE_STOP = 3,  ///< stopped: the pose or the bus went silent (resumes when back), or
+                               ///< the operator's safe stop (held until the next start or stop)
 } robot_mode_t;
 
 /// One finished episode.
@@ -75,6 +76,7 @@ typedef struct robot_ctrl {
     /// Default true.
     bool learning;
     uint32_t safe_stops;       ///< times a safe stop was entered
+    bool safe_stop_held;       ///< the operator's safe stop: no automatic resume
     bool step_done;            ///< a real step happened in the last period (see last_step)
     robot_step_report_t last_step;
     bool episode_done;         ///< an episode ended in the last period (see last_episode)
@@ -90,6 +92,11 @@ void robot_ctrl_start_episode(robot_ctrl_t *c);
 
 /// Ends any episode without learning from its last step and stops the wheels.
 void robot_ctrl_stop(robot_ctrl_t *c);
+
+/// The operator's safe stop: the wheels stop and the mode is ROBOT_MODE_SAFE_STOP until the next
+/// robot_ctrl_start_episode() or robot_ctrl_stop(), whatever the sensors say; the running
+/// episode's last step is not learned from. Counted in safe_stops. Context: thread.
+void robot_ctrl_safe_stop(robot_ctrl_t *c);
 
 /// One control period: reads the sensors, advances the episode, returns the wheel speeds.
 void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *sense, float *v_left, float *v_right);
