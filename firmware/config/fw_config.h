@@ -8,9 +8,7 @@
 #ifndef FW_CONFIG_H
 #define FW_CONFIG_H
 
-#ifdef FW_CONFIG_FILE
-#include FW_CONFIG_FILE
-#endif
+#include "fw/fw_user_config.h"
 
 // ---- Shape limits shared by every profile ------------------------------------------------------
 

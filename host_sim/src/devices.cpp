@@ -14,12 +14,13 @@
 #include "world/cricket.h"
 #include "world/scenario.h"
 #include "world/world.h"
+#include "fw/fw_util.h"
 
 namespace dynaqpc {
 
 namespace {
 
-constexpr double kRadToCdeg = 18000.0 / M_PI;
+constexpr double kRadToCdeg = 18000.0 / FW_PI;
 
 std::uint16_t to_mm(double m, std::uint16_t max_mm)
 {

@@ -12,6 +12,7 @@
 #include "drivers/gyro.h"
 #include "options.h"
 #include "world/scenario.h"
+#include "fw/fw_util.h"
 
 namespace dynaqpc {
 
@@ -87,7 +88,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     // An action takes as many whole periods as the wheels need at their top speed, and a turn as
     // many as keep it within 80 % of the gyro's measuring range (a saturated gyro loses heading).
     const double wheel_travel = std::max(sc->actions.step, sc->actions.turn * sc->robot.track / 2.0);
-    const double max_turn_rate = 0.8 * GYRO_RANGE_DEG_S * M_PI / 180.0;
+    const double max_turn_rate = 0.8 * GYRO_RANGE_DEG_S * FW_PI / 180.0;
     const double periods = std::ceil(std::max(wheel_travel / sc->robot.max_speed, sc->actions.turn / max_turn_rate) /
                                          sc->timing.control_period -
                                      1e-9);
@@ -144,7 +145,7 @@ std::string arena_json(const world::Scenario &sc)
         o << (i ? "," : "");
         if (ob.shape == world::Obstacle::Shape::Box) {
             o << "{\"kind\":\"box\",\"cx\":" << ob.cx << ",\"cy\":" << ob.cy << ",\"w\":" << ob.w
-              << ",\"h\":" << ob.h << ",\"angle_deg\":" << ob.angle * 180.0 / M_PI << "}";
+              << ",\"h\":" << ob.h << ",\"angle_deg\":" << ob.angle * 180.0 / FW_PI << "}";
         } else {
             o << "{\"kind\":\"circle\",\"cx\":" << ob.cx << ",\"cy\":" << ob.cy << ",\"r\":" << ob.radius
               << "}";

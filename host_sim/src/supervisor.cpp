@@ -6,13 +6,14 @@
 #include <stdexcept>
 
 #include "drivers/telemetry.h"
+#include "fw/fw_util.h"
 
 namespace dynaqpc {
 
 hal_can_frame_t start_episode_frame(const robot_config_t &cfg, const world::Pose &start,
                                     std::uint8_t *counter)
 {
-    double h = std::fmod(start.heading * 18000.0 / M_PI, 36000.0);
+    double h = std::fmod(start.heading * 18000.0 / FW_PI, 36000.0);
     if (h < 0) h += 36000.0;
     tlm_tool_cmd_t cmd{};
     cmd.command = TLM_CMD_START_EPISODE;

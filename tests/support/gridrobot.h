@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "agent/space.h"
 
 #ifdef __cplusplus

@@ -5,17 +5,9 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 #include "inline.h"
 #include "probe.h"
-
-static uint32_t log2_(uint32_t x)
-{
-    uint32_t n = 0;
-    while ((1u << n) < x) {
-        n++;
-    }
-    return n;
-}
 
 int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *counts,
               int16_t *weights, uint32_t capacity)
@@ -42,9 +34,9 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     cmac->counts = counts;
     cmac->weights = weights;
     cmac->capacity = capacity;
-    cmac->capacity_shift = (uint8_t)log2_(capacity);
+    cmac->capacity_shift = (uint8_t)fw_log2_ceil(capacity);
     cmac->home_shift = (uint8_t)(32u - cmac->capacity_shift);
-    const uint32_t tiling_bits = log2_(cfg->n_tilings);
+    const uint32_t tiling_bits = fw_log2_ceil(cfg->n_tilings);
 
     // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
     // factors (Miller and Glanz's asymmetric displacement) keep the tilings from sliding along
@@ -82,7 +74,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     // because the displacements push the last values into an extra tile.
     uint32_t shift = tiling_bits;
     cmac->action_shift = (uint8_t)shift;
-    shift += log2_(cfg->n_actions);
+    shift += fw_log2_ceil(cfg->n_actions);
     for (uint32_t k = 0; k < cfg->n_inputs; k++) {
         cmac->key_shift[k] = (uint8_t)shift;
         const uint32_t tile_bits = (uint32_t)(cfg->input_bits[k] - cfg->tile_shift[k]);
@@ -213,7 +205,7 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 
 static uint32_t home_(const cmac_t *cmac, uint32_t key)
 {
-    return (key * 0x9E3779B1u) >> cmac->home_shift;
+    return fw_fib_mix(key) >> cmac->home_shift;
 }
 
 // The cell holding key, or the first empty cell on its probe path, or capacity when the probe
@@ -310,7 +302,7 @@ AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *til
     const uint32_t *tile = tiles->key;
     for (; slot != end; slot++, tile++) {
         const uint32_t key = *tile ^ change;
-        const uint32_t home = (key * 0x9E3779B1u) >> home_shift;
+        const uint32_t home = fw_fib_mix(key) >> home_shift;
         if (home + FW_CFG_MAX_PROBE <= capacity) {
             const uint32_t *const cell = probe_scan(keys + home, key, full);
             if (cell == NULL) {

@@ -5,6 +5,7 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 
 int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
                uint32_t *index_rec, uint32_t capacity, uint8_t n_actions)
@@ -35,7 +36,7 @@ void dynaq_clear(dynaq_table_t *t)
 
 static uint32_t home_(const dynaq_table_t *t, agent_state_t s)
 {
-    return (s * 0x9E3779B1u) & t->index_mask;
+    return fw_fib_mix(s) & t->index_mask;
 }
 
 // Linear probing without tombstones (Knuth's Algorithm R): empty the slot, then move back every

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 #include "inline.h"
 
 // 2 * capacity index slots and every heap position (2 * i + 2) must fit in 32 bits.
@@ -19,7 +20,7 @@ FW_STATIC_ASSERT(PQ_NO_KEY == 0xFFFFFFFFu, pq_no_key_is_all_ones);
 // Cortex-M4); the low bits of the product would depend only on the key's low bits.
 static uint32_t index_home(const pqueue_t *pq, uint32_t key)
 {
-    uint32_t h = key * 0x9E3779B1u;
+    uint32_t h = fw_fib_mix(key);
     return (uint32_t)(((uint64_t)h * ((uint64_t)pq->index_mask + 1u)) >> 32);
 }
 

@@ -5,20 +5,12 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 #include "inline.h"
 #include "probe.h"
 
 // What an unknown state reads as. Large enough for any action count.
 static const float zero_row_[FW_CFG_MAX_ACTIONS];
-
-static uint32_t log2_(uint32_t x)
-{
-    uint32_t n = 0;
-    while ((1u << n) < x) {
-        n++;
-    }
-    return n;
-}
 
 int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8_t n_actions,
                 uint32_t state_bits)
@@ -31,7 +23,7 @@ int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8
     qs->keys = keys;
     qs->capacity = capacity;
     qs->n_actions = n_actions;
-    qs->capacity_shift = (uint8_t)log2_(capacity);
+    qs->capacity_shift = (uint8_t)fw_log2_ceil(capacity);
     qs->dense = (uint8_t)((1u << state_bits) <= capacity);
     if (!qs->dense && keys == NULL) {
         return FW_ERR_INVAL;
@@ -60,7 +52,7 @@ void qstore_clear(qstore_t *qs)
 // which neighbouring robot poses are, evenly over the table.
 static uint32_t home_(const qstore_t *qs, agent_state_t s)
 {
-    return (s * 0x9E3779B1u) >> (32u - qs->capacity_shift);
+    return fw_fib_mix(s) >> (32u - qs->capacity_shift);
 }
 
 // The slot holding s, or the first empty slot where it would go, or capacity if neither is

@@ -10,25 +10,14 @@
 #include <string.h>
 
 #include "fw/fw_base.h"
-
-static uint8_t crc8_step(uint8_t crc, uint8_t byte)
-{
-    crc ^= byte;
-    for (int bit = 0; bit < 8; bit++) {
-        crc = (uint8_t)((crc & 0x80u) ? (((unsigned)crc << 1) ^ 0x1Du) : ((unsigned)crc << 1));
-    }
-    return crc;
-}
+#include "fw/fw_crc.h"
 
 uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len)
 {
-    uint8_t crc = 0xFFu;
-    crc = crc8_step(crc, (uint8_t)(id & 0xFFu));
-    crc = crc8_step(crc, (uint8_t)((id >> 8) & 0xFFu));
-    for (size_t i = 0; i < len; i++) {
-        crc = crc8_step(crc, data[i]);
-    }
-    return (uint8_t)(crc ^ 0xFFu);
+    // The 11-bit id's two bytes, low first, then the payload: a frame copied under another id
+    // fails the check.
+    const uint8_t id_bytes[2] = {(uint8_t)(id & 0xFFu), (uint8_t)((id >> 8) & 0xFFu)};
+    return fw_crc8(fw_crc8(0u, id_bytes, 2u), data, (uint32_t)len);
 }
 
 void can_link_rx_init(can_link_rx_t *rx)

@@ -10,11 +10,7 @@
 
 #include "dynaqpc_can.h"
 #include "fw/fw_base.h"
-
-static int32_t clamp_i32(int32_t v, int32_t lo, int32_t hi)
-{
-    return v < lo ? lo : (v > hi ? hi : v);
-}
+#include "fw/fw_util.h"
 
 static uint32_t min_u32(uint32_t v, uint32_t hi)
 {
@@ -31,8 +27,8 @@ void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out)
 {
     struct dynaqpc_can_tlm_pose_t m;
     int32_t h = pose->heading_cdeg % 36000;
-    m.x = (int16_t)clamp_i32(pose->x_mm, INT16_MIN, INT16_MAX);
-    m.y = (int16_t)clamp_i32(pose->y_mm, INT16_MIN, INT16_MAX);
+    m.x = (int16_t)fw_clamp_i32(pose->x_mm, INT16_MIN, INT16_MAX);
+    m.y = (int16_t)fw_clamp_i32(pose->y_mm, INT16_MIN, INT16_MAX);
     m.heading = (uint16_t)(h < 0 ? h + 36000 : h);
     m.fix_state = pose->fix_state > TLM_FIX_LOST ? (uint8_t)TLM_FIX_LOST : pose->fix_state;
     m.counter = can_link_tx_counter_next(&tlm->pose_counter);
@@ -45,7 +41,7 @@ void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out
     struct dynaqpc_can_tlm_learn_t m;
     m.state = min_u32(learn->state, 0xFFFFFFu);
     m.action = (uint8_t)min_u32(learn->action, 15u);
-    m.reward = (int8_t)clamp_i32(learn->reward, INT8_MIN, INT8_MAX);
+    m.reward = (int8_t)fw_clamp_i32(learn->reward, INT8_MIN, INT8_MAX);
     m.episode = (uint16_t)(learn->episode & 0x7FFu);
     m.step = (uint16_t)min_u32(learn->step, 8191u);
     m.counter = can_link_tx_counter_next(&tlm->learn_counter);
@@ -70,7 +66,7 @@ void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
     struct dynaqpc_can_tlm_episode_t m;
     m.episode = (uint16_t)(episode->episode & 0xFFFFu);
     m.steps = (uint16_t)min_u32(episode->steps, 0xFFFFu);
-    m.total_reward = clamp_i32(episode->total_reward, -524288, 524287);
+    m.total_reward = fw_clamp_i32(episode->total_reward, -524288, 524287);
     m.reached_goal = episode->reached_goal ? 1u : 0u;
     m.bumps = (uint16_t)min_u32(episode->bumps, 2047u);
     can_link_frame_prepare(out, DYNAQPC_CAN_TLM_EPISODE_FRAME_ID, DYNAQPC_CAN_TLM_EPISODE_LENGTH);

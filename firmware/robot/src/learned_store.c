@@ -7,29 +7,12 @@
 #include <string.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_crc.h"
 
 // Staging buffer for programming: regions are written through it in write_align units. Large
 // enough for any flash's programming unit we know (4 bytes on the STM32F4, 8 or 16 elsewhere).
 #define STAGE_BYTES 64u
 FW_STATIC_ASSERT(sizeof(learned_header_t) <= STAGE_BYTES, header_fits_stage);
-
-uint32_t learned_crc32(uint32_t crc, const void *data, uint32_t len)
-{
-    // Nibble-wise: a 16-entry table, 64 bytes of flash, about twice the speed of bit-wise.
-    static const uint32_t table[16] = {
-        0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu, 0x76DC4190u, 0x6B6B51F4u,
-        0x4DB26158u, 0x5005713Cu, 0xEDB88320u, 0xF00F9344u, 0xD6D6A3E8u, 0xCB61B38Cu,
-        0x9B64C2B0u, 0x86D3D2D4u, 0xA00AE278u, 0xBDBDF21Cu,
-    };
-    const uint8_t *p = (const uint8_t *)data;
-    crc = ~crc;
-    for (uint32_t i = 0; i < len; i++) {
-        crc ^= p[i];
-        crc = (crc >> 4) ^ table[crc & 15u];
-        crc = (crc >> 4) ^ table[crc & 15u];
-    }
-    return ~crc;
-}
 
 static uint32_t layout_of_(const agent_t *ag, agent_region_t *regions, uint32_t *n_out,
                            uint32_t *payload)
@@ -46,13 +29,13 @@ static uint32_t layout_of_(const agent_t *ag, agent_region_t *regions, uint32_t 
     *n_out = n;
     *payload = total;
     // The space too: the same table sizes with another state encoding mean other knowledge.
-    const uint32_t crc = learned_crc32(0, words, (2u + n) * (uint32_t)sizeof(uint32_t));
-    return learned_crc32(crc, ag->space, (uint32_t)sizeof *ag->space);
+    const uint32_t crc = fw_crc32(0, words, (2u + n) * (uint32_t)sizeof(uint32_t));
+    return fw_crc32(crc, ag->space, (uint32_t)sizeof *ag->space);
 }
 
 static uint32_t header_crc_(const learned_header_t *h)
 {
-    return learned_crc32(0, h, (uint32_t)offsetof(learned_header_t, header_crc));
+    return fw_crc32(0, h, (uint32_t)offsetof(learned_header_t, header_crc));
 }
 
 static uint32_t align_up_(uint32_t v, uint32_t a)
@@ -82,7 +65,7 @@ static int flash_crc_(uint32_t offset, uint32_t len, uint32_t *crc)
         if (err) {
             return err;
         }
-        c = learned_crc32(c, buf, n);
+        c = fw_crc32(c, buf, n);
         offset += n;
         len -= n;
     }
@@ -204,7 +187,7 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
     }
     uint32_t crc = 0;
     for (uint32_t r = 0; r < n; r++) {
-        crc = learned_crc32(crc, regions[r].data, regions[r].size);
+        crc = fw_crc32(crc, regions[r].data, regions[r].size);
     }
     h.magic = LEARNED_STORE_MAGIC;
     h.version = LEARNED_STORE_VERSION;

@@ -4,9 +4,7 @@
 // each value is what it is.
 #include "robot/robot_config.h"
 
-#define PI_F 3.14159265358979f
-
-
+#include "fw/fw_util.h"
 
 const robot_config_t robot_config_paper_sim = {
     .name = "paper-sim",
@@ -19,7 +17,7 @@ const robot_config_t robot_config_paper_sim = {
     .code_threshold_m = {1.0f, 1.0f, 1.0f, 1.0f},
     .n_ranges = 16,
     .tile_shift = {0, 0, 0, 0},
-    .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.40f,
+    .step_m = 0.25f, .turn_rad = FW_PI_F / 2.0f, .track_m = 0.40f,
     // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
     .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 0, .period_us = 192000u,
     .step_past_m = 0.05f,  // a fifth of the 25 cm cell
@@ -44,7 +42,7 @@ const robot_config_t robot_config_paper_lab = {
     .code_threshold_m = {0.30f, 0.30f, 0.30f, 0.0f},
     .n_ranges = 3,
     .tile_shift = {0, 0, 0, 0},
-    .step_m = 0.25f, .turn_rad = PI_F / 2.0f, .track_m = 0.18f,
+    .step_m = 0.25f, .turn_rad = FW_PI_F / 2.0f, .track_m = 0.18f,
     // Two periods: a 90 degree turn in one would exceed 80 % of the gyro's 300 deg/s.
     .action_periods = 2, .aligned_actions = 1, .wait_for_fix = 1, .period_us = 192000u,
     // 16 cm into a 54 x 40 cm cell: the front IR then reads a wall at the next cell edge ahead at

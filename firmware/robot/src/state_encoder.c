@@ -4,8 +4,7 @@
 
 #include <math.h>
 
-// pi in single precision, the value every port computes with.
-#define ROBOT_PI 3.14159265358979f
+#include "fw/fw_util.h"
 
 uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint32_t n)
 {
@@ -45,10 +44,10 @@ agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *
     comp[1] = cell_(pose->y, cfg->arena_h, cfg->bits_y);
     // Sector 0 is centred on +x: shift by half a sector, wrap into [0, 2 pi).
     const uint32_t sectors = 1u << cfg->bits_heading;
-    const float sector = 2.0f * ROBOT_PI / (float)sectors;
-    float h = fmodf(pose->heading + 0.5f * sector, 2.0f * ROBOT_PI);
+    const float sector = 2.0f * FW_PI_F / (float)sectors;
+    float h = fmodf(pose->heading + 0.5f * sector, 2.0f * FW_PI_F);
     if (h < 0.0f) {
-        h += 2.0f * ROBOT_PI;
+        h += 2.0f * FW_PI_F;
     }
     uint32_t hs = h == h ? (uint32_t)(h / sector) : 0u;
     comp[2] = hs >= sectors ? sectors - 1u : hs;
@@ -76,8 +75,8 @@ bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
 // Radians in [0, 2 pi).
 static float wrap_2pi_(float a)
 {
-    a = fmodf(a, 2.0f * ROBOT_PI);
-    return a < 0.0f ? a + 2.0f * ROBOT_PI : a;
+    a = fmodf(a, 2.0f * FW_PI_F);
+    return a < 0.0f ? a + 2.0f * FW_PI_F : a;
 }
 
 // The signed turn from `heading` to the next multiple of `turn` counter-clockwise (left) or
@@ -127,7 +126,7 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
         switch (action) {
         case ROBOT_FORWARD:
         case ROBOT_BACKWARD:
-            dist = aligned_step_(cfg, pose, pose->heading + (action == ROBOT_BACKWARD ? ROBOT_PI : 0.0f));
+            dist = aligned_step_(cfg, pose, pose->heading + (action == ROBOT_BACKWARD ? FW_PI_F : 0.0f));
             ratio = dist / cfg->step_m;
             break;
         case ROBOT_TURN_LEFT:

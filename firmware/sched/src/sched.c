@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 #include "hal/hal_cpu.h"
 #include "hal/hal_time.h"
 
@@ -19,11 +20,6 @@ static uint32_t add_sat_u32(uint32_t a, uint64_t b)
 {
     uint64_t sum = (uint64_t)a + b;
     return sum > UINT32_MAX ? UINT32_MAX : (uint32_t)sum;
-}
-
-static uint32_t clamp_u32(uint64_t v)
-{
-    return v > UINT32_MAX ? UINT32_MAX : (uint32_t)v;
 }
 
 int sched_init(sched_t *s, const sched_config_t *cfg)
@@ -170,7 +166,7 @@ static void note_period_start(sched_t *s)
 {
     sched_stats_t *st = &s->stats;
     if (s->period_started) {
-        uint32_t steps = clamp_u32(st->idle_steps - s->idle_steps_at_period_start);
+        uint32_t steps = fw_sat_u32(st->idle_steps - s->idle_steps_at_period_start);
         st->idle_steps_last_period = steps;
         if (steps < st->idle_steps_min_period) {
             st->idle_steps_min_period = steps;
@@ -216,7 +212,7 @@ static void run_task(sched_t *s, uint32_t id, uint64_t now)
         ts->late++;
     }
     if (lateness > ts->worst_lateness_us) {
-        ts->worst_lateness_us = clamp_u32(lateness);
+        ts->worst_lateness_us = fw_sat_u32(lateness);
     }
     t->lateness[lateness_bucket(lateness)]++;
     if (id == s->period_task) {
@@ -238,7 +234,7 @@ static void run_task(sched_t *s, uint32_t id, uint64_t now)
         ts->misses = add_sat_u32(ts->misses, 1u);
     }
     if (end - now > ts->worst_run_us) {
-        ts->worst_run_us = clamp_u32(end - now);
+        ts->worst_run_us = fw_sat_u32(end - now);
     }
     ts->runs++;
     t->next_release_us = next;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "world/random.h"
+#include "fw/fw_util.h"
 
 namespace world {
 
@@ -31,7 +32,7 @@ double RandomStream::normal()
     double u1 = 1.0 - uniform();
     double u2 = uniform();
     double r = std::sqrt(-2.0 * std::log(u1));
-    double t = 2.0 * 3.14159265358979323846 * u2;
+    double t = 2.0 * FW_PI * u2;
     spare_ = r * std::sin(t);
     has_spare_ = true;
     return r * std::cos(t);

@@ -15,6 +15,7 @@
 #include <map>
 
 #include "world/scenario.h"
+#include "fw/fw_util.h"
 
 #ifndef DYNAQPC_SCENARIOS_DIR
 #define DYNAQPC_SCENARIOS_DIR "host_sim/scenarios"
@@ -24,7 +25,7 @@ namespace world {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = FW_PI;
 constexpr double kDeg = kPi / 180.0;
 
 using Tokens = std::vector<std::string_view>;

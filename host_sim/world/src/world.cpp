@@ -21,12 +21,13 @@
 
 #include "world/random.h"
 #include "world/world.h"
+#include "fw/fw_util.h"
 
 namespace world {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = FW_PI;
 // A contact the solver resisted with less than this impulse (N*s) is not a push: Box2D leaves
 // round-off sized impulses on resting contacts.
 constexpr float kPushImpulse = 1e-5f;

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "agent/cmac.h"
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "fw/fw_base.h"
 
 #define CELLS 8192u

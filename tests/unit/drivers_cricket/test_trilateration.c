@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "drivers/trilat.h"
 #include "fw/fw_base.h"
 

@@ -12,7 +12,7 @@
 
 #include "agent/agent.h"
 #include "agent/agent_profiles.h"
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "agent/space.h"
 #include "maze/maze.h"
 #include "maze/maze_run.h"

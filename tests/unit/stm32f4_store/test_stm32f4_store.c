@@ -10,7 +10,8 @@
 #include <string.h>
 
 #include "agent/agent_profiles.h"
-#include "agent/prng.h"
+#include "fw/fw_crc.h"
+#include "fw/fw_prng.h"
 #include "fw/fw_base.h"
 #include "robot/learned_store.h"
 #include "robot/robot_config.h"
@@ -114,7 +115,7 @@ static uint32_t fingerprint_(const agent_t *ag)
     const uint32_t n = agent_learned_regions(ag, r);
     uint32_t crc = 0;
     for (uint32_t i = 0; i < n; i++) {
-        crc = learned_crc32(crc, r[i].data, r[i].size);
+        crc = fw_crc32(crc, r[i].data, r[i].size);
     }
     return crc;
 }

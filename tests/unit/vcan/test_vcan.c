@@ -17,7 +17,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "fw/fw_base.h"
 #include "pty.h"
 #include "vcan.h"

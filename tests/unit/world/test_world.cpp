@@ -17,12 +17,13 @@ extern "C" {
 #include "world/random.h"
 #include "world/scenario.h"
 #include "world/world.h"
+#include "fw/fw_util.h"
 
 int run_scenario_tests(void);
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = FW_PI;
 
 // An empty 10 m x 10 m arena with a 0.6 x 0.5 robot (track 0.4) and the given extra lines.
 world::Scenario open_arena(const std::string &extra,
@@ -165,7 +166,7 @@ void test_actions_random_sequence(void **state)
         world::Scenario s = shipped(name);
         s.obstacles.clear();
         s.arena_w = s.arena_h = 200.0;
-        s.actions.turn = M_PI / 4.0;  // what one period can turn (the shipped 90 degrees take two)
+        s.actions.turn = FW_PI / 4.0;  // what one period can turn (the shipped 90 degrees take two)
         world::World w(s, 21);
         world::RandomStream pick(21, 7);
         w.reset({100.0, 100.0, 0.0});

@@ -9,7 +9,7 @@
 #include "agent/dynaq_table.h"
 #include "agent/model.h"
 #include "agent/pqueue.h"
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 #include "agent/qstore.h"
 #include "agent/space.h"
 

@@ -43,10 +43,6 @@ typedef struct learned_store {
     uint32_t saves, save_errors, loads, corrupt_records;
 } learned_store_t;
 
-/// CRC-32 (IEEE 802.3, reflected, as zlib's crc32()): crc = learned_crc32(crc, data, len),
-/// starting from 0.
-uint32_t learned_crc32(uint32_t crc, const void *data, uint32_t len);
-
 /// Reads the flash geometry and finds the newest good record.
 /// Returns FW_OK, FW_ERR_NOSYS (no flash region), or FW_ERR_INVAL (fewer than two sectors).
 int learned_store_init(learned_store_t *st);

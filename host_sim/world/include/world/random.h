@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 
 namespace world {
 

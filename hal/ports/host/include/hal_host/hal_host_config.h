@@ -3,9 +3,8 @@
 #ifndef HAL_HOST_CONFIG_H
 #define HAL_HOST_CONFIG_H
 
-#include "fw_config.h"
-
 #include "fw/fw_base.h"
+#include "fw/fw_user_config.h"
 
 /// Frames the firmware can send before the simulator drains them (hal_host_can_take_tx());
 /// beyond it hal_can_send() returns FW_ERR_FULL. bxCAN has 3 mailboxes; the simulator drains

@@ -4,7 +4,7 @@
 #define STM32F4_CONFIG_H
 
 #include "fw/fw_base.h"
-#include "fw_config.h"
+#include "fw/fw_user_config.h"
 
 /// HSE crystal frequency; the clock tree (stm32f4_clock_init) assumes 8 MHz.
 #ifndef STM32F4_CFG_HSE_HZ

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: the seeded pseudo-random number generator every random choice goes through.
-#ifndef AGENT_PRNG_H
-#define AGENT_PRNG_H
+// dynaqpc base layer: the seeded pseudo-random number generator every random choice goes through.
+#ifndef FW_PRNG_H
+#define FW_PRNG_H
 
 #include <stdint.h>
 
@@ -31,4 +31,4 @@ float prng_unit(prng_t *rng);
 }
 #endif
 
-#endif // AGENT_PRNG_H
+#endif // FW_PRNG_H

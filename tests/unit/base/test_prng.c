@@ -2,7 +2,7 @@
 // Tests of the seeded PRNG: determinism, ranges, uniformity.
 #include "test_common.h"
 
-#include "agent/prng.h"
+#include "fw/fw_prng.h"
 
 static void same_seed_same_stream(void **state)
 {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: xoshiro128** seeded through splitmix32.
-#include "agent/prng.h"
+// dynaqpc base layer: xoshiro128** seeded through splitmix32.
+#include "fw/fw_prng.h"
+
+#include "fw/fw_assert.h"
 
 static uint32_t rotl_(uint32_t x, unsigned k)
 {
@@ -44,6 +46,7 @@ uint32_t prng_next(prng_t *rng)
 
 uint32_t prng_below(prng_t *rng, uint32_t n)
 {
+    FW_ASSERT(n > 0u);
     // Lemire: the high word of x * n is uniform in [0, n) once the few low products that would
     // over-represent some values are rejected.
     uint64_t m = (uint64_t)prng_next(rng) * n;

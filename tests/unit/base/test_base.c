@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT
+// Tests of the base layer: the CRCs against their standard check values, the numeric helpers,
+// and assertions reaching the one handler (and compiled out by FW_CFG_ASSERT 0).
+#include "test_common.h"
+
+#include <string.h>
+
+#include "fw/fw_assert.h"
+#include "fw/fw_crc.h"
+#include "fw/fw_prng.h"
+#include "fw/fw_util.h"
+
+// assert_off.c, compiled with FW_CFG_ASSERT 0: evaluates FW_ASSERT(++*counter == 0).
+void assert_off_check(int *counter);
+
+static void crc32_check_value(void **state)
+{
+    (void)state;
+    assert_int_equal(fw_crc32(0, "123456789", 9), 0xCBF43926u);  // zlib's crc32()
+    assert_int_equal(fw_crc32(0, "", 0), 0u);
+    // Chained over pieces equals one call over the whole.
+    assert_int_equal(fw_crc32(fw_crc32(0, "1234", 4), "56789", 5), 0xCBF43926u);
+}
+
+static void crc8_check_value(void **state)
+{
+    (void)state;
+    assert_int_equal(fw_crc8(0, "123456789", 9), 0x4Bu);  // CRC-8/SAE-J1850
+    assert_int_equal(fw_crc8(fw_crc8(0, "123", 3), "456789", 6), 0x4Bu);
+    assert_int_equal(fw_crc8(0, "", 0), 0u);
+}
+
+static void log2_ceil(void **state)
+{
+    (void)state;
+    assert_int_equal(fw_log2_ceil(0), 0);
+    assert_int_equal(fw_log2_ceil(1), 0);
+    assert_int_equal(fw_log2_ceil(2), 1);
+    assert_int_equal(fw_log2_ceil(3), 2);
+    assert_int_equal(fw_log2_ceil(1024), 10);
+    assert_int_equal(fw_log2_ceil(1025), 11);
+    assert_int_equal(fw_log2_ceil(0x80000000u), 31);
+    assert_int_equal(fw_log2_ceil(0x80000001u), 32);
+}
+
+static void fib_hash_spreads_and_stays_in_range(void **state)
+{
+    (void)state;
+    assert_int_equal(fw_fib_mix(1u), FW_FIB_HASH_MUL);
+    // Consecutive keys into 16 slots: each slot gets one of the first 16 (Fibonacci hashing's
+    // three-distance property keeps them apart).
+    unsigned hits[16] = {0};
+    for (uint32_t k = 0; k < 16u; k++) {
+        const uint32_t h = fw_fib_hash(k, 4);
+        assert_true(h < 16u);
+        hits[h]++;
+    }
+    for (unsigned i = 0; i < 16u; i++) {
+        assert_true(hits[i] <= 2u);
+    }
+}
+
+static void clamps(void **state)
+{
+    (void)state;
+    assert_int_equal(fw_clamp_i32(-5, -2, 3), -2);
+    assert_int_equal(fw_clamp_i32(7, -2, 3), 3);
+    assert_int_equal(fw_clamp_i32(1, -2, 3), 1);
+    assert_true(fw_clamp_f(2.5f, 0.0f, 1.0f) == 1.0f);
+    assert_true(fw_clamp_f(-0.5f, 0.0f, 1.0f) == 0.0f);
+    assert_true(fw_clamp_f(0.25f, 0.0f, 1.0f) == 0.25f);
+    assert_int_equal(fw_sat_u32(5u), 5u);
+    assert_int_equal(fw_sat_u32(0x100000000ull), UINT32_MAX);
+    assert_true((float)FW_PI == FW_PI_F);
+}
+
+static jmp_buf jump_;
+static int fired_line_;
+static const char *fired_file_;
+
+static void catch_(const char *file, int line)
+{
+    fired_file_ = file;
+    fired_line_ = line;
+    longjmp(jump_, 1);
+}
+
+static void assertion_reaches_the_handler(void **state)
+{
+    (void)state;
+    fw_assert_handler_t old = fw_assert_set_handler(catch_);
+    fired_line_ = 0;
+    int line = 0;
+    if (setjmp(jump_) == 0) {
+        FW_ASSERT(1 + 1 == 2);  // true: no call
+        line = __LINE__ + 1;
+        FW_ASSERT(1 + 1 == 3);
+        fail_msg("FW_ASSERT(false) returned");
+    }
+    assert_int_equal(fired_line_, line);
+    assert_non_null(strstr(fired_file_, "test_base.c"));
+    (void)fw_assert_set_handler(old);
+}
+
+static void prng_below_zero_asserts(void **state)
+{
+    (void)state;
+    fw_assert_handler_t old = fw_assert_set_handler(catch_);
+    fired_file_ = NULL;
+    prng_t rng;
+    prng_seed(&rng, 1);
+    if (setjmp(jump_) == 0) {
+        (void)prng_below(&rng, 0u);
+        fail_msg("prng_below(0) returned");
+    }
+    assert_non_null(strstr(fired_file_, "fw_prng.c"));
+    (void)fw_assert_set_handler(old);
+}
+
+static void assert_compiled_out_evaluates_nothing(void **state)
+{
+    (void)state;
+    fw_assert_handler_t old = fw_assert_set_handler(catch_);
+    int counter = 0;
+    if (setjmp(jump_) == 0) {
+        assert_off_check(&counter);
+    } else {
+        fail_msg("an FW_ASSERT compiled out fired");
+    }
+    assert_int_equal(counter, 0);  // the condition was not evaluated either
+    (void)fw_assert_set_handler(old);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(crc32_check_value),
+        cmocka_unit_test(crc8_check_value),
+        cmocka_unit_test(log2_ceil),
+        cmocka_unit_test(fib_hash_spreads_and_stays_in_range),
+        cmocka_unit_test(clamps),
+        cmocka_unit_test(assertion_reaches_the_handler),
+        cmocka_unit_test(prng_below_zero_asserts),
+        cmocka_unit_test(assert_compiled_out_evaluates_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
