@@ -2,114 +2,212 @@
 """dynaqpc-cricket: a console for a Cricket v2 listener on a serial line.
 
 Reads the listener's lines (115200 8N1, XON/XOFF) from a serial device or the simulator's pty,
-parses them by key (``VR=2.0,ID=..,SP=..,DB=..,DR=..,TM=..,TS=..``; any field may be switched
-off), prints the range to each beacon (DR, the ultrasound time of flight in us, times 343 m/s;
-DB, the distance in cm, when DR is off) and, given the beacons' positions, a trilaterated x, y.
-Garbage lines are reported and skipped. The stream ending (device unplugged, simulator closed)
-ends the console cleanly.
+parses them by key exactly as the firmware does (``VR=2.0,ID=1:5e:3c:3c:a:0:0:b3,SP=..,DB=..,
+DR=..,TM=..,TS=..``; any field may be switched off; the format's one definition is the test
+vectors in docs/cricket-lines.tsv, which this parser and the firmware's are both tested
+against), prints the range to each beacon (DR, the ultrasound time of flight in us, times
+343 m/s; DB, the distance in cm, when DR is off) and, given the beacons' positions, a
+trilaterated x, y. Garbage lines are reported and skipped. The stream ending (device unplugged,
+simulator closed) ends the console cleanly.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
-import re
 import sys
 import time
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Tuple
 
-from .common import ToolError, run_main
+from .common import ToolArgumentParser, ToolError, float_in, int_in, run_main
 
 SPEED_OF_SOUND_M_S = 343.0
-#: Keys a Cricket v2 listener writes, in its fixed order.
+#: Keys a Cricket v2 listener writes, in its fixed order (the firmware's CRICKET_FIELD_* bits).
 KNOWN_KEYS = ("VR", "ID", "SP", "DB", "DR", "TM", "TS")
-_KEY_RE = re.compile(r"^[A-Z][A-Z0-9]{0,7}$")
-_ID_RE = re.compile(r"^[0-9A-Fa-f]{2}(?::[0-9A-Fa-f]{2})*$|^[0-9A-Fa-f]+$")
-_NUM_RE = re.compile(r"^-?\d+(?:\.\d+)?$")
+#: Characters kept of a space id (FW_CFG_CRICKET_SPACE_MAX).
+SPACE_MAX = 16
+#: Ranges beyond are refused (struct cricket_config max_range_mm default).
+MAX_RANGE_M = 10.0
+XON, XOFF = 0x11, 0x13
 
 
 class CricketLineError(ValueError):
     """A line that is not a listener report."""
 
 
+def parse_id(text: str) -> int:
+    """A beacon ID as the listener prints it: eight hex bytes separated by ':', one or two digits
+    each ("1:5e:3c:3c:a:0:0:b3"), first byte most significant (cricket_parse_id)."""
+    parts = text.split(":")
+    if len(parts) != 8:
+        raise CricketLineError(f"ID={text!r} is not eight ':'-separated hex bytes")
+    value = 0
+    for p in parts:
+        if not 1 <= len(p) <= 2 or any(c not in "0123456789abcdefABCDEF" for c in p):
+            raise CricketLineError(f"ID={text!r}: byte {p!r} is not one or two hex digits")
+        value = (value << 8) | int(p, 16)
+    return value
+
+
+def id_text(value: int) -> str:
+    return ":".join(f"{(value >> (8 * (7 - i))) & 0xFF:02x}" for i in range(8))
+
+
+def _u32(key: str, text: str) -> int:
+    if not 1 <= len(text) <= 10 or not all("0" <= c <= "9" for c in text) or int(text) > 0xFFFFFFFF:
+        raise CricketLineError(f"{key}={text!r} is not an unsigned 32-bit integer")
+    return int(text)
+
+
+def _decimal(key: str, text: str) -> float:
+    """Unsigned decimal with an optional 1-6 digit fraction: "210", "210.5" (parse_decimal)."""
+    whole, dot, frac = text.partition(".")
+    try:
+        w = _u32(key, whole)
+        f = _u32(key, frac) if dot else 0
+    except CricketLineError:
+        raise CricketLineError(f"{key}={text!r} is not an unsigned decimal") from None
+    if dot and len(frac) > 6:
+        raise CricketLineError(f"{key}={text!r} has more than 6 decimals")
+    return w + (f / 10 ** len(frac) if dot else 0.0)
+
+
 @dataclass
 class CricketReading:
-    fields: Dict[str, str]
-    beacon: Optional[str]        # ID if present, else SP (the beacon's space name)
-    range_m: Optional[float]     # from DR if present, else DB
-    range_source: Optional[str]  # "DR" or "DB"
+    """One parsed line: the known fields present (cricket_line_t), and the range it gives."""
+
+    present: Tuple[str, ...]                # known keys, in KNOWN_KEYS order
+    values: Dict[str, object] = field(default_factory=dict)  # id int, sp str, db float, dr/tm/ts int
+    raw: Dict[str, str] = field(default_factory=dict)        # every KEY=VALUE, as written
+
+    @property
+    def beacon_id(self) -> Optional[int]:
+        return self.values.get("ID")
+
+    @property
+    def range_source(self) -> Optional[str]:
+        return "DR" if "DR" in self.values else "DB" if "DB" in self.values else None
+
+    @property
+    def range_m(self) -> Optional[float]:
+        if "DR" in self.values:
+            return self.values["DR"] * 1e-6 * SPEED_OF_SOUND_M_S
+        if "DB" in self.values:
+            return self.values["DB"] / 100.0
+        return None
 
     @property
     def has_range(self) -> bool:
-        return self.range_m is not None
+        """A range the firmware would store: an ID, and DR or DB giving 0 < range <= 10 m."""
+        r = self.range_m
+        return self.beacon_id is not None and r is not None and 0.0 < r <= MAX_RANGE_M
 
-
-def _number(key: str, value: str) -> float:
-    if not _NUM_RE.match(value):
-        raise CricketLineError(f"{key}={value!r} is not a number")
-    v = float(value)
-    if v < 0:
-        raise CricketLineError(f"{key}={value} is negative")
-    return v
+    def describe(self) -> str:
+        """The notation of docs/cricket-lines.tsv: "ok fields=ID,DR id=... dr=..."."""
+        out = ["ok fields=" + ",".join(self.present)]
+        for k in self.present:
+            v = self.values[k]
+            if k == "ID":
+                out.append(f"id={v:016x}")
+            elif k == "SP":
+                out.append(f"sp={v}")
+            elif k == "DB":
+                out.append(f"db={v:g}")
+            elif k in ("DR", "TM", "TS"):
+                out.append(f"{k.lower()}={v}")
+        return " ".join(out)
 
 
 def parse_line(line: str) -> CricketReading:
-    """Parses one listener line. Raises CricketLineError saying what is wrong."""
-    text = line.strip()
+    """Parses one line (its line end, if any, is dropped) as cricket_parse_line does: by key,
+    case-sensitive, not trimmed; unknown keys ignored; a known key twice refused. Raises
+    CricketLineError saying what is wrong."""
+    text = line.rstrip("\r\n")
     if not text:
         raise CricketLineError("empty line")
-    fields: Dict[str, str] = {}
+    bad = [c for c in text if not 0x20 <= ord(c) <= 0x7E]
+    if bad:
+        raise CricketLineError(f"byte {ord(bad[0]):#04x} is not printable ASCII")
+    present, values, raw = [], {}, {}
     for part in text.split(","):
-        if "=" not in part:
+        key, eq, value = part.partition("=")
+        if not eq or not key:
             raise CricketLineError(f"{part!r} is not KEY=VALUE")
-        key, value = (s.strip() for s in part.split("=", 1))
-        if not _KEY_RE.match(key):
-            raise CricketLineError(f"bad key {key!r}")
-        if key in fields:
+        raw.setdefault(key, value)
+        if key not in KNOWN_KEYS:
+            continue
+        if key in values:
             raise CricketLineError(f"key {key} twice")
-        if not value or any(not (32 < ord(c) < 127) for c in value):
-            raise CricketLineError(f"bad value for {key}: {value!r}")
-        fields[key] = value
-    if "VR" in fields:
-        _number("VR", fields["VR"])
-    if "ID" in fields and not _ID_RE.match(fields["ID"]):
-        raise CricketLineError(f"ID={fields['ID']!r} is not hex bytes")
-    range_m, source = None, None
-    if "DR" in fields:
-        range_m, source = _number("DR", fields["DR"]) * 1e-6 * SPEED_OF_SOUND_M_S, "DR"
-    elif "DB" in fields:
-        range_m, source = _number("DB", fields["DB"]) / 100.0, "DB"
-    if "DB" in fields and source == "DR":
-        _number("DB", fields["DB"])  # validate even when DR wins
-    if not any(k in fields for k in KNOWN_KEYS):
-        raise CricketLineError("no Cricket field (VR, ID, SP, DB, DR, TM, TS)")
-    beacon = fields.get("ID") or fields.get("SP")
-    return CricketReading(fields, beacon, range_m, source)
+        if key == "VR":
+            if not value:
+                raise CricketLineError("VR is empty")
+            values[key] = value
+        elif key == "ID":
+            values[key] = parse_id(value)
+        elif key == "SP":
+            if len(value) > SPACE_MAX:
+                raise CricketLineError(f"SP={value!r} is longer than {SPACE_MAX}")
+            values[key] = value
+        elif key == "DB":
+            values[key] = _decimal(key, value)
+        else:
+            values[key] = _u32(key, value)
+        present.append(key)
+    present.sort(key=KNOWN_KEYS.index)
+    return CricketReading(tuple(present), values, raw)
 
 
-def load_beacons(path: str) -> Dict[str, Tuple[float, float, float]]:
-    """Beacon positions: one ``id x y z`` line each (metres); blank lines and # comments skipped."""
-    beacons = {}
+def _beacon_key(text: str, where: str) -> int:
+    try:
+        return parse_id(text)
+    except CricketLineError as e:
+        raise ToolError(f"{where}: {e}") from None
+
+
+def load_beacons(path: str) -> Tuple[Dict[int, Tuple[float, float, float]], Optional[float]]:
+    """Beacon positions by ID (metres) and, when the file says, the listener's height. The file
+    is a scenario (.scn: its `beacon ID X Y Z` lines and `cricket ... listener_height H`), the
+    simulator's arena JSON (.json: "beacons": [{"id", "x", "y", "z"}]), or `ID X Y Z` lines.
+    Blank lines and # comments are skipped."""
     try:
         with open(path, encoding="utf-8") as f:
-            lines = f.readlines()
-    except OSError as e:
-        raise ToolError(f"cannot read beacons file {path}: {e}") from e
-    for n, line in enumerate(lines, 1):
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
-        parts = line.split()
+            text = f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise ToolError(f"cannot read beacons file {path}: {getattr(e, 'strerror', None) or e}") from None
+    beacons: Dict[int, Tuple[float, float, float]] = {}
+    listener_z = None
+    if path.endswith(".json"):
         try:
-            if len(parts) != 4:
-                raise ValueError
-            beacons[parts[0]] = (float(parts[1]), float(parts[2]), float(parts[3]))
-        except ValueError:
-            raise ToolError(f"{path}:{n}: want 'id x y z', got {line!r}") from None
+            items = json.loads(text).get("beacons", [])
+            for i, b in enumerate(items):
+                beacons[_beacon_key(str(b["id"]), f"{path}: beacons[{i}]")] = (float(b["x"]), float(b["y"]),
+                                                                               float(b["z"]))
+        except (ValueError, KeyError, TypeError, AttributeError) as e:
+            raise ToolError(f"{path}: not an arena JSON with beacons ({e})") from None
+    else:
+        scenario = path.endswith(".scn")
+        for n, line in enumerate(text.splitlines(), 1):
+            words = line.split("#", 1)[0].split()
+            if not words:
+                continue
+            if scenario:
+                if words[0] == "cricket" and "listener_height" in words[:-1]:
+                    listener_z = float(words[words.index("listener_height") + 1])
+                if words[0] != "beacon":
+                    continue
+                words = words[1:]
+            try:
+                if len(words) != 4:
+                    raise ValueError
+                pos = (float(words[1]), float(words[2]), float(words[3]))
+            except ValueError:
+                raise ToolError(f"{path}:{n}: want 'ID x y z', got {line.strip()!r}") from None
+            beacons[_beacon_key(words[0], f"{path}:{n}")] = pos
     if not beacons:
         raise ToolError(f"{path}: no beacons")
-    return beacons
+    return beacons, listener_z
 
 
 def trilaterate(ranges: Dict[str, float], beacons: Dict[str, Tuple[float, float, float]],
@@ -154,17 +252,17 @@ def trilaterate(ranges: Dict[str, float], beacons: Dict[str, Tuple[float, float,
 class Console:
     """The console's state: latest range per beacon, counters. Feed it lines; no I/O."""
 
-    beacons: Optional[Dict[str, Tuple[float, float, float]]] = None
+    beacons: Optional[Dict[int, Tuple[float, float, float]]] = None
     listener_z: float = 0.0
     max_age_s: float = 5.0
-    ranges: Dict[str, Tuple[float, float]] = field(default_factory=dict)  # beacon -> (range, t)
+    ranges: Dict[int, Tuple[float, float]] = field(default_factory=dict)  # beacon -> (range, t)
     lines: int = 0
     readings: int = 0
     garbage: int = 0
     fixes: int = 0
 
     def feed(self, line: str, now: float) -> List[str]:
-        """Returns what to print for this line (garbage goes to the second element's caller)."""
+        """Returns what to print for this line; a garbage line raises CricketLineError."""
         self.lines += 1
         try:
             r = parse_line(line)
@@ -172,12 +270,15 @@ class Console:
             self.garbage += 1
             raise
         self.readings += 1
-        if not r.has_range or r.beacon is None:
-            return [f"listener: {','.join(f'{k}={v}' for k, v in r.fields.items())}"]
-        self.ranges[r.beacon] = (r.range_m, now)
-        detail = f"DR {r.fields['DR']} us" if r.range_source == "DR" else f"DB {r.fields['DB']} cm"
-        out = [f"beacon {r.beacon:<24} {r.range_m:7.3f} m  ({detail})"]
+        if not r.has_range:
+            why = "" if r.range_m is None or r.beacon_id is None else f" (range {r.range_m:.3f} m refused)"
+            return [f"listener: {','.join(f'{k}={v}' for k, v in r.raw.items())}{why}"]
+        self.ranges[r.beacon_id] = (r.range_m, now)
+        detail = f"DR {r.values['DR']} us" if r.range_source == "DR" else f"DB {r.values['DB']:g} cm"
+        out = [f"beacon {id_text(r.beacon_id)} {r.range_m:7.3f} m  ({detail})"]
         if self.beacons:
+            if r.beacon_id not in self.beacons:
+                out[0] += "  (not in the beacons file)"
             fresh = {b: rng for b, (rng, t) in self.ranges.items() if now - t <= self.max_age_s}
             fix = trilaterate(fresh, self.beacons, self.listener_z)
             if fix is not None:
@@ -209,18 +310,20 @@ def read_lines(port) -> Iterable[Optional[bytes]]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="dynaqpc-cricket", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(prog="dynaqpc-cricket", description=__doc__,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("device", nargs="?", default="/dev/ttyUSB0",
                    help="serial device or the simulator's pty path (default %(default)s)")
-    p.add_argument("--baud", type=int, default=115200)
+    p.add_argument("--baud", type=int_in(50, 4000000), default=115200)
     p.add_argument("--no-xonxoff", action="store_true", help="disable XON/XOFF flow control")
-    p.add_argument("--beacons", metavar="FILE", help="beacon positions, 'id x y z' per line (m)")
-    p.add_argument("--listener-z", type=float, default=0.0, help="listener height (m)")
-    p.add_argument("--max-age", type=float, default=5.0,
+    p.add_argument("--beacons", metavar="FILE",
+                   help="beacon positions: a scenario (.scn), an arena JSON, or 'ID x y z' lines (m)")
+    p.add_argument("--listener-z", type=float_in(-100, 100), default=None,
+                   help="listener height (m; default: the scenario's, else 0)")
+    p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=5.0,
                    help="ranges older than this (s) are not used for a fix")
-    p.add_argument("--count", type=int, default=None, help="stop after N lines")
-    p.add_argument("--duration", type=float, default=None, help="stop after S seconds")
+    p.add_argument("--count", type=int_in(1), default=None, help="stop after N lines")
+    p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     return p
 
 
@@ -228,12 +331,14 @@ def run(args, out=None, err=None) -> Console:
     out, err = out or sys.stdout, err or sys.stderr
     import serial
 
-    console = Console(load_beacons(args.beacons) if args.beacons else None, args.listener_z, args.max_age)
+    beacons, z = load_beacons(args.beacons) if args.beacons else (None, None)
+    listener_z = args.listener_z if args.listener_z is not None else (z or 0.0)
+    console = Console(beacons, listener_z, args.max_age)
     try:
         port = serial.Serial(args.device, args.baud, bytesize=serial.EIGHTBITS, parity=serial.PARITY_NONE,
                              stopbits=serial.STOPBITS_ONE, xonxoff=not args.no_xonxoff, timeout=0.2)
     except (serial.SerialException, OSError) as e:
-        raise ToolError(f"cannot open {args.device}: {e}") from e
+        raise ToolError(f"cannot open {args.device}: {e}") from None
     print(f"listening on {args.device}", file=err, flush=True)
     start = time.monotonic()
     try:
@@ -243,12 +348,20 @@ def run(args, out=None, err=None) -> Console:
                 break
             if raw is None:
                 continue
-            text = raw.decode("ascii", errors="replace")
-            try:
-                for line in console.feed(text, now - start):
-                    print(f"{now - start:9.3f} {line}", file=out, flush=True)
-            except CricketLineError as e:
-                print(f"{now - start:9.3f} skipped line {text.strip()[:60]!r}: {e}", file=err, flush=True)
+            # XON/XOFF are flow control, not data; CR, LF or CR LF end a line; empty lines are
+            # skipped; any other byte outside printable ASCII makes its line garbage (cricket_feed).
+            raw = raw.replace(bytes([XON]), b"").replace(bytes([XOFF]), b"")
+            for piece in raw.replace(b"\r", b"\n").split(b"\n"):
+                if not piece:
+                    continue
+                text = piece.decode("latin-1")
+                try:
+                    for line in console.feed(text, now - start):
+                        print(f"{now - start:9.3f} {line}", file=out, flush=True)
+                except CricketLineError as e:
+                    print(f"{now - start:9.3f} skipped line {text.strip()[:60]!r}: {e}", file=err, flush=True)
+                if args.count is not None and console.lines >= args.count:
+                    break
             if args.count is not None and console.lines >= args.count:
                 break
     except KeyboardInterrupt:

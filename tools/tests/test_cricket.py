@@ -8,35 +8,63 @@ import threading
 
 import pytest
 
+from conftest import REPO, c_binary, in_netns
 from dynaqpc_tools import cricket
 from dynaqpc_tools.cricket import CricketLineError, parse_line
 
 # The listener's default line (Cricket v2 manual format).
 LINE = "VR=2.0,ID=01:cf:bd:43:0b:00:00:b0,SP=space1,DB=178,DR=5212,TM=10344,TS=42398\r\n"
+VECTORS = REPO / "docs" / "cricket-lines.tsv"
+
+
+def shared_vectors():
+    out = []
+    for row in VECTORS.read_text(encoding="utf-8").splitlines():
+        if row and not row.startswith("#"):
+            want, line = row.split("\t", 1)
+            out.append((want, line))
+    return out
+
+
+def test_the_shared_vectors_are_read_as_the_firmware_reads_them():
+    # docs/cricket-lines.tsv: the same file the firmware's unit.cricket checks cricket_parse_line with.
+    vectors = shared_vectors()
+    assert len(vectors) >= 40 and sum(w == "bad" for w, _ in vectors) >= 20
+    for want, line in vectors:
+        if want == "bad":
+            with pytest.raises(CricketLineError):
+                parse_line(line)
+        else:
+            assert parse_line(line).describe() == want, line
 
 
 def test_parses_the_default_line_by_key():
     r = parse_line(LINE)
-    assert r.fields["VR"] == "2.0" and r.fields["TS"] == "42398"
-    assert r.beacon == "01:cf:bd:43:0b:00:00:b0"
-    assert r.range_source == "DR"
+    assert r.values["VR"] == "2.0" and r.values["TS"] == 42398
+    assert r.beacon_id == 0x01CFBD430B0000B0 and cricket.id_text(r.beacon_id) == "01:cf:bd:43:0b:00:00:b0"
+    assert r.range_source == "DR" and r.has_range
     assert r.range_m == pytest.approx(5212e-6 * 343.0)  # 1.7877 m
 
 
+def test_the_simulators_one_digit_ids():
+    r = parse_line("VR=2.0,ID=1:5e:3c:3c:a:0:0:b3,SP=LAB,DB=210,DR=6174,TM=7012,TS=32457")
+    assert r.beacon_id == cricket.parse_id("01:5e:3c:3c:0a:00:00:b3") and r.has_range
+
+
 def test_fields_switched_off():
-    r = parse_line("VR=2.0,SP=space1,DB=178")  # no ID, no DR: the space name and the cm distance
-    assert r.beacon == "space1" and r.range_source == "DB" and r.range_m == pytest.approx(1.78)
-    r = parse_line("DR=1000")
-    assert r.beacon is None and r.range_m == pytest.approx(0.343)
+    r = parse_line("VR=2.0,SP=space1,DB=178")  # no ID: a distance, but no beacon to give it to
+    assert r.range_source == "DB" and r.range_m == pytest.approx(1.78) and not r.has_range
     r = parse_line("VR=2.0,ID=01:02:03:04:05:06:07:08,TS=5")
     assert not r.has_range
-    r = parse_line("ID=0102030405060708,DR=2000,XX=7")  # an unknown key is kept, not fatal
-    assert r.fields["XX"] == "7" and r.range_m == pytest.approx(0.686)
+    r = parse_line("ID=1:2:3:4:5:6:7:8,DR=2000,XX=7")  # an unknown key is kept, not fatal
+    assert r.raw["XX"] == "7" and r.range_m == pytest.approx(0.686) and r.has_range
+    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=0").has_range            # 0 m: refused
+    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=30000").has_range        # 10.3 m: refused
 
 
 @pytest.mark.parametrize("line", [
     "", "\r\n", "hello world", "VR=2.0,,DB=1", "VR=2.0,DB=abc", "DB=1,DB=2", "VR=2.0,DR=-5",
-    "ID=zz:01,DR=5", "\x00\xff\x13", "VR=2.0,DB=", "vr=2.0", "AB=1,CD=2", "VR=2.0,DB=1 2",
+    "ID=zz:01,DR=5", "\x00\xff\x13", "VR=2.0,DB=", "VR=2.0,DB=1 2", "ID=0102030405060708,DR=5",
 ])
 def test_garbage_is_rejected_with_a_reason(line):
     with pytest.raises(CricketLineError) as e:
@@ -57,11 +85,22 @@ def test_trilateration_recovers_the_position():
 
 def test_beacons_file(tmp_path):
     p = tmp_path / "beacons.txt"
-    p.write_text("# id x y z\nspace1 0 0 2.5\n\nspace2 4 0 2.5  # east\n")
-    assert cricket.load_beacons(str(p)) == {"space1": (0.0, 0.0, 2.5), "space2": (4.0, 0.0, 2.5)}
-    p.write_text("space1 0 0\n")
+    p.write_text("# id x y z\n1:2:3:4:5:6:7:8 0 0 2.5\n\n01:02:03:04:05:06:07:09 4 0 2.5  # east\n")
+    assert cricket.load_beacons(str(p)) == ({0x0102030405060708: (0.0, 0.0, 2.5),
+                                             0x0102030405060709: (4.0, 0.0, 2.5)}, None)
+    p.write_text("1:2:3:4:5:6:7:8 0 0\n")
     with pytest.raises(cricket.ToolError, match=":1:"):
         cricket.load_beacons(str(p))
+    p.write_text("space1 0 0 1\n")
+    with pytest.raises(cricket.ToolError, match="not eight"):
+        cricket.load_beacons(str(p))
+    # A scenario: its beacon lines and the listener's height; an arena JSON.
+    beacons, z = cricket.load_beacons(str(REPO / "host_sim" / "scenarios" / "paper-lab.scn"))
+    assert len(beacons) == 5 and z == pytest.approx(0.15)
+    assert beacons[cricket.parse_id("1:5e:3c:3c:a:0:0:b5")] == (2.15, 1.6, 2.5)
+    j = tmp_path / "arena.json"
+    j.write_text('{"width": 4, "height": 3, "beacons": [{"id": "1:5e:3c:3c:a:0:0:b1", "x": 0.5, "y": 0.5, "z": 2.5}]}')
+    assert cricket.load_beacons(str(j))[0] == {cricket.parse_id("1:5e:3c:3c:a:0:0:b1"): (0.5, 0.5, 2.5)}
 
 
 class _Signal(io.StringIO):
@@ -82,12 +121,13 @@ def test_console_reads_a_pty_to_end_of_stream(tmp_path):
     path = os.ttyname(slave)
     os.close(slave)
     beacons = tmp_path / "beacons.txt"
-    pos = {"space1": (0.0, 0.0, 2.0), "space2": (3.0, 0.0, 2.0), "space3": (0.0, 3.0, 2.0)}
+    pos = {"1:0:0:0:0:0:0:a1": (0.0, 0.0, 2.0), "1:0:0:0:0:0:0:a2": (3.0, 0.0, 2.0),
+           "1:0:0:0:0:0:0:a3": (0.0, 3.0, 2.0)}
     beacons.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in pos.items()))
     lines = []
     for k, p in pos.items():  # listener at (1, 1, 0)
         dr_us = round(math.dist((1.0, 1.0, 0.0), p) / 343.0 * 1e6)
-        lines.append(f"VR=2.0,SP={k},DB={round(dr_us * 343e-4)},DR={dr_us},TM=1,TS=2\r\n")
+        lines.append(f"VR=2.0,ID={k},SP=lab,DB={round(dr_us * 343e-4)},DR={dr_us},TM=1,TS=2\r\n")
     lines.insert(1, "#### garbage ####\r\n")
     out, err = io.StringIO(), _Signal()
     args = cricket.build_parser().parse_args([path, "--beacons", str(beacons)])
@@ -107,7 +147,7 @@ def test_console_reads_a_pty_to_end_of_stream(tmp_path):
     c = result["c"]
     assert c.readings == 3 and c.garbage == 1 and c.fixes == 1
     text = out.getvalue()
-    assert "beacon space1" in text and "3 readings, 1 skipped, 1 fixes" in text
+    assert "beacon 01:00:00:00:00:00:00:a1" in text and "3 readings, 1 skipped, 1 fixes" in text
     fix = [ln for ln in text.splitlines() if "fix x=" in ln][0]
     fx = float(fix.split("x=")[1].split()[0])
     fy = float(fix.split("y=")[1].split()[0])
@@ -118,3 +158,44 @@ def test_console_reads_a_pty_to_end_of_stream(tmp_path):
 def test_console_reports_a_missing_device(capsys):
     assert cricket.main(["/dev/does-not-exist"]) == 2
     assert "cannot open /dev/does-not-exist" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv", [["--count", "-5"], ["--max-age", "0"], ["--baud", "x"], ["--duration", "-1"]])
+def test_numeric_arguments_are_range_checked(argv, capsys):
+    with pytest.raises(SystemExit) as e:
+        cricket.main(["/dev/null", *argv])
+    assert e.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+@pytest.mark.skipif(not c_binary("dynaqpc-sim").exists(), reason="build dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+def test_fixes_from_the_simulators_pty():
+    """dynaqpc-sim devices on paper-lab (its bus in a private namespace) writes the Cricket
+    listener's lines to a pty; the console, given the scenario's five beacons, prints fixes where
+    the robot stands."""
+    import subprocess
+
+    scn = REPO / "host_sim" / "scenarios" / "paper-lab.scn"
+    dev = subprocess.Popen(in_netns([str(c_binary("dynaqpc-sim")), "devices", "--scenario", str(scn), "--speed", "5",
+                                     "--duration", "30"]), stdout=subprocess.PIPE, text=True)
+    try:
+        tty = None
+        for line in dev.stdout:
+            if line.startswith("cricket_tty="):
+                tty = line.strip().split("=", 1)[1]
+                break
+        assert tty, "dynaqpc-sim devices printed no cricket_tty"
+        out, err = io.StringIO(), io.StringIO()
+        args = cricket.build_parser().parse_args([tty, "--beacons", str(scn), "--duration", "6"])
+        c = cricket.run(args, out, err)
+    finally:
+        dev.terminate()
+        dev.wait(10)
+    text = out.getvalue()
+    assert c.readings >= 15 and c.garbage == 0, err.getvalue()[-2000:]
+    fixes = [ln for ln in text.splitlines() if " fix x=" in ln]
+    assert len(fixes) >= 5 and c.fixes == len(fixes)
+    # The robot stands still: every fix lands on the same spot, inside the 4.3 m x 3.2 m room.
+    xs = [float(ln.split("x=")[1].split()[0]) for ln in fixes]
+    ys = [float(ln.split("y=")[1].split()[0]) for ln in fixes]
+    assert all(0 < x < 4.3 for x in xs) and all(0 < y < 3.2 for y in ys)
+    assert max(xs) - min(xs) < 0.1 and max(ys) - min(ys) < 0.1

@@ -47,6 +47,58 @@ static void format_line(char *buf, size_t cap, unsigned b, float x, float y)
              (unsigned)lroundf(mm / 10.0f), dr, dr + 811u, 40000u + b);
 }
 
+/// What the parser read, in the notation of docs/cricket-lines.tsv ("ok fields=... id=...").
+static void describe_line(const cricket_line_t *l, char *buf, size_t cap)
+{
+    static const char *const keys[] = {"VR", "ID", "SP", "DB", "DR", "TM", "TS"};
+    size_t n = (size_t)snprintf(buf, cap, "ok fields=");
+    const char *sep = "";
+    for (unsigned i = 0; i < 7u; i++) {
+        if (l->fields & (1u << i)) {
+            n += (size_t)snprintf(buf + n, cap - n, "%s%s", sep, keys[i]);
+            sep = ",";
+        }
+    }
+    if (l->fields & CRICKET_FIELD_ID) n += (size_t)snprintf(buf + n, cap - n, " id=%016llx", (unsigned long long)l->id);
+    if (l->fields & CRICKET_FIELD_SP) n += (size_t)snprintf(buf + n, cap - n, " sp=%s", l->space);
+    if (l->fields & CRICKET_FIELD_DB) n += (size_t)snprintf(buf + n, cap - n, " db=%g", (double)l->db);
+    if (l->fields & CRICKET_FIELD_DR) n += (size_t)snprintf(buf + n, cap - n, " dr=%u", (unsigned)l->dr_us);
+    if (l->fields & CRICKET_FIELD_TM) n += (size_t)snprintf(buf + n, cap - n, " tm=%u", (unsigned)l->tm);
+    if (l->fields & CRICKET_FIELD_TS) (void)snprintf(buf + n, cap - n, " ts=%u", (unsigned)l->ts);
+}
+
+// The shared vectors: docs/cricket-lines.tsv, which dynaqpc-cricket's parser is tested against too.
+static void test_parse_shared_vectors(void **state)
+{
+    (void)state;
+    FILE *f = fopen(CRICKET_LINES_TSV, "r");
+    assert_non_null(f);
+    char row[512], got[256];
+    unsigned vectors = 0, bad = 0;
+    while (fgets(row, sizeof row, f) != NULL) {
+        size_t n = strcspn(row, "\r\n");
+        row[n] = '\0';
+        if (row[0] == '#' || n == 0u) continue;
+        char *tab = strchr(row, '\t');
+        assert_non_null(tab);
+        *tab = '\0';
+        const char *want = row, *line = tab + 1;
+        cricket_line_t l;
+        const int err = cricket_parse_line(line, strlen(line), &l);
+        if (strcmp(want, "bad") == 0) {
+            if (err != FW_ERR_INVAL) fail_msg("accepted a bad line: %s", line);
+            bad++;
+        } else {
+            if (err != FW_OK) fail_msg("refused: %s", line);
+            describe_line(&l, got, sizeof got);
+            if (strcmp(got, want) != 0) fail_msg("%s\n  read: %s\n  want: %s", line, got, want);
+        }
+        vectors++;
+    }
+    fclose(f);
+    assert_true(vectors >= 40u && bad >= 20u);  // the file was read, not skipped
+}
+
 static void test_parse_full_line(void **state)
 {
     (void)state;
@@ -275,6 +327,7 @@ static void test_config_is_checked(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_parse_shared_vectors),
         cmocka_unit_test(test_parse_full_line),
         cmocka_unit_test(test_parse_by_key_with_fields_off_and_unknown_keys),
         cmocka_unit_test(test_parse_rejects_malformed_lines),
