@@ -31,6 +31,9 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args);
 /// `devices`: the simulated robot's devices in real time on the virtual CAN bus (cmd_devices.cpp).
 int cmd_devices(const std::string &program, const std::vector<std::string> &args);
 
+/// `rooms`: seeded random rooms for a robot, one scenario file each (cmd_rooms.cpp).
+int cmd_rooms(const std::string &program, const std::vector<std::string> &args);
+
 }  // namespace dynaqpc
 
 #endif  // DYNAQPC_SIM_COMMANDS_H

@@ -17,6 +17,7 @@ const dynaqpc::Command kCommands[] = {
     {"run", "replay a learned policy greedily from random starts, with a trajectory log", dynaqpc::cmd_run},
     {"devices", "the simulated robot's devices in real time on the virtual CAN bus, for dynaqpc-fw", dynaqpc::cmd_devices},
     {"maze", "gridworld experiments: Q-learning, Dyna-Q and Dyna-QPC on a map", dynaqpc::cmd_maze},
+    {"rooms", "seeded random rooms for paper-lab or paper-sim, one scenario file each", dynaqpc::cmd_rooms},
 };
 
 void print_usage(std::ostream &out, const std::string &program)

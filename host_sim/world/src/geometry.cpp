@@ -13,8 +13,6 @@ double robot_radius(const RobotSpec &robot)
     return 0.5 * std::hypot(robot.length, robot.width);
 }
 
-namespace {
-
 double obstacle_distance(const Obstacle &o, double x, double y)
 {
     double dx = x - o.cx, dy = y - o.cy;
@@ -28,8 +26,6 @@ double obstacle_distance(const Obstacle &o, double x, double y)
     double outside = std::hypot(std::max(lx, 0.0), std::max(ly, 0.0));
     return outside + std::min(std::max(lx, ly), 0.0);
 }
-
-}  // namespace
 
 double clearance(const Scenario &s, double x, double y)
 {

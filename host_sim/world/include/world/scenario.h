@@ -203,6 +203,9 @@ double goal_cell_centre_margin(const Scenario &s);
 /// The radius of the robot's circumscribed circle (half its diagonal), m.
 double robot_radius(const RobotSpec &robot);
 
+/// Signed distance from (x, y) to one obstacle's surface, m (negative inside it).
+double obstacle_distance(const Obstacle &o, double x, double y);
+
 /// Distance from (x, y) to the nearest wall or obstacle surface, m (negative inside one).
 double clearance(const Scenario &s, double x, double y);
 

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim rooms: seeded random rooms for a robot, one scenario file each (world/rooms.h).
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "options.h"
+#include "world/rooms.h"
+#include "world/scenario.h"
+
+namespace dynaqpc {
+
+namespace {
+
+std::string read_file(const std::string &path)
+{
+    std::FILE *f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
+    std::string text;
+    char buf[65536];
+    std::size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0 && text.size() <= world::kMaxFileBytes) {
+        text.append(buf, n);
+    }
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) throw std::runtime_error(path + ": cannot read");
+    return text;
+}
+
+void write_file(const std::string &path, const std::string &text)
+{
+    std::FILE *f = std::fopen(path.c_str(), "wb");
+    if (f == nullptr) throw std::runtime_error("--out: cannot write '" + path + "': " + std::strerror(errno));
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) throw std::runtime_error("--out: cannot write '" + path + "'");
+}
+
+}  // namespace
+
+int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
+{
+    std::string robot, out;
+    std::uint32_t seed = 1, count = 10;
+    Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
+    o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
+                 {"paper-lab", "paper-sim"});
+    o.add_uint("--seed", "S", "seed of the rooms; room i depends on S and i only (default 1)", &seed, 0,
+               UINT32_MAX);
+    o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
+    o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...), making DIR if needed", &out);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        std::cout << "\nEach room keeps the robot, sensors, pose source, timing, encoding, actions, rewards\n"
+                     "and learning lines of host_sim/scenarios/<robot>.scn and draws interior walls,\n"
+                     "obstacles and a goal; every start reaches the goal through passages at least the\n"
+                     "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n";
+        return kExitOk;
+    }
+    if (!o.seen("--robot")) throw UsageError("--robot: required (paper-lab or paper-sim)");
+    if (!o.seen("--out") || out.empty()) throw UsageError("--out: required (a directory)");
+
+    const std::string base_text = read_file(world::resolve_scenario_path(robot));
+    const std::string label = "host_sim/scenarios/" + robot + ".scn";
+    const std::string command = program + " rooms --robot " + robot + " --seed " + std::to_string(seed);
+    // All rooms first, so that a failure leaves no files behind.
+    std::vector<std::pair<std::string, world::Room>> rooms;
+    for (std::uint32_t i = 1; i <= count; i++) {
+        char name[96];
+        std::snprintf(name, sizeof name, "%s-%u-%03u.scn", robot.c_str(), seed, i);
+        world::Room room;
+        std::string error;
+        if (!world::generate_room(base_text, label, command, seed, i, name, &room, &error)) {
+            throw std::runtime_error(error);
+        }
+        rooms.emplace_back(name, std::move(room));
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) throw std::runtime_error("--out: cannot make '" + out + "': " + ec.message());
+    std::printf("file,walls,obstacles,draw,start_points\n");
+    for (const auto &r : rooms) {
+        const std::string path = out + "/" + r.first;
+        write_file(path, r.second.text);
+        std::printf("%s,%d,%d,%u,%ld\n", path.c_str(), r.second.walls, r.second.obstacles, r.second.draw,
+                    r.second.passages.start_points);
+    }
+    return kExitOk;
+}
+
+}  // namespace dynaqpc

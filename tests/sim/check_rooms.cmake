@@ -1,0 +1,60 @@
+# SPDX-License-Identifier: MIT
+# cmake -DSIM=<dynaqpc-sim> -DWORK=<scratch dir> -P check_rooms.cmake
+# dynaqpc-sim rooms: the same seed writes the same files, byte for byte, into another directory;
+# room i does not depend on --count; another seed writes other rooms; and train takes a room by
+# its path and learns on it.
+cmake_minimum_required(VERSION 3.25)
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+
+function(sim)
+    execute_process(COMMAND "${SIM}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+        TIMEOUT 300)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "dynaqpc-sim ${ARGN}: exit ${rc}\n${err}")
+    endif()
+    set(out "${out}" PARENT_SCOPE)
+endfunction()
+
+foreach(robot paper-lab paper-sim)
+    sim(rooms --robot ${robot} --seed 7 --count 3 --out "${WORK}/a")
+    sim(rooms --robot ${robot} --seed 7 --count 3 --out "${WORK}/b")
+    sim(rooms --robot ${robot} --seed 7 --count 4 --out "${WORK}/c")
+    sim(rooms --robot ${robot} --seed 8 --count 3 --out "${WORK}/d")
+    if(NOT out MATCHES "^file,walls,obstacles,draw,start_points\n")
+        message(FATAL_ERROR "rooms: unexpected header:\n${out}")
+    endif()
+    foreach(i 001 002 003)
+        set(name ${robot}-7-${i}.scn)
+        foreach(dir b c)
+            execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${WORK}/a/${name}" "${WORK}/${dir}/${name}"
+                RESULT_VARIABLE differ)
+            if(differ)
+                message(FATAL_ERROR "same seed, different ${name} in a/ and ${dir}/")
+            endif()
+        endforeach()
+        file(READ "${WORK}/a/${name}" mine)
+        file(READ "${WORK}/d/${robot}-8-${i}.scn" other)
+        string(REGEX REPLACE "^([^\n]*\n){4}" "" mine "${mine}")  # the header names the seed
+        string(REGEX REPLACE "^([^\n]*\n){4}" "" other "${other}")
+        if(mine STREQUAL other)
+            message(FATAL_ERROR "seeds 7 and 8 give the same room ${i}")
+        endif()
+    endforeach()
+    file(GLOB made "${WORK}/a/${robot}-*.scn")
+    list(LENGTH made n)
+    if(NOT n EQUAL 3)
+        message(FATAL_ERROR "--count 3 wrote ${n} ${robot} files")
+    endif()
+endforeach()
+
+# A room by its path: trains, and the robot gets to the goal.
+sim(train --scenario "${WORK}/a/paper-lab-7-001.scn" --agent dyna-qpc --sets 1 --episodes 3 --seed 2
+    --no-wall-time --quiet --csv -)
+if(NOT out MATCHES "^agent,set,episode,[^\n]*\ndyna-qpc,1,1,[^\n]*\ndyna-qpc,1,2,[^\n]*\ndyna-qpc,1,3,[^\n]*\n$")
+    message(FATAL_ERROR "train on a room: unexpected CSV:\n${out}")
+endif()
+if(NOT out MATCHES "\ndyna-qpc,1,[123],[0-9]+,-?[0-9]+,1,")
+    message(FATAL_ERROR "train on a room: the goal never reached in 3 episodes:\n${out}")
+endif()
+message(STATUS "rooms are reproducible; train runs on a room")
