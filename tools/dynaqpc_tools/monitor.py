@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
 """dynaqpc-monitor: CAN bus monitor and logger.
 
-Decodes every frame with the DBC, keeps per-frame rates, counts gaps in the rolling counters
-(signals named ``Counter`` or ``*_COUNTER``), shows the last decoded values, optionally logs to
-ASC/BLF with python-can's writers, and prints a summary at the end.
+Decodes every frame with the DBC (values with a value table by name: Mode=SAFE_STOP), keeps
+per-frame rates, counts gaps in the rolling counters (signals named ``Counter`` or
+``*_COUNTER``), shows the last decoded values, optionally records (MCAP for Foxglove, with
+decoded signals and the pose; or python-can's ASC/BLF), and prints a summary at the end.
+``--speed X`` stamps a recording of a simulation run X times faster in robot time.
 """
 
 from __future__ import annotations
@@ -11,12 +13,14 @@ from __future__ import annotations
 import argparse
 import collections
 import math
+import os
 import sys
 import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
-from .common import ToolError, add_bus_arguments, bus_from_args, default_dbc_path, load_dbc, run_main
+from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, default_dbc_path, float_in,
+                     int_in, load_dbc, run_main)
 
 #: Frames kept per id for the recent rate.
 RATE_WINDOW = 50
@@ -110,7 +114,7 @@ class Monitor:
         if m is None:
             return events
         try:
-            values = m.decode(bytes(msg.data), decode_choices=False)
+            values = m.decode(bytes(msg.data), decode_choices=True)  # value tables by name
         except Exception as e:
             st.decode_errors += 1
             return [f"{m.name}: cannot decode {bytes(msg.data).hex()}: {e}"]
@@ -166,6 +170,8 @@ class Monitor:
 
 
 def _fmt(v) -> str:
+    if hasattr(v, "name") and hasattr(v, "value"):  # cantools' NamedSignalValue: the DBC's name
+        return str(v.name)
     if isinstance(v, float):
         if math.isnan(v):
             return "-"
@@ -174,16 +180,20 @@ def _fmt(v) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="dynaqpc-monitor", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(prog="dynaqpc-monitor", description=__doc__,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
     add_bus_arguments(p)
     p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
-    p.add_argument("--replay", metavar="FILE", help="read a recorded log (.asc, .blf, ...) instead of a bus")
-    p.add_argument("--log", metavar="FILE", help="also record every frame (.asc or .blf, python-can's writers)")
-    p.add_argument("--count", type=int, default=None, help="stop after N frames")
-    p.add_argument("--duration", type=float, default=None, help="stop after S seconds")
+    p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf, ...) instead of a bus")
+    p.add_argument("--log", metavar="FILE",
+                   help="also record: .mcap (Foxglove: decoded signals, pose, raw frames) or .asc/.blf")
+    p.add_argument("--arena", metavar="JSON", help="with --log x.mcap: draw this arena (simulator JSON) in it")
+    p.add_argument("--speed", type=float_in(0, 100000, lo_open=True), default=1.0,
+                   help="the simulation runs X times faster than real time: record in robot time (default 1)")
+    p.add_argument("--count", type=int_in(1), default=None, help="stop after N frames")
+    p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--print", dest="print_frames", action="store_true", help="print every decoded frame")
-    p.add_argument("--refresh", type=float, default=1.0,
+    p.add_argument("--refresh", type=float_in(0), default=1.0,
                    help="live table period in seconds when stdout is a terminal (0: off)")
     p.add_argument("--fail-on-gap", action="store_true", help="exit 1 when a counter gap was seen")
     return p
@@ -192,13 +202,9 @@ def build_parser() -> argparse.ArgumentParser:
 def _messages(args, bus):
     """Yields messages until the source ends; yields None when a bus read timed out."""
     if args.replay:
-        import can
+        from .canlog import read_log
 
-        try:
-            reader = can.LogReader(args.replay)
-        except Exception as e:
-            raise ToolError(f"cannot read {args.replay}: {e}") from e
-        yield from reader
+        yield from read_log(args.replay)
         return
     while True:
         yield bus.recv(timeout=0.2)
@@ -206,17 +212,23 @@ def _messages(args, bus):
 
 def run(args, out=None) -> Monitor:
     out = out or sys.stdout
-    import can
+    from .arena import load_arena
+    from .canlog import open_log
 
     db = load_dbc(args.dbc)
     mon = Monitor(db)
-    bus = None if args.replay else bus_from_args(args)
-    logger = None
-    if args.log:
-        try:
-            logger = can.Logger(args.log)
-        except Exception as e:
-            raise ToolError(f"cannot log to {args.log}: {e}") from e
+    if args.arena and not (args.log or "").lower().endswith(".mcap"):
+        raise ToolError("--arena: only with --log FILE.mcap")
+    arena = load_arena(args.arena) if args.arena else None
+    if args.log and args.replay and os.path.abspath(args.log) == os.path.abspath(args.replay):
+        raise ToolError(f"--log {args.log}: that is the file being replayed")
+    logger = open_log(args.log, db, arena, args.speed) if args.log else None
+    try:
+        bus = None if args.replay else bus_from_args(args)
+    except ToolError:
+        if logger is not None:
+            logger.stop()
+        raise
     live = args.refresh > 0 and out.isatty() and not args.print_frames
     start = time.monotonic()
     next_refresh = start + args.refresh

@@ -4,7 +4,9 @@
 Listens on the bus (the simulator's virtual bus by default, or a USB-CAN adapter on the real
 robot's bus) for the pose frame (TLM_POSE by default; GPS_POSE shows the simulator's true pose),
 decodes it with the DBC and draws the robot and its trail. The pose signals are found by name
-(X, Y, Heading, Fix...) and converted by their DBC unit (mm or m; deg or rad).
+(X, Y, Heading, Fix...) and converted by their DBC unit (mm or m; deg or rad). The fix is named
+from the DBC's value table; a pose without a fix (TLM_POSE FixState LOST, GPS_POSE Fix NONE) is
+not drawn, and when the asked-for frame never comes the viewer says which frames did.
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ import time
 from dataclasses import dataclass
 from typing import Optional
 
-from .common import ToolError, add_bus_arguments, bus_from_args, default_dbc_path, load_dbc, run_main
+from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, default_dbc_path, float_in,
+                     int_in, load_dbc, run_main)
 
 _LENGTH_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 _ANGLE_SCALE = {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3, "": math.pi / 180.0}
@@ -30,6 +33,12 @@ class Pose:
     y: float        # m
     heading: float  # rad, counter-clockwise from +x
     fix: Optional[int]
+    fix_name: Optional[str] = None  # from the DBC's value table, when it has one
+    #: False when the fix says there is no pose (LOST, NONE): its x, y mean nothing.
+    usable: bool = True
+
+#: Fix values that mean "no pose" (TLM_POSE FixState, GPS_POSE Fix).
+NO_POSE = ("LOST", "NONE")
 
 
 def _find_signal(message, wanted, override):
@@ -54,6 +63,7 @@ class PoseDecoder:
         except KeyError:
             raise ToolError(f"no frame {frame} in the DBC (frames: "
                             f"{', '.join(m.name for m in db.messages)}); pass --frame") from None
+        self.db = db
         m = self.message
         self.x = _find_signal(m, lambda n: n in ("x", "x_mm", "x_m", "pos_x", "posx"), x)
         self.y = _find_signal(m, lambda n: n in ("y", "y_mm", "y_m", "pos_y", "posy"), y)
@@ -85,8 +95,18 @@ class PoseDecoder:
             return None  # the monitor reports undecodable frames; the viewer just skips them
         heading = float(v[self.heading.name]) * self._hs if self.heading else 0.0
         fix = int(v[self.fix.name]) if self.fix else None
+        name = self.fix_name(fix)
         return Pose(float(msg.timestamp), float(v[self.x.name]) * self._xs, float(v[self.y.name]) * self._ys,
-                    heading, fix)
+                    heading, fix, name, name not in NO_POSE)
+
+    def fix_name(self, fix: Optional[int]) -> Optional[str]:
+        if fix is None or self.fix is None or not self.fix.choices:
+            return None
+        return str(self.fix.choices.get(fix, fix))
+
+    def usable(self, values) -> bool:
+        """Decoded values (decode_choices=False) of the pose frame carry a pose."""
+        return self.fix is None or self.fix_name(int(values[self.fix.name])) not in NO_POSE
 
 
 class PoseView:
@@ -110,8 +130,12 @@ class PoseView:
         self.arrow = None
         self.title = self.ax.set_title("waiting for pose frames")
         self.poses = 0
+        self.skipped = 0
 
     def add(self, pose: Pose) -> None:
+        if not pose.usable:
+            self.skipped += 1  # no fix: its x, y (often 0, 0) are not where the robot is
+            return
         self.poses += 1
         self.trail.append((pose.x, pose.y))
         self.last = pose
@@ -126,7 +150,7 @@ class PoseView:
             self.arrow.remove()
         self.arrow = self.ax.arrow(p.x, p.y, 0.25 * math.cos(p.heading), 0.25 * math.sin(p.heading),
                                    width=0.04, color="tab:red", length_includes_head=True)
-        fix = "" if p.fix is None else f"  fix {p.fix}"
+        fix = "" if p.fix is None else f"  fix {p.fix_name or p.fix}"
         self.title.set_text(f"x {p.x:.3f} m  y {p.y:.3f} m  heading {math.degrees(p.heading):.1f} deg"
                             f"{fix}  ({self.poses} poses)")
         if not self.has_arena:
@@ -135,7 +159,7 @@ class PoseView:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="dynaqpc-viewer", description=__doc__,
+    p = ToolArgumentParser(prog="dynaqpc-viewer", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     add_bus_arguments(p)
     p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
@@ -143,10 +167,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--x-signal"), p.add_argument("--y-signal")
     p.add_argument("--heading-signal"), p.add_argument("--fix-signal")
     p.add_argument("--arena", metavar="JSON", help="arena file written by the simulator")
-    p.add_argument("--replay", metavar="FILE", help="read a recorded log (.asc, .blf) instead of a bus")
+    p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf) instead of a bus")
     p.add_argument("--headless-png", metavar="FILE", help="no window: render to FILE at the end")
-    p.add_argument("--duration", type=float, default=None, help="stop after S seconds")
-    p.add_argument("--count", type=int, default=None, help="stop after N pose frames")
+    p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
+    p.add_argument("--count", type=int_in(1), default=None, help="stop after N pose frames")
     return p
 
 
@@ -173,15 +197,13 @@ def run(args) -> PoseView:
                 (args.duration is not None and time.monotonic() - start >= args.duration))
 
     bus = None
+    seen = set()
     try:
         if args.replay:
-            import can
+            from .canlog import read_log
 
-            try:
-                reader = can.LogReader(args.replay)
-            except Exception as e:
-                raise ToolError(f"cannot read {args.replay}: {e}") from e
-            for msg in reader:
+            for msg in read_log(args.replay):
+                seen.add(msg.arbitration_id)
                 pose = decoder.decode(msg)
                 if pose is not None:
                     view.add(pose)
@@ -191,6 +213,8 @@ def run(args) -> PoseView:
             bus = bus_from_args(args)
             while not done():
                 msg = bus.recv(timeout=0.05)
+                if msg is not None:
+                    seen.add(msg.arbitration_id)
                 pose = decoder.decode(msg) if msg is not None else None
                 if pose is not None:
                     view.add(pose)
@@ -207,12 +231,31 @@ def run(args) -> PoseView:
         if bus is not None:
             bus.shutdown()
     view.redraw()
+    skipped = f", {view.skipped} without a fix not drawn" if view.skipped else ""
+    if view.poses == 0 and view.skipped == 0:
+        m = decoder.message
+        others = sorted({(msg.name if msg else f"0x{i:03X}") for i in seen if i != m.frame_id
+                         for msg in [_by_id(decoder.db, i)]})
+        hint = (f"frames seen: {', '.join(others)}" if others else "no frames at all")
+        print(f"warning: no {m.name} frame {'in the recording' if args.replay else 'on the bus'} ({hint}); "
+              f"the scenario may not send {m.name} (GPS_POSE: only a robot with a GPS), or pass --frame",
+              file=sys.stderr)
     if args.headless_png:
-        view.fig.savefig(args.headless_png, dpi=100)
-        print(f"{view.poses} poses; wrote {args.headless_png}")
+        try:
+            view.fig.savefig(args.headless_png, dpi=100)
+        except OSError as e:
+            raise ToolError(f"cannot write {args.headless_png}: {e.strerror or e}") from None
+        print(f"{view.poses} poses{skipped}; wrote {args.headless_png}")
     else:
-        print(f"{view.poses} poses")
+        print(f"{view.poses} poses{skipped}")
     return view
+
+
+def _by_id(db, frame_id: int):
+    try:
+        return db.get_message_by_frame_id(frame_id)
+    except KeyError:
+        return None
 
 
 def main(argv=None) -> int:

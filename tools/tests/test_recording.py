@@ -1,0 +1,178 @@
+# SPDX-License-Identifier: MIT
+"""Recordings: MCAP for Foxglove (decoded channels, the pose, the arena, robot time), enum names,
+poses without a fix, garbage logs; and a real recording of paper-sim in a private namespace."""
+
+import json
+import subprocess
+
+import can
+import cantools
+import pytest
+from mcap.reader import make_reader
+
+from conftest import REPO, c_binary, in_netns, netns_available
+from dynaqpc_tools import monitor, viewer
+
+DBC = str(REPO / "docs" / "dynaqpc.dbc")
+ARENA = {"width": 4.3, "height": 3.2,
+         "obstacles": [{"kind": "box", "cx": 2.0, "cy": 1.5, "w": 0.5, "h": 1.0, "angle_deg": 30},
+                       {"kind": "circle", "cx": 1.0, "cy": 2.2, "r": 0.2}],
+         "goal": {"cx": 3.5, "cy": 2.5, "r": 0.3, "cells": [[3.2, 2.2, 3.8, 2.8]]},
+         "beacons": [{"id": "1:5e:3c:3c:a:0:0:b1", "x": 0.5, "y": 0.5, "z": 2.5}]}
+
+
+def _msg(db, name, t, **signals):
+    m = db.get_message_by_name(name)
+    full = {s.name: 0 for s in m.signals}
+    full.update(signals)
+    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=m.encode(full))
+
+
+def a_run(db, t0=1000.0):
+    """20 TLM_POSE at 0.0192 s (a 10x run of the 192 ms period), every fifth LOST at (0, 0); two
+    FW_STATUS, the second SAFE_STOP; two GPS_POSE, one without a fix."""
+    msgs = []
+    for i in range(20):
+        lost = i % 5 == 4
+        msgs.append(_msg(db, "TLM_POSE", t0 + 0.0192 * i, X=0 if lost else 1000 + 10 * i, Y=0 if lost else 800,
+                         Heading=90.0, FixState=3 if lost else 0, Counter=i % 16))
+    msgs.append(_msg(db, "FW_STATUS", t0 + 0.1, Mode=2, Counter=0, Uptime=5))
+    msgs.append(_msg(db, "FW_STATUS", t0 + 0.2, Mode=3, Counter=1, Uptime=6, ErrPoseLost=1))
+    msgs.append(_msg(db, "GPS_POSE", t0 + 0.3, X=1200, Y=800, Heading=90.0, Fix=2, Counter=0))
+    msgs.append(_msg(db, "GPS_POSE", t0 + 0.35, X=0, Y=0, Heading=0.0, Fix=0, Counter=1))
+    return sorted(msgs, key=lambda m: m.timestamp)
+
+
+def _write_asc(path, msgs):
+    with can.Logger(str(path)) as log:
+        for m in msgs:
+            log(m)
+
+
+def read_mcap(path):
+    with open(path, "rb") as f:
+        r = make_reader(f)
+        summary = r.get_summary()
+        channels = {c.topic: c for c in summary.channels.values()}
+        schemas = {s.id: s for s in summary.schemas.values()}
+        msgs = [(ch.topic, m.log_time, json.loads(m.data)) for _, ch, m in r.iter_messages()]
+    return channels, schemas, msgs
+
+
+def test_mcap_has_decoded_channels_pose_arena_in_robot_time(tmp_path, capsys):
+    db = cantools.database.load_file(DBC)
+    src, rec, arena = tmp_path / "run.asc", tmp_path / "run.mcap", tmp_path / "arena.json"
+    _write_asc(src, a_run(db))
+    arena.write_text(json.dumps(ARENA))
+    assert monitor.main(["--replay", str(src), "--log", str(rec), "--arena", str(arena), "--speed", "10"]) == 0
+    channels, schemas, msgs = read_mcap(rec)
+    for topic in ("/can/raw", "/can/TLM_POSE", "/can/FW_STATUS", "/can/GPS_POSE", "/robot/pose",
+                  "/robot/true_pose", "/arena"):
+        assert topic in channels, topic
+    assert schemas[channels["/robot/pose"].schema_id].name == "foxglove.PoseInFrame"
+    assert schemas[channels["/arena"].schema_id].name == "foxglove.SceneUpdate"
+    assert schemas[channels["/can/FW_STATUS"].schema_id].encoding == "jsonschema"
+    by = {}
+    for topic, t, d in msgs:
+        by.setdefault(topic, []).append((t, d))
+    assert len(by["/can/raw"]) == 24
+    status = [d for _, d in by["/can/FW_STATUS"]]
+    assert status[1]["Mode"] == 3 and status[1]["Mode_name"] == "SAFE_STOP" and status[1]["ErrPoseLost"] == 1
+    # The LOST poses (x = 0) are not poses: 16 of 20; the GPS pose without a fix neither.
+    poses = [d for _, d in by["/robot/pose"]]
+    assert len(poses) == 16 and all(p["pose"]["position"]["x"] > 0.9 for p in poses)
+    assert poses[0]["frame_id"] == "arena" and poses[0]["pose"]["orientation"]["w"] == pytest.approx(0.5 ** 0.5)
+    assert len(by["/robot/true_pose"]) == 1
+    # Robot time: the 10x run's 0.0192 s between poses becomes the DBC's 192 ms.
+    ts = [t for t, _ in by["/can/TLM_POSE"]]
+    assert (ts[1] - ts[0]) * 1e-9 == pytest.approx(0.192, abs=1e-6)
+    scene = by["/arena"][0][1]["entities"][0]
+    assert len(scene["cubes"]) == 4 + 1 + 1 and len(scene["cylinders"]) == 1 and len(scene["texts"]) == 1
+    # And it reads back: the monitor replays the MCAP's raw frames, FW_STATUS named.
+    capsys.readouterr()
+    assert monitor.main(["--replay", str(rec), "--print"]) == 0
+    out = capsys.readouterr().out
+    assert "24 frames" in out and "Mode=SAFE_STOP" in out and "FixState=LOST" in out
+
+
+def test_a_10x_asc_recording_is_in_robot_time_too(tmp_path):
+    db = cantools.database.load_file(DBC)
+    src, rec = tmp_path / "run.asc", tmp_path / "robot.asc"
+    _write_asc(src, a_run(db))
+    assert monitor.main(["--replay", str(src), "--log", str(rec), "--speed", "10"]) == 0
+    ts = [m.timestamp for m in can.LogReader(str(rec)) if m.arbitration_id == 0x180]
+    assert ts[1] - ts[0] == pytest.approx(0.192, abs=1e-3)
+
+
+def test_viewer_skips_lost_poses_and_names_the_fix(tmp_path, capsys):
+    db = cantools.database.load_file(DBC)
+    src = tmp_path / "run.asc"
+    _write_asc(src, a_run(db))
+    png = tmp_path / "p.png"
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(src), "--headless-png", str(png)]))
+    assert view.poses == 16 and view.skipped == 4 and view.last.fix_name == "FRESH"
+    assert "4 without a fix not drawn" in capsys.readouterr().out
+    # Asked for a frame that is not there: it says so, and what was.
+    only_tlm = tmp_path / "tlm.asc"
+    _write_asc(only_tlm, [m for m in a_run(db) if m.arbitration_id != 0x0C0])
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(only_tlm), "--frame", "GPS_POSE",
+                                                        "--headless-png", str(png)]))
+    err = capsys.readouterr().err
+    assert view.poses == 0 and "no GPS_POSE frame in the recording" in err and "TLM_POSE" in err
+
+
+@pytest.mark.parametrize("tool, argv", [
+    (monitor, ["--replay", "garbage.asc"]),
+    (monitor, ["--replay", "garbage.blf"]),
+    (monitor, ["--replay", "garbage.mcap"]),
+    (monitor, ["--replay", "missing.asc"]),
+    (monitor, ["--replay", "good.asc", "--log", "no/such/dir/x.mcap"]),
+    (viewer, ["--replay", "garbage.mcap", "--headless-png", "x.png"]),
+    (viewer, ["--replay", "good.asc", "--headless-png", "no/such/dir/x.png"]),
+])
+def test_bad_logs_and_outputs_are_one_line_and_status_2(tmp_path, capsys, monkeypatch, tool, argv):
+    db = cantools.database.load_file(DBC)
+    junk = bytes(range(256)) * 8
+    (tmp_path / "garbage.asc").write_bytes(junk)
+    (tmp_path / "garbage.blf").write_bytes(junk)
+    (tmp_path / "garbage.mcap").write_bytes(b"\x89MCAP0\r\n" + junk)
+    _write_asc(tmp_path / "good.asc", a_run(db))
+    monkeypatch.chdir(tmp_path)
+    capsys.readouterr()
+    assert tool.main(["--dbc", DBC, *argv]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: "), err
+
+
+@pytest.mark.parametrize("tool, argv", [(monitor, ["--count", "-5"]), (monitor, ["--speed", "0"]),
+                                        (viewer, ["--duration", "0"]), (viewer, ["--count", "0"])])
+def test_numeric_arguments_are_range_checked(capsys, tool, argv):
+    with pytest.raises(SystemExit) as e:
+        tool.main(argv)
+    assert e.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+@pytest.mark.skipif(not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
+                    reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+@pytest.mark.skipif(not netns_available(), reason="needs a private network namespace (unshare -n)")
+def test_recording_paper_sim_reads_back_with_the_mcap_library(tmp_path):
+    """The firmware and the simulated robot on paper-sim at 10x, supervised, recorded 4 s."""
+    import sys
+
+    b = c_binary("dynaqpc-fw").parent
+    rec = tmp_path / "run.mcap"
+    script = (f"{b}/dynaqpc-fw --scenario paper-sim --speed 10 --duration 8 >{tmp_path}/fw.out 2>&1 & "
+              f"sleep 0.5; {b}/dynaqpc-sim devices --scenario paper-sim --speed 10 --supervise --duration 7 "
+              f">{tmp_path}/dev.out 2>&1 & "
+              f"{sys.executable} -m dynaqpc_tools.monitor --dbc {DBC} --log {rec} --speed 10 --duration 4; "
+              "wait")
+    proc = subprocess.run(in_netns(["sh", "-c", script]), capture_output=True, text=True, timeout=120,
+                          cwd=str(REPO / "tools"))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    channels, _, msgs = read_mcap(rec)
+    topics = {t for t, _, _ in msgs}
+    assert len(channels) >= 5 and len(msgs) >= 500, (len(channels), len(msgs))
+    assert {"/can/raw", "/can/MOTOR_CMD", "/can/GPS_POSE", "/can/FW_STATUS", "/robot/true_pose"} <= topics
+    # Robot time: 4 s of wall time at 10x span about 40 s.
+    times = [t for _, t, _ in msgs]
+    assert 25 < (max(times) - min(times)) * 1e-9 < 45
