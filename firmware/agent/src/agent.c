@@ -427,6 +427,37 @@ void agent_learned_restored(agent_t *ag)
             count_used_(ag->model.inverse.keys, ag->model.inverse.capacity);
         pq_clear(&ag->pq);
     } else if (ag->kind == AGENT_DYNA_Q) {
-        ag->table.count = count_used_(ag->table.index_keys, DYNAQ_INDEX_SLOTS(ag->table.capacity));
+        dynaq_restored(&ag->table);
     }
+}
+
+int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REGIONS])
+{
+    // The regions in agent_learned_regions()' order.
+    const uint32_t state_bits = space_state_bits(ag->space);
+    uint32_t i = 0;
+    const float *q = (const float *)image[i++];
+    const uint32_t *q_keys = ag->q.dense ? NULL : (const uint32_t *)image[i++];
+    if (qstore_check(&ag->q, q, q_keys, state_bits) != FW_OK) {
+        return FW_ERR_CORRUPT;
+    }
+    if (ag->kind == AGENT_DYNA_QPC) {
+        const cmac_t *cmacs[2] = {&ag->model.forward, &ag->model.inverse};
+        for (uint32_t c = 0; c < 2u; c++) {
+            const uint32_t *keys = (const uint32_t *)image[i];
+            const uint8_t *counts = (const uint8_t *)image[i + 1u];
+            const int16_t *weights = (const int16_t *)image[i + 2u];
+            i += 3u;
+            if (cmac_check(cmacs[c], keys, counts, weights) != FW_OK) {
+                return FW_ERR_CORRUPT;
+            }
+        }
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        if (dynaq_check(&ag->table, (const dynaq_record_t *)image[i],
+                        (const uint32_t *)image[i + 1u], (const uint32_t *)image[i + 2u],
+                        state_bits) != FW_OK) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    return FW_OK;
 }

@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 
+#include "check.h"
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 #include "inline.h"
@@ -467,4 +468,28 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
         }
     }
     return stored;
+}
+
+int cmac_check(const cmac_t *cmac, const uint32_t *keys, const uint8_t *counts,
+               const int16_t *weights)
+{
+    const uint32_t n_out = cmac->cfg.n_outputs;
+    const uint32_t mask = cmac->capacity - 1u;
+    for (uint32_t slot = 0; slot < cmac->capacity; slot++) {
+        const uint32_t key = keys[slot];
+        if (key == CMAC_EMPTY) {
+            if (counts[slot] != 0u) {
+                return FW_ERR_CORRUPT;
+            }
+            for (uint32_t j = 0; j < n_out; j++) {
+                if (weights[slot * n_out + j] != 0) {
+                    return FW_ERR_CORRUPT;
+                }
+            }
+        } else if ((key >> 31) != 0u || counts[slot] == 0u ||
+                   !check_probe_path(keys, mask, home_(cmac, key), slot, FW_CFG_MAX_PROBE)) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    return FW_OK;
 }

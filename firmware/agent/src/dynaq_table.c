@@ -3,7 +3,9 @@
 #include "agent/dynaq_table.h"
 
 #include <stddef.h>
+#include <string.h>
 
+#include "check.h"
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 
@@ -87,15 +89,16 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
         }
         dynaq_record_t *fresh = &t->records[rec_no];
         fresh->state = s;
-        fresh->tried = 0;
-        fresh->terminal = 0;
+        memset(fresh->tried, 0, sizeof fresh->tried);
+        memset(fresh->terminal, 0, sizeof fresh->terminal);
         t->index_keys[slot] = s;
         t->index_rec[slot] = rec_no;
     }
     dynaq_record_t *rec = &t->records[t->index_rec[slot]];
-    const uint8_t bit = (uint8_t)(1u << a);
-    rec->tried |= bit;
-    rec->terminal = (uint8_t)(terminal ? (rec->terminal | bit) : (rec->terminal & ~bit));
+    const uint8_t bit = (uint8_t)(1u << (a & 7u));
+    rec->tried[a >> 3] |= bit;
+    rec->terminal[a >> 3] =
+        (uint8_t)(terminal ? (rec->terminal[a >> 3] | bit) : (rec->terminal[a >> 3] & ~bit));
     rec->next[a] = s_next;
     rec->reward[a] = r;
 }
@@ -109,12 +112,12 @@ bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t
     const dynaq_record_t *rec = &t->records[prng_below(rng, t->count)];
     uint32_t tried = 0;
     for (uint32_t b = 0; b < t->n_actions; b++) {
-        tried += (rec->tried >> b) & 1u;
+        tried += dynaq_bit(rec->tried, b);
     }
     uint32_t pick = prng_below(rng, tried);
     uint32_t action = 0;
     for (; action < t->n_actions; action++) {
-        if ((rec->tried >> action) & 1u) {
+        if (dynaq_bit(rec->tried, action)) {
             if (pick == 0u) {
                 break;
             }
@@ -125,6 +128,72 @@ bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t
     *a = (uint8_t)action;
     *r = rec->reward[action];
     *s_next = rec->next[action];
-    *terminal = (rec->terminal >> action) & 1u;
+    *terminal = dynaq_bit(rec->terminal, action);
     return true;
+}
+
+static bool state_ok_(agent_state_t s, uint32_t state_bits)
+{
+    return state_bits >= 32u || (s >> state_bits) == 0u;
+}
+
+static bool record_ok_(const dynaq_table_t *t, const dynaq_record_t *rec, uint32_t state_bits)
+{
+    bool any = false;
+    for (uint32_t a = 0; a < 8u * DYNAQ_MASK_BYTES; a++) {
+        const bool tried = dynaq_bit(rec->tried, a);
+        if ((tried && a >= t->n_actions) || (!tried && dynaq_bit(rec->terminal, a))) {
+            return false;  // an action the robot does not have, or an outcome never observed
+        }
+        if (tried && (!state_ok_(rec->next[a], state_bits) || !check_finite(rec->reward[a]))) {
+            return false;
+        }
+        any = any || tried;
+    }
+    return any;  // a record exists because an action was observed in its state
+}
+
+int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uint32_t *index_keys,
+                const uint32_t *index_rec, uint32_t state_bits)
+{
+    const uint32_t slots = t->index_mask + 1u;
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < slots; i++) {
+        count += index_keys[i] != DYNAQ_EMPTY;
+    }
+    // More states than records would overrun the record array; a full index would make every
+    // search for a new state spin for ever.
+    if (count > t->capacity) {
+        return FW_ERR_CORRUPT;
+    }
+    for (uint32_t i = 0; i < slots; i++) {
+        const uint32_t key = index_keys[i];
+        if (key == DYNAQ_EMPTY) {
+            continue;
+        }
+        // Keys are unique and each names its record, so the count records pointed at are the
+        // first count, each once.
+        if (!state_ok_(key, state_bits) || index_rec[i] >= count ||
+            records[index_rec[i]].state != key ||
+            !check_probe_path(index_keys, t->index_mask, home_(t, key), i, slots)) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    for (uint32_t r = 0; r < count; r++) {
+        if (!record_ok_(t, &records[r], state_bits)) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    return FW_OK;
+}
+
+void dynaq_restored(dynaq_table_t *t)
+{
+    uint32_t count = 0;
+    for (uint32_t i = 0; i <= t->index_mask; i++) {
+        count += t->index_keys[i] != DYNAQ_EMPTY;
+    }
+    t->count = count;
+    t->oldest = 0;
+    t->evicted = 0;
 }

@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 
+#include "check.h"
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 #include "inline.h"
@@ -176,4 +177,34 @@ float qstore_max(const qstore_t *qs, agent_state_t s)
         }
     }
     return best;
+}
+
+int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint32_t state_bits)
+{
+    const uint32_t n = qs->n_actions;
+    for (uint32_t i = 0; i < qs->capacity * n; i++) {
+        if (!check_finite(q[i])) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    if (qs->dense) {
+        return FW_OK;
+    }
+    const uint32_t mask = qs->capacity - 1u;
+    const uint32_t limit = FW_CFG_MAX_PROBE < qs->capacity ? FW_CFG_MAX_PROBE : qs->capacity;
+    for (uint32_t slot = 0; slot < qs->capacity; slot++) {
+        const uint32_t key = keys[slot];
+        if (key == QSTORE_EMPTY) {
+            for (uint32_t a = 0; a < n; a++) {
+                if (q[slot * n + a] != 0.0f) {
+                    return FW_ERR_CORRUPT;
+                }
+            }
+        } else if ((state_bits < 32u && (key >> state_bits) != 0u) ||
+                   !check_probe_path(keys, mask, qs->capacity_shift ? home_(qs, key) : 0u, slot,
+                                     limit)) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    return FW_OK;
 }

@@ -54,51 +54,60 @@ static bool header_valid_(const learned_header_t *h)
            h->header_crc == header_crc_(h);
 }
 
-// CRC of `len` bytes of flash from `offset`, read in chunks.
-static int flash_crc_(uint32_t offset, uint32_t len, uint32_t *crc)
+static bool newer_(uint32_t a, uint32_t b)
 {
-    uint8_t buf[STAGE_BYTES];
-    uint32_t c = 0;
-    while (len > 0u) {
-        const uint32_t n = len < STAGE_BYTES ? len : STAGE_BYTES;
-        const int err = hal_flash_read(offset, buf, n);
-        if (err) {
-            return err;
-        }
-        c = fw_crc32(c, buf, n);
-        offset += n;
-        len -= n;
-    }
-    *crc = c;
-    return FW_OK;
+    return (int32_t)(a - b) > 0;
 }
 
-// Reads a slot's header; true if the header and its payload are whole.
-static bool slot_record_(learned_store_t *st, uint32_t slot, learned_header_t *h)
+// A slot's header, if it is whole (magic, version, CRC) and its payload fits the slot.
+static const learned_header_t *slot_header_(const learned_store_t *st, uint32_t slot)
 {
-    const uint32_t base = slot * st->slot_size;
-    if (hal_flash_read(base, h, sizeof *h) != FW_OK || !header_valid_(h)) {
+    const learned_header_t *h =
+        (const learned_header_t *)hal_flash_map(slot * st->slot_size, sizeof(learned_header_t));
+    if (h == NULL || ((uintptr_t)h & 3u) != 0u || !header_valid_(h) ||
+        h->payload_size > st->slot_size - header_span_(st)) {
+        return NULL;
+    }
+    return h;
+}
+
+static bool slot_erased_(const learned_store_t *st, uint32_t slot)
+{
+    const uint8_t *p = (const uint8_t *)hal_flash_map(slot * st->slot_size, sizeof(learned_header_t));
+    if (p == NULL) {
         return false;
     }
-    uint32_t crc;
-    if (h->payload_size > st->slot_size - header_span_(st) ||
-        flash_crc_(base + header_span_(st), h->payload_size, &crc) != FW_OK ||
-        crc != h->payload_crc) {
-        st->corrupt_records++;
-        return false;
+    for (uint32_t i = 0; i < sizeof(learned_header_t); i++) {
+        if (p[i] != 0xFFu) {
+            return false;
+        }
     }
     return true;
 }
 
-static bool newer_(uint32_t a, uint32_t b)
+// The newest whole record of any layout (its payload CRC holds), for the sequence numbers.
+static void find_newest_(learned_store_t *st)
 {
-    return (int32_t)(a - b) > 0;
+    st->newest = -1;
+    st->newest_sequence = 0;
+    for (uint32_t slot = 0; slot < 2u; slot++) {
+        const learned_header_t *h = slot_header_(st, slot);
+        const uint8_t *payload = h == NULL ? NULL
+                                           : (const uint8_t *)hal_flash_map(
+                                                 slot * st->slot_size + header_span_(st), h->payload_size);
+        if (payload != NULL && fw_crc32(0, payload, h->payload_size) == h->payload_crc &&
+            (st->newest < 0 || newer_(h->sequence, st->newest_sequence))) {
+            st->newest = (int32_t)slot;
+            st->newest_sequence = h->sequence;
+        }
+    }
 }
 
 int learned_store_init(learned_store_t *st)
 {
     *st = (learned_store_t){0};
     st->newest = -1;
+    st->restored_slot = -1;
     int err = hal_flash_get_geometry(&st->geo);
     if (err) {
         return err;
@@ -109,14 +118,43 @@ int learned_store_init(learned_store_t *st)
     }
     st->sectors_per_slot = st->geo.sector_count / 2u;
     st->slot_size = st->sectors_per_slot * st->geo.sector_size;
-    for (uint32_t slot = 0; slot < 2u; slot++) {
-        learned_header_t h;
-        if (slot_record_(st, slot, &h) && (st->newest < 0 || newer_(h.sequence, st->newest_sequence))) {
-            st->newest = (int32_t)slot;
-            st->newest_sequence = h.sequence;
-        }
-    }
+    find_newest_(st);
     return FW_OK;
+}
+
+learned_slot_state_t learned_store_slot_state(const learned_store_t *st, const agent_t *ag,
+                                              uint32_t slot, uint32_t *sequence)
+{
+    agent_region_t regions[AGENT_MAX_REGIONS];
+    uint32_t n, payload;
+    const uint32_t layout = layout_of_(ag, regions, &n, &payload);
+    const learned_header_t *h = slot_header_(st, slot);
+    if (h == NULL) {
+        return slot_erased_(st, slot) ? LEARNED_SLOT_EMPTY : LEARNED_SLOT_DAMAGED;
+    }
+    const uint32_t base = slot * st->slot_size + header_span_(st);
+    const uint8_t *bytes = (const uint8_t *)hal_flash_map(base, h->payload_size);
+    if (bytes == NULL || fw_crc32(0, bytes, h->payload_size) != h->payload_crc) {
+        return LEARNED_SLOT_DAMAGED;
+    }
+    if (sequence != NULL) {
+        *sequence = h->sequence;
+    }
+    if (h->layout != layout || h->payload_size != payload) {
+        return LEARNED_SLOT_FOREIGN;
+    }
+    // The regions where they lie in flash, checked there by the agent's own tables. Every region
+    // is a whole number of words long, so each starts aligned if the slot does.
+    const void *image[AGENT_MAX_REGIONS] = {0};
+    uint32_t offset = 0;
+    for (uint32_t r = 0; r < n; r++) {
+        if (((uintptr_t)(bytes + offset) & 3u) != 0u) {
+            return LEARNED_SLOT_REFUSED;
+        }
+        image[r] = bytes + offset;
+        offset += regions[r].size;
+    }
+    return agent_learned_check(ag, image) == FW_OK ? LEARNED_SLOT_GOOD : LEARNED_SLOT_REFUSED;
 }
 
 uint32_t learned_store_record_size(const agent_t *ag)
@@ -171,8 +209,36 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
         st->save_errors++;
         return FW_ERR_NOMEM;
     }
-    // Into the slot that does not hold the newest good copy.
-    const uint32_t slot = st->newest == 0 ? 1u : 0u;
+    // Never over the agent's newest good copy. Without one: an empty or damaged slot before a
+    // refused record, before another layout's record, and of two alike the older.
+    learned_slot_state_t state[2];
+    uint32_t seq[2] = {0, 0};
+    bool whole = false;
+    uint32_t top = 0;  // the highest sequence number in flash
+    for (uint32_t i = 0; i < 2u; i++) {
+        state[i] = learned_store_slot_state(st, ag, i, &seq[i]);
+        if (state[i] >= LEARNED_SLOT_FOREIGN) {
+            top = !whole || newer_(seq[i], top) ? seq[i] : top;
+            whole = true;
+        }
+    }
+    uint32_t slot;
+    if (state[0] == LEARNED_SLOT_GOOD || state[1] == LEARNED_SLOT_GOOD) {
+        const bool both = state[0] == LEARNED_SLOT_GOOD && state[1] == LEARNED_SLOT_GOOD;
+        const uint32_t keep = both ? (newer_(seq[1], seq[0]) ? 1u : 0u)
+                                   : (state[0] == LEARNED_SLOT_GOOD ? 0u : 1u);
+        slot = 1u - keep;
+    } else {
+        static const uint8_t rank[] = {0u, 0u, 2u, 1u, 3u};  // by learned_slot_state_t
+        if (rank[state[0]] != rank[state[1]]) {
+            slot = rank[state[1]] < rank[state[0]] ? 1u : 0u;
+        } else {
+            slot = state[0] >= LEARNED_SLOT_FOREIGN && newer_(seq[0], seq[1]) ? 1u : 0u;
+        }
+    }
+    if (state[slot] == LEARNED_SLOT_FOREIGN) {
+        st->foreign_overwritten++;
+    }
     const uint32_t base = slot * st->slot_size;
     int err = FW_OK;
     for (uint32_t s = 0; s < st->sectors_per_slot && !err; s++) {
@@ -191,7 +257,7 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
     }
     h.magic = LEARNED_STORE_MAGIC;
     h.version = LEARNED_STORE_VERSION;
-    h.sequence = st->newest < 0 ? 1u : st->newest_sequence + 1u;
+    h.sequence = whole ? top + 1u : 1u;
     h.payload_size = payload;
     h.payload_crc = crc;
     h.episodes = episodes;
@@ -215,37 +281,44 @@ int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
 {
     agent_region_t regions[AGENT_MAX_REGIONS];
     uint32_t n, payload;
-    const uint32_t layout = layout_of_(ag, regions, &n, &payload);
-    bool any = false;
+    (void)layout_of_(ag, regions, &n, &payload);
+    learned_slot_state_t state[2];
+    uint32_t seq[2] = {0, 0};
+    for (uint32_t i = 0; i < 2u; i++) {
+        state[i] = learned_store_slot_state(st, ag, i, &seq[i]);
+        st->corrupt_records += state[i] == LEARNED_SLOT_DAMAGED ? 1u : 0u;
+        st->refused_records += state[i] == LEARNED_SLOT_REFUSED ? 1u : 0u;
+    }
+    st->fell_back = false;
     int32_t best = -1;
-    learned_header_t best_h = {0};
-    for (uint32_t slot = 0; slot < 2u; slot++) {
-        learned_header_t h;
-        if (hal_flash_read(slot * st->slot_size, &h, sizeof h) == FW_OK && h.magic != 0xFFFFFFFFu) {
-            any = true;
-        }
-        if (slot_record_(st, slot, &h) && h.layout == layout && h.payload_size == payload &&
-            (best < 0 || newer_(h.sequence, best_h.sequence))) {
-            best = (int32_t)slot;
-            best_h = h;
+    for (uint32_t i = 0; i < 2u; i++) {
+        if (state[i] == LEARNED_SLOT_GOOD && (best < 0 || newer_(seq[i], seq[best]))) {
+            best = (int32_t)i;
         }
     }
     if (best < 0) {
-        return any ? FW_ERR_CORRUPT : FW_ERR_NOENT;
+        return state[0] == LEARNED_SLOT_EMPTY && state[1] == LEARNED_SLOT_EMPTY ? FW_ERR_NOENT
+                                                                              : FW_ERR_CORRUPT;
     }
-    // Verified whole above; now copy it in.
-    uint32_t offset = (uint32_t)best * st->slot_size + header_span_(st);
+    const learned_slot_state_t other = state[1 - best];
+    if (other == LEARNED_SLOT_DAMAGED || other == LEARNED_SLOT_REFUSED) {
+        st->fell_back = true;  // perhaps the newer record; anyway something was lost
+        st->fallbacks++;
+    }
+    // Checked in place above; the copy is from memory and cannot fail half way.
+    const uint32_t base = (uint32_t)best * st->slot_size;
+    const learned_header_t *h = (const learned_header_t *)hal_flash_map(base, sizeof *h);
+    const uint8_t *bytes = (const uint8_t *)hal_flash_map(base + header_span_(st), payload);
+    uint32_t offset = 0;
     for (uint32_t r = 0; r < n; r++) {
-        const int err = hal_flash_read(offset, regions[r].data, regions[r].size);
-        if (err) {
-            return FW_ERR_IO;
-        }
+        memcpy(regions[r].data, bytes + offset, regions[r].size);
         offset += regions[r].size;
     }
     agent_learned_restored(ag);
     st->loads++;
+    st->restored_slot = best;
     if (episodes != NULL) {
-        *episodes = best_h.episodes;
+        *episodes = h->episodes;
     }
     return FW_OK;
 }

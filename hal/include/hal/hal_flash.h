@@ -31,6 +31,13 @@ int hal_flash_get_geometry(hal_flash_geometry_t *out);
 /// Context: thread. Never blocks.
 int hal_flash_read(uint32_t offset, void *buf, size_t len);
 
+/// The region's bytes in place: internal flash is memory-mapped (on the host, the port's image).
+/// Returns a read-only pointer to `len` bytes at `offset`, or NULL (out of the region, or no
+/// region). The pointer stays valid, and the bytes as they are, until the next erase or write.
+/// The persistence layer checks a record where it lies, before it copies anything (a copy made
+/// through a buffer could fail half way). Context: thread. Never blocks.
+const void *hal_flash_map(uint32_t offset, size_t len);
+
 /// Erases one sector (every byte becomes 0xFF). Blocks until done: on the STM32F4 a 128 KB
 /// sector takes 1–2 s and, in the bank the code runs from (the F405's only bank), stalls
 /// instruction fetch, so the firmware erases only when

@@ -19,7 +19,8 @@
 #include "host_internal.h"
 
 static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
-static uint8_t image_[FW_CFG_HOST_FLASH_CAPACITY];
+// Word-aligned: hal_flash_map() hands out pointers the firmware reads words through.
+static uint8_t image_[FW_CFG_HOST_FLASH_CAPACITY] __attribute__((aligned(16)));
 static bool image_ready_; // the image starts erased; static storage starts at 0
 static hal_flash_geometry_t geo_ = {FW_CFG_HOST_FLASH_SECTOR_SIZE, FW_CFG_HOST_FLASH_SECTOR_COUNT,
                                     FW_CFG_HOST_FLASH_WRITE_ALIGN};
@@ -27,6 +28,9 @@ static int fd_ = -1;
 static bool cut_armed_;
 static uint32_t cut_left_;  // bytes still programmable before the cut
 static bool power_off_;
+static bool erase_cut_armed_;
+static uint32_t erase_cut_skip_;   // complete erases still to go before the cut one
+static uint32_t erase_cut_bytes_;  // bytes of the cut erase that are erased
 static uint64_t programmed_;
 static uint32_t erases_;
 
@@ -99,6 +103,15 @@ int hal_flash_read(uint32_t offset, void *buf, size_t len)
     return rc;
 }
 
+const void *hal_flash_map(uint32_t offset, size_t len)
+{
+    pthread_mutex_lock(&lock_);
+    ensure_image_locked();
+    const void *p = range_ok(offset, len) ? &image_[offset] : NULL;
+    pthread_mutex_unlock(&lock_);
+    return p;
+}
+
 int hal_flash_erase(uint32_t sector)
 {
     pthread_mutex_lock(&lock_);
@@ -110,9 +123,24 @@ int hal_flash_erase(uint32_t sector)
         rc = FW_ERR_IO;
     } else {
         uint32_t start = sector * geo_.sector_size;
-        memset(&image_[start], 0xFF, geo_.sector_size);
+        uint32_t n = geo_.sector_size;
+        bool cut = false;
+        if (erase_cut_armed_) {
+            if (erase_cut_skip_ > 0u) {
+                erase_cut_skip_--;
+            } else {
+                cut = true;
+                n = erase_cut_bytes_ < n ? erase_cut_bytes_ : n;
+            }
+        }
+        memset(&image_[start], 0xFF, n);
         erases_++;
-        rc = write_through_locked(start, geo_.sector_size);
+        rc = write_through_locked(start, n);
+        if (cut) {
+            erase_cut_armed_ = false;
+            power_off_ = true;
+            rc = FW_ERR_IO;
+        }
     }
     pthread_mutex_unlock(&lock_);
     return rc;
@@ -276,9 +304,19 @@ void hal_host_flash_cut_power_after(uint32_t bytes)
     pthread_mutex_unlock(&lock_);
 }
 
+void hal_host_flash_cut_power_in_erase(uint32_t erases, uint32_t bytes)
+{
+    pthread_mutex_lock(&lock_);
+    erase_cut_armed_ = true;
+    erase_cut_skip_ = erases;
+    erase_cut_bytes_ = bytes;
+    pthread_mutex_unlock(&lock_);
+}
+
 void hal_host_flash_restore_power(void)
 {
     pthread_mutex_lock(&lock_);
+    erase_cut_armed_ = false;
     cut_armed_ = false;
     cut_left_ = 0;
     power_off_ = false;
@@ -304,6 +342,7 @@ uint32_t hal_host_flash_erase_count(void)
 void host_flash_reset(void)
 {
     pthread_mutex_lock(&lock_);
+    erase_cut_armed_ = false;
     cut_armed_ = false;
     cut_left_ = 0;
     power_off_ = false;

@@ -104,7 +104,7 @@ static uint8_t tried_of_(const dynaq_table_t *t, agent_state_t s)
 {
     for (uint32_t i = 0; i < t->count; i++) {
         if (t->records[i].state == s) {
-            return t->records[i].tried;
+            return t->records[i].tried[0];
         }
     }
     return 0;

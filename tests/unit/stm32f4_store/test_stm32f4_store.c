@@ -57,6 +57,11 @@ int hal_flash_read(uint32_t offset, void *buf, size_t len)
     return stm32f4_flash_read(&dev_, offset, buf, len);
 }
 
+const void *hal_flash_map(uint32_t offset, size_t len)
+{
+    return stm32f4_flash_map(&dev_, offset, len);
+}
+
 int hal_flash_erase(uint32_t sector)
 {
     return stm32f4_flash_erase(&dev_, sector);

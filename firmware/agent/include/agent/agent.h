@@ -144,8 +144,16 @@ typedef struct agent_region {
 /// Returns the number of regions written to `out`.
 uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS]);
 
-/// Call after the regions' bytes were restored: recomputes the tables' fill counters from the
-/// restored keys and empties the priority queue. Statistics are not restored.
+/// Checks saved bytes before they are restored: image[i] points at the bytes of region i as
+/// agent_learned_regions() lists them for this agent (the same sizes: the caller checked the
+/// layout). Each table checks its own invariants (qstore_check, cmac_check, dynaq_check): what
+/// passes cannot make the agent read or write out of bounds or loop for ever, whatever the bytes.
+/// Reads only; the agent is not changed. Returns FW_OK or FW_ERR_CORRUPT.
+int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REGIONS]);
+
+/// Call after the regions' bytes were restored (bytes that passed agent_learned_check()):
+/// recomputes the tables' fill counters from the restored keys and empties the priority queue.
+/// Statistics are not restored.
 void agent_learned_restored(agent_t *ag);
 
 /// Real plus planning Q updates so far.

@@ -136,6 +136,15 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
 /// until a later training stores them.
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
 
+/// Checks restored contents before they are copied into `cmac` (which gives the shape):
+/// `keys` and `counts` hold capacity entries, `weights` capacity * n_outputs. Every cell must be
+/// empty with a zero count and zero weights (a new tile takes an empty cell as it is), or hold a
+/// key of at most 31 bits that a search from its home cell finds within FW_CFG_MAX_PROBE cells
+/// (no empty cell and no copy of it before it), trained at least once (the planner trusts every
+/// stored cell: see cmac_predict_trusted). Reads only. Returns FW_OK or FW_ERR_CORRUPT.
+int cmac_check(const cmac_t *cmac, const uint32_t *keys, const uint8_t *counts,
+               const int16_t *weights);
+
 #ifdef __cplusplus
 }
 #endif

@@ -13,16 +13,26 @@
 extern "C" {
 #endif
 
+/// Bytes of one action mask: a bit per action (FW_CFG_MAX_ACTIONS may be up to 128), rounded
+/// up to an even count so that the two masks end on a word boundary and a record has no padding
+/// (its bytes are saved to flash as they are).
+#define DYNAQ_MASK_BYTES ((((FW_CFG_MAX_ACTIONS) + 15) / 16) * 2)
+
 /// Everything observed in one state: for each action tried there, the last outcome (the model
 /// assumes a deterministic environment, as Fig. 5 does).
 typedef struct dynaq_record {
-    agent_state_t state;                        // 4
-    uint8_t tried;                              // 1: bit a set when action a was observed
-    uint8_t terminal;                           // 1: bit a set when a ended the episode
-    uint8_t pad_[2];                            // 2
-    agent_state_t next[FW_CFG_MAX_ACTIONS];     // 16
-    float reward[FW_CFG_MAX_ACTIONS];           // 16
+    agent_state_t state;
+    uint8_t tried[DYNAQ_MASK_BYTES];     ///< bit a (byte a / 8, bit a % 8): a was observed
+    uint8_t terminal[DYNAQ_MASK_BYTES];  ///< bit a: a ended the episode
+    agent_state_t next[FW_CFG_MAX_ACTIONS];
+    float reward[FW_CFG_MAX_ACTIONS];
 } dynaq_record_t;
+
+/// Whether bit a of an action mask is set.
+static inline bool dynaq_bit(const uint8_t *mask, uint32_t a)
+{
+    return ((mask[a >> 3] >> (a & 7u)) & 1u) != 0u;
+}
 
 /// Records live in a dense array (so a uniformly random observed state is one index) and an
 /// open-addressing index maps a state to its record. When the array is full, a new state takes
@@ -58,6 +68,21 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
 /// it, and its recorded outcome. Returns false if nothing has been observed.
 bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t *a, float *r,
                   agent_state_t *s_next, bool *terminal);
+
+/// Checks restored contents before they are copied into `t` (which gives the shape: capacity,
+/// actions): `records` holds capacity records, `index_keys` and `index_rec`
+/// DYNAQ_INDEX_SLOTS(capacity) entries. The index must hold at most `capacity` states, each of
+/// `state_bits` bits, found by a search from its home slot (no empty slot and no copy of it
+/// before it), pointing at a record below the count that names the same state: so the records
+/// in use are exactly the first `count` and every one is indexed once. Each of those must have
+/// at least one action tried and none past n_actions, terminal bits only on tried actions, and
+/// for every tried action a next state of `state_bits` bits and a finite reward. Reads only.
+/// Returns FW_OK or FW_ERR_CORRUPT.
+int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uint32_t *index_keys,
+                const uint32_t *index_rec, uint32_t state_bits);
+
+/// After contents that passed dynaq_check() were copied in: recounts the records in use.
+void dynaq_restored(dynaq_table_t *t);
 
 #ifdef __cplusplus
 }

@@ -60,6 +60,14 @@ float *qstore_row_for_plan(qstore_t *qs, agent_state_t s);
 /// max over a of Q(s, a).
 float qstore_max(const qstore_t *qs, agent_state_t s);
 
+/// Checks restored contents before they are copied into `qs` (which gives the shape: capacity,
+/// actions, dense or hashed): `q` holds capacity * n_actions values and `keys` capacity keys
+/// (hashed only; ignored when dense). Every value must be finite; in a hashed table every key
+/// must be empty or a state of `state_bits` bits, found by a search from its home slot within
+/// FW_CFG_MAX_PROBE slots (no empty slot and no copy of it before it), and every empty row all
+/// zeros (a new row is used as it is). Reads only. Returns FW_OK or FW_ERR_CORRUPT.
+int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint32_t state_bits);
+
 #ifdef __cplusplus
 }
 #endif

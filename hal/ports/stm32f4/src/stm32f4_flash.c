@@ -87,6 +87,15 @@ int stm32f4_flash_read(const stm32f4_flash_dev_t *d, uint32_t offset, void *buf,
     return FW_OK;
 }
 
+const void *stm32f4_flash_map(const stm32f4_flash_dev_t *d, uint32_t offset, size_t len)
+{
+    const uint32_t region = d->sector_count * d->sector_size;
+    if (d->sector_count == 0u || offset > region || len > region - offset) {
+        return NULL;
+    }
+    return (const void *)(uintptr_t)(d->mem + offset);
+}
+
 static int wait_idle_(const stm32f4_flash_dev_t *d, uint32_t max_polls)
 {
     uint32_t polls = 0;

@@ -212,6 +212,13 @@ void hal_host_flash_detach_file(void);
 void hal_host_flash_cut_power_after(uint32_t bytes);
 void hal_host_flash_restore_power(void);
 
+/// Power-cut injector inside an erase: the erase after `erases` more complete ones stops once the
+/// first `bytes` bytes of its sector are erased (0xFF); the rest keep what they held, as a NOR
+/// erase cut short leaves a sector partly erased. It returns FW_ERR_IO and the power is off, as
+/// above, until hal_host_flash_restore_power(). `bytes` >= the sector size completes the erase
+/// and then cuts. Writes before that erase program as usual.
+void hal_host_flash_cut_power_in_erase(uint32_t erases, uint32_t bytes);
+
 /// Bytes programmed and sectors erased since hal_host_reset() (wear and timing statistics).
 uint64_t hal_host_flash_programmed_bytes(void);
 uint32_t hal_host_flash_erase_count(void);

@@ -212,6 +212,9 @@ int stm32f4_flash_geometry(const stm32f4_flash_dev_t *d, hal_flash_geometry_t *o
 /// Copies `len` bytes at `offset` of the region. FW_OK or FW_ERR_INVAL (out of the region).
 int stm32f4_flash_read(const stm32f4_flash_dev_t *d, uint32_t offset, void *buf, size_t len);
 
+/// hal_flash_map of the region: its memory at `offset`, or NULL (out of range, no region).
+const void *stm32f4_flash_map(const stm32f4_flash_dev_t *d, uint32_t offset, size_t len);
+
 /// Erases one sector of the region (0-based). Returns FW_OK, FW_ERR_INVAL, FW_ERR_TIMEOUT or
 /// FW_ERR_IO (an error flag, or the sector did not read back 0xFF).
 int stm32f4_flash_erase(const stm32f4_flash_dev_t *d, uint32_t sector);
