@@ -59,9 +59,12 @@ static void on_can_isr_(const hal_can_frame_t *frame, void *ctx)
 }
 
 // One EV_UART waits at a time: the handler drains every byte there is, and a post per byte would
-// let one 70-byte Cricket line fill the event queue and crowd out CAN frames. A failed post
-// leaves the flag clear, so the next byte tries again.
+// let one 70-byte Cricket line fill the event queue and crowd out CAN frames. A failed post (the
+// queue is full) leaves the flag clear, so the next byte tries again: the port notifies on every
+// byte while its ring holds unread ones, a full ring too (hal_uart_rx_fn). Should the line then
+// fall silent, `uart_missed_` has the control task drain the ring itself, so no wake-up is lost.
 static volatile bool uart_pending_;
+static volatile bool uart_missed_;
 
 static void on_uart_isr_(void *ctx)
 {
@@ -74,6 +77,9 @@ static void on_uart_isr_(void *ctx)
     ev.u.word = 0;
     if (sched_post(&app_.sched, &ev) == FW_OK) {
         uart_pending_ = true;
+    } else {
+        uart_missed_ = true;
+        app_.stats.uart_posts_failed++;
     }
 }
 
@@ -129,16 +135,22 @@ static void on_can_event_(const sched_event_t *ev, void *ctx)
     }
 }
 
+static void drain_uart_(void)
+{
+    uint8_t buf[64];
+    size_t n;
+    uart_pending_ = false;  // before draining: a byte arriving from here on posts again
+    uart_missed_ = false;
+    while ((n = hal_uart_read(buf, sizeof buf)) > 0u) {
+        (void)cricket_feed(&app_.cricket, buf, n, hal_time_us());
+    }
+}
+
 static void on_uart_event_(const sched_event_t *ev, void *ctx)
 {
     (void)ev;
     (void)ctx;
-    uint8_t buf[64];
-    size_t n;
-    uart_pending_ = false;  // before draining: a byte arriving from here on posts again
-    while ((n = hal_uart_read(buf, sizeof buf)) > 0u) {
-        (void)cricket_feed(&app_.cricket, buf, n, hal_time_us());
-    }
+    drain_uart_();
 }
 
 // ---- The control task ---------------------------------------------------------------------------
@@ -251,6 +263,9 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
 static void control_task_(void *ctx)
 {
     (void)ctx;
+    if (uart_missed_) {
+        drain_uart_();  // a wake-up the full event queue lost
+    }
     const uint64_t now = hal_time_us();
     robot_sense_t in;
     const uint8_t fix_state = sense_(&in, now);
@@ -314,6 +329,7 @@ int robot_app_init(const robot_app_options_t *opt)
     }
     memset(&app_, 0, sizeof app_);
     uart_pending_ = false;
+    uart_missed_ = false;
     app_.opt = *opt;
     const robot_config_t *cfg = opt->cfg;
     int err = hal_time_init();

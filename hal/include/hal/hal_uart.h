@@ -13,8 +13,10 @@
 extern "C" {
 #endif
 
-/// Called by the port when bytes arrived (at least one new byte is readable), so that the
-/// firmware can post an event. Context: interrupt. Must not block.
+/// Called by the port on every receive interrupt after which the ring holds unread bytes: when a
+/// byte was stored, and also when a byte was lost because the ring was full. So a firmware that
+/// could not act on one call (its event queue was full) hears again with the next byte, and a
+/// line that keeps sending is never left undrained for good. Context: interrupt. Must not block.
 typedef void (*hal_uart_rx_fn)(void *ctx);
 
 typedef struct hal_uart_stats {

@@ -132,9 +132,12 @@ size_t hal_host_uart_feed(const uint8_t *data, size_t len)
     }
     hal_uart_rx_fn fn = on_rx_;
     void *ctx = rx_ctx_;
+    // Also when nothing fitted: the firmware's last notification may have been lost (its event
+    // queue was full), and a full ring stores no byte to notify it again (hal_uart_rx_fn).
+    const bool unread = ready_ && rx_tail_ != rx_head_;
     pthread_mutex_unlock(&lock_);
 
-    if (stored > 0u) {
+    if (unread) {
         if (fn != NULL) {
             hal_irq_state_t irq = hal_irq_save();
             fn(ctx);

@@ -101,6 +101,35 @@ static void full_ring_counts_overruns_and_keeps_the_oldest(void **state)
     assert_int_equal(stm32f4_ring_count(&port_.rx), 7);
 }
 
+static uint32_t notified_;
+
+static void on_rx_(void *ctx)
+{
+    (void)ctx;
+    notified_++;
+}
+
+// The firmware's wake-up may have been lost (its event queue was full); a byte that finds the ring
+// full still notifies, or the line would never be drained again.
+static void full_ring_still_notifies(void **state)
+{
+    (void)state;
+    notified_ = 0;
+    port_.on_rx = on_rx_;
+    for (uint32_t i = 0; i < 8u; i++) {
+        receive_((uint8_t)i, 0);
+        assert_true(stm32f4_usart_irq(&port_));
+    }
+    assert_int_equal(notified_, 8);
+    receive_(99u, 0);
+    assert_false(stm32f4_usart_irq(&port_));  // not stored
+    assert_int_equal(notified_, 9);           // but heard
+    receive_('?', USART_SR_FE);               // an errored byte is no arrival
+    (void)stm32f4_usart_irq(&port_);
+    assert_int_equal(notified_, 9);
+    port_.on_rx = NULL;
+}
+
 static void hardware_overrun_and_framing_errors_counted(void **state)
 {
     (void)state;
@@ -146,6 +175,7 @@ int main(void)
         cmocka_unit_test_setup(unreachable_baud_refused, setup_),
         cmocka_unit_test_setup(received_bytes_come_out_in_order, setup_),
         cmocka_unit_test_setup(full_ring_counts_overruns_and_keeps_the_oldest, setup_),
+        cmocka_unit_test_setup(full_ring_still_notifies, setup_),
         cmocka_unit_test_setup(hardware_overrun_and_framing_errors_counted, setup_),
         cmocka_unit_test_setup(transmit_feeds_from_ring_then_stops, setup_),
     };

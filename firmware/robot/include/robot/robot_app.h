@@ -52,6 +52,7 @@ typedef struct robot_app_options {
 typedef struct robot_app_stats {
     uint32_t frames_rx, frames_bad, frames_tx_dropped;
     uint32_t episodes, saves, save_errors;
+    uint32_t uart_posts_failed;  ///< Cricket wake-ups the full event queue refused (retried)
     int32_t restore_result;  ///< learned_store_load() at boot: FW_OK, FW_ERR_NOENT, ...
     uint32_t restored_episodes;
 } robot_app_stats_t;

@@ -83,6 +83,7 @@ bool stm32f4_usart_irq(stm32f4_usart_port_t *p)
 {
     stm32f4_usart_t *u = p->regs;
     bool stored = false;
+    bool received = false;  // a byte arrived, stored or not
     const uint32_t sr = u->SR;
     if (sr & (USART_SR_RXNE | USART_SR_ORE | USART_SR_FE | USART_SR_NF | USART_SR_PE)) {
         const uint8_t byte = (uint8_t)u->DR;  // SR then DR: clears RXNE and the error flags
@@ -92,6 +93,7 @@ bool stm32f4_usart_irq(stm32f4_usart_port_t *p)
         if (sr & (USART_SR_FE | USART_SR_NF | USART_SR_PE)) {
             p->stats.rx_errors++;
         } else if (sr & USART_SR_RXNE) {
+            received = true;
             if (stm32f4_ring_put(&p->rx, byte)) {
                 p->stats.rx_bytes++;
                 stored = true;
@@ -108,7 +110,9 @@ bool stm32f4_usart_irq(stm32f4_usart_port_t *p)
             u->CR1 &= ~USART_CR1_TXEIE;
         }
     }
-    if (stored && p->on_rx != NULL) {
+    // Also when the byte found the ring full: the firmware's last notification may have been
+    // lost (its event queue was full), and a full ring stores no byte to notify it again.
+    if (received && p->on_rx != NULL && stm32f4_ring_count(&p->rx) > 0u) {
         p->on_rx(p->ctx);
     }
     return stored;

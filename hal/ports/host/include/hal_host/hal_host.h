@@ -147,10 +147,10 @@ uint32_t hal_host_can_bitrate(void);
 // ---- UART ---------------------------------------------------------------------------------------
 
 /// Bytes arrive on the line: as many as fit go into the receive ring (rx_bytes), the rest are
-/// lost and counted (rx_overruns); then, if any were stored, the rx notify runs as an interrupt
-/// (irq mutex held) and the CPU is woken. Returns the number stored. Before hal_uart_init()
-/// the receiver is off: nothing is stored, and the bytes are counted in
-/// hal_host_uart_discarded(), not as overruns. Context: any thread.
+/// lost and counted (rx_overruns); then, if the ring holds unread bytes (stored now or before:
+/// a full ring too), the rx notify runs as an interrupt (irq mutex held) and the CPU is woken.
+/// Returns the number stored. Before hal_uart_init() the receiver is off: nothing is stored,
+/// and the bytes are counted in hal_host_uart_discarded(), not as overruns. Context: any thread.
 size_t hal_host_uart_feed(const uint8_t *data, size_t len);
 
 /// A framing or noise error on the line: the byte is dropped and counted in rx_errors.

@@ -151,7 +151,8 @@ typedef struct stm32f4_usart_port {
     stm32f4_ring_t rx;
     stm32f4_ring_t tx;
     hal_uart_stats_t stats;
-    hal_uart_rx_fn on_rx;  ///< called (interrupt context) after each byte stored; may be NULL
+    hal_uart_rx_fn on_rx;  ///< called (interrupt context) after each byte received while the
+                           ///< ring holds unread bytes (hal_uart_rx_fn); may be NULL
     void *ctx;
 } stm32f4_usart_port_t;
 
@@ -160,7 +161,8 @@ int stm32f4_usart_setup(stm32f4_usart_port_t *p, uint32_t pclk_hz, uint32_t baud
 
 /// The interrupt handler's work: takes a received byte into the rx ring (counting overruns and
 /// framing/noise errors; an errored byte is dropped, a byte that finds the ring full is counted
-/// as an overrun) and calls on_rx after storing it; feeds the transmitter from the tx ring and
+/// as an overrun) and calls on_rx after each received byte while the ring is not empty (a full
+/// ring too: see hal_uart_rx_fn); feeds the transmitter from the tx ring and
 /// turns the TXE interrupt off when it is empty. Returns true when a byte was stored.
 bool stm32f4_usart_irq(stm32f4_usart_port_t *p);
 
