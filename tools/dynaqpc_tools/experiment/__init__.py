@@ -6,6 +6,7 @@ By concern:
   stats        when a set learned, what it cost, Table 1 (`measure()` is the reusable entry)
   plots        Fig. 13 and the trajectories
   orchestrate  running dynaqpc-sim train, a process per set, with a progress bar
+  sweep        a grid of settings over a Dask cluster
   cli          the command line
 """
 

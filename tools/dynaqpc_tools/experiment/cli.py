@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""The dynaqpc-experiment command line: run, plot, table, trajectory."""
+"""The dynaqpc-experiment command line: run, table, plot, trajectory, sweep."""
 
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ DOC = """dynaqpc-experiment: the paper's protocol, end to end, measured at match
   table       Table 1 from training CSVs already written (an agent may appear at several budgets)
   plot        the plots and Table 1 from a folder of CSVs
   trajectory  runs a learned agent from K starts and draws the paths over the arena
+  sweep       a grid of settings over a Dask cluster, merged into one CSV (docs/sweeps.md)
 
 Outputs (in the scenario's results folder): fig13.png (mean steps per episode, band 25-75 % of
 sets), table1.md, trajectories.png.
@@ -261,6 +262,9 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--out", default=None)
     t.set_defaults(fn=cmd_trajectory)
 
+    from . import sweep
+
+    sweep.add_parser(sub, orchestrate.default_sim(), lambda a: sweep.cmd_sweep(a))
     return p
 
 
