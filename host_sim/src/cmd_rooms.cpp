@@ -46,7 +46,7 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, out;
+    std::string robot, out, check;
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
@@ -55,6 +55,10 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                UINT32_MAX);
     o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
     o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...), making DIR if needed", &out);
+    o.add_string("--check", "FILE",
+                 "instead: check one scenario file as the rooms are checked (it parses; every start "
+                 "reaches the goal through passages at least the robot's diagonal wide)",
+                 &check);
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
@@ -62,6 +66,20 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                      "and learning lines of host_sim/scenarios/<robot>.scn and draws interior walls,\n"
                      "obstacles and a goal; every start reaches the goal through passages at least the\n"
                      "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n";
+        return kExitOk;
+    }
+    if (o.seen("--check")) {
+        for (const char *other : {"--robot", "--seed", "--count", "--out"}) {
+            if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
+        }
+        world::Scenario s;
+        std::string error;
+        if (!world::load_scenario(check, &s, &error)) throw UsageError(error);
+        const world::PassageReport r = world::check_passages(s);
+        if (!r.ok) throw UsageError(s.path + ": " + r.problem);
+        std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
+                    "passages at least the robot's diagonal (%.3f m) wide\n",
+                    s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
         return kExitOk;
     }
     if (!o.seen("--robot")) throw UsageError("--robot: required (paper-lab or paper-sim)");

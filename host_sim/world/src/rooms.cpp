@@ -10,6 +10,7 @@
 #include "world/rooms.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -56,53 +57,55 @@ std::uint32_t room_seed(std::uint32_t seed, std::uint32_t index)
     return static_cast<std::uint32_t>((z ^ (z >> 31)) >> 16);
 }
 
-// Points along an obstacle's outline, at most 5 mm apart, corners included: the distance between
-// two boxes is then exact (it is reached at a corner of one), that to a circle within 0.1 mm.
-std::vector<std::pair<double, double>> outline(const Obstacle &o)
+// A box's corners, counter-clockwise.
+std::array<std::pair<double, double>, 4> corners(const Obstacle &o)
 {
-    std::vector<std::pair<double, double>> pts;
-    const double h = 0.005;
-    if (o.shape == Obstacle::Shape::Circle) {
-        const int n = std::max(16, static_cast<int>(std::ceil(2.0 * kPi * o.radius / h)));
-        for (int i = 0; i < n; i++) {
-            const double t = 2.0 * kPi * i / n;
-            pts.emplace_back(o.cx + o.radius * std::cos(t), o.cy + o.radius * std::sin(t));
-        }
-        return pts;
-    }
     const double c = std::cos(o.angle), s = std::sin(o.angle);
-    const double lx[5] = {-o.w / 2, o.w / 2, o.w / 2, -o.w / 2, -o.w / 2};
-    const double ly[5] = {-o.h / 2, -o.h / 2, o.h / 2, o.h / 2, -o.h / 2};
-    for (int e = 0; e < 4; e++) {
-        const double len = std::hypot(lx[e + 1] - lx[e], ly[e + 1] - ly[e]);
-        const int n = std::max(1, static_cast<int>(std::ceil(len / h)));
-        for (int i = 0; i < n; i++) {
-            const double x = lx[e] + (lx[e + 1] - lx[e]) * i / n;
-            const double y = ly[e] + (ly[e + 1] - ly[e]) * i / n;
-            pts.emplace_back(o.cx + c * x - s * y, o.cy + s * x + c * y);
+    const double lx[4] = {-o.w / 2, o.w / 2, o.w / 2, -o.w / 2};
+    const double ly[4] = {-o.h / 2, -o.h / 2, o.h / 2, o.h / 2};
+    std::array<std::pair<double, double>, 4> out;
+    for (int i = 0; i < 4; i++) out[i] = {o.cx + c * lx[i] - s * ly[i], o.cy + s * lx[i] + c * ly[i]};
+    return out;
+}
+
+// Whether two boxes overlap: no separating axis among their edges' normals.
+bool boxes_overlap(const Obstacle &a, const Obstacle &b)
+{
+    const auto ca = corners(a), cb = corners(b);
+    for (const Obstacle *o : {&a, &b}) {
+        for (double ang : {o->angle, o->angle + kPi / 2}) {
+            const double ux = std::cos(ang), uy = std::sin(ang);
+            double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+            for (const auto &p : ca) {
+                amin = std::min(amin, p.first * ux + p.second * uy);
+                amax = std::max(amax, p.first * ux + p.second * uy);
+            }
+            for (const auto &p : cb) {
+                bmin = std::min(bmin, p.first * ux + p.second * uy);
+                bmax = std::max(bmax, p.first * ux + p.second * uy);
+            }
+            if (amax < bmin || bmax < amin) return false;
         }
     }
-    return pts;
+    return true;
 }
 
-double bounding_radius(const Obstacle &o)
+// Distance between two obstacles' surfaces, exact; negative when they overlap. Two boxes apart
+// are nearest at a corner of one (convex polygons), so their corners' distances to the other say
+// it; overlapping boxes need not have a corner inside the other (a cross), so that is tested
+// first.
+double gap_between(const Obstacle &a, const Obstacle &b)
 {
-    return o.shape == Obstacle::Shape::Circle ? o.radius : std::hypot(o.w, o.h) / 2.0;
-}
-
-// Distance between two obstacles' surfaces (negative or 0 when they overlap or touch), or any
-// number of at least `enough` when their bounding circles are that far apart.
-double gap_between(const Obstacle &a, const Obstacle &b, double enough)
-{
-    const double centres = std::hypot(a.cx - b.cx, a.cy - b.cy);
-    if (a.shape == Obstacle::Shape::Circle && b.shape == Obstacle::Shape::Circle) {
-        return centres - a.radius - b.radius;
+    using Shape = Obstacle::Shape;
+    if (a.shape == Shape::Circle && b.shape == Shape::Circle) {
+        return std::hypot(a.cx - b.cx, a.cy - b.cy) - a.radius - b.radius;
     }
-    const double far = centres - bounding_radius(a) - bounding_radius(b);
-    if (far >= enough) return far;
+    if (a.shape == Shape::Circle) return obstacle_distance(b, a.cx, a.cy) - a.radius;
+    if (b.shape == Shape::Circle) return obstacle_distance(a, b.cx, b.cy) - b.radius;
+    if (boxes_overlap(a, b)) return -1.0;
     double d = std::numeric_limits<double>::infinity();
-    for (const auto &p : outline(a)) d = std::min(d, obstacle_distance(b, p.first, p.second));
-    for (const auto &p : outline(b)) d = std::min(d, obstacle_distance(a, p.first, p.second));
+    for (const auto &p : corners(a)) d = std::min(d, obstacle_distance(b, p.first, p.second));
+    for (const auto &p : corners(b)) d = std::min(d, obstacle_distance(a, p.first, p.second));
     return d;
 }
 
@@ -321,11 +324,11 @@ bool Drawer::fits(const Piece &p) const
             if (s < gap && !(p.may_touch_walls && s <= kTouch)) return false;
         }
         for (const Obstacle &g : goal_region_) {
-            if (gap_between(o, g, kGoalClear * d_) < kGoalClear * d_) return false;
+            if (gap_between(o, g) < kGoalClear * d_) return false;
         }
         for (const Piece &q : pieces) {
             for (const Obstacle &other : q.parts) {
-                if (gap_between(o, other, gap) < gap) return false;
+                if (gap_between(o, other) < gap) return false;
             }
         }
     }
@@ -465,14 +468,41 @@ PassageReport check_passages(const Scenario &s)
     enum : unsigned char { kFree = 1, kStart = 2, kReached = 4 };
     std::vector<unsigned char> cell(static_cast<std::size_t>(nx * ny), 0);
     std::vector<long> queue;
+    // clear[k]: the clearance of point k where it is below `enough`, else at least `enough`. Each
+    // obstacle is measured only over the points its bounding box, grown by `enough`, covers: the
+    // others are farther from it.
+    const double enough = need + s.start.margin + step;
+    std::vector<double> clear(static_cast<std::size_t>(nx * ny));
     for (long j = 0; j < ny; j++) {
         for (long i = 0; i < nx; i++) {
             const double x = step / 2 + i * step, y = step / 2 + j * step;
+            clear[static_cast<std::size_t>(j * nx + i)] = std::min({x, s.arena_w - x, y, s.arena_h - y});
+        }
+    }
+    for (const Obstacle &o : s.obstacles) {
+        double ex = 0, ey = 0;
+        extents(o, &ex, &ey);
+        const long i0 = std::max(0L, static_cast<long>(std::floor((o.cx - ex - enough) / step - 0.5)));
+        const long i1 = std::min(nx - 1, static_cast<long>(std::ceil((o.cx + ex + enough) / step - 0.5)));
+        const long j0 = std::max(0L, static_cast<long>(std::floor((o.cy - ey - enough) / step - 0.5)));
+        const long j1 = std::min(ny - 1, static_cast<long>(std::ceil((o.cy + ey + enough) / step - 0.5)));
+        for (long j = j0; j <= j1; j++) {
+            for (long i = i0; i <= i1; i++) {
+                double &c = clear[static_cast<std::size_t>(j * nx + i)];
+                c = std::min(c, obstacle_distance(o, step / 2 + i * step, step / 2 + j * step));
+            }
+        }
+    }
+    for (long j = 0; j < ny; j++) {
+        for (long i = 0; i < nx; i++) {
+            const double x = step / 2 + i * step, y = step / 2 + j * step;
+            const double cl = clear[static_cast<std::size_t>(j * nx + i)];
             unsigned char &c = cell[static_cast<std::size_t>(j * nx + i)];
-            if (clearance(s, x, y) < need) continue;
+            if (cl < need) continue;
             c = kFree;
             rep.free_points++;
-            if (start_position_ok(s, x, y)) {
+            // The world's own rule decides a start; where the clearance is too small it cannot hold.
+            if (cl >= need + s.start.margin - 1e-12 && start_position_ok(s, x, y)) {
                 c |= kStart;
                 rep.start_points++;
             }
