@@ -120,7 +120,9 @@ def test_dbc_rules(db):
     assert cycles == {
         "TOOL_CMD": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
         "SONAR_RANGES_A": 96, "SONAR_RANGES_B": 96, "GPS_POSE": 96, "FW_STATUS": 1000,
-        "TLM_POSE": 192, "TLM_LEARN": 192, "TLM_SCHED": 192, "TLM_EPISODE": None}
+        "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None}
+    # TLM_LEARN goes once per real learning step (several control periods), not every 192 ms.
+    assert db.get_message_by_name("TLM_LEARN").dbc.attributes["GenMsgSendType"].value == 1  # Event
     assert db.get_message_by_name("MOTOR_CMD").dbc.attributes["GenMsgTimeoutTime"].value == 500
 
 

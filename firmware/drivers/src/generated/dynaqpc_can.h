@@ -99,7 +99,6 @@ extern "C" {
 #define DYNAQPC_CAN_GPS_POSE_CYCLE_TIME_MS (96u)
 #define DYNAQPC_CAN_FW_STATUS_CYCLE_TIME_MS (1000u)
 #define DYNAQPC_CAN_TLM_POSE_CYCLE_TIME_MS (192u)
-#define DYNAQPC_CAN_TLM_LEARN_CYCLE_TIME_MS (192u)
 #define DYNAQPC_CAN_TLM_SCHED_CYCLE_TIME_MS (192u)
 
 /* Signal choices. */
@@ -865,7 +864,7 @@ struct dynaqpc_can_tlm_pose_t {
 /**
  * Signals in message TLM_LEARN.
  *
- * The learning step of this control period.
+ * One real learning step: sent in the control period in which a step ends (event frame: a step spans several 192 ms periods, about 1.15 s on paper-sim). Counter +1 per frame.
  *
  * All signal values are as on the CAN bus.
  */
