@@ -46,11 +46,14 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, out, check;
+    std::string robot, base, out, check;
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
                  {"paper-lab", "paper-sim"});
+    o.add_string("--base", "FILE",
+                 "instead of --robot: the scenario file whose lines the rooms keep (files are named after its stem)",
+                 &base);
     o.add_uint("--seed", "S", "seed of the rooms; room i depends on S and i only (default 1)", &seed, 0,
                UINT32_MAX);
     o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
@@ -69,7 +72,7 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         return kExitOk;
     }
     if (o.seen("--check")) {
-        for (const char *other : {"--robot", "--seed", "--count", "--out"}) {
+        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
         world::Scenario s;
@@ -82,17 +85,38 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                     s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
         return kExitOk;
     }
-    if (!o.seen("--robot")) throw UsageError("--robot: required (paper-lab or paper-sim)");
+    if (o.seen("--robot") == o.seen("--base")) {
+        throw UsageError(o.seen("--robot") ? "--base: cannot be combined with --robot"
+                                           : "--robot: required (paper-lab or paper-sim), or --base FILE");
+    }
     if (!o.seen("--out") || out.empty()) throw UsageError("--out: required (a directory)");
 
-    const std::string base_text = read_file(world::resolve_scenario_path(robot));
-    const std::string label = "host_sim/scenarios/" + robot + ".scn";
-    const std::string command = program + " rooms --robot " + robot + " --seed " + std::to_string(seed);
+    const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(robot) : base;
+    std::string base_text;
+    try {
+        base_text = read_file(base_path);
+    } catch (const std::runtime_error &e) {
+        throw UsageError(e.what());  // bad input, not a failure while running
+    }
+    {
+        world::Scenario parsed;
+        std::string error;
+        if (!world::parse_scenario(base_text, base_path, &parsed, &error)) throw UsageError(error);
+    }
+    std::string prefix = robot, label = "host_sim/scenarios/" + robot + ".scn";
+    std::string command = program + " rooms --robot " + robot + " --seed " + std::to_string(seed);
+    if (o.seen("--base")) {
+        const std::size_t slash = base.find_last_of('/');
+        prefix = base.substr(slash == std::string::npos ? 0 : slash + 1);
+        if (prefix.size() > 4 && prefix.compare(prefix.size() - 4, 4, ".scn") == 0) prefix.resize(prefix.size() - 4);
+        label = base;
+        command = program + " rooms --base " + base + " --seed " + std::to_string(seed);
+    }
     // All rooms first, so that a failure leaves no files behind.
     std::vector<std::pair<std::string, world::Room>> rooms;
     for (std::uint32_t i = 1; i <= count; i++) {
-        char name[96];
-        std::snprintf(name, sizeof name, "%s-%u-%03u.scn", robot.c_str(), seed, i);
+        const std::string name = prefix + "-" + std::to_string(seed) + "-" + (i < 10 ? "00" : i < 100 ? "0" : "") +
+                                 std::to_string(i) + ".scn";
         world::Room room;
         std::string error;
         if (!world::generate_room(base_text, label, command, seed, i, name, &room, &error)) {

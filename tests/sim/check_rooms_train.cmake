@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: MIT
+# cmake -DSIM=<dynaqpc-sim> -DWORK=<scratch dir> -DROOMS=<host_sim/rooms> -P check_rooms_train.cmake
+# Every committed room is accepted by train as well as by the parser (train also applies the
+# firmware's limits and robot_config_check): one short episode each, a CSV row each.
+cmake_minimum_required(VERSION 3.25)
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+file(GLOB rooms "${ROOMS}/tune/*.scn" "${ROOMS}/eval/*.scn")
+list(LENGTH rooms n)
+if(n LESS 40)
+    message(FATAL_ERROR "only ${n} rooms under ${ROOMS}")
+endif()
+foreach(room ${rooms})
+    execute_process(COMMAND "${SIM}" train --scenario "${room}" --agent q --sets 1 --episodes 1 --step-cap 3
+            --quiet --csv "${WORK}/out.csv"
+        RESULT_VARIABLE rc ERROR_VARIABLE err TIMEOUT 60)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "train --scenario ${room}: exit ${rc}\n${err}")
+    endif()
+    file(STRINGS "${WORK}/out.csv" lines)
+    list(LENGTH lines k)
+    if(NOT k EQUAL 2)
+        message(FATAL_ERROR "train --scenario ${room}: ${k} CSV lines, expected 2")
+    endif()
+endforeach()
+message(STATUS "train accepts all ${n} rooms")
