@@ -2,7 +2,7 @@
 // dynaqpc: compile-time capacities. Replace with -DFW_CONFIG_FILE="my_config.h".
 //
 // Every table in the firmware is a static array whose size is set here. The agent profiles
-// (agent/agent_profiles.h) turn these numbers into storage types and check each profile's total
+// (robot/agent_profiles.h) turn these numbers into storage types and check each profile's total
 // against its RAM budget at compile time; `dynaqpc-mem` and the cross build's size report print
 // the figures.
 #ifndef FW_CONFIG_H

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "fw/fw_base.h"
 
 // ---- Seeds --------------------------------------------------------------------------------------

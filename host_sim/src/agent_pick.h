@@ -4,7 +4,7 @@
 #ifndef DYNAQPC_SIM_AGENT_PICK_H
 #define DYNAQPC_SIM_AGENT_PICK_H
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "robot/robot_config.h"
 
 namespace dynaqpc {

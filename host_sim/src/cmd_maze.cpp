@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "agent/agent.h"
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "commands.h"
 #include "maze/maze.h"
 #include "maze/maze_run.h"

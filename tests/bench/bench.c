@@ -12,7 +12,7 @@
 #include <time.h>
 
 #include "agent/agent.h"
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "gridrobot.h"
 
 typedef struct result {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc robot application: the paper-sim image's entry point (its own object file, so an
 // image links only the agent profile it uses).
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "robot/robot_app.h"
 #include "robot/robot_main.h"
 

@@ -5,7 +5,7 @@
 #include <math.h>
 
 #include "agent/agent.h"
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "fw/fw_base.h"
 
 // A corridor of 16 cells: action 0 moves left, action 1 right; the goal is cell 15.

@@ -11,7 +11,7 @@
 #include <cmocka.h>
 
 #include "agent/agent.h"
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "fw/fw_prng.h"
 #include "agent/space.h"
 #include "maze/maze.h"

@@ -5,7 +5,7 @@
 
 #include <string.h>
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "maze/maze.h"
 #include "maze/maze_run.h"
 

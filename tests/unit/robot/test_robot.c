@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "robot/controller.h"
 #include "robot/state_encoder.h"
 

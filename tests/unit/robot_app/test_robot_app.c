@@ -5,7 +5,7 @@
 
 #include <string.h>
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "drivers/candev.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"

@@ -9,7 +9,7 @@
 
 #include <string.h>
 
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 #include "fw/fw_crc.h"
 #include "fw/fw_prng.h"
 #include "fw/fw_base.h"

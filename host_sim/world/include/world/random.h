@@ -9,7 +9,7 @@
 
 namespace world {
 
-/// A stream of uniform and normal draws from the firmware's xoshiro128** (agent/prng.h).
+/// A stream of uniform and normal draws from the firmware's xoshiro128** (fw/fw_prng.h).
 /// Normal draws use Box-Muller (ours, not std::normal_distribution, whose algorithm differs
 /// between standard libraries): deterministic for a seed on a given binary and libm.
 class RandomStream {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc: the static storage of the "paper-sim" agent profile and its agent: this object's size is the agent's RAM.
-#include "agent/agent_profiles.h"
+#include "robot/agent_profiles.h"
 
 static agent_memory_paper_sim_t memory_;
 

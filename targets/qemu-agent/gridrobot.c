@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: the grid robot's arena and kinematics.
+// dynaqpc qemu-agent: the grid robot's arena and kinematics.
 #include "gridrobot.h"
 
 const agent_space_t gridrobot_space = {4, {3, 3, 4, 3}, {1, 1, 0, 0}, 0x4, 0x8, 4};

@@ -1,24 +1,27 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc QEMU image: the agent learning on the Cortex-M4, with its planning instrumented.
+// dynaqpc qemu-agent: the agent learning on the Cortex-M4 under QEMU, with its planning
+// instrumented; the same program built for the host prints the same digest (host = MCU).
 //
-// The robot-shaped gridworld of tests/support/gridrobot (8 x 8 cells, 16 headings, a range
+// The robot-shaped gridworld of gridrobot.h (8 x 8 cells, 16 headings, a range
 // sensor: the paper-lab state layout) is the agent's scenario. Dyna-QPC learns it for a fixed
 // number of episodes with QEMU_PLAN_STEPS planning updates after each real step, then the greedy
-// policy is tried from fixed starts. It prints what it learned over semihosting and exits 0 when
+// policy is tried from fixed starts. It prints what it learned (the CRC-32 of every learned table,
+// as learned_store saves them: `digest=`) on its console and exits 0 when
 // learning shortened the episodes to a third and the greedy policy reaches the goal from at
 // least 15 of 20 fixed starts, 1 otherwise. (Measured: paper-lab 145 -> 23 steps, 17 of 20.)
 //
 // Every agent_plan() call is bracketed by bench_mark_begin()/bench_mark_end(), and
 // bench_mark_report() follows the learning run: the QEMU plugin tools/qemu/insn_count.c counts
 // the instructions executed between the marks, which with planning_updates gives the
-// instructions per planning update on this CPU (cmake/cross/bench_insn.cmake does the division).
+// instructions per planning update on this CPU (cmake/bench_insn.cmake does the division).
 #include <stdbool.h>
 #include <stdint.h>
 
 #include "agent/agent.h"
-#include "agent/agent_profiles.h"
+#include "console.h"
+#include "fw/fw_crc.h"
 #include "gridrobot.h"
-#include "semihost.h"
+#include "robot/agent_profiles.h"
 
 #if defined(QEMU_PROFILE_PAPER_SIM)
 #define PROFILE_NAME "paper-sim"
@@ -59,6 +62,19 @@ void bench_mark_report(void)
     __asm__ volatile("" ::: "memory");
 }
 
+// CRC-32 over what the agent learned (its tables, as learned_store saves them): equal digests
+// mean equal learning, bit for bit.
+static uint32_t learned_digest_(const agent_t *ag)
+{
+    agent_region_t regions[AGENT_MAX_REGIONS];
+    const uint32_t n = agent_learned_regions(ag, regions);
+    uint32_t crc = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        crc = fw_crc32(crc, regions[i].data, regions[i].size);
+    }
+    return crc;
+}
+
 static uint32_t run_episode_(agent_t *ag, prng_t *world, bool learn)
 {
     gridrobot_t g;
@@ -95,20 +111,20 @@ int main(void)
     cfg.params.plan_alpha = 0.999f;
     cfg.storage = &PROFILE_STORAGE;
     cfg.seed = 1u;
-    semihost_puts("dynaqpc-qemu-agent profile=" PROFILE_NAME " agent=dyna-qpc\n");
+    console_puts("dynaqpc-qemu-agent profile=" PROFILE_NAME " agent=dyna-qpc\n");
     if (agent_init(ag, &cfg) != 0) {
-        semihost_puts("agent_init failed\n");
-        semihost_exit(2u);
+        console_puts("agent_init failed\n");
+        console_exit(2u);
     }
     prng_t world;
     prng_seed(&world, 0xA5A5A5A4u);
     uint32_t first10 = 0;
     uint32_t last10 = 0;
-    semihost_puts("steps per episode:");
+    console_puts("steps per episode:");
     for (uint32_t e = 0; e < QEMU_EPISODES; e++) {
         const uint32_t steps = run_episode_(ag, &world, true);
-        semihost_puts(" ");
-        semihost_put_u64(steps);
+        console_puts(" ");
+        console_put_u64(steps);
         if (e < 10u) {
             first10 += steps;
         }
@@ -116,17 +132,19 @@ int main(void)
             last10 += steps;
         }
     }
-    semihost_puts("\n");
+    console_puts("\n");
     bench_mark_report();
-    semihost_puts("profile=" PROFILE_NAME " ");
-    semihost_kv("real_steps", ag->stats.real_steps);
-    semihost_kv("planning_updates", ag->stats.planning_updates);
-    semihost_kv("planning_skipped", ag->stats.planning_skipped);
-    semihost_kv("queue_dropped", ag->pq.stats.dropped);
-    semihost_kv("cmac_cells_used", ag->model.forward.stats.cells_used);
-    semihost_kv("first10_mean_steps", first10 / 10u);
-    semihost_kv("last10_mean_steps", last10 / 10u);
-    semihost_puts("\n");
+    console_puts("profile=" PROFILE_NAME " ");
+    console_kv("real_steps", ag->stats.real_steps);
+    console_kv("planning_updates", ag->stats.planning_updates);
+    console_kv("planning_skipped", ag->stats.planning_skipped);
+    console_kv("queue_dropped", ag->pq.stats.dropped);
+    console_kv("cmac_cells_used", ag->model.forward.stats.cells_used);
+    console_kv("first10_mean_steps", first10 / 10u);
+    console_kv("last10_mean_steps", last10 / 10u);
+    console_puts("\n");
+    console_kv("digest", learned_digest_(ag));
+    console_puts("\n");
 
     // The greedy policy from fixed starts (a world generator of its own, so the starts do not
     // depend on how long learning took).
@@ -141,11 +159,11 @@ int main(void)
             steps_sum += steps;
         }
     }
-    semihost_kv("greedy_reached", reached);
-    semihost_kv("of", EVAL_STARTS);
-    semihost_kv("greedy_mean_steps", reached > 0u ? steps_sum / reached : 0u);
-    semihost_puts("\n");
+    console_kv("greedy_reached", reached);
+    console_kv("of", EVAL_STARTS);
+    console_kv("greedy_mean_steps", reached > 0u ? steps_sum / reached : 0u);
+    console_puts("\n");
     const bool learned = reached >= EVAL_MIN_REACHED && 3u * last10 <= first10;
-    semihost_puts(learned ? "result=learned\n" : "result=NOT-LEARNED\n");
-    semihost_exit(learned ? 0u : 1u);
+    console_puts(learned ? "result=learned\n" : "result=NOT-LEARNED\n");
+    console_exit(learned ? 0u : 1u);
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: a small kinematic robot on a grid, shaped like the paper-lab state (8,192 states).
+// dynaqpc qemu-agent: a small kinematic robot on a grid, shaped like the paper-lab state (8,192 states).
 #ifndef GRIDROBOT_H
 #define GRIDROBOT_H
 

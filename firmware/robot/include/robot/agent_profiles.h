@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: static storage for the agent profiles, with their RAM budgets checked at compile time.
+// dynaqpc robot application: static storage for the agent profiles, with their RAM budgets
+// checked at compile time. The application picks the profile; the agent only takes storage.
 #ifndef AGENT_PROFILES_H
 #define AGENT_PROFILES_H
 

@@ -3,10 +3,10 @@
 //
 // Brings the board up (clocks, pins, reset cause) and hands over to the robot application,
 // which initialises the HAL, the drivers and the agent and then runs its scheduler for ever.
-// The application provides robot/robot_main.h with
-//     void robot_main(const void *scenario_config);
-// (NULL: the scenario built into the image, chosen by the profile's FW_CFG knobs).
-#include "agent/agent_profiles.h"
+// Which scenario and agent profile: DYNAQPC_PROFILE_PAPER_LAB or DYNAQPC_PROFILE_PAPER_SIM,
+// defined on this file by targets/stm32f4-robot/CMakeLists.txt, selects robot_main_paper_lab()
+// or robot_main_paper_sim() in robot_main() (robot/robot_main.h) and the record bound below.
+#include "robot/agent_profiles.h"
 #include "robot/learned_store.h"
 #include "robot/robot_main.h"
 #include "stm32f4/stm32f4_board.h"
