@@ -235,6 +235,7 @@ bool Drawer::draw_wall(Piece *p)
         p->what = "wall with a door";
     } else {
         const double len = q_size(u(kSpur[0], kSpur[1]) * span);
+        if (span - len < kGap * d_) return false;  // its free end leaves a passage
         if (u(0, 1) < 0.5) {
             segs.emplace_back(0.0, len);
         } else {
