@@ -136,6 +136,8 @@ def cmd_run(args) -> int:
     out_dir, plan = run_plan(args)
     sets, episodes = protocol(args)
     extra = shlex.split(args.sim_args)
+    if args.planning is not None and "--planning" in extra:
+        raise ToolError("--sim-args: give the planning budget with --planning, not in --sim-args")
     for agent, budget, csv_path in plan:
         if args.skip_existing and _complete(csv_path, agent, sets, episodes):
             print(f"{csv_path} is complete: skipped")
@@ -148,8 +150,9 @@ def cmd_run(args) -> int:
         traj, arena = _run_trajectory(args, out_dir)
     # Only this run's CSVs: the folder may hold others (tools/dev.sh demo's long run, a user's).
     runs = read_csvs([p for _, _, p in plan], out_dir, allow_repeats=True)
+    default_budget = None if "--planning" in extra else orchestrate.scenario_planning(args.scenario)
     for r, (_, budget, _) in zip(runs, plan):
-        r.budget = budget
+        r.budget = budget if budget is not None else default_budget  # None: not known (a file elsewhere)
     table = report(runs, out_dir, settings, scenario_name(args.scenario), trajectory=traj, arena=arena)
     print(table)
     print(f"wrote {out_dir}/fig13.png, {out_dir}/table1.md")

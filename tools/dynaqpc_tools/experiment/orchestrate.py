@@ -30,6 +30,25 @@ def default_sim() -> str:
 def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
     """(sets, episodes) of the scenario's `learning` line: a scenario file, or a built-in name
     read from host_sim/scenarios/NAME.scn. None when neither can be read."""
+    learning = _learning_line(scenario)
+    if learning is None:
+        return None
+    try:
+        return int(learning.get("sets", 1)), int(learning["episodes"])
+    except (KeyError, ValueError):
+        return None
+
+
+def scenario_planning(scenario: str) -> Optional[int]:
+    """The scenario's planning updates per real step (its `learning ... planning N`), if known."""
+    learning = _learning_line(scenario)
+    try:
+        return int(learning["planning"]) if learning is not None else None
+    except (KeyError, ValueError):
+        return None
+
+
+def _learning_line(scenario: str) -> Optional[dict]:
     candidates = [Path(scenario)]
     root = repo_root()
     if root is not None:
@@ -42,11 +61,7 @@ def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
         for line in text.splitlines():
             words = line.split("#", 1)[0].split()
             if words[:1] == ["learning"]:
-                kv = dict(zip(words[1::2], words[2::2]))
-                try:
-                    return int(kv.get("sets", 1)), int(kv["episodes"])
-                except (KeyError, ValueError):
-                    return None
+                return dict(zip(words[1::2], words[2::2]))
     return None
 
 
