@@ -87,7 +87,7 @@ def add_bus_arguments(parser) -> None:
                              "socketcan or slcan for a USB-CAN adapter)")
     parser.add_argument("--channel", "-c", default=VCAN_CHANNEL,
                         help="channel: multicast group, can0, /dev/ttyACM0... (default %(default)s)")
-    parser.add_argument("--bitrate", type=int, default=None,
+    parser.add_argument("--bitrate", type=int_in(1000, 10000000), default=None,
                         help="bit rate for adapters that need it (the robot's bus: 500000)")
     parser.add_argument("--bus-kwarg", action="append", default=[], metavar="KEY=VALUE",
                         help="extra python-can bus argument, e.g. port=43114 (repeatable)")
