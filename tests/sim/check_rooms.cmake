@@ -4,17 +4,7 @@
 # room i does not depend on --count; another seed writes other rooms; and train takes a room by
 # its path and learns on it.
 cmake_minimum_required(VERSION 3.25)
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-
-function(sim)
-    execute_process(COMMAND "${SIM}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
-        TIMEOUT 300)
-    if(NOT rc EQUAL 0)
-        message(FATAL_ERROR "dynaqpc-sim ${ARGN}: exit ${rc}\n${err}")
-    endif()
-    set(out "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/sim_common.cmake)
 
 foreach(robot paper-lab paper-sim)
     sim(rooms --robot ${robot} --seed 7 --count 3 --out "${WORK}/a")

@@ -3,8 +3,7 @@
 # Every committed room is accepted by train as well as by the parser (train also applies the
 # firmware's limits and robot_config_check): one short episode each, a CSV row each.
 cmake_minimum_required(VERSION 3.25)
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
+include(${CMAKE_CURRENT_LIST_DIR}/sim_common.cmake)
 file(GLOB rooms "${ROOMS}/tune/*.scn" "${ROOMS}/eval/*.scn")
 list(LENGTH rooms n)
 if(n LESS 40)

@@ -4,19 +4,8 @@
 # one does, and the image file is byte-for-byte what train --save wrote (a replay never writes
 # it). The arena file carries paper-lab's two goal cells.
 cmake_minimum_required(VERSION 3.25)
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
+include(${CMAKE_CURRENT_LIST_DIR}/sim_common.cmake)
 set(image "${WORK}/lab.flash")
-
-function(sim)
-    execute_process(COMMAND "${SIM}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
-        TIMEOUT 300)
-    if(NOT rc EQUAL 0)
-        message(FATAL_ERROR "dynaqpc-sim ${ARGN}: exit ${rc}\n${err}")
-    endif()
-    set(out "${out}" PARENT_SCOPE)
-    set(err "${err}" PARENT_SCOPE)
-endfunction()
 
 sim(train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 4 --seed 5 --quiet --save "${image}")
 file(SHA256 "${image}" trained)
