@@ -3,7 +3,7 @@
 // (robot_app_init, then for (;;) robot_app_step()), on the host port in real-time mode:
 //   - time is CLOCK_MONOTONIC x --speed; the main loop sleeps in hal_cpu_wait_until() as the MCU
 //     sleeps in WFI;
-//   - CAN goes over the virtual CAN bus (hal/ports/host/vcan.h): hal_can_send() through a
+//   - CAN goes over the virtual CAN bus (host_sim/transport/vcan.h): hal_can_send() through a
 //     transport, and a receiver thread standing in for the CAN interrupt hands each received
 //     frame to hal_host_can_deliver();
 //   - the Cricket listener's serial line is a tty (the simulator's pty, or a USB adapter) opened

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc-sim / dynaqpc-fw: one program's end of the virtual CAN bus (hal/ports/host/vcan.h), for
+// dynaqpc-sim / dynaqpc-fw: one program's end of the virtual CAN bus (host_sim/transport/vcan.h), for
 // a sender thread and a receiver thread at once, with the counts the bus benchmark compares.
 #ifndef DYNAQPC_SIM_BUS_LINK_H
 #define DYNAQPC_SIM_BUS_LINK_H

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: a pseudo-terminal standing in for a serial line.
+// dynaqpc host_sim transport: a pseudo-terminal standing in for a serial line.
 //
 // Raw mode is set on the master: master and slave share one termios, so the slave is raw for
 // whoever opens it (pyserial sets its own mode again anyway).

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: the virtual CAN bus, in python-can's `udp_multicast` wire format.
+// dynaqpc host_sim transport: the virtual CAN bus, in python-can's `udp_multicast` wire format.
 //
 // Every frame is one UDP datagram to the group 239.74.163.2, port 43113, holding a msgpack map
 // with python-can's keys (timestamp, arbitration_id, is_extended_id, is_remote_frame,
@@ -11,6 +11,7 @@
 // drops the packet before any wire), and multicast loop-back is on.
 //
 // No heap: a vcan_t holds two sockets and counters. One vcan_t per thread (no locking inside).
+// The datagrams themselves are vcan_codec.h's (pure functions, no sockets).
 #ifndef VCAN_H
 #define VCAN_H
 
@@ -20,6 +21,7 @@
 
 #include "fw/fw_base.h"
 #include "hal/hal_can.h"
+#include "vcan_codec.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,10 +33,6 @@ extern "C" {
 /// datagrams overruns the receivers' socket buffers (20,000 frames unpaced: ~6,300 arrive;
 /// paced at 50 us: all of them).
 #define VCAN_DEFAULT_TX_GAP_US 50u
-/// The longest datagram vcan_encode() writes (a classic frame with 8 data bytes and a nil
-/// channel is 164 bytes).
-#define VCAN_DATAGRAM_MAX 192u
-
 typedef struct vcan_config {
     const char *group;  ///< IPv4 multicast group; NULL: VCAN_DEFAULT_GROUP
     uint16_t port;      ///< UDP port; 0: VCAN_DEFAULT_PORT
@@ -105,19 +103,6 @@ void vcan_close(vcan_t *bus);
 
 /// The Unix time in seconds (CLOCK_REALTIME), the clock python-can stamps frames with.
 double vcan_time_now(void);
-
-/// Encodes `frame` as python-can does, keys in python-can's order, into `buf`.
-/// Returns the datagram length, or FW_ERR_INVAL (bad frame or timestamp) or FW_ERR_NOMEM
-/// (`cap` too small; VCAN_DATAGRAM_MAX always suffices). Pure function.
-int vcan_encode(const hal_can_frame_t *frame, double timestamp, uint8_t *buf, size_t cap);
-
-/// Decodes one datagram. Accepts what python-can's receiver accepts (any subset and order of
-/// the eleven keys, python-can's defaults for missing ones, ints for the timestamp) and applies
-/// python-can's checks (dlc equals the data length, remote frames carry no data, id range).
-/// Returns FW_OK, FW_ERR_CORRUPT (truncated, trailing bytes, unknown or repeated key, wrong
-/// type, values out of range) or FW_ERR_NOSYS (a valid CAN FD or error frame: not a classic
-/// frame). `timestamp` may be NULL. Never reads outside [buf, buf + len). Pure function.
-int vcan_decode(const uint8_t *buf, size_t len, hal_can_frame_t *frame, double *timestamp);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: a pseudo-terminal standing in for a serial line.
+// dynaqpc host_sim transport: a pseudo-terminal standing in for a serial line.
 //
 // The simulator exposes the Cricket listener's serial output on a pty; `dynaqpc-cricket` (or
 // anything using pyserial, minicom, screen) opens the slave path as if it were /dev/ttyUSB0.
