@@ -43,6 +43,17 @@
 #ifndef FW_CFG_MAZE_TABLE_STATES
 #define FW_CFG_MAZE_TABLE_STATES 4096
 #endif
+// Gridworlds have no percept or situation components (the relocatable model is off); the room
+// is for the benchmark's grid robot, shaped like paper-lab's state.
+#ifndef FW_CFG_MAZE_PLACES
+#define FW_CFG_MAZE_PLACES 1024
+#endif
+#ifndef FW_CFG_MAZE_CLASSES
+#define FW_CFG_MAZE_CLASSES 512
+#endif
+#ifndef FW_CFG_MAZE_POSITIONS
+#define FW_CFG_MAZE_POSITIONS 64
+#endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
 #define FW_CFG_MAZE_BUDGET_BYTES (4u * 1024u * 1024u)
 #endif
@@ -60,6 +71,17 @@
 #ifndef FW_CFG_LAB_TABLE_STATES
 #define FW_CFG_LAB_TABLE_STATES 512
 #endif
+// The relocatable model (model.h): places = x, y, heading (3 + 3 + 4 bits); situations = heading
+// and range code (4 + 3 bits) times 4 actions; positions = x, y.
+#ifndef FW_CFG_LAB_PLACES
+#define FW_CFG_LAB_PLACES 1024
+#endif
+#ifndef FW_CFG_LAB_CLASSES
+#define FW_CFG_LAB_CLASSES 512
+#endif
+#ifndef FW_CFG_LAB_POSITIONS
+#define FW_CFG_LAB_POSITIONS 64
+#endif
 #ifndef FW_CFG_LAB_BUDGET_BYTES
 #define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
 #endif
@@ -76,6 +98,17 @@
 #endif
 #ifndef FW_CFG_SIM_TABLE_STATES
 #define FW_CFG_SIM_TABLE_STATES 1024
+#endif
+// places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
+// times 4 actions; positions = x, y.
+#ifndef FW_CFG_SIM_PLACES
+#define FW_CFG_SIM_PLACES 16384
+#endif
+#ifndef FW_CFG_SIM_CLASSES
+#define FW_CFG_SIM_CLASSES 1024
+#endif
+#ifndef FW_CFG_SIM_POSITIONS
+#define FW_CFG_SIM_POSITIONS 1024
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

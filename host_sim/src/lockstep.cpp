@@ -229,10 +229,10 @@ struct Lockstep::Impl {
           << " clock_lead_max_us=" << max_lead_us;
         if (agent->kind == AGENT_DYNA_QPC) {
             o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
-              << " cmac_inv=" << agent->model.inverse.stats.cells_used << "/" << agent->model.inverse.capacity
-              << " cmac_evicted=" << agent->model.forward.stats.evicted + agent->model.inverse.stats.evicted
-              << " cmac_dropped=" << agent->model.forward.stats.dropped + agent->model.inverse.stats.dropped
-              << " model_untrusted=" << agent->model.untrusted << " model_rejected=" << agent->model.rejected;
+              << " cmac_evicted=" << agent->model.forward.stats.evicted
+              << " cmac_dropped=" << agent->model.forward.stats.dropped
+              << " model_untrusted=" << agent->model.untrusted << " model_rejected=" << agent->model.rejected
+              << " model_generalised=" << agent->model.generalised;
         }
         if (agent->kind == AGENT_DYNA_Q) {
             o << " table=" << agent->table.count << "/" << agent->table.capacity

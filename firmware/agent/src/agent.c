@@ -49,7 +49,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     }
     if (cfg->kind == AGENT_DYNA_QPC) {
         err = model_init(&ag->model, sp, cfg->params.tilings, cfg->params.model_rate,
-                         cfg->params.min_count, &st->forward, &st->inverse);
+                         cfg->params.min_count, &st->forward, &st->reloc);
         if (err) {
             return err;
         }
@@ -210,18 +210,19 @@ typedef struct plan_carry {
     bool valid;           // `here` and the predecessors belong together
     model_query_t *here;  // the last state whose predecessors were found
     uint32_t n;
-    model_pred_t pred[FW_CFG_MAX_ACTIONS];
-    model_query_t *query[FW_CFG_MAX_ACTIONS];  // pred[i]'s
+    model_pred_t pred[MODEL_MAX_PREDECESSORS];
+    model_query_t *query[MODEL_MAX_PREDECESSORS];  // pred[i]'s
     uint32_t rejected;    // what finding them added to the model's counters
     uint32_t untrusted;
-    model_query_t store[FW_CFG_MAX_ACTIONS + 1];  // where `here` and `query` point, all apart
+    uint32_t generalised;
+    model_query_t store[MODEL_MAX_PREDECESSORS + 1];  // where `here` and `query` point, all apart
 } plan_carry_t;
 
 static void plan_carry_init_(plan_carry_t *c)
 {
     c->valid = false;
     c->here = &c->store[0];
-    for (uint32_t i = 0; i < FW_CFG_MAX_ACTIONS; i++) {
+    for (uint32_t i = 0; i < MODEL_MAX_PREDECESSORS; i++) {
         c->query[i] = &c->store[i + 1u];
     }
 }
@@ -291,12 +292,15 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
         ag->model.rejected += c->rejected;
         ag->model.untrusted += c->untrusted;
+        ag->model.generalised += c->generalised;
     } else {
         const uint32_t rejected = ag->model.rejected;
         const uint32_t untrusted = ag->model.untrusted;
+        const uint32_t generalised = ag->model.generalised;
         c->n = model_query_predecessors(&ag->model, c->here, c->pred, c->query);
         c->rejected = ag->model.rejected - rejected;
         c->untrusted = ag->model.untrusted - untrusted;
+        c->generalised = ag->model.generalised - generalised;
         c->valid = true;
     }
     if (c->n == 0u) {
@@ -393,8 +397,12 @@ uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_R
         n = add_region_(out, n, q->keys, q->capacity * (uint32_t)sizeof(uint32_t));
     }
     if (ag->kind == AGENT_DYNA_QPC) {
-        n = add_cmac_(out, n, &ag->model.forward);
-        n = add_cmac_(out, n, &ag->model.inverse);
+        const world_model_t *m = &ag->model;
+        n = add_cmac_(out, n, &m->forward);
+        n = add_region_(out, n, m->percepts, m->places * (uint32_t)sizeof(uint16_t));
+        n = add_region_(out, n, m->classes, m->n_classes * (uint32_t)sizeof(model_class_t));
+        n = add_region_(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
+        n = add_region_(out, n, (void *)(uintptr_t)m->deltas, (uint32_t)sizeof m->deltas);
     } else if (ag->kind == AGENT_DYNA_Q) {
         const dynaq_table_t *t = &ag->table;
         n = add_region_(out, n, t->records, t->capacity * (uint32_t)sizeof(dynaq_record_t));
@@ -423,8 +431,6 @@ void agent_learned_restored(agent_t *ag)
     if (ag->kind == AGENT_DYNA_QPC) {
         ag->model.forward.stats.cells_used =
             count_used_(ag->model.forward.keys, ag->model.forward.capacity);
-        ag->model.inverse.stats.cells_used =
-            count_used_(ag->model.inverse.keys, ag->model.inverse.capacity);
         pq_clear(&ag->pq);
     } else if (ag->kind == AGENT_DYNA_Q) {
         dynaq_restored(&ag->table);
@@ -442,15 +448,17 @@ int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REG
         return FW_ERR_CORRUPT;
     }
     if (ag->kind == AGENT_DYNA_QPC) {
-        const cmac_t *cmacs[2] = {&ag->model.forward, &ag->model.inverse};
-        for (uint32_t c = 0; c < 2u; c++) {
-            const uint32_t *keys = (const uint32_t *)image[i];
-            const uint8_t *counts = (const uint8_t *)image[i + 1u];
-            const int16_t *weights = (const int16_t *)image[i + 2u];
-            i += 3u;
-            if (cmac_check(cmacs[c], keys, counts, weights) != FW_OK) {
-                return FW_ERR_CORRUPT;
-            }
+        const world_model_t *m = &ag->model;
+        if (cmac_check(&m->forward, (const uint32_t *)image[i], (const uint8_t *)image[i + 1u],
+                       (const int16_t *)image[i + 2u]) != FW_OK) {
+            return FW_ERR_CORRUPT;
+        }
+        i += 3u;
+        // The situations, arrivals and changes hold any values safely (every use range-checks
+        // what it computes from them); a percept mask must not name a value the absolute
+        // components cannot take.
+        if (m->places != 0u && model_percepts_check(m, (const uint16_t *)image[i]) != FW_OK) {
+            return FW_ERR_CORRUPT;
         }
     } else if (ag->kind == AGENT_DYNA_Q) {
         if (dynaq_check(&ag->table, (const dynaq_record_t *)image[i],

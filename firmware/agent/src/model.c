@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: CMAC-Model and CMAC-R, and what makes their predictions trustworthy.
+// dynaqpc: CMAC-Model, the relocatable action model, the predecessor search, and what makes a
+// prediction trustworthy.
 #include "agent/model.h"
 
 #include <stddef.h>
@@ -22,12 +23,86 @@ static void cmac_config_for_(cmac_config_t *c, const agent_space_t *sp, uint8_t 
     c->learning_rate = rate;
 }
 
+// ---- Packing places, situations and positions ----------------------------------------------------
+
+// The components of `comp` selected by `mask`, packed in order into one index.
+static uint32_t pack_masked_(const agent_space_t *sp, const uint32_t *comp, uint32_t mask)
+{
+    uint32_t index = 0;
+    uint32_t shift = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        if ((mask >> k) & 1u) {
+            index |= comp[k] << shift;
+            shift += sp->bits[k];
+        }
+    }
+    return index;
+}
+
+// The inverse of pack_masked_() for the components in `mask`; the others are left as they are.
+static void unpack_masked_(const agent_space_t *sp, uint32_t index, uint32_t mask, uint32_t *comp)
+{
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        if ((mask >> k) & 1u) {
+            comp[k] = index & ((1u << sp->bits[k]) - 1u);
+            index >>= sp->bits[k];
+        }
+    }
+}
+
+static uint32_t masked_bits_(const agent_space_t *sp, uint32_t mask)
+{
+    uint32_t bits = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        bits += (mask >> k) & 1u ? sp->bits[k] : 0u;
+    }
+    return bits;
+}
+
+static uint32_t all_mask_(const agent_space_t *sp)
+{
+    return (1u << sp->n_components) - 1u;
+}
+
+static uint32_t place_of_(const world_model_t *m, const uint32_t *comp)
+{
+    return pack_masked_(m->space, comp, all_mask_(m->space) & ~(uint32_t)m->space->absolute_mask);
+}
+
+static uint32_t position_of_(const world_model_t *m, const uint32_t *comp)
+{
+    const agent_space_t *sp = m->space;
+    return pack_masked_(sp, comp, all_mask_(sp) & ~(uint32_t)(sp->absolute_mask | sp->context_mask));
+}
+
+static model_class_t *class_of_(const world_model_t *m, const uint32_t *comp, uint32_t a)
+{
+    return &m->classes[pack_masked_(m->space, comp, m->space->context_mask) * m->space->n_actions + a];
+}
+
+// ---- Set-up ---------------------------------------------------------------------------------------
+
 int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
                float learning_rate, uint8_t min_count, const model_cmac_storage_t *fwd,
-               const model_cmac_storage_t *inv)
+               const model_reloc_storage_t *reloc)
 {
-    if (m == NULL || fwd == NULL || inv == NULL || space_validate(space) != FW_OK ||
+    if (m == NULL || fwd == NULL || reloc == NULL || space_validate(space) != FW_OK ||
         min_count < 1u) {
+        return FW_ERR_INVAL;
+    }
+    const uint32_t all = (1u << space->n_components) - 1u;
+    const uint32_t place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
+    const uint32_t context_bits = masked_bits_(space, space->context_mask);
+    const uint32_t position_bits =
+        masked_bits_(space, all & ~(uint32_t)(space->absolute_mask | space->context_mask));
+    if (space->absolute_mask != 0u &&
+        (reloc->percepts == NULL || place_bits > 24u || reloc->places < (1u << place_bits))) {
+        return FW_ERR_INVAL;
+    }
+    if (space->context_mask != 0u &&
+        (reloc->classes == NULL || reloc->arrivals == NULL || context_bits > 16u ||
+         reloc->n_classes < (1u << context_bits) * space->n_actions ||
+         position_bits > 24u || reloc->positions < (1u << position_bits))) {
         return FW_ERR_INVAL;
     }
     m->space = space;
@@ -41,26 +116,40 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     }
     cmac_config_t c;
     cmac_config_for_(&c, space, tilings, learning_rate, (uint8_t)(space->n_components + 2u));
-    int err = cmac_init(&m->forward, &c, fwd->keys, fwd->counts, fwd->weights, fwd->cells);
+    const int err = cmac_init(&m->forward, &c, fwd->keys, fwd->counts, fwd->weights, fwd->cells);
     if (err) {
         return err;
     }
-    cmac_config_for_(&c, space, tilings, learning_rate, space->n_components);
-    err = cmac_init(&m->inverse, &c, inv->keys, inv->counts, inv->weights, inv->cells);
-    if (err) {
-        return err;
-    }
-    m->untrusted = 0;
-    m->rejected = 0;
+    m->percepts = space->absolute_mask != 0u ? reloc->percepts : NULL;
+    m->places = space->absolute_mask != 0u ? 1u << place_bits : 0u;
+    m->classes = space->context_mask != 0u ? reloc->classes : NULL;
+    m->n_classes = space->context_mask != 0u ? (1u << context_bits) * space->n_actions : 0u;
+    m->arrivals = space->context_mask != 0u ? reloc->arrivals : NULL;
+    m->positions = space->context_mask != 0u ? 1u << position_bits : 0u;
+    model_clear(m);
     return FW_OK;
 }
 
 void model_clear(world_model_t *m)
 {
     cmac_clear(&m->forward);
-    cmac_clear(&m->inverse);
+    for (uint32_t i = 0; i < m->places; i++) {
+        m->percepts[i] = 0;
+    }
+    for (uint32_t i = 0; i < m->n_classes; i++) {
+        m->classes[i] = (model_class_t){{0}, 0, 0, 0};
+    }
+    for (uint32_t i = 0; i < m->positions; i++) {
+        m->arrivals[i] = MODEL_NO_ARRIVAL;
+    }
+    for (uint32_t a = 0; a < FW_CFG_MAX_ACTIONS; a++) {
+        for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
+            m->deltas[a][i] = (model_delta_t){{0}, 0};
+        }
+    }
     m->untrusted = 0;
     m->rejected = 0;
+    m->generalised = 0;
 }
 
 // ---- Encoding states as CMAC outputs ------------------------------------------------------------
@@ -132,23 +221,88 @@ static bool decode_(const world_model_t *m, const uint32_t *from, const int32_t 
     return true;
 }
 
-// Whether `pred` leads from `from` to exactly the components `to`: decode_() compared instead of
-// stored, for a predecessor's confirmation.
-static bool leads_to_(const world_model_t *m, const uint32_t *from, const int32_t *pred,
-                      const uint32_t *to)
+// ---- Learning and predicting ---------------------------------------------------------------------
+
+static bool same_delta_(const int8_t *x, const int8_t *y)
 {
-    const model_field_t *field = m->field;
-    const model_field_t *const end = field + m->space->n_components;
-    do {
-        const uint32_t v = (round_fixed_(*pred++) + (*from++ & field->keep_from)) & field->wrap;
-        if (v != *to++) {
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        if (x[k] != y[k]) {
             return false;
         }
-    } while (++field != end);
+    }
     return true;
 }
 
-// ---- Learning and predicting ---------------------------------------------------------------------
+// The change from `from` to `to` of every component but the absolute ones (those are 0),
+// circular ones the shorter way round. False if a change does not fit an int8.
+static bool delta_of_(const agent_space_t *sp, const uint32_t *from, const uint32_t *to,
+                      int8_t *delta)
+{
+    int32_t d[FW_CFG_MAX_COMPONENTS];
+    encode_(sp, from, to, d);
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        const int32_t v = k < sp->n_components && !((sp->absolute_mask >> k) & 1u) ? d[k] / CMAC_ONE : 0;
+        if (v < -128 || v > 127) {
+            return false;
+        }
+        delta[k] = (int8_t)v;
+    }
+    return true;
+}
+
+// Keeps the change an action made, so that predecessors can be searched by undoing it; a full
+// list replaces the change seen least often.
+static void remember_delta_(world_model_t *m, uint32_t a, const int8_t *delta)
+{
+    model_delta_t *list = m->deltas[a];
+    model_delta_t *least = &list[0];
+    for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
+        if (list[i].count != 0u && same_delta_(list[i].delta, delta)) {
+            if (list[i].count < UINT16_MAX) {
+                list[i].count++;
+            }
+            return;
+        }
+        if (list[i].count < least->count) {
+            least = &list[i];
+        }
+    }
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        least->delta[k] = delta[k];
+    }
+    least->count = 1;
+}
+
+// One observation of a situation's outcome: it agrees with the kept outcome, or counts against
+// it; an outcome disagreed with more often than agreed with is replaced by the new one.
+static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward)
+{
+    if (c->count != 0u && same_delta_(c->delta, delta) && c->reward == reward) {
+        if (c->count == UINT8_MAX) {  // keep the ratio, make room
+            c->count /= 2u;
+            c->miss /= 2u;
+        }
+        c->count++;
+        return;
+    }
+    if (c->count != 0u && c->miss < c->count) {
+        c->miss++;
+        return;
+    }
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        c->delta[k] = delta[k];
+    }
+    c->reward = reward;
+    c->count = 1;
+    c->miss = 0;
+}
+
+static int16_t reward_fixed_(float r, bool *fits)
+{
+    const int32_t v = to_fixed_(r);
+    *fits = v >= -32767 && v <= 32767;
+    return (int16_t)(*fits ? v : 0);
+}
 
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal)
@@ -168,28 +322,127 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     cmac_tiles_of(&m->forward, from, a, &tiles);
     const bool stored = cmac_train(&m->forward, &tiles, desired);
 
-    // A step that leaves the state as it was (a bump into a wall) is no route from anywhere;
-    // teaching it to CMAC-R would overwrite the real predecessor that arrives by the same action.
-    if (s_next != s) {
-        encode_(sp, to, from, desired);
-        cmac_tiles_of(&m->inverse, to, a, &tiles);
-        (void)cmac_train(&m->inverse, &tiles, desired);
+    if (m->percepts != NULL) {
+        m->percepts[place_of_(m, from)] |= (uint16_t)(1u << pack_masked_(sp, from, sp->absolute_mask));
+        m->percepts[place_of_(m, to)] |= (uint16_t)(1u << pack_masked_(sp, to, sp->absolute_mask));
+    }
+    int8_t delta[FW_CFG_MAX_COMPONENTS];
+    bool fits = delta_of_(sp, from, to, delta);
+    if (fits) {
+        remember_delta_(m, a, delta);
+    }
+    const int16_t reward = reward_fixed_(r, &fits);
+    if (m->classes != NULL && fits) {
+        if (terminal) {
+            // Where an episode ends is a fact about the place, not about the situation.
+            m->arrivals[position_of_(m, to)] = reward;
+        } else {
+            train_class_(class_of_(m, from, a), delta, reward);
+        }
     }
     return stored;
 }
 
 // CMAC-Model's prediction for taking `a` in the state `from` (its components, and its tiles for
-// any action): the next state's components go to `to` and packed to `next`, the raw outputs to
-// `pred`. Counts a refusal in `untrusted`.
-static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles, uint32_t a,
-                     uint32_t *to, agent_state_t *next, int32_t *pred)
+// any action): the next state's components go to `to` and packed to `next`, the reward and the
+// terminal flag to `out`. False if (s, a) was not tried (a cell trained fewer than min_count
+// times) or the prediction leaves the space.
+static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
+                           uint32_t a, uint32_t *to, model_step_t *out)
 {
+    int32_t pred[CMAC_MAX_OUTPUTS];
+    const uint32_t n_comp = m->space->n_components;
     if (!cmac_predict_trusted(&m->forward, tiles, a, m->min_count, pred) ||
-        !decode_(m, from, pred, to, next)) {
-        m->untrusted++;
+        !decode_(m, from, pred, to, &out->next)) {
         return false;
     }
+    out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
+    out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
     return true;
+}
+
+static bool class_trusted_(const model_class_t *c)
+{
+    return c->count >= MODEL_CLASS_MIN_COUNT &&
+           (uint32_t)c->miss * MODEL_CLASS_MAX_MISS_SHARE <= c->count;
+}
+
+// The only value the absolute components were seen to take at the place of `comp` (its
+// non-absolute components), into `comp`. False if the place was never seen, or showed more
+// than one percept (then what is there is not predictable).
+static bool percept_at_(const world_model_t *m, uint32_t *comp)
+{
+    if (m->percepts == NULL) {
+        return true;  // nothing absolute to fill in
+    }
+    const uint32_t seen = m->percepts[place_of_(m, comp)];
+    if (seen == 0u || (seen & (seen - 1u)) != 0u) {
+        return false;
+    }
+    uint32_t v = 0;
+    while (!((seen >> v) & 1u)) {
+        v++;
+    }
+    unpack_masked_(m->space, v, m->space->absolute_mask, comp);
+    return true;
+}
+
+// Applies a change to every non-absolute component of `from`, into `to` (absolute ones copied).
+// False if a component leaves its range (a circular one wraps).
+static bool apply_delta_(const agent_space_t *sp, const uint32_t *from, const int8_t *delta,
+                         int32_t sign, uint32_t *to)
+{
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        const int32_t range = (int32_t)1 << sp->bits[k];
+        int32_t v = (int32_t)from[k] + sign * delta[k];
+        if ((sp->circular_mask >> k) & 1u) {
+            v &= range - 1;
+        } else if (v < 0 || v >= range) {
+            return false;
+        }
+        to[k] = (uint32_t)v;
+    }
+    return true;
+}
+
+// The relocatable model's prediction for an untried pair: the situation's usual change, the
+// percept the map has for the place it leads to, and the reward of arriving there if an episode
+// ended there before (else the situation's reward).
+static bool predict_general_(world_model_t *m, const uint32_t *from, uint32_t a, uint32_t *to,
+                             model_step_t *out)
+{
+    if (m->classes == NULL) {
+        return false;
+    }
+    const model_class_t *c = class_of_(m, from, a);
+    if (!class_trusted_(c) || !apply_delta_(m->space, from, c->delta, 1, to)) {
+        return false;
+    }
+    bool moved = false;
+    for (uint32_t k = 0; k < m->space->n_components; k++) {
+        moved = moved || c->delta[k] != 0;
+    }
+    if (moved && !percept_at_(m, to)) {  // a step that goes nowhere keeps what it perceives
+        return false;
+    }
+    const int16_t arrival = m->arrivals[position_of_(m, to)];
+    out->next = space_pack(m->space, to);
+    out->terminal = (uint8_t)(arrival != MODEL_NO_ARRIVAL && moved);
+    out->reward = (float)(out->terminal ? arrival : c->reward) / (float)CMAC_ONE;
+    m->generalised++;
+    return true;
+}
+
+// The model's prediction for (from, a): CMAC-Model's if the pair was tried, else the
+// relocatable model's. Counts a refusal in `untrusted`.
+static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles, uint32_t a,
+                     uint32_t *to, model_step_t *out)
+{
+    if (predict_exact_(m, from, tiles, a, to, out) || predict_general_(m, from, a, to, out)) {
+        return true;
+    }
+    m->untrusted++;
+    return false;
 }
 
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
@@ -201,16 +454,8 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out)
 {
-    const uint32_t n_comp = m->space->n_components;
-    int32_t pred[CMAC_MAX_OUTPUTS];
     uint32_t to[FW_CFG_MAX_COMPONENTS];
-
-    if (!predict_(m, q->comp, &q->tiles, a, to, &out->next, pred)) {
-        return false;
-    }
-    out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
-    out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
-    return true;
+    return predict_(m, q->comp, &q->tiles, a, to, out);
 }
 
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out)
@@ -224,40 +469,45 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                                   model_query_t *const *queries)
 {
     const agent_space_t *sp = m->space;
-    const uint32_t n_comp = sp->n_components;
-    uint32_t back[FW_CFG_MAX_COMPONENTS];
-    int32_t pred[CMAC_MAX_OUTPUTS];
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
     model_query_t scratch;
-    agent_state_t back_state;
+    model_step_t step;
     uint32_t n = 0;
 
     for (uint32_t a = 0; a < sp->n_actions; a++) {
-        // The predecessor's query is built where it is kept if it is confirmed.
-        model_query_t *const prev = queries != NULL ? queries[n] : &scratch;
-        // CMAC-R shares CMAC-Model's key layout: the query's tiles serve both.
-        if (!cmac_predict_trusted(&m->inverse, &q->tiles, a, m->min_count, pred) ||
-            !decode_(m, q->comp, pred, prev->comp, &prev->state)) {
-            continue;  // nothing trained arrives here by a: the common case, not worth counting
-        }
-        // CMAC-R averages when several states lead here by the same action; only a predecessor
-        // that CMAC-Model confirms is a real one. The forward lookup also gives its reward.
-        cmac_tiles_of(&m->forward, prev->comp, a, &prev->tiles);
-        if (!cmac_predict_trusted(&m->forward, &prev->tiles, a, m->min_count, pred)) {
-            m->untrusted++;
-            m->rejected++;
-            continue;
-        }
-        if (pred[n_comp + 1u] >= CMAC_ONE / 2 || !leads_to_(m, prev->comp, pred, q->comp)) {
-            if (!decode_(m, prev->comp, pred, back, &back_state)) {
-                m->untrusted++;  // as model_predict() counts a prediction out of range
+        for (uint32_t d = 0; d < MODEL_MAX_DELTAS && n < MODEL_MAX_PREDECESSORS; d++) {
+            const model_delta_t *delta = &m->deltas[a][d];
+            // Undo a change a has made: where the robot was before, but for what it perceived.
+            uint32_t back[FW_CFG_MAX_COMPONENTS];
+            if (delta->count == 0u || !apply_delta_(sp, q->comp, delta->delta, -1, back)) {
+                continue;
             }
-            m->rejected++;
-            continue;
+            // Each percept seen at that place is a candidate (one, for a space without them).
+            const uint32_t seen = m->percepts != NULL ? m->percepts[place_of_(m, back)] : 1u;
+            for (uint32_t v = 0; seen >> v != 0u && n < MODEL_MAX_PREDECESSORS; v++) {
+                if (!((seen >> v) & 1u)) {
+                    continue;
+                }
+                model_query_t *const prev = queries != NULL ? queries[n] : &scratch;
+                unpack_masked_(sp, v, sp->absolute_mask, back);
+                for (uint32_t k = 0; k < sp->n_components; k++) {
+                    prev->comp[k] = back[k];
+                }
+                prev->state = space_pack(sp, prev->comp);
+                cmac_tiles_of(&m->forward, prev->comp, a, &prev->tiles);
+                // Confirmed only if the forward prediction leads here, not ending the episode;
+                // the same lookup gives the predecessor's reward.
+                if (!predict_(m, prev->comp, &prev->tiles, a, to, &step) || step.terminal ||
+                    step.next != q->state) {
+                    m->rejected++;
+                    continue;
+                }
+                out[n].state = prev->state;
+                out[n].action = (uint8_t)a;
+                out[n].reward = step.reward;
+                n++;
+            }
         }
-        out[n].state = prev->state;
-        out[n].action = (uint8_t)a;
-        out[n].reward = (float)pred[n_comp] / (float)CMAC_ONE;
-        n++;
     }
     return n;
 }

@@ -28,7 +28,14 @@ int space_validate(const agent_space_t *sp)
             return FW_ERR_INVAL;
         }
     }
-    if ((sp->circular_mask | sp->absolute_mask) >> sp->n_components) {
+    if ((sp->circular_mask | sp->absolute_mask | sp->context_mask) >> sp->n_components) {
+        return FW_ERR_INVAL;
+    }
+    uint32_t absolute_bits = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        absolute_bits += (sp->absolute_mask >> k) & 1u ? sp->bits[k] : 0u;
+    }
+    if (absolute_bits > SPACE_MAX_ABSOLUTE_BITS) {
         return FW_ERR_INVAL;
     }
     if (space_state_bits(sp) > SPACE_MAX_STATE_BITS) {

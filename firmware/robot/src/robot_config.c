@@ -82,5 +82,6 @@ void robot_config_space(const robot_config_t *c, agent_space_t *sp)
     }
     sp->circular_mask = 1u << 2;  // the heading wraps
     sp->absolute_mask = 1u << 3;  // the range code is predicted, not its change
+    sp->context_mask = (1u << 2) | (1u << 3);  // an action's effect depends on heading and code
     sp->n_actions = ROBOT_N_ACTIONS;
 }

@@ -9,7 +9,7 @@
 #include "fw/fw_base.h"
 
 // A corridor of 16 cells: action 0 moves left, action 1 right; the goal is cell 15.
-static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2};
+static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2, 0};
 
 static agent_t agent_;
 
@@ -186,14 +186,14 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
 // which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
 // grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
 // alike at every step and end with the same bytes learned and the same counters.
-typedef AGENT_MEMORY_STRUCT(64, 64, 8, 16) small_memory_t;
+typedef AGENT_MEMORY_STRUCT(64, 64, 8, 16, 1, 1, 1) small_memory_t;
 static small_memory_t memory_a_;
 static small_memory_t memory_b_;
 static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);
 static const agent_storage_t storage_b_ = AGENT_STORAGE_OF(memory_b_);
 static agent_t agent_b_;
 // x, y (3 bits, tiles 2 wide), heading (2 bits, circular); actions: forward, back, left, right.
-static const agent_space_t grid_ = {3, {3, 3, 2}, {1, 1, 0}, 0x4, 0, 4};
+static const agent_space_t grid_ = {3, {3, 3, 2}, {1, 1, 0}, 0x4, 0, 4, 0};
 
 static agent_state_t grid_step_(agent_state_t s, uint8_t a, float *reward)
 {

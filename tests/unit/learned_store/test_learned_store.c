@@ -14,19 +14,19 @@
 enum { Q_STATES = 64, CELLS = 64, PQ_CAP = 32 };
 static float q_[Q_STATES * FW_CFG_MAX_ACTIONS];
 static uint32_t q_keys_[Q_STATES];
-static uint32_t fk_[CELLS], ik_[CELLS];
-static uint8_t fc_[CELLS], ic_[CELLS];
-static int16_t fw_[CELLS * (FW_CFG_MAX_COMPONENTS + 2)], iw_[CELLS * FW_CFG_MAX_COMPONENTS];
+static uint32_t fk_[CELLS];
+static uint8_t fc_[CELLS];
+static int16_t fw_[CELLS * (FW_CFG_MAX_COMPONENTS + 2)];
 static pq_item_t heap_[PQ_CAP];
 static uint32_t pk_[PQ_INDEX_SLOTS(PQ_CAP)], pp_[PQ_INDEX_SLOTS(PQ_CAP)];
 enum { TABLE = 32 };
 static dynaq_record_t table_[TABLE];
 static uint32_t tk_[DYNAQ_INDEX_SLOTS(TABLE)], tr_[DYNAQ_INDEX_SLOTS(TABLE)];
 static const agent_storage_t storage_ = {
-    q_, q_keys_, Q_STATES, {fk_, fc_, fw_, CELLS}, {ik_, ic_, iw_, CELLS}, heap_, pk_, pp_, PQ_CAP,
+    q_, q_keys_, Q_STATES, {fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP,
     table_, tk_, tr_, TABLE};
 // 4 x 4 x 4 states of 6 bits (hashed: 64 rows for 64 states is dense; use 8 bits to hash).
-static const agent_space_t space_ = {3, {3, 3, 2}, {0, 0, 0}, 0, 0, 4};
+static const agent_space_t space_ = {3, {3, 3, 2}, {0, 0, 0}, 0, 0, 4, 0};
 static agent_t agent_;
 
 static agent_kind_t kind_ = AGENT_DYNA_QPC;
@@ -535,9 +535,9 @@ static uint32_t empty_cell_(const uint32_t *keys)
     return 0;
 }
 static void c_empty_with_count_(void) { fc_[empty_cell_(fk_)] = 3; }
-static void c_empty_with_weight_(void) { iw_[empty_cell_(ik_) * 3 + 1] = -9; }
+static void c_empty_with_weight_(void) { fw_[empty_cell_(fk_) * 5 + 1] = -9; }
 static void c_untrained_cell_(void) { fc_[used_cell_(fk_, 2)] = 0; }
-static void c_key_top_bit_(void) { ik_[used_cell_(ik_, 0)] |= 0x80000000u; }
+static void c_key_top_bit_(void) { fk_[used_cell_(fk_, 0)] |= 0x80000000u; }
 static void c_duplicate_(void) { fk_[used_cell_(fk_, 1)] = fk_[used_cell_(fk_, 0)]; }
 static void c_displaced_(void)
 {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Tests of the world model: CMAC-Model forward, CMAC-R backward, and when a prediction is trusted.
+// Tests of the world model: CMAC-Model forward, the relocatable model's generalisation, the
+// predecessor search, and when a prediction is trusted.
 #include "test_common.h"
 
 #include "agent/model.h"
@@ -9,16 +10,19 @@
 static uint32_t fk_[CELLS];
 static uint8_t fc_[CELLS];
 static int16_t fw_[CELLS * (FW_CFG_MAX_COMPONENTS + 2)];
-static uint32_t ik_[CELLS];
-static uint8_t ic_[CELLS];
-static int16_t iw_[CELLS * FW_CFG_MAX_COMPONENTS];
 static const model_cmac_storage_t fwd_ = {fk_, fc_, fw_, CELLS};
-static const model_cmac_storage_t inv_ = {ik_, ic_, iw_, CELLS};
+// Places: x and heading (9 bits); situations: heading and code (6 bits) x 4 actions; positions: x.
+static uint16_t percepts_[512];
+static model_class_t classes_[64 * 4];
+static int16_t arrivals_[32];
+static const model_reloc_storage_t inv_ = {percepts_, 512, classes_, 256, arrivals_, 32};
 
 // x (5 bits), heading (4 bits, circular), a range code (2 bits, predicted as a value).
-static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4};
+static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4, 0};
+// The same robot whose action effects generalise over x: keyed on heading and code.
+static const agent_space_t rel_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
 // A corridor: one component, 4 bits, exact tiles.
-static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2};
+static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2, 0};
 
 static agent_state_t robot_state(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -60,13 +64,13 @@ static void circular_component_wraps(void **state)
     model_step_t out;
     assert_true(model_predict(&m, s, 3, &out));
     assert_int_equal(out.next, s2);
-    model_pred_t preds[4];
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
     assert_int_equal(model_predecessors(&m, s2, preds), 1);
     assert_int_equal(preds[0].state, s);
     assert_int_equal(preds[0].action, 3);
 }
 
-// CMAC-R: after walking 0 -> 1 -> ... -> 7 with action 1, every state's predecessor is known.
+// After walking 0 -> 1 -> ... -> 7 with action 1, every state's predecessor is known.
 static void inverse_model_finds_predecessors(void **state)
 {
     (void)state;
@@ -75,7 +79,7 @@ static void inverse_model_finds_predecessors(void **state)
     for (agent_state_t s = 0; s < 7; s++) {
         model_learn(&m, s, 1, s == 6 ? 1.0f : 0.0f, s + 1, s == 6);
     }
-    model_pred_t preds[2];
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
     for (agent_state_t s = 1; s < 7; s++) {
         assert_int_equal(model_predecessors(&m, s, preds), 1);
         assert_int_equal(preds[0].state, s - 1);
@@ -99,9 +103,12 @@ static void predecessors_come_with_their_queries(void **state)
     model_learn(&m, robot_state(8, 4, 1), 0, -1.0f, robot_state(9, 4, 1), false);
     model_query_t q;
     model_query_init(&m, here, &q);
-    model_query_t store[4];
-    model_query_t *const queries[4] = {&store[0], &store[1], &store[2], &store[3]};
-    model_pred_t preds[4];
+    model_query_t store[MODEL_MAX_PREDECESSORS];
+    model_query_t *queries[MODEL_MAX_PREDECESSORS];
+    for (uint32_t i = 0; i < MODEL_MAX_PREDECESSORS; i++) {
+        queries[i] = &store[i];
+    }
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
     const uint32_t n = model_query_predecessors(&m, &q, preds, queries);
     assert_int_equal(n, 3);
     for (uint32_t i = 0; i < n; i++) {
@@ -115,8 +122,8 @@ static void predecessors_come_with_their_queries(void **state)
         assert_float_equal(step.reward, preds[i].reward, 0.0f);
         assert_int_equal(step.terminal, 0);
         // Asked further, the kept query answers as a fresh one.
-        model_pred_t a[4];
-        model_pred_t b[4];
+        model_pred_t a[MODEL_MAX_PREDECESSORS];
+        model_pred_t b[MODEL_MAX_PREDECESSORS];
         const uint32_t na = model_query_predecessors(&m, queries[i], a, NULL);
         assert_int_equal(model_query_predecessors(&m, &fresh, b, NULL), na);
         for (uint32_t j = 0; j < na; j++) {
@@ -128,34 +135,120 @@ static void predecessors_come_with_their_queries(void **state)
     }
 }
 
-// A bump (the state does not change) is not taught to CMAC-R: it must not hide the real
-// predecessor that arrives by the same action.
-static void self_loops_do_not_overwrite_predecessors(void **state)
+// A bump (the state does not change) is a predecessor too: its value depends on the state's.
+// It does not hide the real predecessor that arrives by the same action.
+static void self_loops_are_predecessors_beside_the_real_one(void **state)
 {
     (void)state;
     world_model_t m;
     assert_int_equal(model_init(&m, &line_, 16, 1.0f, 1, &fwd_, &inv_), FW_OK);
     model_learn(&m, 14, 1, 0.0f, 15, false);
     model_learn(&m, 15, 1, -1.0f, 15, false);  // the wall at the end
-    model_pred_t preds[2];
-    assert_int_equal(model_predecessors(&m, 15, preds), 1);
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    assert_int_equal(model_predecessors(&m, 15, preds), 2);
     assert_int_equal(preds[0].state, 14);
+    assert_int_equal(preds[1].state, 15);
+    assert_float_equal(preds[1].reward, -1.0f, 0.01f);
 }
 
-// When two states lead here by the same action, CMAC-R averages them into a state that leads
-// nowhere; CMAC-Model does not confirm it and it is rejected.
-static void unconfirmed_predecessors_are_rejected(void **state)
+// Two states that lead here by the same action are both found (CMAC-R named only the last);
+// a candidate the forward model does not lead here is rejected.
+static void every_observed_predecessor_is_found(void **state)
 {
     (void)state;
     world_model_t m;
-    assert_int_equal(model_init(&m, &line_, 16, 0.5f, 1, &fwd_, &inv_), FW_OK);
-    for (int i = 0; i < 8; i++) {
-        model_learn(&m, 4, 0, 0.0f, 6, false);  // +2
-        model_learn(&m, 8, 0, 0.0f, 6, false);  // -2
-    }
-    model_pred_t preds[2];
-    assert_int_equal(model_predecessors(&m, 6, preds), 0);
+    assert_int_equal(model_init(&m, &line_, 16, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_learn(&m, 4, 0, 0.0f, 6, false);   // +2
+    model_learn(&m, 8, 0, -2.0f, 6, false);  // -2
+    model_learn(&m, 9, 0, 0.0f, 10, false);  // +1: makes 5 a candidate for 6, never tried
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    assert_int_equal(model_predecessors(&m, 6, preds), 2);
+    assert_int_equal(preds[0].state, 4);
+    assert_int_equal(preds[1].state, 8);
+    assert_float_equal(preds[1].reward, -2.0f, 0.01f);
     assert_true(m.rejected > 0);
+}
+
+static agent_state_t rel_state(uint32_t x, uint32_t h, uint32_t r)
+{
+    const uint32_t c[3] = {x, h, r};
+    return space_pack(&rel_, c);
+}
+
+// The relocatable model: driving forward with heading 4 and a clear code moved +1 three times;
+// a place never driven from is predicted the same, with the code the map saw where it leads.
+static void untried_pairs_are_predicted_by_their_situation(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_learn(&m, rel_state(20, 4, 2), 2, -1.0f, rel_state(20, 5, 3), false);  // (20, 4) shows 2
+    model_step_t out;
+    for (uint32_t x = 1; x <= 3; x++) {
+        assert_false(model_predict(&m, rel_state(19, 4, 0), 0, &out));  // seen x - 1 times only
+        model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    const uint32_t before = m.generalised;
+    assert_true(model_predict(&m, rel_state(19, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(20, 4, 2));
+    assert_float_equal(out.reward, -1.0f, 0.01f);
+    assert_int_equal(out.terminal, 0);
+    assert_int_equal(m.generalised, before + 1);
+    // Another situation (code 1) is another class: nothing known.
+    assert_false(model_predict(&m, rel_state(19, 4, 1), 0, &out));
+    // Where the map has never been, nothing is predicted.
+    assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    // A generalised pair is a predecessor: (19, 4, 0) leads to (20, 4, 2) by action 0, once the
+    // map knows what (19, 4) shows.
+    model_learn(&m, rel_state(19, 4, 0), 2, -1.0f, rel_state(19, 5, 0), false);
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    const uint32_t n = model_predecessors(&m, rel_state(20, 4, 2), preds);
+    bool found = false;
+    for (uint32_t i = 0; i < n; i++) {
+        found = found || (preds[i].state == rel_state(19, 4, 0) && preds[i].action == 0);
+    }
+    assert_true(found);
+}
+
+// The gates: a place that showed two codes is not predictable; a situation whose outcome was
+// contradicted more than once in eight observations is not trusted.
+static void generalisation_is_gated_by_confidence(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t x = 1; x <= 4; x++) {
+        model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    model_step_t out;
+    assert_false(model_predict(&m, rel_state(5, 4, 0), 0, &out));  // (6, 4) never seen
+    model_learn(&m, rel_state(6, 4, 1), 2, -1.0f, rel_state(6, 5, 1), false);
+    assert_true(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(6, 4, 1));
+    model_learn(&m, rel_state(6, 4, 3), 2, -1.0f, rel_state(6, 5, 1), false);  // (6, 4) also 3
+    assert_false(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    // Contradict the situation once (a bump): 4 agree, 1 disagrees, 1 * 8 > 4.
+    model_learn(&m, rel_state(11, 4, 0), 2, -1.0f, rel_state(11, 5, 0), false);
+    assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
+    assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+}
+
+// Where an episode ended is a fact of the position: arriving there from anywhere ends it.
+static void terminal_arrivals_are_predicted_by_position(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t x = 10; x <= 12; x++) {  // backward with heading 4: -1
+        model_learn(&m, rel_state(x, 4, 0), 1, -1.0f, rel_state(x - 1, 4, 0), false);
+    }
+    model_learn(&m, rel_state(5, 4, 0), 0, 100.0f, rel_state(6, 4, 0), true);  // the goal at x 6
+    model_step_t out;
+    assert_true(model_predict(&m, rel_state(7, 4, 0), 1, &out));
+    assert_int_equal(out.next, rel_state(6, 4, 0));
+    assert_int_equal(out.terminal, 1);
+    assert_float_equal(out.reward, 100.0f, 0.01f);
 }
 
 // A prediction that leaves the state's range is not trusted. Tiles two values wide: state 1's
@@ -163,7 +256,7 @@ static void unconfirmed_predecessors_are_rejected(void **state)
 static void out_of_range_predictions_are_untrusted(void **state)
 {
     (void)state;
-    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2};
+    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2, 0};
     world_model_t m;
     assert_int_equal(model_init(&m, &wide, 2, 1.0f, 1, &fwd_, &inv_), FW_OK);
     model_step_t out;
@@ -199,10 +292,15 @@ static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
     world_model_t m;
-    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4};
+    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4, 0};
     assert_int_equal(model_init(&m, &bad, 16, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 16, 1.0f, 0, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 3, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);
+    const model_reloc_storage_t small = {percepts_, 256, classes_, 256, arrivals_, 32};
+    assert_int_equal(model_init(&m, &robot_, 16, 1.0f, 1, &fwd_, &small), FW_ERR_INVAL);
+    const model_reloc_storage_t none = {NULL, 0, NULL, 0, NULL, 0};
+    assert_int_equal(model_init(&m, &line_, 16, 1.0f, 1, &fwd_, &none), FW_OK);
+    assert_int_equal(model_init(&m, &rel_, 16, 1.0f, 1, &fwd_, &none), FW_ERR_INVAL);
 }
 
 int main(void)
@@ -212,8 +310,11 @@ int main(void)
         cmocka_unit_test(circular_component_wraps),
         cmocka_unit_test(inverse_model_finds_predecessors),
         cmocka_unit_test(predecessors_come_with_their_queries),
-        cmocka_unit_test(self_loops_do_not_overwrite_predecessors),
-        cmocka_unit_test(unconfirmed_predecessors_are_rejected),
+        cmocka_unit_test(self_loops_are_predecessors_beside_the_real_one),
+        cmocka_unit_test(every_observed_predecessor_is_found),
+        cmocka_unit_test(untried_pairs_are_predicted_by_their_situation),
+        cmocka_unit_test(generalisation_is_gated_by_confidence),
+        cmocka_unit_test(terminal_arrivals_are_predicted_by_position),
         cmocka_unit_test(out_of_range_predictions_are_untrusted),
         cmocka_unit_test(min_count_requires_repeated_training),
         cmocka_unit_test(init_rejects_bad_arguments),

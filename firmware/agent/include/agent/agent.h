@@ -22,7 +22,7 @@ extern "C" {
 typedef enum agent_kind {
     AGENT_Q_LEARNING = 0,  ///< the paper's Fig. 1: no model, no planning
     AGENT_DYNA_Q = 1,      ///< Fig. 5: a table of observed transitions, uniform random replay
-    AGENT_DYNA_QPC = 2,    ///< Figs. 3, 7, 10: CMAC-Model, CMAC-R, prioritized sweeping
+    AGENT_DYNA_QPC = 2,    ///< Figs. 3, 7, 10: CMAC-Model, generalisation, prioritized sweeping
 } agent_kind_t;
 
 /// Learning settings. agent_default_params() gives Sutton & Barto's gridworld values.
@@ -47,7 +47,7 @@ typedef struct agent_storage {
     uint32_t *q_keys;     // q_states
     uint32_t q_states;
     model_cmac_storage_t forward;  // weights: cells * (FW_CFG_MAX_COMPONENTS + 2)
-    model_cmac_storage_t inverse;  // weights: cells * FW_CFG_MAX_COMPONENTS
+    model_reloc_storage_t reloc;   // the relocatable model and the percept map
     pq_item_t *pq_heap;            // pq_capacity
     uint32_t *pq_index_keys;       // PQ_INDEX_SLOTS(pq_capacity)
     uint32_t *pq_index_pos;        // PQ_INDEX_SLOTS(pq_capacity)
@@ -134,10 +134,11 @@ typedef struct agent_region {
 } agent_region_t;
 
 /// The most regions agent_learned_regions() lists.
-#define AGENT_MAX_REGIONS 8u
+#define AGENT_MAX_REGIONS 10u
 
 /// Lists, in a fixed order for the agent's kind and storage, the memory that holds what it
-/// learned: the Q values (and their keys when hashed), and CMAC-Model and CMAC-R (Dyna-QPC) or
+/// learned: the Q values (and their keys when hashed), and CMAC-Model, the percept map, the
+/// relocatable model and the changes per action (Dyna-QPC) or
 /// the transition table (Dyna-Q). The priority queue is not listed: it is work in progress, not
 /// knowledge. Saving these bytes and, into an agent initialised with the same configuration,
 /// restoring them and calling agent_learned_restored() gives back the same agent.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: the learned world model of Dyna-QPC: CMAC-Model (forward) and CMAC-R (inverse).
+// dynaqpc: the learned world model of Dyna-QPC: CMAC-Model, the relocatable action model, predecessors.
 #ifndef AGENT_MODEL_H
 #define AGENT_MODEL_H
 
@@ -13,31 +13,78 @@
 extern "C" {
 #endif
 
-/// CMAC-Model maps (s, a) to (s', r, terminal); CMAC-R maps (s', a), "arrived in s' by taking
-/// a", to the state s it came from (design.md decision 3: having a in the input breaks the
-/// cyclic-path ambiguity of the paper's section 3.2).
+/// The world model of Dyna-QPC, in three parts (docs/agent.md, "The model"):
 ///
-/// Both predict a change of state per component (s' - s, or s - s' for CMAC-R), except the
-/// components in the space's absolute_mask, whose value they predict. A change generalises: the
-/// same action moves the robot the same way in neighbouring states.
+/// - **CMAC-Model** (forward, exact tiles in the shipped configurations): (s, a) -> (s', r,
+///   terminal) for the pairs the robot has tried. It predicts a change of state per component
+///   (s' - s), except the components in the space's absolute_mask, whose value it predicts.
+/// - **The relocatable action model** (generalisation, for spaces with a context_mask): the
+///   outcome of an action in a *situation* (the context components: heading and range code),
+///   wherever the robot is, with counts of agreeing and disagreeing observations; a map of what
+///   the robot perceived at each place (the absolute components seen at each value of the
+///   others); and where arriving ended an episode. Together they predict pairs never tried:
+///   the situation's usual change applied to s, the percept the map has for the place it leads
+///   to, the goal's reward if arriving there ended an episode before.
+/// - **The predecessors** (what the paper's CMAC-R is for): every change an action has produced
+///   is kept per action; the predecessors of s by a are s minus each such change, with each
+///   percept seen at that place, confirmed by the forward prediction. So every observed
+///   predecessor is found (CMAC-R named one per (s', a), the last seen), and so are untried
+///   pairs the generalisation predicts to lead to s.
 ///
-/// A prediction is trusted only when every one of its T cells has been trained at least
-/// `min_count` times and each predicted component lies in range. A predecessor from CMAC-R is
-/// trusted only if CMAC-Model, asked about it, leads back to the state it came from.
+/// A prediction is trusted only when its CMAC cells were each trained at least `min_count`
+/// times, or, for an untried pair, when its situation's outcome was seen at least
+/// MODEL_CLASS_MIN_COUNT times with at most one disagreement in MODEL_CLASS_MAX_MISS_SHARE and
+/// the place it leads to shows one percept only; and each predicted component lies in range.
+
+/// Most predecessors model_query_predecessors() returns for one state.
+#define MODEL_MAX_PREDECESSORS 16u
+/// Most distinct changes kept per action (the least seen is replaced when full).
+#define MODEL_MAX_DELTAS 8u
+/// A situation's outcome generalises once it was seen this often...
+#define MODEL_CLASS_MIN_COUNT 3u
+/// ...and disagreed with at most once in this many observations.
+#define MODEL_CLASS_MAX_MISS_SHARE 8u
+
 /// How a predicted change applies to one component (see decode_() in model.c).
 typedef struct model_field {
     uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
     uint32_t wrap;       // 2^bits - 1 for the change of a circular component, else all ones
 } model_field_t;
 
+/// The usual outcome of one action in one situation.
+typedef struct model_class {
+    int8_t delta[FW_CFG_MAX_COMPONENTS];  ///< change of each component (absolute ones: 0)
+    int16_t reward;                       ///< fixed point, 8 fractional bits
+    uint8_t count;                        ///< observations that agreed (saturates by halving)
+    uint8_t miss;                         ///< observations that did not
+} model_class_t;
+
+/// One change an action has produced, and how often.
+typedef struct model_delta {
+    int8_t delta[FW_CFG_MAX_COMPONENTS];
+    uint16_t count;
+} model_delta_t;
+
+/// A terminal arrival's reward at a position (fixed point, 8 fractional bits), or none.
+#define MODEL_NO_ARRIVAL INT16_MIN
+
 typedef struct world_model {
     const agent_space_t *space;
     model_field_t field[FW_CFG_MAX_COMPONENTS];
     cmac_t forward;   // outputs: n_components changes, reward, terminal
-    cmac_t inverse;   // outputs: n_components changes
     uint8_t min_count;
-    uint32_t untrusted;  ///< predictions refused for low confidence or an out-of-range result
-    uint32_t rejected;   ///< CMAC-R predecessors that CMAC-Model did not confirm
+    // Places (the components outside absolute_mask), situations (context_mask) and positions
+    // (outside both), packed as indices into the tables below.
+    uint16_t *percepts;   ///< per place: bit v set when the absolute components read v there
+    uint32_t places;
+    model_class_t *classes;  ///< per situation and action
+    uint32_t n_classes;
+    int16_t *arrivals;    ///< per position: reward of an arrival that ended an episode
+    uint32_t positions;
+    model_delta_t deltas[FW_CFG_MAX_ACTIONS][MODEL_MAX_DELTAS];
+    uint32_t untrusted;    ///< predictions refused for low confidence or an out-of-range result
+    uint32_t rejected;     ///< predecessor candidates the forward prediction did not confirm
+    uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model
 } world_model_t;
 
 /// One predicted transition.
@@ -63,33 +110,46 @@ typedef struct model_cmac_storage {
     uint32_t cells;
 } model_cmac_storage_t;
 
-/// Prepares an empty model. `fwd` needs weights for n_components + 2 outputs per cell, `inv` for
-/// n_components. `tilings` and `learning_rate` configure both CMACs.
-/// Returns FW_OK or FW_ERR_INVAL.
+/// Caller-owned storage of the relocatable model and the percept map. A space with an
+/// absolute component needs `percepts` for 2^(bits outside absolute_mask) places; one with a
+/// context_mask needs `classes` for 2^(context bits) * n_actions situations and `arrivals` for
+/// 2^(bits outside context and absolute masks) positions. Unneeded parts may be NULL.
+typedef struct model_reloc_storage {
+    uint16_t *percepts;
+    uint32_t places;
+    model_class_t *classes;
+    uint32_t n_classes;
+    int16_t *arrivals;
+    uint32_t positions;
+} model_reloc_storage_t;
+
+/// Prepares an empty model. `fwd` needs weights for n_components + 2 outputs per cell.
+/// `tilings` and `learning_rate` configure the CMAC.
+/// Returns FW_OK or FW_ERR_INVAL (also when `reloc` is too small for the space).
 int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
                float learning_rate, uint8_t min_count, const model_cmac_storage_t *fwd,
-               const model_cmac_storage_t *inv);
+               const model_reloc_storage_t *reloc);
 
 /// Forgets everything.
 void model_clear(world_model_t *m);
 
-/// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal), CMAC-R on (s', a) -> s.
+/// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal); the change a made; what
+/// was perceived at both places; the situation's outcome, or, for a terminal step, the arrival.
 /// Returns false when one of CMAC-Model's tiles for (s, a) found no room in its table: then
 /// model_predict() refuses (s, a) until a later training stores that tile.
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
-/// Predicts the outcome of a in s. Returns false (and fills nothing) if the prediction is not
-/// trusted.
+/// Predicts the outcome of a in s: CMAC-Model's when (s, a) was tried, else the relocatable
+/// model's. Returns false (and fills nothing) if no prediction is trusted.
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out);
 
-/// Predicts the trusted predecessors of s, at most one per action, into out[] (room for
-/// n_actions). Returns how many.
+/// Predicts the trusted predecessors of s into out[] (room for MODEL_MAX_PREDECESSORS): every
+/// (state, action) predicted to lead to s, not terminal. Returns how many.
 uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out);
 
 /// A state made ready for several queries: its components and its tile keys, computed once
-/// (CMAC-Model and CMAC-R share one key layout, so the same keys serve both; each query names
-/// its action, so the keys' own action field does not matter).
+/// (each query names its action, so the keys' own action field does not matter).
 typedef struct model_query {
     agent_state_t state;
     uint32_t comp[FW_CFG_MAX_COMPONENTS];
@@ -102,10 +162,10 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 /// model_predict() for the query's state.
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out);
 
-/// model_predecessors() for the query's state. With `queries` (n_actions places apart from q, or
-/// NULL), *queries[i] also receives the query of out[i].state, ready for further questions, and
-/// CMAC-Model's prediction for out[i] is known to be: q's state, reward out[i].reward, not
-/// terminal (that is how a predecessor is confirmed).
+/// model_predecessors() for the query's state. With `queries` (MODEL_MAX_PREDECESSORS places
+/// apart from q, or NULL), *queries[i] also receives the query of out[i].state, ready for
+/// further questions, and model_query_predict() for out[i] is known to give: q's state, reward
+/// out[i].reward, not terminal (that is how a predecessor is confirmed).
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
                                   model_query_t *const *queries);
 

@@ -30,7 +30,17 @@ typedef struct agent_space {
     /// it predicts the change (a position), which generalises across neighbouring states.
     uint8_t absolute_mask;
     uint8_t n_actions;      ///< 1..FW_CFG_MAX_ACTIONS
+    /// bit k: component k is part of what the robot perceives of its situation (its heading, its
+    /// range code), which keys the relocatable action model: the same action in the same
+    /// situation has the same effect anywhere (docs/agent.md, "Generalisation"). The components
+    /// outside it (a position) are what the model generalises over. 0: no generalisation (a
+    /// gridworld, where a wall makes neighbouring cells unlike each other).
+    uint8_t context_mask;
 } agent_space_t;
+
+/// The most bits the absolute components of a space may have together: the model keeps, per
+/// place, the set of their values seen there as a 16-bit mask.
+#define SPACE_MAX_ABSOLUTE_BITS 4
 
 /// Total bits of a state.
 uint32_t space_state_bits(const agent_space_t *sp);

@@ -14,7 +14,7 @@ extern "C" {
 
 /// The storage of one agent: the Q store, and an overlay of Dyna-QPC's models and queue with
 /// Dyna-Q's table (an agent runs one algorithm, so both get the same memory).
-#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES)                                \
+#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES, PLACES, CLASSES, POSITIONS)     \
     struct {                                                                                   \
         float q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                                \
         uint32_t q_keys[Q_STATES];                                                             \
@@ -22,10 +22,10 @@ extern "C" {
             struct {                                                                           \
                 uint32_t fwd_keys[CELLS];                                                      \
                 int16_t fwd_weights[(CELLS) * (FW_CFG_MAX_COMPONENTS + 2)];                    \
-                uint32_t inv_keys[CELLS];                                                      \
-                int16_t inv_weights[(CELLS)*FW_CFG_MAX_COMPONENTS];                            \
                 uint8_t fwd_counts[CELLS];                                                     \
-                uint8_t inv_counts[CELLS];                                                     \
+                model_class_t classes[CLASSES];                                                \
+                uint16_t percepts[PLACES];                                                     \
+                int16_t arrivals[POSITIONS];                                                   \
                 pq_item_t pq_heap[PQ_CAP];                                                     \
                 uint32_t pq_index_keys[PQ_INDEX_SLOTS(PQ_CAP)];                                \
                 uint32_t pq_index_pos[PQ_INDEX_SLOTS(PQ_CAP)];                                 \
@@ -46,8 +46,9 @@ extern "C" {
         (mem).q, (mem).q_keys, AGENT_COUNT_OF((mem).q_keys),                                   \
             {(mem).model.qpc.fwd_keys, (mem).model.qpc.fwd_counts,                             \
              (mem).model.qpc.fwd_weights, AGENT_COUNT_OF((mem).model.qpc.fwd_keys)},           \
-            {(mem).model.qpc.inv_keys, (mem).model.qpc.inv_counts,                             \
-             (mem).model.qpc.inv_weights, AGENT_COUNT_OF((mem).model.qpc.inv_keys)},           \
+            {(mem).model.qpc.percepts, AGENT_COUNT_OF((mem).model.qpc.percepts),               \
+             (mem).model.qpc.classes, AGENT_COUNT_OF((mem).model.qpc.classes),                 \
+             (mem).model.qpc.arrivals, AGENT_COUNT_OF((mem).model.qpc.arrivals)},              \
             (mem).model.qpc.pq_heap, (mem).model.qpc.pq_index_keys,                            \
             (mem).model.qpc.pq_index_pos, AGENT_COUNT_OF((mem).model.qpc.pq_heap),             \
             (mem).model.dynaq.records, (mem).model.dynaq.index_keys,                           \
@@ -55,11 +56,14 @@ extern "C" {
     }
 
 typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
-                            FW_CFG_MAZE_TABLE_STATES) agent_memory_maze_t;
+                            FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_PLACES,
+                            FW_CFG_MAZE_CLASSES, FW_CFG_MAZE_POSITIONS) agent_memory_maze_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
-                            FW_CFG_LAB_TABLE_STATES) agent_memory_paper_lab_t;
+                            FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_PLACES,
+                            FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS) agent_memory_paper_lab_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
-                            FW_CFG_SIM_TABLE_STATES) agent_memory_paper_sim_t;
+                            FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_PLACES,
+                            FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS) agent_memory_paper_sim_t;
 
 // Each profile's agent (its storage plus the agent_t that manages it) must fit its budget.
 FW_STATIC_ASSERT(sizeof(agent_memory_maze_t) + sizeof(agent_t) <= FW_CFG_MAZE_BUDGET_BYTES,
