@@ -167,6 +167,35 @@ static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
 FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
                  queue_keys_leave_the_top_bit_free);
 
+static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float target)
+{
+    const float p = abs_(target - agent_q(ag, s, a));
+    if (p > ag->params.theta) {
+        (void)pq_push(&ag->pq, pq_key_(ag, s, a), p);
+    }
+}
+
+// A state seen for the first time makes new predictions possible: its own untried pairs, and
+// untried pairs elsewhere that the relocatable model now sees leading into it. Their successors'
+// values may never change again, so nothing else would queue them: they are queued here.
+static void queue_new_state_(agent_t *ag, agent_state_t s)
+{
+    model_query_t q;
+    model_step_t step;
+    model_pred_t pred[MODEL_MAX_PREDECESSORS];
+    model_query_init(&ag->model, s, &q);
+    for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+        if (model_query_predict(&ag->model, &q, (uint8_t)a, &step)) {
+            queue_if_urgent_(ag, s, (uint8_t)a, target_(ag, step.reward, step.next, step.terminal));
+        }
+    }
+    const uint32_t n = model_query_predecessors(&ag->model, &q, pred, NULL);
+    const float value = ag->params.gamma * qstore_max(&ag->q, s);
+    for (uint32_t i = 0; i < n; i++) {
+        queue_if_urgent_(ag, pred[i].state, pred[i].action, pred[i].reward + value);
+    }
+}
+
 void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                    bool terminal)
 {
@@ -177,10 +206,14 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
         ag->stats.real_updates++;
     }
     if (ag->kind == AGENT_DYNA_QPC) {
+        const bool seen = model_has_seen(&ag->model, s_next);
         const bool plannable = model_learn(&ag->model, s, a, r, s_next, terminal);
         if (priority > ag->params.theta) {
             (void)pq_push(&ag->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT),
                           priority);
+        }
+        if (!seen && !terminal && model_has_seen(&ag->model, s_next)) {
+            queue_new_state_(ag, s_next);
         }
     } else if (ag->kind == AGENT_DYNA_Q) {
         dynaq_remember(&ag->table, s, a, r, s_next, terminal);

@@ -445,6 +445,16 @@ static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t 
     return false;
 }
 
+bool model_has_seen(const world_model_t *m, agent_state_t s)
+{
+    if (m->percepts == NULL) {
+        return false;
+    }
+    uint32_t comp[FW_CFG_MAX_COMPONENTS];
+    space_unpack(m->space, s, comp);
+    return (m->percepts[place_of_(m, comp)] >> pack_masked_(m->space, comp, m->space->absolute_mask)) & 1u;
+}
+
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 {
     q->state = s;

@@ -140,6 +140,10 @@ void model_clear(world_model_t *m);
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
+/// Whether the map has seen state s (its percept at its place). False for a space without
+/// absolute components, which has no map.
+bool model_has_seen(const world_model_t *m, agent_state_t s);
+
 /// Predicts the outcome of a in s: CMAC-Model's when (s, a) was tried, else the relocatable
 /// model's. Returns false (and fills nothing) if no prediction is trusted.
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out);
