@@ -251,6 +251,11 @@ typedef struct plan_carry {
     model_query_t store[MODEL_MAX_PREDECESSORS + 1];  // where `here` and `query` point, all apart
 } plan_carry_t;
 
+// The carry of the planning call in progress (about 1.8 KB: MODEL_MAX_PREDECESSORS queries). It
+// lives in .bss rather than on the stack, so the size report counts it and the MCU's planning
+// stack stays small; planning calls never nest, and each starts by emptying it.
+static plan_carry_t carry_;
+
 static void plan_carry_init_(plan_carry_t *c)
 {
     c->valid = false;
@@ -370,11 +375,9 @@ static bool plan_dynaq_(agent_t *ag)
 bool agent_plan_step(agent_t *ag)
 {
     switch (ag->kind) {
-    case AGENT_DYNA_QPC: {
-        plan_carry_t carry;
-        plan_carry_init_(&carry);
-        return plan_qpc_(ag, &carry);
-    }
+    case AGENT_DYNA_QPC:
+        plan_carry_init_(&carry_);
+        return plan_qpc_(ag, &carry_);
     case AGENT_DYNA_Q:
         return plan_dynaq_(ag);
     case AGENT_Q_LEARNING:
@@ -387,10 +390,9 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 {
     uint32_t done = 0;
     if (ag->kind == AGENT_DYNA_QPC) {  // the planner's loop, without a dispatch per step
-        plan_carry_t carry;
-        plan_carry_init_(&carry);
+        plan_carry_init_(&carry_);
         while (done < n && pq_size(&ag->pq) > 0u) {
-            (void)plan_qpc_(ag, &carry);
+            (void)plan_qpc_(ag, &carry_);
             done++;
         }
         return done;

@@ -445,6 +445,18 @@ static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t 
     return false;
 }
 
+int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
+{
+    const uint32_t values = 1u << masked_bits_(m->space, m->space->absolute_mask);
+    const uint32_t allowed = values >= 16u ? 0xFFFFu : (1u << values) - 1u;
+    for (uint32_t i = 0; i < m->places; i++) {
+        if (percepts[i] & ~allowed) {
+            return FW_ERR_CORRUPT;
+        }
+    }
+    return FW_OK;
+}
+
 bool model_has_seen(const world_model_t *m, agent_state_t s)
 {
     if (m->percepts == NULL) {

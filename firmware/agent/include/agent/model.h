@@ -140,6 +140,10 @@ void model_clear(world_model_t *m);
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal);
 
+/// Checks a percept map about to be restored (m->places entries): every mask names only values
+/// the absolute components can take. Returns FW_OK or FW_ERR_CORRUPT.
+int model_percepts_check(const world_model_t *m, const uint16_t *percepts);
+
 /// Whether the map has seen state s (its percept at its place). False for a space without
 /// absolute components, which has no map.
 bool model_has_seen(const world_model_t *m, agent_state_t s);
