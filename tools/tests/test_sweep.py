@@ -66,36 +66,47 @@ def _free_port():
         return s.getsockname()[1]
 
 
-@pytest.fixture
-def dask_cluster(tmp_path):
-    """A scheduler and two single-thread workers, on 127.0.0.1 only, as docs/sweeps.md starts them."""
+def _start_cluster(tmp_path, nanny=True):
+    """A scheduler and two single-thread workers, on 127.0.0.1 only, as docs/sweeps.md starts
+    them; returns (address, [scheduler, worker1, worker2] processes, log files)."""
     dask = os.path.join(os.path.dirname(sys.executable), "dask")
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
     logs = [open(tmp_path / f"{n}.log", "w") for n in ("scheduler", "worker1", "worker2")]
     procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
                               stdout=logs[0], stderr=subprocess.STDOUT)]
+    for i in (1, 2):
+        procs.append(subprocess.Popen([dask, "worker", address, "--host", "127.0.0.1", "--nthreads", "1",
+                                       "--no-dashboard", "--name", f"w{i}"] + ([] if nanny else ["--no-nanny"]),
+                                      stdout=logs[i], stderr=subprocess.STDOUT))
+    return address, procs, logs
+
+
+def _stop_cluster(procs, logs):
+    for p in procs[::-1]:
+        if p.poll() is None:
+            p.terminate()
+    for p in procs:
+        try:
+            p.wait(20)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+    for f in logs:
+        f.close()
+
+
+@pytest.fixture
+def dask_cluster(tmp_path):
+    address, procs, logs = _start_cluster(tmp_path)
     try:
-        for i in (1, 2):
-            procs.append(subprocess.Popen([dask, "worker", address, "--host", "127.0.0.1", "--nthreads", "1",
-                                           "--nworkers", "1", "--no-dashboard", "--name", f"w{i}"],
-                                          stdout=logs[i], stderr=subprocess.STDOUT))
         from dask.distributed import Client
 
         with Client(address, timeout=30) as c:
             c.wait_for_workers(2, timeout=60)
         yield address
     finally:
-        for p in procs[::-1]:
-            p.terminate()
-        for p in procs:
-            try:
-                p.wait(20)
-            except subprocess.TimeoutExpired:
-                p.kill()
-                p.wait()
-        for f in logs:
-            f.close()
+        _stop_cluster(procs, logs)
 
 
 @pytest.mark.skipif(not c_binary("dynaqpc-sim").exists(), reason="build dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
@@ -139,3 +150,43 @@ def test_sweep_reports_an_unreachable_scheduler(tmp_path, capsys):
                           "--scheduler", f"tcp://127.0.0.1:{port}", "--no-progress"])
     assert rc == 2 and "cannot reach the Dask scheduler" in capsys.readouterr().err
     assert time.monotonic() - t < 60
+
+
+@pytest.mark.skipif(not c_binary("dynaqpc-sim").exists(), reason="build dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+def test_a_worker_lost_mid_task_has_its_task_rerun(tmp_path, capsys):
+    """Worker w1 is killed (SIGKILL) while it runs a task: the scheduler reruns that task on w2,
+    and the sweep's rows are those of one run, every set there once."""
+    import threading
+
+    from dask.distributed import Client
+
+    address, procs, logs = _start_cluster(tmp_path, nanny=False)
+    try:
+        with Client(address, timeout=30) as c:
+            c.wait_for_workers(2, timeout=60)
+            grid = tmp_path / "grid.toml"
+            grid.write_text('scenario = "paper-lab"\nagents = ["q"]\nsets = 4\nepisodes = 40\nseed = 5\nblock = 1\n')
+            out = tmp_path / "out"
+            result = {}
+            t = threading.Thread(target=lambda: result.setdefault("rc", experiment.main(
+                ["sweep", "--grid", str(grid), "--out", str(out), "--scheduler", address,
+                 "--sim", str(c_binary("dynaqpc-sim")), "--no-progress"])))
+            t.start()
+            w1 = next(a for a, w in c.scheduler_info()["workers"].items() if w["name"] == "w1")
+            deadline = time.monotonic() + 60
+            while not c.processing().get(w1) and time.monotonic() < deadline:
+                time.sleep(0.02)
+            busy = c.processing().get(w1)
+            assert busy, "w1 never got a task"
+            procs[1].kill()  # mid-task: the task is on w1 and its simulator is running
+            t.join(240)
+            assert not t.is_alive() and result["rc"] == 0
+    finally:
+        _stop_cluster(procs, logs)
+    with open(out / "sweep.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert sorted({int(r["set"]) for r in rows}) == [1, 2, 3, 4] and len(rows) == 4 * 40
+    whole = subprocess.run([str(c_binary("dynaqpc-sim")), "train", "--scenario", "paper-lab", "--agent", "q",
+                            "--sets", "4", "--episodes", "40", "--seed", "5", "--csv", "-", "--quiet"],
+                           capture_output=True, text=True, check=True).stdout.splitlines()[1:]
+    assert [",".join(list(r.values())[:-1]) for r in rows] == [ln.rsplit(",", 1)[0] for ln in whole]
