@@ -64,11 +64,66 @@ class FrameStats:
         return (self.count - 1) / (self.last_t - self.first_t)
 
 
+class StatusWatch:
+    """The firmware's health from FW_STATUS: modes and error flags that are not fine, and silence
+    (no FW_STATUS for more than 3 of its cycles, or none at all). Named from the DBC."""
+
+    BAD_MODES = ("SAFE_STOP", "FAULT")
+
+    def __init__(self, db):
+        try:
+            self.message = db.get_message_by_name("FW_STATUS")
+        except KeyError:
+            self.message = None
+        cycle = getattr(self.message, "cycle_time", None) or 1000
+        self.max_gap_s = 3 * cycle / 1000.0
+        self.frames = 0
+        self.last_t = None
+        self.end_t = None
+        self.problems: Dict[str, int] = {}  # what was wrong -> FW_STATUS frames that said so
+        self.silences = 0
+
+    def feed(self, message, values, t: float) -> List[str]:
+        self.end_t = t if self.end_t is None else max(self.end_t, t)
+        if message is not self.message:
+            return []
+        events = []
+        self.frames += 1
+        if self.last_t is not None and t - self.last_t > self.max_gap_s:
+            self.silences += 1
+            events.append(f"FW_STATUS: silent for {t - self.last_t:.1f} s")
+        self.last_t = t
+        bad = []
+        mode = values.get("Mode")
+        if mode is not None and str(getattr(mode, "name", mode)) in self.BAD_MODES:
+            bad.append(f"Mode={getattr(mode, 'name', mode)}")
+        bad += [k for k, v in values.items() if k.startswith("Err") and int(getattr(v, "value", v))]
+        for b in bad:
+            if b not in self.problems:
+                events.append(f"FW_STATUS: {b}")
+            self.problems[b] = self.problems.get(b, 0) + 1
+        return events
+
+    def verdict(self) -> List[str]:
+        """What --fail-on-status fails on; empty when the firmware was heard and fine."""
+        if self.message is None:
+            return ["the DBC has no FW_STATUS"]
+        if self.frames == 0:
+            return ["no FW_STATUS heard: the firmware is silent"]
+        out = [f"{k} in {n} FW_STATUS frame(s)" for k, n in self.problems.items()]
+        if self.silences:
+            out.append(f"FW_STATUS silent {self.silences} time(s) for more than {self.max_gap_s:g} s")
+        if self.end_t is not None and self.end_t - self.last_t > self.max_gap_s:
+            out.append(f"FW_STATUS silent for the last {self.end_t - self.last_t:.1f} s")
+        return out
+
+
 class Monitor:
     """Feeds python-can messages through the DBC; holds per-id statistics. No I/O."""
 
     def __init__(self, db):
         self.db = db
+        self.status = StatusWatch(db)
         self.stats: Dict[Tuple[int, bool], FrameStats] = {}
         self.error_frames = 0
         self.remote_frames = 0
@@ -119,6 +174,7 @@ class Monitor:
             st.decode_errors += 1
             return [f"{m.name}: cannot decode {bytes(msg.data).hex()}: {e}"]
         st.values = values
+        events += self.status.feed(m, values, t)
         if st.counter_signal is not None and st.counter_signal in values:
             c = int(values[st.counter_signal])
             if st.counter_prev is not None:
@@ -196,6 +252,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--refresh", type=float_in(0), default=1.0,
                    help="live table period in seconds when stdout is a terminal (0: off)")
     p.add_argument("--fail-on-gap", action="store_true", help="exit 1 when a counter gap was seen")
+    p.add_argument("--fail-on-status", action="store_true",
+                   help="exit 1 when FW_STATUS showed SAFE_STOP, FAULT or an error flag, or went silent")
     return p
 
 
@@ -269,7 +327,12 @@ def main(argv=None) -> int:
 
     def body():
         mon = run(args)
-        return 1 if args.fail_on_gap and mon.frames_missing > 0 else 0
+        rc = 1 if args.fail_on_gap and mon.frames_missing > 0 else 0
+        if args.fail_on_status:
+            for why in mon.status.verdict():
+                print(f"status: {why}")
+                rc = 1
+        return rc
 
     return run_main(body)
 

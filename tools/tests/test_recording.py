@@ -176,3 +176,25 @@ def test_recording_paper_sim_reads_back_with_the_mcap_library(tmp_path):
     # Robot time: 4 s of wall time at 10x span about 40 s.
     times = [t for _, t, _ in msgs]
     assert 25 < (max(times) - min(times)) * 1e-9 < 45
+
+
+def test_fail_on_status_notices_safe_stop_errors_and_silence(tmp_path, capsys):
+    db = cantools.database.load_file(DBC)
+
+    def run(msgs):
+        src = tmp_path / "s.asc"
+        _write_asc(src, msgs)
+        capsys.readouterr()
+        rc = monitor.main(["--dbc", DBC, "--replay", str(src), "--fail-on-status"])
+        return rc, [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("status: ")]
+
+    poses = [m for m in a_run(db) if m.arbitration_id == 0x180]
+    fine = [_msg(db, "FW_STATUS", 1000.0 + i, Mode=2, Counter=i % 16, Uptime=i) for i in range(5)]
+    assert run(sorted(fine + poses, key=lambda m: m.timestamp)) == (0, [])
+    rc, why = run(a_run(db))  # SAFE_STOP with ErrPoseLost
+    assert rc == 1 and any("Mode=SAFE_STOP" in w for w in why) and any("ErrPoseLost" in w for w in why)
+    rc, why = run(poses)  # no FW_STATUS at all
+    assert rc == 1 and why == ["status: no FW_STATUS heard: the firmware is silent"]
+    gap = fine[:2] + [_msg(db, "FW_STATUS", 1010.0, Mode=2, Counter=2, Uptime=10)]
+    rc, why = run(gap)  # 9 s without FW_STATUS (3 cycles: 3 s)
+    assert rc == 1 and any("silent 1 time(s)" in w for w in why)
