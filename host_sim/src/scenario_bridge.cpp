@@ -61,7 +61,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     check_firmware_limits(*sc, b.path.empty() ? arg : b.path);
 
     robot_config_t &r = b.robot;
-    r = robot_config_t{};
+    robot_config_defaults(&r);  // what the scenario does not say
     r.arena_w = static_cast<float>(sc->arena_w);
     r.arena_h = static_cast<float>(sc->arena_h);
     r.goal_x = static_cast<float>(sc->goal.cx);
@@ -96,12 +96,9 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.reward_goal = static_cast<float>(sc->rewards.goal);
     r.reward_bump = static_cast<float>(sc->rewards.bump);
     r.reward_step = static_cast<float>(sc->rewards.step);
-    r.agent = AGENT_DYNA_QPC;
-    r.params = agent_default_params();
     r.params.alpha = r.params.plan_alpha = static_cast<float>(sc->learning.alpha);
     r.params.gamma = static_cast<float>(sc->learning.gamma);
     r.params.epsilon = static_cast<float>(sc->learning.epsilon);
-    r.params.theta = 1e-3f;
     r.planning = static_cast<uint32_t>(sc->learning.planning);
     r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
     b.sets = static_cast<uint32_t>(sc->learning.sets);
@@ -124,7 +121,6 @@ ScenarioBundle load_scenario(const std::string &arg)
         r.beacons[i].z = static_cast<float>(bc.z);
     }
     r.listener_z = static_cast<float>(sc->cricket.listener_height);
-    r.bus_timeout_us = 500000u;
     b.world = sc;
     r.name = b.world->name.c_str();
     if (robot_config_check(&r) != 0) {

@@ -2,11 +2,14 @@
 // Tests of the robot application's logic: state encoding, action wheels, the episode controller.
 #include "test_common.h"
 
+#include <string.h>
+
 #include <math.h>
 
 #include "robot/agent_profiles.h"
 #include "robot/controller.h"
-#include "robot/state_encoder.h"
+#include "robot/robot_geometry.h"
+#include "robot/robot_motion.h"
 
 static const robot_config_t *sim_ = &robot_config_paper_sim;
 static const robot_config_t *lab_ = &robot_config_paper_lab;
@@ -40,6 +43,32 @@ static void test_shipped_configs_are_valid(void **state)
     assert_int_equal(robot_config_check(&bad), FW_ERR_INVAL);
     bad.aligned_actions = 0;  // fixed steps do not use it
     assert_int_equal(robot_config_check(&bad), FW_OK);
+}
+
+static void test_defaults_need_a_scenario(void **state)
+{
+    (void)state;
+    robot_config_t c;
+    memset(&c, 0xA5, sizeof c);
+    robot_config_defaults(&c);
+    assert_int_equal(c.period_us, 192000u);
+    assert_int_equal(c.agent, AGENT_DYNA_QPC);
+    assert_true(c.params.theta == 1e-3f);
+    assert_true(c.reward_goal == 100.0f && c.reward_bump == -100.0f && c.reward_step == -1.0f);
+    assert_true(c.arena_w == 0.0f && c.bits_x == 0u && c.n_beacons == 0u);
+    // No arena, no goal, no state encoding: not a configuration the firmware runs.
+    assert_int_equal(robot_config_check(&c), FW_ERR_INVAL);
+    // The arena, goal and grid of paper-lab, its sensors and actions: then it is one.
+    const robot_config_t *lab = &robot_config_paper_lab;
+    c.arena_w = lab->arena_w, c.arena_h = lab->arena_h;
+    c.goal_x = lab->goal_x, c.goal_y = lab->goal_y, c.goal_r = lab->goal_r;
+    c.bits_x = lab->bits_x, c.bits_y = lab->bits_y, c.bits_heading = lab->bits_heading;
+    c.step_m = lab->step_m, c.turn_rad = lab->turn_rad, c.track_m = lab->track_m;
+    c.bits_code = lab->bits_code, c.n_ranges = lab->n_ranges;
+    memcpy(c.rays_of_bit, lab->rays_of_bit, sizeof c.rays_of_bit);
+    memcpy(c.code_threshold_m, lab->code_threshold_m, sizeof c.code_threshold_m);
+    c.step_cap = lab->step_cap;
+    assert_int_equal(robot_config_check(&c), FW_OK);
 }
 
 static void test_position_cells_and_clamping(void **state)
@@ -444,6 +473,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_configs_are_valid),
+        cmocka_unit_test(test_defaults_need_a_scenario),
         cmocka_unit_test(test_position_cells_and_clamping),
         cmocka_unit_test(test_goal_as_cells),
         cmocka_unit_test(test_heading_sectors_wrap),

@@ -15,6 +15,7 @@
 #include "fw/fw_base.h"
 #include "robot/learned_store.h"
 #include "robot/robot_config.h"
+#include "robot/robot_geometry.h"
 #include "stm32f4/stm32f4_drivers.h"
 
 #define SECTOR_BYTES (128u * 1024u)

@@ -13,7 +13,8 @@
 
 #include "agent/agent.h"
 #include "robot/robot_config.h"
-#include "robot/state_encoder.h"
+#include "robot/robot_geometry.h"
+#include "robot/robot_motion.h"
 
 #ifdef __cplusplus
 extern "C" {

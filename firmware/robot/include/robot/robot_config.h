@@ -114,11 +114,16 @@ typedef struct robot_config {
 extern const robot_config_t robot_config_paper_sim;
 extern const robot_config_t robot_config_paper_lab;
 
+/// Fills `cfg` with what every scenario shares unless it says otherwise: the paper's 192 ms
+/// control period, rewards +100 goal, -100 bump, -1 step, Dyna-QPC with agent_default_params()
+/// and theta 1e-3, a GPS pose that times out after 1 s, the bus after 500 ms. The arena, the
+/// goal, the state encoding, the sensors and the actions stay zero: robot_config_check()
+/// refuses the result until a scenario fills them in.
+void robot_config_defaults(robot_config_t *cfg);
+
 /// Checks a configuration's ranges and relations. Returns FW_OK or FW_ERR_INVAL.
 int robot_config_check(const robot_config_t *cfg);
 
-/// The agent's state space for this robot: x, y, heading (circular), range code (absolute).
-void robot_config_space(const robot_config_t *cfg, agent_space_t *out);
 
 #ifdef __cplusplus
 }

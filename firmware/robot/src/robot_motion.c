@@ -1,76 +1,10 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc robot application: state encoding and action realisation.
-#include "robot/state_encoder.h"
+// dynaqpc robot application: how the wheels carry out an action.
+#include "robot/robot_motion.h"
 
 #include <math.h>
 
 #include "fw/fw_util.h"
-
-uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint32_t n)
-{
-    uint32_t code = 0;
-    for (uint32_t bit = 0; bit < cfg->bits_code && bit < ROBOT_MAX_CODE_BITS; bit++) {
-        for (uint32_t i = 0; i < n && i < ROBOT_MAX_RANGES; i++) {
-            const float r = range_m[i];
-            // NaN fails both comparisons: a broken reading never claims an obstacle.
-            if (((cfg->rays_of_bit[bit] >> i) & 1u) && r > 0.0f && r < cfg->code_threshold_m[bit]) {
-                code |= 1u << bit;
-                break;
-            }
-        }
-    }
-    return code;
-}
-
-// Cell of v in [0, extent) cut into 2^bits equal cells; outside values clamp to the edge cells.
-static uint32_t cell_(float v, float extent, uint8_t bits)
-{
-    const uint32_t cells = 1u << bits;
-    if (!(v > 0.0f)) {  // also NaN
-        return 0;
-    }
-    const float c = v / extent * (float)cells;
-    if (c >= (float)cells) {
-        return cells - 1u;
-    }
-    return (uint32_t)c;
-}
-
-agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *pose,
-                                 uint32_t range_code)
-{
-    uint32_t comp[4];
-    comp[0] = cell_(pose->x, cfg->arena_w, cfg->bits_x);
-    comp[1] = cell_(pose->y, cfg->arena_h, cfg->bits_y);
-    // Sector 0 is centred on +x: shift by half a sector, wrap into [0, 2 pi).
-    const uint32_t sectors = 1u << cfg->bits_heading;
-    const float sector = 2.0f * FW_PI_F / (float)sectors;
-    float h = fmodf(pose->heading + 0.5f * sector, 2.0f * FW_PI_F);
-    if (h < 0.0f) {
-        h += 2.0f * FW_PI_F;
-    }
-    uint32_t hs = h == h ? (uint32_t)(h / sector) : 0u;
-    comp[2] = hs >= sectors ? sectors - 1u : hs;
-    comp[3] = range_code & ((1u << cfg->bits_code) - 1u);
-    agent_space_t sp;
-    robot_config_space(cfg, &sp);
-    return space_pack(&sp, comp);
-}
-
-bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
-{
-    float x = pose->x;
-    float y = pose->y;
-    if (cfg->goal_cells) {  // the centre of the pose's cell stands for the pose
-        const float cell_w = cfg->arena_w / (float)(1u << cfg->bits_x);
-        const float cell_h = cfg->arena_h / (float)(1u << cfg->bits_y);
-        x = ((float)cell_(pose->x, cfg->arena_w, cfg->bits_x) + 0.5f) * cell_w;
-        y = ((float)cell_(pose->y, cfg->arena_h, cfg->bits_y) + 0.5f) * cell_h;
-    }
-    const float dx = x - cfg->goal_x;
-    const float dy = y - cfg->goal_y;
-    return dx * dx + dy * dy <= cfg->goal_r * cfg->goal_r;
-}
 
 // Radians in [0, 2 pi).
 static float wrap_2pi_(float a)
@@ -92,12 +26,12 @@ static float aligned_turn_(float heading, float turn, bool left)
 // Distance along `dir` (radians) from the pose to step_past_m beyond the edge of its cell.
 static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
-    const float cw = cfg->arena_w / (float)(1u << cfg->bits_x);
-    const float ch = cfg->arena_h / (float)(1u << cfg->bits_y);
+    float cw, ch;
+    robot_cell_size(cfg, &cw, &ch);
     const float c = cosf(dir), s = sinf(dir);
-    // The cell the state encodes (cell_() also clamps a pose just outside the arena).
-    const float x0 = (float)cell_(pose->x, cfg->arena_w, cfg->bits_x) * cw;
-    const float y0 = (float)cell_(pose->y, cfg->arena_h, cfg->bits_y) * ch;
+    // The cell the state encodes (robot_cell_of() also clamps a pose just outside the arena).
+    const float x0 = (float)robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x) * cw;
+    const float y0 = (float)robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y) * ch;
     float t = 1e9f;
     if (c > 1e-3f) {
         t = (x0 + cw - pose->x) / c;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc robot application: from a pose and range readings to the agent's state, and from the
-// agent's action to wheel speeds.
-#ifndef ROBOT_STATE_ENCODER_H
-#define ROBOT_STATE_ENCODER_H
+// dynaqpc robot application: the state grid over the arena, the agent's state a pose and range
+// readings encode, and the goal on that grid. Depends on the configuration's fields only.
+#ifndef ROBOT_GEOMETRY_H
+#define ROBOT_GEOMETRY_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -19,6 +19,16 @@ typedef struct robot_pose {
     float x, y, heading;
 } robot_pose_t;
 
+/// The size (m) of one cell of the state grid: the arena cut into 2^bits_x by 2^bits_y cells.
+void robot_cell_size(const robot_config_t *cfg, float *w, float *h);
+
+/// The cell of v in [0, extent) cut into 2^bits equal cells; values outside (NaN too) clamp to
+/// the edge cells.
+uint32_t robot_cell_of(float v, float extent, uint8_t bits);
+
+/// The agent's state space for this robot: x, y, heading (circular), range code (absolute).
+void robot_config_space(const robot_config_t *cfg, agent_space_t *out);
+
 /// The range code: bit k set when a sensor of rays_of_bit[k] reads below its threshold.
 /// Readings that are not finite or not positive count as "nothing near".
 uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint32_t n);
@@ -32,20 +42,8 @@ agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *
 /// pose's state cell is (docs/scenarios.md, "The goal as cells").
 bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose);
 
-/// One action as the wheels carry it out: speed targets (m/s) held for `periods` control periods.
-typedef struct robot_motion {
-    float v_left, v_right;
-    uint8_t periods;
-} robot_motion_t;
-
-/// The motion that realises `action` from `pose`. Without cfg->aligned_actions: step_m or turn_rad
-/// over action_periods periods, whatever the pose. With it: a turn ends on the next multiple of
-/// turn_rad in its direction (at least a quarter of turn_rad away), a step ends step_past_m
-/// past the edge of the current x-y cell along the heading (robot_config.h says why).
-robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
-
 #ifdef __cplusplus
 }
 #endif
 
-#endif // ROBOT_STATE_ENCODER_H
+#endif // ROBOT_GEOMETRY_H

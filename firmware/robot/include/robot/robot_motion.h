@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: from the agent's action to wheel speeds.
+#ifndef ROBOT_MOTION_H
+#define ROBOT_MOTION_H
+
+#include <stdint.h>
+
+#include "robot/robot_config.h"
+#include "robot/robot_geometry.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// One action as the wheels carry it out: speed targets (m/s) held for `periods` control periods.
+typedef struct robot_motion {
+    float v_left, v_right;
+    uint8_t periods;
+} robot_motion_t;
+
+/// The motion that realises `action` from `pose`. Without cfg->aligned_actions: step_m or turn_rad
+/// over action_periods periods, whatever the pose. With it: a turn ends on the next multiple of
+/// turn_rad in its direction (at least a quarter of turn_rad away), a step ends step_past_m
+/// past the edge of the current x-y cell along the heading (robot_config.h says why).
+robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // ROBOT_MOTION_H

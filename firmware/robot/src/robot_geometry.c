@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc robot application: the state grid, the state a pose and range readings encode, and
+// the goal on that grid.
+#include "robot/robot_geometry.h"
+
+#include <math.h>
+
+#include "fw/fw_util.h"
+
+uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint32_t n)
+{
+    uint32_t code = 0;
+    for (uint32_t bit = 0; bit < cfg->bits_code && bit < ROBOT_MAX_CODE_BITS; bit++) {
+        for (uint32_t i = 0; i < n && i < ROBOT_MAX_RANGES; i++) {
+            const float r = range_m[i];
+            // NaN fails both comparisons: a broken reading never claims an obstacle.
+            if (((cfg->rays_of_bit[bit] >> i) & 1u) && r > 0.0f && r < cfg->code_threshold_m[bit]) {
+                code |= 1u << bit;
+                break;
+            }
+        }
+    }
+    return code;
+}
+
+void robot_cell_size(const robot_config_t *cfg, float *w, float *h)
+{
+    *w = cfg->arena_w / (float)(1u << cfg->bits_x);
+    *h = cfg->arena_h / (float)(1u << cfg->bits_y);
+}
+
+uint32_t robot_cell_of(float v, float extent, uint8_t bits)
+{
+    const uint32_t cells = 1u << bits;
+    if (!(v > 0.0f)) {  // also NaN
+        return 0;
+    }
+    const float c = v / extent * (float)cells;
+    if (c >= (float)cells) {
+        return cells - 1u;
+    }
+    return (uint32_t)c;
+}
+
+agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *pose,
+                                 uint32_t range_code)
+{
+    uint32_t comp[4];
+    comp[0] = robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x);
+    comp[1] = robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y);
+    // Sector 0 is centred on +x: shift by half a sector, wrap into [0, 2 pi).
+    const uint32_t sectors = 1u << cfg->bits_heading;
+    const float sector = 2.0f * FW_PI_F / (float)sectors;
+    float h = fmodf(pose->heading + 0.5f * sector, 2.0f * FW_PI_F);
+    if (h < 0.0f) {
+        h += 2.0f * FW_PI_F;
+    }
+    uint32_t hs = h == h ? (uint32_t)(h / sector) : 0u;
+    comp[2] = hs >= sectors ? sectors - 1u : hs;
+    comp[3] = range_code & ((1u << cfg->bits_code) - 1u);
+    agent_space_t sp;
+    robot_config_space(cfg, &sp);
+    return space_pack(&sp, comp);
+}
+
+bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
+{
+    float x = pose->x;
+    float y = pose->y;
+    if (cfg->goal_cells) {  // the centre of the pose's cell stands for the pose
+        float cell_w, cell_h;
+        robot_cell_size(cfg, &cell_w, &cell_h);
+        x = ((float)robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x) + 0.5f) * cell_w;
+        y = ((float)robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y) + 0.5f) * cell_h;
+    }
+    const float dx = x - cfg->goal_x;
+    const float dy = y - cfg->goal_y;
+    return dx * dx + dy * dy <= cfg->goal_r * cfg->goal_r;
+}
+
+void robot_config_space(const robot_config_t *c, agent_space_t *sp)
+{
+    *sp = (agent_space_t){0};
+    sp->n_components = 4;
+    sp->bits[0] = c->bits_x;
+    sp->bits[1] = c->bits_y;
+    sp->bits[2] = c->bits_heading;
+    sp->bits[3] = c->bits_code;
+    for (uint32_t k = 0; k < 4u; k++) {
+        sp->tile_shift[k] = c->tile_shift[k];
+    }
+    sp->circular_mask = 1u << 2;  // the heading wraps
+    sp->absolute_mask = 1u << 3;  // the range code is predicted, not its change
+    sp->context_mask = (1u << 2) | (1u << 3);  // an action's effect depends on heading and code
+    sp->n_actions = ROBOT_N_ACTIONS;
+}
