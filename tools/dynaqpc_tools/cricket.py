@@ -210,42 +210,82 @@ def load_beacons(path: str) -> Tuple[Dict[int, Tuple[float, float, float]], Opti
     return beacons, listener_z
 
 
-def trilaterate(ranges: Dict[str, float], beacons: Dict[str, Tuple[float, float, float]],
-                listener_z: float = 0.0) -> Optional[Tuple[float, float, float]]:
-    """Least-squares x, y of the listener from slant ranges to >= 3 beacons not on one line.
+#: trilat_params of the firmware's Cricket driver (cricket_default_config), in metres.
+MIN_SPREAD_M = 0.3
+MAX_RESIDUAL_M = 0.06
+GN_ITERATIONS = 8
 
-    Returns (x, y, rms residual in m) or None. Subtracting the first sphere's equation from the
-    others leaves a linear system in x, y; then a few Gauss-Newton steps on the true ranges.
-    """
-    import numpy as np
 
-    pts, dists = [], []
-    for bid, r in ranges.items():
-        if bid in beacons:
-            bx, by, bz = beacons[bid]
-            dz = bz - listener_z
-            pts.append((bx, by))
-            dists.append(math.sqrt(max(r * r - dz * dz, 0.0)))  # horizontal distance
-    if len(pts) < 3:
-        return None
-    p = np.array(pts, dtype=float)
-    d = np.array(dists, dtype=float)
-    a = 2.0 * (p[1:] - p[0])
-    b = d[0] ** 2 - d[1:] ** 2 + np.sum(p[1:] ** 2, axis=1) - np.sum(p[0] ** 2)
-    if np.linalg.matrix_rank(a) < 2:
-        return None  # beacons on one line: two mirror solutions
-    xy = np.linalg.lstsq(a, b, rcond=None)[0]
-    for _ in range(10):
-        diff = xy - p
-        est = np.linalg.norm(diff, axis=1)
-        est[est < 1e-9] = 1e-9
-        jac = diff / est[:, None]
-        step = np.linalg.lstsq(jac, d - est, rcond=None)[0]
-        xy = xy + step
-        if np.linalg.norm(step) < 1e-9:
+class TrilatRefused(ValueError):
+    """trilat_solve's refusals: 'invalid' (fewer than 3 ranges, a bad number, beacons too close to
+    a line) or 'inconsistent' (the ranges disagree: residual above max_residual)."""
+
+    def __init__(self, kind: str, detail: str):
+        super().__init__(f"{kind}: {detail}")
+        self.kind = kind
+
+
+def trilat_solve(anchors, listener_z: float, min_spread: float = MIN_SPREAD_M,
+                 max_residual: float = MAX_RESIDUAL_M, iterations: int = GN_ITERATIONS):
+    """The firmware's trilat_solve (firmware/drivers/src/trilat.c), step for step: the linear
+    least-squares fix in centred coordinates, then Gauss-Newton on the slant ranges. `anchors` is
+    a list of (x, y, z, range). Returns (x, y, rms residual); raises TrilatRefused. The shared
+    vectors docs/cricket-fixes.tsv test both."""
+    n = len(anchors)
+    if n < 3:
+        raise TrilatRefused("invalid", f"{n} ranges, a fix needs 3")
+    for a in anchors:
+        if not all(math.isfinite(v) for v in a) or a[3] < 0:
+            raise TrilatRefused("invalid", f"bad anchor {a}")
+    mx = sum(a[0] for a in anchors) / n
+    my = sum(a[1] for a in anchors) / n
+    sxx = sum((a[0] - mx) ** 2 for a in anchors) / n
+    syy = sum((a[1] - my) ** 2 for a in anchors) / n
+    sxy = sum((a[0] - mx) * (a[1] - my) for a in anchors) / n
+    tr, det = sxx + syy, sxx * syy - sxy * sxy
+    lambda_min = tr * 0.5 - math.sqrt(max(tr * tr * 0.25 - det, 0.0))
+    if not lambda_min >= min_spread * min_spread or det <= 0:
+        raise TrilatRefused("invalid", f"beacons within {math.sqrt(max(lambda_min, 0)):.3f} of a line")
+    ks = []
+    for x, y, z, r in anchors:
+        u, v, dz = x - mx, y - my, z - listener_z
+        ks.append(u * u + v * v - max(r * r - dz * dz, 0.0))
+    k_mean = sum(ks) / n
+    bu = sum((a[0] - mx) * (k - k_mean) for a, k in zip(anchors, ks)) / (2 * n)
+    bv = sum((a[1] - my) * (k - k_mean) for a, k in zip(anchors, ks)) / (2 * n)
+    x = mx + (syy * bu - sxy * bv) / det
+    y = my + (sxx * bv - sxy * bu) / det
+    for _ in range(iterations):
+        jxx = jyy = jxy = gx = gy = 0.0
+        for ax, ay, az, r in anchors:
+            dx, dy, dz = x - ax, y - ay, listener_z - az
+            rho = math.sqrt(dx * dx + dy * dy + dz * dz)
+            if rho < 1e-9:
+                continue
+            jx, jy, e = dx / rho, dy / rho, rho - r
+            jxx, jyy, jxy, gx, gy = jxx + jx * jx, jyy + jy * jy, jxy + jx * jy, gx + jx * e, gy + jy * e
+        jdet = jxx * jyy - jxy * jxy
+        if not jdet > 1e-9:
             break
-    resid = float(np.sqrt(np.mean((np.linalg.norm(xy - p, axis=1) - d) ** 2)))
-    return float(xy[0]), float(xy[1]), resid
+        sx, sy = (jyy * gx - jxy * gy) / jdet, (jxx * gy - jxy * gx) / jdet
+        x, y = x - sx, y - sy
+        if abs(sx) + abs(sy) < 1e-9 * (1 + abs(x) + abs(y)):
+            break
+    resid = math.sqrt(sum((math.dist((x, y, listener_z), (ax, ay, az)) - r) ** 2 for ax, ay, az, r in anchors) / n)
+    if resid > max_residual:
+        raise TrilatRefused("inconsistent", f"rms residual {resid:.3f} above {max_residual:g}")
+    return x, y, resid
+
+
+def trilaterate(ranges: Dict[object, float], beacons: Dict[object, Tuple[float, float, float]],
+                listener_z: float = 0.0) -> Optional[Tuple[float, float, float]]:
+    """The fix from the latest slant range to each known beacon (metres), as the firmware finds
+    it; None when trilat_solve refuses."""
+    anchors = [(*beacons[b], r) for b, r in ranges.items() if b in beacons]
+    try:
+        return trilat_solve(anchors, listener_z)
+    except TrilatRefused:
+        return None
 
 
 @dataclass
@@ -254,7 +294,7 @@ class Console:
 
     beacons: Optional[Dict[int, Tuple[float, float, float]]] = None
     listener_z: float = 0.0
-    max_age_s: float = 5.0
+    max_age_s: float = 3.0
     ranges: Dict[int, Tuple[float, float]] = field(default_factory=dict)  # beacon -> (range, t)
     lines: int = 0
     readings: int = 0
@@ -320,8 +360,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="beacon positions: a scenario (.scn), an arena JSON, or 'ID x y z' lines (m)")
     p.add_argument("--listener-z", type=float_in(-100, 100), default=None,
                    help="listener height (m; default: the scenario's, else 0)")
-    p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=5.0,
-                   help="ranges older than this (s) are not used for a fix")
+    p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=3.0,
+                   help="ranges older than this (s) are not used for a fix (default 3, the firmware's)")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N lines")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     return p

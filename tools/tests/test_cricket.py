@@ -72,6 +72,28 @@ def test_garbage_is_rejected_with_a_reason(line):
     assert str(e.value)
 
 
+def test_the_shared_fix_vectors_are_solved_as_the_firmware_solves_them():
+    # docs/cricket-fixes.tsv: the same file the firmware's unit.trilateration checks trilat_solve with.
+    n = refused = 0
+    for row in (REPO / "docs" / "cricket-fixes.tsv").read_text(encoding="utf-8").splitlines():
+        if not row or row.startswith("#"):
+            continue
+        verdict, params, anchors = row.split("\t")
+        z, spread, resid = (float(v) for v in params.split())
+        an = [tuple(float(v) for v in a.split(",")) for a in anchors.split(";")]
+        if verdict.startswith("ok "):
+            x, y = (float(v) for v in verdict.split()[1:])
+            fx, fy, _ = cricket.trilat_solve(an, z, spread, resid)
+            assert fx == pytest.approx(x, abs=1.0) and fy == pytest.approx(y, abs=1.0), row
+        else:
+            with pytest.raises(cricket.TrilatRefused) as e:
+                cricket.trilat_solve(an, z, spread, resid)
+            assert e.value.kind == verdict, row
+            refused += 1
+        n += 1
+    assert n >= 10 and refused >= 4
+
+
 def test_trilateration_recovers_the_position():
     beacons = {"a": (0.0, 0.0, 2.5), "b": (4.0, 0.0, 2.5), "c": (0.0, 4.0, 2.5), "d": (4.0, 4.0, 2.4)}
     x, y, z = 1.2, 2.5, 0.1

@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "fw/fw_prng.h"
 #include "drivers/trilat.h"
@@ -28,6 +29,49 @@ static void make_anchors(trilat_anchor_t *a, size_t n, float x, float y)
         float dx = x - bx[i], dy = y - by[i], dz = LISTENER_Z - bz[i];
         a[i].range = sqrtf(dx * dx + dy * dy + dz * dz);
     }
+}
+
+// The shared vectors: docs/cricket-fixes.tsv, which dynaqpc-cricket's trilat_solve is tested against too.
+static void test_shared_vectors(void **state)
+{
+    (void)state;
+    FILE *f = fopen(CRICKET_FIXES_TSV, "r");
+    assert_non_null(f);
+    char row[1024];
+    unsigned vectors = 0, refused = 0;
+    while (fgets(row, sizeof row, f) != NULL) {
+        if (row[0] == '#' || row[0] == '\n') continue;
+        char *verdict = strtok(row, "\t"), *par = strtok(NULL, "\t"), *anchors = strtok(NULL, "\t\n");
+        assert_non_null(verdict);
+        assert_non_null(par);
+        assert_non_null(anchors);
+        struct trilat_params p = {0};
+        p.iterations = 8;
+        assert_int_equal(sscanf(par, "%f %f %f", &p.listener_z, &p.min_spread, &p.max_residual), 3);
+        trilat_anchor_t a[8];
+        size_t n = 0;
+        for (char *tok = strtok(anchors, ";"); tok != NULL && n < 8; tok = strtok(NULL, ";")) {
+            assert_int_equal(sscanf(tok, "%f,%f,%f,%f", &a[n].x, &a[n].y, &a[n].z, &a[n].range), 4);
+            n++;
+        }
+        trilat_result_t r;
+        const int err = trilat_solve(a, n, &p, &r);
+        float x = 0.0f, y = 0.0f;
+        if (sscanf(verdict, "ok %f %f", &x, &y) == 2) {
+            if (err != FW_OK) fail_msg("refused (%d), want %s", err, verdict);
+            if (fabsf(r.x - x) > 1.0f || fabsf(r.y - y) > 1.0f) fail_msg("fix %.1f %.1f, want %s", r.x, r.y, verdict);
+        } else if (strcmp(verdict, "invalid") == 0) {
+            assert_int_equal(err, FW_ERR_INVAL);
+            refused++;
+        } else {
+            assert_string_equal(verdict, "inconsistent");
+            assert_int_equal(err, FW_ERR_CORRUPT);
+            refused++;
+        }
+        vectors++;
+    }
+    fclose(f);
+    assert_true(vectors >= 10u && refused >= 4u);  // the file was read, not skipped
 }
 
 static void test_exact_ranges_give_the_position(void **state)
@@ -117,6 +161,7 @@ static void test_bad_inputs_are_refused(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shared_vectors),
         cmocka_unit_test(test_exact_ranges_give_the_position),
         cmocka_unit_test(test_one_cm_noise_stays_within_bound),
         cmocka_unit_test(test_collinear_beacons_are_refused),
