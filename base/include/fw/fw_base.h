@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: error codes, assertions and compile-time checks shared by all firmware modules.
+// dynaqpc base layer: error codes and compile-time checks shared by every layer (runtime
+// assertions: fw/fw_assert.h, included here).
 #ifndef FW_BASE_H
 #define FW_BASE_H
+
+#include "fw/fw_assert.h"
 
 #ifdef __cplusplus
 extern "C" {

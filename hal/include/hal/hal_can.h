@@ -10,6 +10,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fw/fw_base.h"  // FW_OK and the FW_ERR_* codes the functions return
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -9,7 +9,8 @@
 //     sched_init(&s, &cfg);  sched_add_task(&s, &control);  ...
 //     for (;;) { sched_step(&s); }
 //
-// Portable: it uses only hal_time.h and hal_cpu.h.
+// Portable: it calls only hal_time.h and hal_cpu.h. hal_can.h is included for one type, the
+// CAN frame an event can carry (sched_event_t.can); the scheduler makes no CAN call.
 #ifndef SCHED_SCHED_H
 #define SCHED_SCHED_H
 
