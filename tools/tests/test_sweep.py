@@ -190,3 +190,16 @@ def test_a_worker_lost_mid_task_has_its_task_rerun(tmp_path, capsys):
                             "--sets", "4", "--episodes", "40", "--seed", "5", "--csv", "-", "--quiet"],
                            capture_output=True, text=True, check=True).stdout.splitlines()[1:]
     assert [",".join(list(r.values())[:-1]) for r in rows] == [ln.rsplit(",", 1)[0] for ln in whole]
+
+
+@pytest.mark.skipif(not c_binary("dynaqpc-sim").exists(), reason="build dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+def test_sweep_without_a_scheduler_runs_a_local_cluster(tmp_path, capsys):
+    grid = tmp_path / "grid.toml"
+    grid.write_text('scenario = "paper-lab"\nagents = ["dyna-q"]\nsets = 2\nepisodes = 2\n[grid]\nstep_cap = [50]\n')
+    out = tmp_path / "out"
+    assert experiment.main(["sweep", "--grid", str(grid), "--out", str(out), "--workers", "1",
+                            "--sim", str(c_binary("dynaqpc-sim")), "--no-progress"]) == 0
+    with open(out / "sweep.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 4 and {r["step-cap"] for r in rows} == {"50"}
+    assert all(int(r["steps"]) <= 50 for r in rows)  # the grid's setting reached the simulator
