@@ -3,8 +3,9 @@
 # dynaqpc developer entry point: sets up a fresh Debian 12 machine, builds, and runs.
 #
 #   tools/dev.sh demo    set up, build, train the firmware on the simulated lab robot, show what it learned
-#   tools/dev.sh test    set up, build, and run every test (host, host-asan, cortex-m4)
+#   tools/dev.sh test    set up, build, and run every test (host, host-asan, cortex-m4, fuzz)
 #   tools/dev.sh bench   set up, build optimised, print the agent's benchmark figures
+#   tools/dev.sh fuzz    set up, build the fuzz targets, run a campaign (tests/fuzz/campaign.sh args)
 #   tools/dev.sh setup   only install what is missing
 set -euo pipefail
 
@@ -16,6 +17,7 @@ apt_packages=(
     libcmocka-dev libbox2d-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm
     valgrind python3 python3-venv iproute2 util-linux
+    clang libclang-rt-14-dev
 )
 
 log() { printf '\033[1m== %s\033[0m\n' "$*"; }
@@ -85,6 +87,14 @@ run_tests() {
     ctest --preset host-asan
     build cortex-m4
     ctest --preset cortex-m4
+    build fuzz
+    ctest --preset fuzz
+}
+
+fuzz() {
+    setup
+    build fuzz
+    tests/fuzz/campaign.sh "$@"
 }
 
 bench() {
@@ -98,8 +108,9 @@ setup) setup ;;
 demo) demo ;;
 test) run_tests ;;
 bench) bench ;;
+fuzz) shift; fuzz "$@" ;;
 *)
-    sed -n '3,9p' "$0"
+    sed -n '3,10p' "$0"
     exit 2
     ;;
 esac

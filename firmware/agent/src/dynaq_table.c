@@ -145,7 +145,8 @@ static bool record_ok_(const dynaq_table_t *t, const dynaq_record_t *rec, uint32
         if ((tried && a >= t->n_actions) || (!tried && dynaq_bit(rec->terminal, a))) {
             return false;  // an action the robot does not have, or an outcome never observed
         }
-        if (tried && (!state_ok_(rec->next[a], state_bits) || !check_finite(rec->reward[a]))) {
+        if (tried && (!state_ok_(rec->next[a], state_bits) || !check_finite(rec->reward[a]) ||
+                      rec->reward[a] > DYNAQ_REWARD_LIMIT || rec->reward[a] < -DYNAQ_REWARD_LIMIT)) {
             return false;
         }
         any = any || tried;

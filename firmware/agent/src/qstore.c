@@ -183,7 +183,7 @@ int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint3
 {
     const uint32_t n = qs->n_actions;
     for (uint32_t i = 0; i < qs->capacity * n; i++) {
-        if (!check_finite(q[i])) {
+        if (!check_finite(q[i]) || q[i] > QSTORE_VALUE_LIMIT || q[i] < -QSTORE_VALUE_LIMIT) {
             return FW_ERR_CORRUPT;
         }
     }

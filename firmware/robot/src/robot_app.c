@@ -27,6 +27,11 @@
 // Beyond any sensor's reach: a range sensor that sees nothing.
 #define RANGE_NOTHING_M 100.0f
 
+// What the status task saw last, to raise a counting fault for the period it grew in.
+typedef struct robot_health {
+    uint32_t can_faults, uart_faults, uart_bytes, misses;
+} robot_health_t;
+
 typedef struct robot_app {
     robot_app_options_t opt;
     sched_t sched;
@@ -36,6 +41,8 @@ typedef struct robot_app {
     robot_ctrl_t ctrl;
     learned_store_t store;
     bool store_ok;
+    bool flash_fault;         // FW_STATUS Flash: the last save failed, or the restore refused a record
+    robot_health_t health;    // counters at the last status period
     bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
     bool moved_last_period;   // the wheels were commanded to move in the last period
     uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
@@ -85,6 +92,17 @@ static void on_uart_isr_(void *ctx)
 
 // ---- Events: into the drivers -------------------------------------------------------------------
 
+static void note_save_(int err)
+{
+    if (err == FW_OK) {
+        app_.stats.saves++;
+        app_.flash_fault = false;
+    } else {
+        app_.stats.save_errors++;
+        app_.flash_fault = true;
+    }
+}
+
 static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
 {
     switch (cmd->command) {
@@ -102,16 +120,23 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
     case TLM_CMD_SAFE_STOP:
         robot_ctrl_safe_stop(&app_.ctrl);  // FW_STATUS shows SAFE_STOP until START or STOP
         break;
+    // Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-8 and a new counter make a
+    // command; but evaluate mode is a lock on what was learned, and wiping it takes a robot the
+    // operator has stopped first, so no single stray frame erases it mid-run.
     case TLM_CMD_SAVE_LEARNED:
-        if (app_.store_ok && learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) == FW_OK) {
-            app_.stats.saves++;
+        if (app_.opt.evaluate) {
+            app_.stats.tool_refused++;
         } else {
-            app_.stats.save_errors++;
+            note_save_(app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
+                                     : FW_ERR_NOSYS);
         }
         break;
     case TLM_CMD_RESET_LEARNING:
-        robot_ctrl_stop(&app_.ctrl);
-        agent_reset(app_.opt.agent, app_.opt.seed);
+        if (app_.opt.evaluate || app_.ctrl.mode != ROBOT_MODE_IDLE) {
+            app_.stats.tool_refused++;
+        } else {
+            agent_reset(app_.opt.agent, app_.opt.seed);
+        }
         break;
     default:
         break;
@@ -284,11 +309,7 @@ static void control_task_(void *ctx)
         app_.stats.episodes++;
         // The robot stands still at an episode's end: the time to erase and program flash.
         if (app_.opt.persist && app_.store_ok && !app_.opt.evaluate) {
-            if (learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) == FW_OK) {
-                app_.stats.saves++;
-            } else {
-                app_.stats.save_errors++;
-            }
+            note_save_(learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode));
         }
         if (app_.opt.auto_start) {
             robot_ctrl_start_episode(&app_.ctrl);
@@ -297,14 +318,66 @@ static void control_task_(void *ctx)
     hal_cpu_watchdog_kick();
 }
 
+// The FW_STATUS error flags (docs/realtime.md "Faults"): each is raised while its condition
+// holds and cleared when it passes. Silences are measured against the bus timeout; the counting
+// faults (CAN, UART, deadline) are raised for the status period in which their counters grew.
+static uint8_t health_(uint64_t now)
+{
+    const robot_config_t *cfg = app_.opt.cfg;
+    robot_health_t *h = &app_.health;
+    uint8_t errors = 0;
+    errors |= can_link_rx_silent(&app_.dev.motor.rx, now, cfg->bus_timeout_us) ? TLM_ERR_MOTOR_SILENT : 0u;
+    if (cfg->pose_source == ROBOT_POSE_CRICKET) {  // the gyro gives the heading
+        errors |= can_link_rx_silent(&app_.dev.gyro.rx, now, cfg->bus_timeout_us) ? TLM_ERR_GYRO_SILENT : 0u;
+    }
+    if (cfg->n_ranges > 0u) {
+        const ranges_t *rg = &app_.dev.ranges;
+        const bool silent = cfg->n_ranges == RANGES_IR_COUNT
+                                ? can_link_rx_silent(&rg->ir_rx, now, cfg->bus_timeout_us)
+                                : can_link_rx_silent(&rg->sonar_rx[0], now, cfg->bus_timeout_us) ||
+                                      can_link_rx_silent(&rg->sonar_rx[1], now, cfg->bus_timeout_us);
+        errors |= silent ? TLM_ERR_RANGE_SILENT : 0u;
+    }
+    // No usable pose for the pose timeout: the controller safe-stops on the same rule.
+    const bool pose_lost =
+        cfg->pose_source == ROBOT_POSE_GPS
+            ? (can_link_rx_silent(&app_.dev.gps.rx, now, cfg->pose_timeout_us) ||
+               app_.dev.gps.pose.fix == GPS_FIX_NONE)
+            : now - app_.last_fix_us > cfg->pose_timeout_us;
+    errors |= pose_lost ? TLM_ERR_POSE_LOST : 0u;
+    hal_can_stats_t cs;
+    hal_can_get_stats(&cs);
+    sched_stats_t ss;
+    sched_get_stats(&app_.sched, &ss);
+    const uint32_t can_faults = cs.tx_dropped + cs.rx_overruns + cs.bus_errors + ss.events_dropped;
+    errors |= can_faults != h->can_faults ? TLM_ERR_CAN_BUS : 0u;
+    h->can_faults = can_faults;
+    if (cfg->pose_source == ROBOT_POSE_CRICKET) {
+        hal_uart_stats_t us;
+        hal_uart_get_stats(&us);
+        // Bytes lost or garbled, or a line that has fallen silent for a whole status period.
+        const uint32_t uart_faults = us.rx_overruns + us.rx_errors;
+        errors |= uart_faults != h->uart_faults || us.rx_bytes == h->uart_bytes ? TLM_ERR_UART : 0u;
+        h->uart_faults = uart_faults;
+        h->uart_bytes = us.rx_bytes;
+    }
+    // The last save failed, or the boot's restore refused a record, until a save succeeds.
+    errors |= app_.flash_fault ? TLM_ERR_FLASH : 0u;
+    uint32_t misses = 0;
+    for (uint32_t i = 0; i < ss.task_count; i++) {
+        misses += ss.task[i].misses;
+    }
+    errors |= misses != h->misses ? TLM_ERR_DEADLINE_MISS : 0u;
+    h->misses = misses;
+    return errors;
+}
+
 static void status_task_(void *ctx)
 {
     (void)ctx;
     const uint64_t now = hal_time_us();
-    const robot_config_t *cfg = app_.opt.cfg;
-    uint8_t errors = 0;
-    errors |= can_link_rx_silent(&app_.dev.motor.rx, now, cfg->bus_timeout_us) ? TLM_ERR_MOTOR_SILENT : 0u;
-    errors |= app_.stats.save_errors > 0u ? TLM_ERR_FLASH : 0u;
+    const uint8_t errors = health_(now);
+    app_.stats.status_errors = errors;
     const uint8_t mode = app_.ctrl.mode == ROBOT_MODE_IDLE        ? TLM_MODE_IDLE
                          : app_.ctrl.mode == ROBOT_MODE_SAFE_STOP ? TLM_MODE_SAFE_STOP
                                                                   : TLM_MODE_RUNNING;
@@ -352,6 +425,10 @@ int robot_app_init(const robot_app_options_t *opt)
         if (app_.store_ok) {
             app_.stats.restore_result =
                 learned_store_load(&app_.store, opt->agent, &app_.stats.restored_episodes);
+            // Refused or damaged records, a fallback to an older one: reported, not silent.
+            app_.stats.records_refused = app_.store.refused_records + app_.store.corrupt_records;
+            app_.stats.restore_fell_back = app_.store.fell_back;
+            app_.flash_fault = app_.stats.restore_result == FW_ERR_CORRUPT || app_.store.fell_back;
         }
     }
     robot_ctrl_init(&app_.ctrl, cfg, opt->agent);

@@ -7,6 +7,12 @@
 
 #include "robot/agent_profiles.h"
 #include "drivers/candev.h"
+#include "drivers/gps.h"
+#include "drivers/gyro.h"
+#include "drivers/motor.h"
+#include "drivers/ranges.h"
+#include "drivers/telemetry.h"
+#include "dynaqpc_can.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
 #include "hal_host/hal_host.h"
@@ -114,11 +120,199 @@ static void test_uart_drained_when_the_line_falls_silent(void **state)
     assert_int_equal(hal_host_uart_feed(ring, sizeof ring), sizeof ring);  // the ring was empty
 }
 
+// ---- Health: each FW_STATUS flag raised by its condition, cleared when it passes ----------------
+
+// Which devices talk, every 20 ms of virtual time.
+static bool motor_on_, gyro_on_, ranges_on_, gps_on_, cricket_on_;
+static uint8_t ctr_[6];
+static tlm_status_t last_status_;
+static uint32_t statuses_;
+static uint8_t seen_errors_;  // every flag any FW_STATUS showed since it was last cleared
+
+static void devices_talk_(void)
+{
+    hal_can_frame_t f;
+    const motor_status_t ms = {0, 0, false, false, true, 0};
+    if (motor_on_ && motor_encode_status(&ctr_[0], &ms, &f) == FW_OK) {
+        (void)hal_host_can_deliver(&f);
+    }
+    if (gyro_on_ && gyro_encode_rate(&ctr_[1], 0, 25, GYRO_STATUS_OK, &f) == FW_OK) {
+        (void)hal_host_can_deliver(&f);
+    }
+    if (ranges_on_) {
+        uint16_t mm[RANGES_SONAR_COUNT];
+        bool valid[RANGES_IR_COUNT] = {true, true, true};
+        for (uint32_t i = 0; i < RANGES_SONAR_COUNT; i++) {
+            mm[i] = 1500;
+        }
+        if (ranges_encode_ir(&ctr_[2], mm, valid, &f) == FW_OK) {
+            (void)hal_host_can_deliver(&f);
+        }
+        for (unsigned half = 0; half < 2u; half++) {
+            if (ranges_encode_sonar(&ctr_[3 + half], half, mm, &f) == FW_OK) {
+                (void)hal_host_can_deliver(&f);
+            }
+        }
+    }
+    const gps_pose_t gp = {1000, 1000, 0, GPS_FIX_GOOD};
+    if (gps_on_ && gps_encode_pose(&ctr_[5], &gp, &f) == FW_OK) {
+        (void)hal_host_can_deliver(&f);
+    }
+    if (cricket_on_) {
+        static const char line[] = "VR=2.0,ID=1:5e:3c:3c:a:0:0:b1,SP=LAB,DB=250,DR=7000,TM=1,TS=2\r\n";
+        (void)hal_host_uart_feed((const uint8_t *)line, sizeof line - 1u);
+    }
+}
+
+// The firmware and its devices for `ms` milliseconds; FW_STATUS frames are decoded.
+static void live_for_(uint32_t ms)
+{
+    for (uint32_t t = 0; t < ms; t += 20u) {
+        devices_talk_();
+        const uint64_t end = hal_time_us() + 20000u;
+        for (;;) {
+            robot_app_step();
+            hal_can_frame_t f;
+            while (hal_host_can_take_tx(&f)) {
+                if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
+                    assert_int_equal(tlm_decode_status(&f, &last_status_), FW_OK);
+                    seen_errors_ |= last_status_.errors;
+                    statuses_++;
+                }
+            }
+            const uint64_t wake = hal_host_wait_deadline();
+            if (wake >= end || wake <= hal_time_us()) {
+                if (wake >= end) {
+                    assert_int_equal(hal_host_time_set_us(end), FW_OK);
+                    break;
+                }
+                continue;
+            }
+            assert_int_equal(hal_host_time_set_us(wake), FW_OK);
+        }
+    }
+}
+
+static void boot_(const robot_config_t *cfg, agent_t *ag, const agent_storage_t *storage)
+{
+    hal_host_reset();
+    assert_int_equal(hal_host_flash_configure(128u * 1024u, 4, 4), FW_OK);
+    robot_app_options_t opt = {0};
+    opt.cfg = cfg;
+    opt.agent = ag;
+    opt.storage = storage;
+    opt.seed = 1;
+    opt.persist = true;
+    opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
+    assert_int_equal(robot_app_init(&opt), FW_OK);
+    memset(ctr_, 0, sizeof ctr_);
+    motor_on_ = gyro_on_ = ranges_on_ = gps_on_ = cricket_on_ = true;
+}
+
+// The flag after 1.5 s with the condition, and after 2.5 s without it.
+static void raised_then_cleared_(bool *device, uint8_t flag)
+{
+    live_for_(3000);
+    assert_int_equal(last_status_.errors & flag, 0);
+    *device = false;
+    live_for_(1500);
+    assert_int_equal(last_status_.errors & flag, flag);
+    *device = true;
+    live_for_(2500);
+    assert_int_equal(last_status_.errors & flag, 0);
+}
+
+static void test_silences_raise_and_clear_their_flags(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    live_for_(3000);
+    assert_true(statuses_ > 0u);
+    assert_int_equal(last_status_.errors, 0);  // every device talks: all clear
+    raised_then_cleared_(&motor_on_, TLM_ERR_MOTOR_SILENT);
+    raised_then_cleared_(&ranges_on_, TLM_ERR_RANGE_SILENT);
+    raised_then_cleared_(&gps_on_, TLM_ERR_POSE_LOST);
+    boot_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab);
+    raised_then_cleared_(&gyro_on_, TLM_ERR_GYRO_SILENT);
+    raised_then_cleared_(&cricket_on_, TLM_ERR_UART);  // a silent Cricket line
+}
+
+static void test_counting_faults_raise_for_a_period(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    live_for_(3000);
+    assert_int_equal(last_status_.errors, 0);
+    // CAN: frames lost to a full event queue. Raised in the status period they were lost in,
+    // clear in the next.
+    seen_errors_ = 0;
+    fill_event_queue_();
+    live_for_(1100);
+    assert_int_equal(seen_errors_ & TLM_ERR_CAN_BUS, TLM_ERR_CAN_BUS);
+    live_for_(1100);
+    seen_errors_ = 0;
+    live_for_(1100);
+    assert_int_equal(seen_errors_ & TLM_ERR_CAN_BUS, 0);
+    // A deadline missed: the firmware did not run for half a second.
+    assert_int_equal(hal_host_time_advance_us(500000u), FW_OK);
+    live_for_(1100);
+    assert_int_equal(seen_errors_ & TLM_ERR_DEADLINE_MISS, TLM_ERR_DEADLINE_MISS);
+    live_for_(1100);
+    seen_errors_ = 0;
+    live_for_(1100);
+    assert_int_equal(seen_errors_ & TLM_ERR_DEADLINE_MISS, 0);
+    // Flash: a save that fails raises it until a save succeeds.
+    uint8_t counter = 0;
+    hal_can_frame_t f;
+    const tlm_tool_cmd_t save = {TLM_CMD_SAVE_LEARNED, 0};
+    hal_host_flash_cut_power_after(0);
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &save, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    live_for_(2200);
+    assert_int_equal(last_status_.errors & TLM_ERR_FLASH, TLM_ERR_FLASH);
+    hal_host_flash_restore_power();
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &save, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    live_for_(2200);
+    assert_int_equal(last_status_.errors & TLM_ERR_FLASH, 0);
+}
+
+// Evaluate mode is a lock on what was learned; a wipe needs a stopped robot (can-protocol.md).
+static void test_tool_cmd_authority(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    uint8_t counter = 0;
+    hal_can_frame_t f;
+    const tlm_tool_cmd_t start = {TLM_CMD_START_EPISODE, 0xFFFFFFFFu};
+    const tlm_tool_cmd_t reset = {TLM_CMD_RESET_LEARNING, 0};
+    const tlm_tool_cmd_t stop = {TLM_CMD_STOP, 0};
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &start, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    live_for_(500);
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &reset, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    live_for_(100);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.tool_refused, 1);  // mid-episode: refused
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &stop, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &reset, &f), FW_OK);
+    (void)hal_host_can_deliver(&f);
+    live_for_(100);
+    robot_app_get_stats(&st);
+    assert_int_equal(st.tool_refused, 1);  // stopped first: taken
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_uart_resumes_after_full_queue_and_full_ring, setup_),
         cmocka_unit_test_setup(test_uart_drained_when_the_line_falls_silent, setup_),
+        cmocka_unit_test(test_silences_raise_and_clear_their_flags),
+        cmocka_unit_test(test_counting_faults_raise_for_a_period),
+        cmocka_unit_test(test_tool_cmd_authority),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

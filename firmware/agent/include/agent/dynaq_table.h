@@ -51,6 +51,9 @@ typedef struct dynaq_table {
 } dynaq_table_t;
 
 #define DYNAQ_EMPTY UINT32_MAX
+/// The largest |reward| a restored record may hold: beyond any robot's settings, and small
+/// enough that the values learned from it stay within QSTORE_VALUE_LIMIT (for gamma < 0.999).
+#define DYNAQ_REWARD_LIMIT 1e6f
 #define DYNAQ_INDEX_SLOTS(cap) (2u * (cap))
 
 /// Prepares an empty table; `capacity` must be a power of two. Returns FW_OK or FW_ERR_INVAL.
@@ -76,7 +79,8 @@ bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t
 /// before it), pointing at a record below the count that names the same state: so the records
 /// in use are exactly the first `count` and every one is indexed once. Each of those must have
 /// at least one action tried and none past n_actions, terminal bits only on tried actions, and
-/// for every tried action a next state of `state_bits` bits and a finite reward. Reads only.
+/// for every tried action a next state of `state_bits` bits and a finite reward within
+/// DYNAQ_REWARD_LIMIT. Reads only.
 /// Returns FW_OK or FW_ERR_CORRUPT.
 int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uint32_t *index_keys,
                 const uint32_t *index_rec, uint32_t state_bits);

@@ -60,9 +60,14 @@ float *qstore_row_for_plan(qstore_t *qs, agent_state_t s);
 /// max over a of Q(s, a).
 float qstore_max(const qstore_t *qs, agent_state_t s);
 
+/// The largest |Q| a restored table may hold: far beyond any return a robot's rewards and
+/// discount give, and far enough below FLT_MAX that learning from it cannot overflow.
+#define QSTORE_VALUE_LIMIT 1e9f
+
 /// Checks restored contents before they are copied into `qs` (which gives the shape: capacity,
 /// actions, dense or hashed): `q` holds capacity * n_actions values and `keys` capacity keys
-/// (hashed only; ignored when dense). Every value must be finite; in a hashed table every key
+/// (hashed only; ignored when dense). Every value must be finite and within
+/// QSTORE_VALUE_LIMIT; in a hashed table every key
 /// must be empty or a state of `state_bits` bits, found by a search from its home slot within
 /// FW_CFG_MAX_PROBE slots (no empty slot and no copy of it before it), and every empty row all
 /// zeros (a new row is used as it is). Reads only. Returns FW_OK or FW_ERR_CORRUPT.

@@ -53,8 +53,12 @@ typedef struct robot_app_stats {
     uint32_t frames_rx, frames_bad, frames_tx_dropped;
     uint32_t episodes, saves, save_errors;
     uint32_t uart_posts_failed;  ///< Cricket wake-ups the full event queue refused (retried)
+    uint32_t tool_refused;       ///< TOOL_CMDs refused by the authority rule (can-protocol.md)
     int32_t restore_result;  ///< learned_store_load() at boot: FW_OK, FW_ERR_NOENT, ...
     uint32_t restored_episodes;
+    uint32_t records_refused;   ///< records the boot's restore found damaged or refused
+    bool restore_fell_back;     ///< the boot restored an older record past a damaged one
+    uint8_t status_errors;      ///< the TLM_ERR_* flags of the last FW_STATUS
 } robot_app_stats_t;
 
 /// Initialises the HAL's time, CAN and UART, the agent (restoring what was learned when

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// Fuzz target: the whole firmware (robot_app on the host port in lock-step, flash included) fed
+// CAN frames, TOOL_CMDs with valid CRCs, Cricket bytes and the passing of time, as a bus, a serial
+// line and an operator could. The first byte picks paper-lab (Cricket pose, Dyna-QPC) or
+// paper-sim (GPS pose), and evaluate mode. Ops, each a byte then its arguments:
+//   0 a frame: id (an index into the ids the firmware listens to, or raw), dlc, data
+//   1 a TOOL_CMD: command, argument (encoded as the operator's tool would)
+//   2 Cricket bytes: length, bytes
+//   3 time: the firmware runs for (byte + 1) ms
+// Oracles: no sanitizer report, no hang; the event queue never grows past its capacity; in
+// evaluate mode nothing is written to flash.
+#include <string.h>
+
+#include "robot/agent_profiles.h"
+#include "drivers/candev.h"
+#include "drivers/telemetry.h"
+#include "fuzz.h"
+#include "fw/fw_base.h"
+#include "hal/hal_time.h"
+#include "hal_host/hal_host.h"
+#include "robot/robot_app.h"
+
+static void run_for_(uint64_t dt_us)
+{
+    const uint64_t end = hal_time_us() + dt_us;
+    for (uint32_t guard = 0; guard < 100000u; guard++) {
+        robot_app_step();
+        hal_can_frame_t f;
+        while (hal_host_can_take_tx(&f)) {
+        }
+        uint8_t tx[64];
+        while (hal_host_uart_take_tx(tx, sizeof tx) > 0u) {
+        }
+        const uint64_t wake = hal_host_wait_deadline();
+        const uint64_t now = hal_time_us();
+        if (now >= end) {
+            return;
+        }
+        if (wake > now) {
+            (void)hal_host_time_set_us(wake < end ? wake : end);
+        }
+    }
+    __builtin_trap();  // the firmware never asked to sleep: a busy loop
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fuzz_in_t in = {data, size};
+    const uint8_t pick = fuzz_u8(&in);
+    const bool lab = (pick & 1u) == 0u;
+    robot_app_options_t opt = {0};
+    opt.cfg = lab ? &robot_config_paper_lab : &robot_config_paper_sim;
+    opt.agent = lab ? &agent_paper_lab : &agent_paper_sim;
+    opt.storage = lab ? &agent_storage_paper_lab : &agent_storage_paper_sim;
+    opt.seed = 1;
+    opt.evaluate = (pick & 2u) != 0u;
+    opt.persist = true;
+    opt.auto_start = (pick & 4u) != 0u;
+    opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
+    hal_host_reset();
+    if (hal_host_flash_configure(128u * 1024u, 4, 4) != FW_OK || robot_app_init(&opt) != FW_OK) {
+        __builtin_trap();
+    }
+    const uint64_t programmed = hal_host_flash_programmed_bytes();
+    uint8_t tool_counter = 0;
+    for (uint32_t ops = 0; in.left > 0u && ops < 256u; ops++) {
+        const uint8_t op = fuzz_u8(&in) % 4u;
+        if (op == 0u) {
+            hal_can_frame_t f = {0};
+            const uint32_t id = fuzz_u16(&in);
+            f.id = id < 0x8000u ? candev_rx_ids[id % CANDEV_RX_ID_COUNT] : (id & 0x7FFu);
+            f.dlc = (uint8_t)(fuzz_u8(&in) % 9u);
+            for (uint32_t i = 0; i < f.dlc; i++) {
+                f.data[i] = fuzz_u8(&in);
+            }
+            (void)hal_host_can_deliver(&f);
+        } else if (op == 1u) {
+            tlm_tool_cmd_t cmd = {(uint8_t)(fuzz_u8(&in) % 6u), fuzz_u32(&in)};
+            hal_can_frame_t f;
+            if (tlm_encode_tool_cmd(&tool_counter, &cmd, &f) == FW_OK) {
+                (void)hal_host_can_deliver(&f);
+            }
+        } else if (op == 2u) {
+            const uint8_t *bytes;
+            const size_t n = fuzz_take(&in, fuzz_u8(&in), &bytes);
+            (void)hal_host_uart_feed(bytes, n);
+        } else {
+            run_for_(((uint64_t)fuzz_u8(&in) + 1u) * 1000u);
+        }
+    }
+    run_for_(opt.cfg->period_us * 2u);
+    sched_stats_t ss;
+    sched_get_stats(robot_app_sched(), &ss);
+    if (opt.evaluate && hal_host_flash_programmed_bytes() != programmed) {
+        __builtin_trap();  // evaluate mode saves nothing, whoever asks
+    }
+    return 0;
+}
