@@ -20,18 +20,18 @@
 enum { Q_STATES = 64, CELLS = 64, PQ_CAP = 32, TABLE = 32, SECTOR = 4096, SLOT = 2 * SECTOR };
 static float q_[Q_STATES * FW_CFG_MAX_ACTIONS];
 static uint32_t q_keys_[Q_STATES];
-static uint32_t fk_[CELLS], ik_[CELLS];
-static uint8_t fc_[CELLS], ic_[CELLS];
-static int16_t fw_[CELLS * (FW_CFG_MAX_COMPONENTS + 2)], iw_[CELLS * FW_CFG_MAX_COMPONENTS];
+static uint32_t fk_[CELLS];
+static uint8_t fc_[CELLS];
+static int16_t fw_[CELLS * (FW_CFG_MAX_COMPONENTS + 2)];
 static pq_item_t heap_[PQ_CAP];
 static uint32_t pk_[PQ_INDEX_SLOTS(PQ_CAP)], pp_[PQ_INDEX_SLOTS(PQ_CAP)];
 static dynaq_record_t table_[TABLE];
 static uint32_t tk_[DYNAQ_INDEX_SLOTS(TABLE)], tr_[DYNAQ_INDEX_SLOTS(TABLE)];
 static const agent_storage_t storage_ = {
-    q_, q_keys_, Q_STATES, {fk_, fc_, fw_, CELLS}, {ik_, ic_, iw_, CELLS}, heap_, pk_, pp_, PQ_CAP,
+    q_, q_keys_, Q_STATES, {fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP,
     table_, tk_, tr_, TABLE};
 // 8 x 8 x 4 states (8 bits), two of them tiled: hashed Q rows, generalising CMACs.
-static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4};
+static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4, 0};
 static agent_t agent_;
 
 static void init_(agent_kind_t kind, uint32_t seed)
