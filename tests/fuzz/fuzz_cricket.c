@@ -7,7 +7,7 @@
 #include "drivers/cricket.h"
 #include "fuzz.h"
 #include "robot/robot_config.h"
-#include "robot/state_encoder.h"
+#include "robot/robot_geometry.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
