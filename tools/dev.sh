@@ -44,9 +44,11 @@ setup() {
             .venv/bin/pip install -q --disable-pip-version-check -r tools/requirements.txt
             cp tools/requirements.txt .venv/.requirements.txt
         fi
-        # The tools' own package (console scripts dynaqpc-monitor, -viewer, -cricket, -experiment).
-        if ! .venv/bin/python -c "import dynaqpc_tools" 2>/dev/null; then
+        # The tools' own package (console scripts dynaqpc-operator, -monitor, -viewer, -cricket,
+        # -experiment), again whenever tools/pyproject.toml changed (a new console script).
+        if ! .venv/bin/python -c "import dynaqpc_tools" 2>/dev/null || ! cmp -s tools/pyproject.toml .venv/.pyproject.toml; then
             .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
+            cp tools/pyproject.toml .venv/.pyproject.toml
         fi
     fi
 }
