@@ -34,6 +34,9 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
 /// `rooms`: seeded random rooms for a robot, one scenario file each (cmd_rooms.cpp).
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args);
 
+/// `firmware-config`: the MCU images' built-in scenarios as C (cmd_firmware_config.cpp).
+int cmd_firmware_config(const std::string &program, const std::vector<std::string> &args);
+
 }  // namespace dynaqpc
 
 #endif  // DYNAQPC_SIM_COMMANDS_H

@@ -14,6 +14,7 @@ extern "C" {
 #include "lockstep.h"
 #include "robot/robot_config.h"
 #include "scenario_bridge.h"
+#include "firmware_config.h"
 
 namespace {
 
@@ -83,62 +84,31 @@ void dyna_qpc_learns_to_reach_the_goal_on_paper_lab(void **state)
     assert_true(late.mean_steps <= 0.75 * q_late.mean_steps);
 }
 
+// Whole structures: every field of robot_config_t and agent_params_t, bit for bit (the emitter
+// that writes robot_scenarios.c lists them all).
 void expect_same_config(const robot_config_t &a, const robot_config_t &b)
 {
-    assert_float_equal(a.arena_w, b.arena_w, 1e-6);
-    assert_float_equal(a.arena_h, b.arena_h, 1e-6);
-    assert_float_equal(a.goal_x, b.goal_x, 1e-6);
-    assert_float_equal(a.goal_y, b.goal_y, 1e-6);
-    assert_float_equal(a.goal_r, b.goal_r, 1e-6);
-    assert_int_equal(a.goal_cells, b.goal_cells);
-    assert_int_equal(a.bits_x, b.bits_x);
-    assert_int_equal(a.bits_y, b.bits_y);
-    assert_int_equal(a.bits_heading, b.bits_heading);
-    assert_int_equal(a.bits_code, b.bits_code);
-    for (unsigned k = 0; k < ROBOT_MAX_CODE_BITS; k++) {
-        assert_int_equal(a.rays_of_bit[k], b.rays_of_bit[k]);
-        assert_float_equal(a.code_threshold_m[k], b.code_threshold_m[k], 1e-6);
+    const std::string ta = dynaqpc::robot_config_c(a, "x");
+    const std::string tb = dynaqpc::robot_config_c(b, "x");
+    if (ta != tb) {
+        fail_msg("configurations differ:\n%s\n%s", ta.c_str(), tb.c_str());
     }
-    assert_int_equal(a.n_ranges, b.n_ranges);
-    for (unsigned k = 0; k < 4; k++) assert_int_equal(a.tile_shift[k], b.tile_shift[k]);
-    assert_float_equal(a.step_m, b.step_m, 1e-6);
-    assert_float_equal(a.turn_rad, b.turn_rad, 1e-6);
-    assert_float_equal(a.track_m, b.track_m, 1e-6);
-    assert_int_equal(a.action_periods, b.action_periods);
-    assert_int_equal(a.aligned_actions, b.aligned_actions);
-    assert_float_equal(a.step_past_m, b.step_past_m, 1e-6);
-    assert_int_equal(a.wait_for_fix, b.wait_for_fix);
-    assert_int_equal(a.period_us, b.period_us);
-    assert_float_equal(a.reward_goal, b.reward_goal, 1e-6);
-    assert_float_equal(a.reward_bump, b.reward_bump, 1e-6);
-    assert_float_equal(a.reward_step, b.reward_step, 1e-6);
-    assert_float_equal(a.params.alpha, b.params.alpha, 1e-6);
-    assert_float_equal(a.params.gamma, b.params.gamma, 1e-6);
-    assert_float_equal(a.params.epsilon, b.params.epsilon, 1e-6);
-    assert_int_equal(a.planning, b.planning);
-    assert_int_equal(a.step_cap, b.step_cap);
-    assert_int_equal(a.pose_source, b.pose_source);
-    assert_int_equal(a.n_beacons, b.n_beacons);
-    for (unsigned i = 0; i < a.n_beacons; i++) {
-        assert_true(a.beacons[i].id == b.beacons[i].id);
-        assert_float_equal(a.beacons[i].x, b.beacons[i].x, 1e-6);
-        assert_float_equal(a.beacons[i].y, b.beacons[i].y, 1e-6);
-        assert_float_equal(a.beacons[i].z, b.beacons[i].z, 1e-6);
-    }
-    if (a.pose_source == ROBOT_POSE_CRICKET) {
-        assert_float_equal(a.listener_z, b.listener_z, 1e-6);
-    }
-    assert_int_equal(a.pose_timeout_us, b.pose_timeout_us);
-    assert_int_equal(a.bus_timeout_us, b.bus_timeout_us);
 }
 
-// The MCU images compile their scenario in (firmware/robot/src/robot_scenarios.c); the simulator
-// reads host_sim/scenarios/*.scn. They must describe the same robot and task.
+// The MCU images compile their scenario in (firmware/robot/src/robot_scenarios.c, generated from
+// host_sim/scenarios/*.scn); the simulator reads the .scn files. Every field must agree, and a
+// field changed in one is seen (listener_z of a GPS robot too).
 void built_in_configurations_match_the_scenario_files(void **state)
 {
     (void)state;
     expect_same_config(dynaqpc::load_scenario("paper-lab").robot, robot_config_paper_lab);
     expect_same_config(dynaqpc::load_scenario("paper-sim").robot, robot_config_paper_sim);
+    robot_config_t changed = robot_config_paper_sim;
+    changed.listener_z += 0.01f;
+    assert_true(dynaqpc::robot_config_c(changed, "x") != dynaqpc::robot_config_c(robot_config_paper_sim, "x"));
+    changed = robot_config_paper_lab;
+    changed.params.min_count++;
+    assert_true(dynaqpc::robot_config_c(changed, "x") != dynaqpc::robot_config_c(robot_config_paper_lab, "x"));
 }
 
 }  // namespace
