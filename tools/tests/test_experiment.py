@@ -296,3 +296,19 @@ def test_arena_goal_cells_are_drawn_and_checked(tmp_path):
     p.write_text('{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, "cells": [[1, 1, 0, 2]]}}')
     with pytest.raises(ToolError, match=r"goal\.cells\[0\]"):
         load_arena(str(p))
+
+
+def test_a_simulator_error_is_one_line(tmp_path, capsys):
+    sim = tmp_path / "dynaqpc-sim"
+    sim.write_text("#!/bin/sh\necho 'dynaqpc-sim run: --load: x: not a flash image' >&2\nexit 2\n")
+    sim.chmod(0o755)
+    flash = tmp_path / "x.flash"
+    flash.write_bytes(b"\0" * 16)
+    rc = experiment.main(["trajectory", "--scenario", "paper-lab", "--load", str(flash), "--sim", str(sim),
+                          "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and err == ["error: dynaqpc-sim run: --load: x: not a flash image"]
+    # A missing flash image is named before the simulator runs.
+    assert experiment.main(["trajectory", "--scenario", "paper-lab", "--load", str(tmp_path / "none"),
+                            "--sim", str(sim), "--out", str(tmp_path / "o")]) == 2
+    assert "no such file" in capsys.readouterr().err

@@ -12,7 +12,7 @@ from typing import List, Optional
 
 from ..common import ToolArgumentParser, ToolError, float_in, int_in, run_main
 from . import orchestrate, plots, stats
-from .runs import AGENTS, read_csv_dir, read_csvs
+from .runs import AGENTS, TRAJECTORY_COLUMNS, read_csv_dir, read_csvs
 from .stats import LearnSettings
 
 DOC = """dynaqpc-experiment: the paper's protocol, end to end, measured at matched compute.
@@ -160,8 +160,10 @@ def cmd_run(args) -> int:
 
 
 def _run_trajectory(args, out_dir: str):
+    if not os.path.isfile(args.load):
+        raise ToolError(f"--load {args.load}: no such file (a flash image from dynaqpc-sim train --save)")
     traj, arena = os.path.join(out_dir, "traj.csv"), os.path.join(out_dir, "arena.json")
-    orchestrate.check_output_csv(traj)
+    orchestrate.check_output_csv(traj, TRAJECTORY_COLUMNS, "trajectory")
     orchestrate.run_command([args.sim, "run", "--scenario", args.scenario, "--load", args.load, "--starts",
                              str(args.starts), "--trajectory", traj, "--arena", arena])
     return traj, arena

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import List, Optional, Sequence, Tuple
 
 from ..common import ToolError, repo_root
-from .runs import COLUMNS, is_training_csv_header, read_runs
+from .runs import COLUMNS, read_runs
 
 
 def default_sim() -> str:
@@ -65,11 +65,22 @@ def _learning_line(scenario: str) -> Optional[dict]:
     return None
 
 
-def check_output_csv(path: str) -> None:
-    """Refuses to overwrite a file that is not a training CSV: it is not ours to replace."""
+def check_output_csv(path: str, columns: Sequence[str] = COLUMNS, what: str = "training") -> None:
+    """Refuses to overwrite a file that is not a CSV of ours (header `columns`): it is not ours
+    to replace."""
     p = Path(path)
-    if p.exists() and (not p.is_file() or (p.stat().st_size > 0 and not is_training_csv_header(p))):
-        raise ToolError(f"{path}: exists and is not a training CSV; not overwriting it")
+    if not p.exists():
+        return
+    ours = False
+    if p.is_file():
+        try:
+            with open(p, newline="", encoding="utf-8") as f:
+                first = f.readline()
+            ours = not first or first.strip().split(",") == list(columns)
+        except (OSError, UnicodeDecodeError):
+            ours = False
+    if not ours:
+        raise ToolError(f"{path}: exists and is not a {what} CSV; not overwriting it")
 
 
 def train_command(sim: str, scenario: str, agent: str, seed: int, sets: int, episodes: int,
@@ -185,12 +196,16 @@ def run_sets(sim: str, scenario: str, agent: str, csv_path: str, sets: int, epis
 
 
 def run_command(cmd: List[str]) -> None:
-    """Runs a simulator command in the foreground; a failure is a ToolError."""
+    """Runs a simulator command in the foreground; a failure is a ToolError carrying the
+    simulator's own last line (its stderr is passed on only when it succeeds)."""
     print("$ " + " ".join(shlex.quote(c) for c in cmd), flush=True)
     try:
-        rc = subprocess.call(cmd)
+        p = subprocess.run(cmd, stderr=subprocess.PIPE, text=True, errors="replace")
     except OSError as e:
         raise ToolError(f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset host-release && "
                         "cmake --build --preset host-release)") from None
-    if rc != 0:
-        raise ToolError(f"{cmd[0]} exited with status {rc}")
+    if p.returncode != 0:
+        name = os.path.basename(cmd[0])
+        last = (p.stderr.strip().splitlines() or [f"exited with status {p.returncode}"])[-1]
+        raise ToolError(last if last.startswith(name) else f"{name}: {last}")
+    sys.stderr.write(p.stderr)
