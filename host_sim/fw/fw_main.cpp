@@ -233,6 +233,11 @@ int run(const std::vector<std::string> &args)
                 cfg.planning == 0 ? "idle time" : std::to_string(cfg.planning).c_str(),
                 st0.restore_result == 0 ? ("yes, " + std::to_string(st0.restored_episodes) + " episodes").c_str()
                                         : "no");
+    if (st0.records_refused > 0 || st0.restore_fell_back) {
+        // Never silent: what the flash held that could not be used, and what the robot does.
+        std::printf("dynaqpc-fw: the flash held %u damaged or refused record(s); %s\n", st0.records_refused,
+                    st0.restore_result == 0 ? "restored an older good one" : "starting fresh");
+    }
     std::fflush(stdout);
 
     // Linux lets a sleeping thread wake up to 50 us late by default (timer slack) to batch
@@ -252,6 +257,17 @@ int run(const std::vector<std::string> &args)
         }
     }
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    // The firmware's counters as it stopped: what the drain below receives is never handled, and
+    // would count as dropped events (hundreds at 10x).
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    sched_stats_t ss;
+    sched_get_stats(robot_app_sched(), &ss);
+    cricket_stats_t ck;
+    robot_app_get_cricket_stats(&ck);
+    hal_uart_stats_t us;
+    hal_uart_get_stats(&us);
+    const std::uint32_t uart_discarded = hal_host_uart_discarded();
     // Stop sending; keep receiving a little while for frames still in flight, then stop.
     hal_host_can_set_transport(nullptr);
     struct timespec drain = {0, kDrainMs * 1000000L};
@@ -260,14 +276,8 @@ int run(const std::vector<std::string> &args)
     pthread_join(rx, nullptr);
     hal_host_uart_close_path();
 
-    robot_app_stats_t st;
-    robot_app_get_stats(&st);
-    sched_stats_t ss;
-    sched_get_stats(robot_app_sched(), &ss);
     hal_can_stats_t cs;
     hal_can_get_stats(&cs);
-    hal_uart_stats_t us;
-    hal_uart_get_stats(&us);
     std::printf("dynaqpc-fw: stopped after %.1f s wall, %.1f s firmware time\n", wall_s,
                 static_cast<double>(hal_time_us()) * 1e-6);
     std::printf("episodes=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
@@ -276,7 +286,18 @@ int run(const std::vector<std::string> &args)
                 st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
                 agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns,
-                hal_host_uart_discarded());
+                uart_discarded);
+    // Faults and how the firmware met them (docs/realtime.md "Faults").
+    std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
+                "tool_refused=%u uart_errors=%u uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u "
+                "can_bus_errors=%u\n",
+                st.safe_stops, st.status_errors, static_cast<int>(st.restore_result), st.records_refused,
+                st.restore_fell_back ? 1 : 0, st.tool_refused, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
+                cs.rx_overruns, cs.bus_errors);
+    std::printf("cricket: lines=%u ranges=%u overlong=%u garbage=%u malformed=%u no_range=%u unknown_beacon=%u "
+                "bad_range=%u bad_geometry=%u inconsistent=%u\n",
+                ck.lines, ck.ranges, ck.overlong, ck.garbage, ck.malformed, ck.no_range, ck.unknown_beacon,
+                ck.bad_range, ck.bad_geometry, ck.inconsistent);
     for (std::uint32_t i = 0; i < ss.task_count; i++) {
         print_task_timing(static_cast<sched_task_id_t>(i), ss.task[i], s.speed);
     }

@@ -45,6 +45,11 @@ constexpr int kDrainMs = 500;
 // The supervisor repeats START_EPISODE when the firmware still reports itself idle this long
 // (robot time) after it was sent: a firmware that booted after the command, or a lost frame.
 constexpr std::uint64_t kStartRetryUs = 1500000;
+// A safe stop the firmware does not leave by itself within this much world time: the operator
+// puts the robot down at a new start and starts again (as one would pick up a stuck robot).
+constexpr std::uint64_t kSafeStopRestartUs = 10000000;
+// FW_STATUS comes every second: three missed ones and the firmware counts as silent.
+constexpr std::uint64_t kStatusSilenceUs = 3000000;
 
 std::atomic<bool> g_stop{false};
 
@@ -83,7 +88,22 @@ public:
         }
         if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
             tlm_status_t st;
-            if (tlm_decode_status(&f, &st) == 0) fw_idle_ = st.mode == TLM_MODE_IDLE;
+            if (tlm_decode_status(&f, &st) == 0) {
+                fw_idle_ = st.mode == TLM_MODE_IDLE;
+                last_status_us_ = t_us;
+                if (silent_) {
+                    std::printf("supervisor: the firmware is heard again\n");
+                    silent_ = false;
+                }
+                const bool safe = st.mode == TLM_MODE_SAFE_STOP;
+                if (safe && !fw_safe_) {
+                    safe_stops_++;
+                    safe_since_us_ = t_us;
+                    std::printf("supervisor: safe stop in episode %u (errors 0x%02x)\n", done_ + 1, st.errors);
+                    std::fflush(stdout);
+                }
+                fw_safe_ = safe;
+            }
         } else if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID && running_) {
             tlm_episode_t e;
             if (tlm_decode_episode(&f, &e) != 0) return false;
@@ -103,6 +123,19 @@ public:
     void poll(std::uint64_t t_us)
     {
         if (!fw_seen_) return;
+        if (!silent_ && last_status_us_ != 0 && t_us - last_status_us_ > kStatusSilenceUs) {
+            std::printf("supervisor: the firmware is silent (no FW_STATUS for %.1f s)\n", kStatusSilenceUs * 1e-6);
+            std::fflush(stdout);
+            silent_ = true;
+        }
+        if (running_ && fw_safe_ && t_us - safe_since_us_ > kSafeStopRestartUs) {
+            std::printf("supervisor: safe stop held %.0f s: a new start\n", kSafeStopRestartUs * 1e-6);
+            std::fflush(stdout);
+            restarts_++;
+            fw_safe_ = false;
+            start(t_us);
+            return;
+        }
         if (!running_) {
             start(t_us);
         } else if (fw_idle_ && t_us - sent_us_ > kStartRetryUs) {
@@ -117,6 +150,8 @@ public:
 
     std::uint32_t episodes_done() const { return done_; }
     std::uint32_t start_retries() const { return retries_; }
+    std::uint32_t safe_stops() const { return safe_stops_; }
+    std::uint32_t safe_stop_restarts() const { return restarts_; }
 
 private:
     void start(std::uint64_t t_us)
@@ -139,8 +174,9 @@ private:
     const robot_config_t &cfg_;
     BusLink &bus_;
     world::Pose start_pose_{};
-    bool fw_seen_ = false, fw_idle_ = false, running_ = false;
-    std::uint64_t start_us_ = 0, sent_us_ = 0;
+    bool fw_seen_ = false, fw_idle_ = false, running_ = false, fw_safe_ = false, silent_ = false;
+    std::uint64_t start_us_ = 0, sent_us_ = 0, safe_since_us_ = 0, last_status_us_ = 0;
+    std::uint32_t safe_stops_ = 0, restarts_ = 0;
     Clock::time_point wall_start_;
     std::uint8_t counter_ = 0;
     std::uint32_t done_ = 0, retries_ = 0;
@@ -279,9 +315,11 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     receive_until(bus, Clock::now() + std::chrono::milliseconds(kDrainMs), [&](const hal_can_frame_t &) {});
     if (cricket) pty_close(&pty);
     std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
+                "safe_stops=%u safe_stop_restarts=%u "
                 "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
                 " pty_dropped=%" PRIu64 "\n",
                 wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
+                sup.safe_stops(), sup.safe_stop_restarts(),
                 devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
                 bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());

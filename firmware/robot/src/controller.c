@@ -141,10 +141,14 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
             }
             wheels_(c, 0.0f, 0.0f);
         } else if (c->mode == ROBOT_MODE_SAFE_STOP && !c->safe_stop_held) {
-            // Back: the interrupted action's outcome is unknown, so it is not learned from.
-            c->have_s = false;
+            // Back. An action the stop cut short has an unknown outcome: not learned from. One
+            // that had ended (the robot stood still, waiting for its fix, as it did through the
+            // stop) still has its outcome to observe: the wait goes on where it was.
+            if (c->resume_mode != ROBOT_MODE_WAIT_FIX) {
+                c->have_s = false;
+                c->stopped_at_us = in->now_us;
+            }
             c->mode = ROBOT_MODE_WAIT_FIX;
-            c->stopped_at_us = in->now_us;
         }
     }
     switch (c->mode) {

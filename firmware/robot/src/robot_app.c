@@ -521,4 +521,10 @@ const robot_ctrl_t *robot_app_ctrl(void)
 void robot_app_get_stats(robot_app_stats_t *out)
 {
     *out = app_.stats;
+    out->safe_stops = app_.ctrl.safe_stops;
+}
+
+void robot_app_get_cricket_stats(cricket_stats_t *out)
+{
+    *out = app_.cricket.stats;
 }

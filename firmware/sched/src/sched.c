@@ -321,10 +321,14 @@ void sched_step(sched_t *s)
         }
     }
 
+    // Masked from the last look at the queue to the sleep (hal_cpu.h): an event an interrupt
+    // posts in between still ends the sleep at once.
     uint64_t wake = sched_next_wakeup(s);
+    const hal_irq_state_t irq = hal_irq_save();
     if (!cut_short && sched_pending_events(s) == 0u && wake > hal_time_us()) {
         hal_cpu_wait_until(wake);
     }
+    hal_irq_restore(irq);
 }
 
 void sched_get_stats(const sched_t *s, sched_stats_t *out)

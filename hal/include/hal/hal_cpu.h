@@ -24,8 +24,15 @@ hal_irq_state_t hal_irq_save(void);
 void hal_irq_restore(hal_irq_state_t state);
 
 /// Waits, in the CPU's low-power idle state, until hal_time_us() >= deadline_us or an
-/// interrupt handler has run (whichever is first), then returns. Returns at once if the deadline
-/// has passed. Spurious early returns are allowed: callers re-check time and their events.
+/// interrupt has become pending (whichever is first), then returns. Returns at once if the
+/// deadline has passed. Spurious early returns are allowed: callers re-check time and their events.
+///
+/// The sleep handoff: call it with interrupts masked (hal_irq_save) from the caller's last check
+/// that it has nothing to do, and restore the mask after it returns. An interrupt that arrives
+/// between that check and the wait then still ends the wait at once (on the Cortex-M, WFI wakes
+/// on an interrupt PRIMASK holds pending; its handler runs when the caller unmasks), instead of
+/// being left pending until the next timer tick. Called unmasked, such an interrupt may wait for
+/// the next tick (1 ms on the STM32F4). The port must not take the interrupt itself while masked.
 /// Context: thread (the scheduler's main loop) only.
 /// In the host port's lock-step mode it returns at once and records the deadline: the
 /// simulator, which owns time, advances the clock to the wake-up before the next call.

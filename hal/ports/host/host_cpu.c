@@ -17,6 +17,7 @@
 static pthread_mutex_t irq_mutex_;
 static pthread_once_t irq_once_ = PTHREAD_ONCE_INIT;
 static uint32_t irq_depth_; // protected by irq_mutex_ itself
+static __thread uint32_t my_depth_; // this thread's nesting: it holds irq_mutex_ when > 0
 
 static pthread_mutex_t wd_lock_ = PTHREAD_MUTEX_INITIALIZER;
 static uint32_t wd_timeout_ms_;
@@ -37,6 +38,7 @@ hal_irq_state_t hal_irq_save(void)
 {
     pthread_once(&irq_once_, irq_init_once);
     pthread_mutex_lock(&irq_mutex_);
+    my_depth_++;
     return irq_depth_++;
 }
 
@@ -44,7 +46,24 @@ void hal_irq_restore(hal_irq_state_t state)
 {
     (void)state;
     irq_depth_--;
+    my_depth_--;
     pthread_mutex_unlock(&irq_mutex_);
+}
+
+uint32_t host_irq_release(void)
+{
+    const uint32_t depth = my_depth_;
+    for (uint32_t i = 0; i < depth; i++) {
+        hal_irq_restore(0);
+    }
+    return depth;
+}
+
+void host_irq_reacquire(uint32_t depth)
+{
+    for (uint32_t i = 0; i < depth; i++) {
+        (void)hal_irq_save();
+    }
 }
 
 int hal_cpu_watchdog_start(uint32_t timeout_ms)

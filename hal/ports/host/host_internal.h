@@ -12,4 +12,11 @@ void host_can_reset(void);
 void host_uart_reset(void);
 void host_flash_reset(void);
 
+/// hal_cpu_wait_until() called with "interrupts masked": the calling thread lets go of the irq
+/// mutex (all its nesting, returned) so that receiver threads can deliver while it sleeps, and
+/// takes it back after. Safe because the wait's wake latch (hal_host_cpu_wake) remembers any
+/// delivery since the caller's last check, as WFI remembers a pending interrupt.
+uint32_t host_irq_release(void);
+void host_irq_reacquire(uint32_t depth);
+
 #endif // HOST_INTERNAL_H

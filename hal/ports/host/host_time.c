@@ -224,12 +224,14 @@ void hal_host_cpu_wake(void)
 
 void hal_cpu_wait_until(uint64_t deadline_us)
 {
+    const uint32_t masked = host_irq_release();
     lock();
     if (mode_ == HAL_HOST_CLOCK_LOCKSTEP) {
         waiting_ = true;
         wait_deadline_us_ = deadline_us;
         wake_pending_ = false;
         unlock();
+        host_irq_reacquire(masked);
         return;
     }
     uint64_t now = now_us_locked();
@@ -252,4 +254,5 @@ void hal_cpu_wait_until(uint64_t deadline_us)
     }
     wake_pending_ = false;
     unlock();
+    host_irq_reacquire(masked);
 }

@@ -428,6 +428,39 @@ static void test_waits_for_a_fix_taken_after_stopping(void **state)
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
 }
 
+// A fault while the robot stood waiting for the fix of a finished action: once it passes, that
+// fix is still the action's outcome and is learned from (resume_mode).
+static void test_safe_stop_while_waiting_for_a_fix_keeps_the_step(void **state)
+{
+    (void)state;
+    bench_init_(lab_, AGENT_Q_LEARNING);
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();
+    for (int i = 0; i < bench_.cfg.action_periods; i++) {
+        bench_period_();
+    }
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    const uint64_t stopped = bench_.ctrl.stopped_at_us;
+    robot_sense_t in = bench_.sense;
+    in.now_us = stopped + 100000;
+    in.pose_time_us = stopped - 1;
+    in.bus_ok = false;
+    float vl, vr;
+    robot_ctrl_period(&bench_.ctrl, &in, &vl, &vr);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
+    assert_int_equal(bench_.ctrl.resume_mode, ROBOT_MODE_WAIT_FIX);
+    in.bus_ok = true;
+    in.now_us += 192000;
+    robot_ctrl_period(&bench_.ctrl, &in, &vl, &vr);  // back, no fresh fix yet
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 0);
+    in.now_us += 192000;
+    in.pose_time_us = stopped + 300000;
+    robot_ctrl_period(&bench_.ctrl, &in, &vl, &vr);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 1);  // the step is learned
+}
+
 static void test_fixed_planning_runs_after_each_step(void **state)
 {
     (void)state;
@@ -487,6 +520,7 @@ int main(void)
         cmocka_unit_test(test_operator_safe_stop_holds_until_start),
         cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),
+        cmocka_unit_test(test_safe_stop_while_waiting_for_a_fix_keeps_the_step),
         cmocka_unit_test(test_fixed_planning_runs_after_each_step),
         cmocka_unit_test(test_idle_planning_when_planning_is_zero),
     };

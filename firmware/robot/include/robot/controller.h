@@ -62,7 +62,7 @@ typedef struct robot_ctrl {
     const robot_config_t *cfg;
     agent_t *agent;
     robot_mode_t mode;
-    robot_mode_t resume_mode;  // the mode a safe stop interrupted
+    robot_mode_t resume_mode;  ///< the mode a safe stop interrupted: WAIT_FIX keeps the step
     bool have_s;               // s and a are the pending step
     agent_state_t s;
     uint8_t a;

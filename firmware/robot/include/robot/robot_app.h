@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "agent/agent.h"
+#include "drivers/cricket.h"
 #include "robot/controller.h"
 #include "robot/learned_store.h"
 #include "robot/robot_config.h"
@@ -59,6 +60,7 @@ typedef struct robot_app_stats {
     uint32_t records_refused;   ///< records the boot's restore found damaged or refused
     bool restore_fell_back;     ///< the boot restored an older record past a damaged one
     uint8_t status_errors;      ///< the TLM_ERR_* flags of the last FW_STATUS
+    uint32_t safe_stops;        ///< safe stops entered (the controller's count)
 } robot_app_stats_t;
 
 /// Initialises the HAL's time, CAN and UART, the agent (restoring what was learned when
@@ -77,6 +79,8 @@ void robot_app_run(const robot_config_t *cfg, agent_t *agent, const agent_storag
 sched_t *robot_app_sched(void);
 const robot_ctrl_t *robot_app_ctrl(void);
 void robot_app_get_stats(robot_app_stats_t *out);
+/// The Cricket listener's line and fix counters (zero when the pose is from the GPS).
+void robot_app_get_cricket_stats(cricket_stats_t *out);
 
 #ifdef __cplusplus
 }

@@ -114,10 +114,14 @@ void hal_irq_restore(hal_irq_state_t state)
 
 void hal_cpu_wait_until(uint64_t deadline_us)
 {
-    // SysTick wakes the core every millisecond, so one WFI never oversleeps by more than 1 ms;
-    // the contract allows the early return.
+    // Called with PRIMASK set from the scheduler's last look at its event queue (hal_cpu.h): an
+    // interrupt that becomes pending after that look still wakes WFI (ARMv7-M B1.5.19: a pending
+    // interrupt that PRIMASK keeps from being taken ends the wait), and its handler runs as soon
+    // as the caller restores the mask: nothing waits for the next SysTick. As QP/C's QV does
+    // (QV_CPU_SLEEP: WFI, then unmask). SysTick wakes the core every millisecond, so one WFI
+    // never oversleeps by more than 1 ms; the contract allows the early return.
     if (hal_time_us() < deadline_us) {
-        __asm__ volatile("dsb\n\twfi" ::: "memory");
+        __asm__ volatile("dsb\n\twfi\n\tisb" ::: "memory");
     }
 }
 
