@@ -197,9 +197,11 @@ def test_sweep_without_a_scheduler_runs_a_local_cluster(tmp_path, capsys):
     grid = tmp_path / "grid.toml"
     grid.write_text('scenario = "paper-lab"\nagents = ["dyna-q"]\nsets = 2\nepisodes = 2\n[grid]\nstep_cap = [50]\n')
     out = tmp_path / "out"
-    assert experiment.main(["sweep", "--grid", str(grid), "--out", str(out), "--workers", "1",
+    assert experiment.main(["sweep", "--grid", str(grid), "--out", str(out), "--workers", "1", "--planning", "5,100",
                             "--sim", str(c_binary("dynaqpc-sim")), "--no-progress"]) == 0
     with open(out / "sweep.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 4 and {r["step-cap"] for r in rows} == {"50"}
+    assert len(rows) == 8 and {r["step-cap"] for r in rows} == {"50"} and {r["planning"] for r in rows} == {"5", "100"}
     assert all(int(r["steps"]) <= 50 for r in rows)  # the grid's setting reached the simulator
+    summary = (out / "summary.md").read_text()
+    assert "| Dyna-Q | 5 |" in summary and "| Dyna-Q | 100 |" in summary  # the budget, by the table

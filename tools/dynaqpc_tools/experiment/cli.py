@@ -269,7 +269,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     from . import sweep
 
-    sweep.add_parser(sub, orchestrate.default_sim(), lambda a: sweep.cmd_sweep(a))
+    sweep.add_parser(sub, orchestrate.default_sim(), lambda a: sweep.cmd_sweep(a), planning_list)
     return p
 
 

@@ -300,6 +300,10 @@ def cmd_sweep(args) -> int:
     from tqdm import tqdm
 
     grid = load_grid(args.grid)
+    if args.planning is not None:
+        if "planning" in grid.settings:
+            raise ToolError(f"--planning: {args.grid} lists planning in [grid] already")
+        grid.settings["planning"] = list(args.planning)  # every agent at each budget
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise ToolError(f"--out {out}: exists and is not a folder")
@@ -348,7 +352,7 @@ def _is_sweep_csv(path: Path, grid: Grid) -> bool:
         return False
 
 
-def add_parser(sub, sim_default: str, fn) -> None:
+def add_parser(sub, sim_default: str, fn, planning_list) -> None:
     from ..common import int_in
 
     sw = sub.add_parser("sweep", help="a grid of settings over a Dask cluster (docs/sweeps.md)",
@@ -361,5 +365,7 @@ def add_parser(sub, sim_default: str, fn) -> None:
                     help="without --scheduler: local worker processes (default %(default)s)")
     sw.add_argument("--sim", default=sim_default,
                     help="dynaqpc-sim on the workers (default, and without --scheduler made absolute: %(default)s)")
+    sw.add_argument("--planning", type=planning_list, default=None, metavar="N[,N...]",
+                    help="a grid dimension of planning budgets, e.g. 5,1000,0 (as `run --planning`)")
     sw.add_argument("--no-progress", action="store_true", help="no progress bar")
     sw.set_defaults(fn=fn)
