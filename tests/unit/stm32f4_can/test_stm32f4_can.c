@@ -8,42 +8,25 @@
 
 #include "fw/fw_base.h"
 #include "stm32f4/stm32f4_drivers.h"
+#include "stm32f4_fake.h"
 
 static stm32f4_can_t can_;
 static bool hw_responds_;
 
-// The controller: MSR.INAK follows MCR.INRQ (and SLAK clears when SLEEP is cleared).
+// The controller answers the mode handshake (stm32f4_fake_can_ack) unless the test stops it.
 static void can_hw_(void)
 {
-    if (!hw_responds_) {
-        return;
-    }
-    if (can_.MCR & CAN_MCR_INRQ) {
-        can_.MSR |= CAN_MSR_INAK;
-    } else {
-        can_.MSR &= ~CAN_MSR_INAK;
-    }
-    if (!(can_.MCR & CAN_MCR_SLEEP)) {
-        can_.MSR &= ~CAN_MSR_SLAK;
+    if (hw_responds_) {
+        stm32f4_fake_can_ack(&can_);
     }
 }
 
 static int setup_(void **state)
 {
     (void)state;
-    memset(&can_, 0, sizeof can_);
-    can_.MCR = CAN_MCR_SLEEP;  // reset values (RM0090 32.9.2)
-    can_.MSR = CAN_MSR_SLAK;
-    can_.TSR = CAN_TSR_TME0 | CAN_TSR_TME0 << 1 | CAN_TSR_TME0 << 2;
+    stm32f4_fake_can_reset(&can_);
     hw_responds_ = true;
     stm32f4_poll_hook = can_hw_;
-    return 0;
-}
-
-static int teardown_(void **state)
-{
-    (void)state;
-    stm32f4_poll_hook = NULL;
     return 0;
 }
 
@@ -237,18 +220,18 @@ static void read_takes_frame_and_releases_slot(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(bit_timing_500k_at_42mhz, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(unreachable_bitrate_refused, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(setup_lists_ids_four_per_bank, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(empty_list_accepts_everything, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(bad_ids_refused, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(bit_timing_500k_at_42mhz, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(unreachable_bitrate_refused, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(setup_lists_ids_four_per_bank, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(empty_list_accepts_everything, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(bad_ids_refused, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(controller_that_never_acknowledges_is_io_error, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(write_fills_first_free_mailbox, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(all_mailboxes_busy_is_full, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(bad_frames_refused, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(read_takes_frame_and_releases_slot, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(write_fills_first_free_mailbox, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(all_mailboxes_busy_is_full, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(bad_frames_refused, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(read_takes_frame_and_releases_slot, setup_, stm32f4_fake_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

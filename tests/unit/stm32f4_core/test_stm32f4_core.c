@@ -7,6 +7,7 @@
 
 #include "fw/fw_base.h"
 #include "stm32f4/stm32f4_drivers.h"
+#include "stm32f4_fake.h"
 
 static stm32f4_rcc_t rcc_;
 static stm32f4_flash_if_t flash_;
@@ -37,13 +38,6 @@ static int setup_(void **state)
     pwr_cr_ = 0;
     hse_present_ = true;
     stm32f4_poll_hook = rcc_hw_;
-    return 0;
-}
-
-static int teardown_(void **state)
-{
-    (void)state;
-    stm32f4_poll_hook = NULL;
     return 0;
 }
 
@@ -171,15 +165,15 @@ static void systick_microseconds(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(clock_168mhz_from_8mhz_hse, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(missing_crystal_times_out, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(reset_cause_from_flags, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(clock_168mhz_from_8mhz_hse, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(missing_crystal_times_out, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(reset_cause_from_flags, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(watchdog_divider_never_later_than_asked, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(watchdog_start_and_kick, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(watchdog_update_flag_stuck_times_out, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(systick_microseconds, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(watchdog_start_and_kick, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(watchdog_update_flag_stuck_times_out, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(systick_microseconds, setup_, stm32f4_fake_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,48 +8,15 @@
 
 #include "fw/fw_base.h"
 #include "stm32f4/stm32f4_drivers.h"
+#include "stm32f4_fake.h"
 
 #define SECTOR 256u
 
-static stm32f4_flash_if_t regs_;
 #define MEM_SECTORS 4u
 static uint8_t mem_[MEM_SECTORS * SECTOR];
+static stm32f4_fake_flash_t fake_;
 static stm32f4_flash_dev_t dev_;
-static uint32_t erased_snb_;      // SNB of the last erase the fake performed
-static uint32_t erase_psize_;     // PSIZE it saw
-static uint32_t busy_polls_;      // the fake stays busy this many polls after a start
-static uint32_t error_on_start_;  // SR error bits the fake raises on an operation
-static bool never_unlock_;
 static uint32_t waits_;
-
-static void flash_hw_(void)
-{
-    if ((regs_.CR & FLASH_CR_LOCK) && regs_.KEYR == FLASH_KEY2 && !never_unlock_) {
-        regs_.CR &= ~FLASH_CR_LOCK;
-    }
-    if (regs_.CR & FLASH_CR_STRT) {
-        regs_.CR &= ~FLASH_CR_STRT;
-        erased_snb_ = (regs_.CR & FLASH_CR_SNB_MASK) >> FLASH_CR_SNB_SHIFT;
-        erase_psize_ = regs_.CR & FLASH_CR_PSIZE_MASK;
-        // RM0090: SNB 0-11 are sectors 0-11, 16-27 are bank 2's sectors 12-23 (12-15 invalid).
-        const uint32_t sector = erased_snb_ >= 16u ? erased_snb_ - 4u : erased_snb_;
-        const uint32_t s = sector - dev_.first_sector;
-        if (erased_snb_ >= 12u && erased_snb_ < 16u) {
-            regs_.SR |= FLASH_SR_PGSERR;  // not a sector: the hardware refuses
-        } else if (s < MEM_SECTORS && !error_on_start_) {
-            memset(&mem_[s * SECTOR], 0xFF, SECTOR);
-        }
-        regs_.SR |= FLASH_SR_BSY | error_on_start_;
-        return;
-    }
-    if (regs_.SR & FLASH_SR_BSY) {
-        if (busy_polls_ > 0u) {
-            busy_polls_--;
-        } else {
-            regs_.SR &= ~FLASH_SR_BSY;
-        }
-    }
-}
 
 static void on_wait_(void)
 {
@@ -59,30 +26,15 @@ static void on_wait_(void)
 static int setup_(void **state)
 {
     (void)state;
-    memset(&regs_, 0, sizeof regs_);
-    regs_.CR = FLASH_CR_LOCK;  // reset value
-    regs_.ACR = FLASH_ACR_DCEN | FLASH_ACR_ICEN | 5u;
     memset(mem_, 0x5A, sizeof mem_);
-    dev_.regs = &regs_;
+    stm32f4_fake_flash_reset(&fake_, mem_, MEM_SECTORS, SECTOR, 10);
+    dev_.regs = &fake_.regs;
     dev_.mem = mem_;
     dev_.first_sector = 10;
     dev_.sector_count = 2;
     dev_.sector_size = SECTOR;
     dev_.on_wait = on_wait_;
-    erased_snb_ = 0;
-    erase_psize_ = 0;
-    busy_polls_ = 0;
-    error_on_start_ = 0;
-    never_unlock_ = false;
     waits_ = 0;
-    stm32f4_poll_hook = flash_hw_;
-    return 0;
-}
-
-static int teardown_(void **state)
-{
-    (void)state;
-    stm32f4_poll_hook = NULL;
     return 0;
 }
 
@@ -98,23 +50,23 @@ static void erase_unlocks_erases_sector_and_locks(void **state)
 {
     (void)state;
     assert_int_equal(stm32f4_flash_erase(&dev_, 1), FW_OK);
-    assert_int_equal(regs_.KEYR, FLASH_KEY2);  // the second key was the last written
-    assert_int_equal(erased_snb_, 11);         // region sector 1 = RM0090 sector 11
-    assert_int_equal(erase_psize_, FLASH_CR_PSIZE_X32);
+    assert_int_equal(fake_.regs.KEYR, FLASH_KEY2);  // the second key was the last written
+    assert_int_equal(fake_.last_snb, 11);         // region sector 1 = RM0090 sector 11
+    assert_int_equal(fake_.last_psize, FLASH_CR_PSIZE_X32);
     for (uint32_t i = 0; i < SECTOR; i++) {
         assert_int_equal(mem_[SECTOR + i], 0xFF);
         assert_int_equal(mem_[i], 0x5A);  // the other sector untouched
     }
-    assert_true(regs_.CR & FLASH_CR_LOCK);
-    assert_int_equal(regs_.CR & (FLASH_CR_SER | FLASH_CR_SNB_MASK), 0);
-    assert_true(regs_.ACR & FLASH_ACR_DCEN);  // data cache reset and back on
-    assert_int_equal(regs_.ACR & FLASH_ACR_DCRST, 0);
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
+    assert_int_equal(fake_.regs.CR & (FLASH_CR_SER | FLASH_CR_SNB_MASK), 0);
+    assert_true(fake_.regs.ACR & FLASH_ACR_DCEN);  // data cache reset and back on
+    assert_int_equal(fake_.regs.ACR & FLASH_ACR_DCRST, 0);
 }
 
 static void long_erase_calls_the_wait_hook(void **state)
 {
     (void)state;
-    busy_polls_ = 3u * STM32F4_FLASH_WAIT_SLICE;
+    fake_.busy_polls = 3u * STM32F4_FLASH_WAIT_SLICE;
     assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_OK);
     assert_true(waits_ >= 3u);  // the port kicks the watchdog there
 }
@@ -123,32 +75,32 @@ static void erase_refuses_bad_sector(void **state)
 {
     (void)state;
     assert_int_equal(stm32f4_flash_erase(&dev_, 2), FW_ERR_INVAL);
-    assert_true(regs_.CR & FLASH_CR_LOCK);
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
 }
 
 static void locked_interface_is_io_error(void **state)
 {
     (void)state;
-    never_unlock_ = true;  // a wrong key sequence locks until reset
+    fake_.never_unlock = true;  // a wrong key sequence locks until reset
     assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_ERR_IO);
-    assert_int_equal(regs_.CR & FLASH_CR_STRT, 0);
+    assert_int_equal(fake_.regs.CR & FLASH_CR_STRT, 0);
     assert_int_equal(mem_[0], 0x5A);
 }
 
 static void stuck_busy_times_out(void **state)
 {
     (void)state;
-    regs_.SR = FLASH_SR_BSY;
-    busy_polls_ = 0xFFFFFFFFu;
+    fake_.regs.SR = FLASH_SR_BSY;
+    fake_.busy_polls = 0xFFFFFFFFu;
     assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_ERR_TIMEOUT);
 }
 
 static void error_flag_is_io_error(void **state)
 {
     (void)state;
-    error_on_start_ = FLASH_SR_WRPERR;  // write-protected sector
+    fake_.error_on_start = FLASH_SR_WRPERR;  // write-protected sector
     assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_ERR_IO);
-    assert_true(regs_.CR & FLASH_CR_LOCK);
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
 }
 
 static void program_writes_words_and_verifies(void **state)
@@ -160,8 +112,8 @@ static void program_writes_words_and_verifies(void **state)
     assert_memory_equal(&mem_[16], data, sizeof data);
     assert_int_equal(mem_[15], 0xFF);
     assert_int_equal(mem_[24], 0xFF);
-    assert_true(regs_.CR & FLASH_CR_LOCK);
-    assert_int_equal(regs_.CR & FLASH_CR_PG, 0);
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
+    assert_int_equal(fake_.regs.CR & FLASH_CR_PG, 0);
 }
 
 static void program_refuses_misaligned_and_out_of_range(void **state)
@@ -258,20 +210,20 @@ static void geometry_and_read_of_the_region(void **state)
     assert_int_equal(stm32f4_flash_read(&dev_, 0, buf, 4), FW_ERR_INVAL);
     assert_int_equal(stm32f4_flash_erase(&dev_, 0), FW_ERR_INVAL);
     assert_int_equal(stm32f4_flash_program(&dev_, 0, buf, 4), FW_ERR_INVAL);
-    assert_true(regs_.CR & FLASH_CR_LOCK);
-    assert_int_equal(regs_.KEYR, 0);  // never unlocked
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
+    assert_int_equal(fake_.regs.KEYR, 0);  // never unlocked
 }
 
 // The paper-sim layout: bank-2 sectors 20-23, erased with SNB 24-27.
 static void bank2_region_erases_the_right_sectors(void **state)
 {
     (void)state;
-    dev_.first_sector = 20;
+    dev_.first_sector = fake_.first_sector = 20;
     dev_.sector_count = 4;
     for (uint32_t s = 0; s < 4u; s++) {
         memset(mem_, 0x5A, sizeof mem_);
         assert_int_equal(stm32f4_flash_erase(&dev_, s), FW_OK);
-        assert_int_equal(erased_snb_, 24u + s);
+        assert_int_equal(fake_.last_snb, 24u + s);
         for (uint32_t i = 0; i < MEM_SECTORS * SECTOR; i++) {
             assert_int_equal(mem_[i], i / SECTOR == s ? 0xFF : 0x5A);
         }
@@ -288,44 +240,44 @@ static void bank2_region_erases_the_right_sectors(void **state)
 static void snb_cleared_after_bank2_erase(void **state)
 {
     (void)state;
-    dev_.first_sector = 20;
+    dev_.first_sector = fake_.first_sector = 20;
     dev_.sector_count = 4;
     assert_int_equal(stm32f4_flash_erase(&dev_, 3), FW_OK);
-    assert_int_equal(erased_snb_, 27);
-    assert_int_equal(regs_.CR & FLASH_CR_SNB_MASK, 0);
-    assert_int_equal(regs_.CR & (1u << 7), 0);
+    assert_int_equal(fake_.last_snb, 27);
+    assert_int_equal(fake_.regs.CR & FLASH_CR_SNB_MASK, 0);
+    assert_int_equal(fake_.regs.CR & (1u << 7), 0);
 }
 
 static void program_error_flag_is_io_error(void **state)
 {
     (void)state;
-    regs_.SR = FLASH_SR_PGSERR;  // raised during programming; the fake cannot clear on write 1
+    fake_.regs.SR = FLASH_SR_PGSERR;  // raised during programming; the fake cannot clear on write 1
     const uint8_t data[4] = {1, 2, 3, 4};
     assert_int_equal(stm32f4_flash_program(&dev_, 0, data, 4), FW_ERR_IO);
-    assert_true(regs_.CR & FLASH_CR_LOCK);
+    assert_true(fake_.regs.CR & FLASH_CR_LOCK);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(erase_unlocks_erases_sector_and_locks, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(long_erase_calls_the_wait_hook, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(erase_refuses_bad_sector, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(locked_interface_is_io_error, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(stuck_busy_times_out, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(error_flag_is_io_error, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(program_writes_words_and_verifies, setup_, teardown_),
+        cmocka_unit_test_setup_teardown(register_layout_matches_manual, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(erase_unlocks_erases_sector_and_locks, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(long_erase_calls_the_wait_hook, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(erase_refuses_bad_sector, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(locked_interface_is_io_error, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(stuck_busy_times_out, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(error_flag_is_io_error, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(program_writes_words_and_verifies, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(program_refuses_misaligned_and_out_of_range, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(program_error_flag_is_io_error, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(sector_map_matches_manual, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(bank2_sectors_are_coded_from_16, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(program_error_flag_is_io_error, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(sector_map_matches_manual, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(bank2_sectors_are_coded_from_16, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(region_checked_against_map_and_part_size, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(geometry_and_read_of_the_region, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(bank2_region_erases_the_right_sectors, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(snb_cleared_after_bank2_erase, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(geometry_and_read_of_the_region, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(bank2_region_erases_the_right_sectors, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(snb_cleared_after_bank2_erase, setup_, stm32f4_fake_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

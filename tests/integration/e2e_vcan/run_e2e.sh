@@ -39,7 +39,7 @@ wait_for() {
     done
 }
 
-timeout 60 "$PY" "$REPO/tests/unit/e2e_vcan/e2e_listener.py" --dbc "$REPO/docs/dynaqpc.dbc" \
+timeout 60 "$PY" "$REPO/tests/integration/e2e_vcan/e2e_listener.py" --dbc "$REPO/docs/dynaqpc.dbc" \
     --episodes $EPISODES --step-cap $STEP_CAP --timeout 45 > "$TMP/listener.out" 2>&1 &
 LISTENER=$!
 PIDS="$LISTENER"

@@ -15,6 +15,7 @@
 #include "hal_host/hal_host.h"
 #include "sched/sched.h"
 #include "stm32f4/stm32f4_drivers.h"
+#include "stm32f4_fake.h"
 
 enum { EV_CAN = 1, EV_UART = 2 };
 
@@ -161,23 +162,17 @@ static int setup_(void **state)
     seen_n_ = 0;
     uart_events_ = 0;
 
-    memset(&can_, 0, sizeof can_);
+    stm32f4_fake_can_reset(&can_);
+    can_.MCR = 0;  // as the driver left it: running
+    can_.MSR = 0;
     memset(fifo_, 0, sizeof fifo_);
     fifo_count_ = 0;
     fovr_ = false;
     release_pending_ = false;
     release_delay_ = 2;
     can_publish_();
-    can_.TSR = CAN_TSR_TME0 | CAN_TSR_TME0 << 1 | CAN_TSR_TME0 << 2;
     can_port_ = (stm32f4_can_port_t){&can_, on_can_isr_, NULL, {0}};
     stm32f4_poll_hook = can_hw_;
-    return 0;
-}
-
-static int teardown_(void **state)
-{
-    (void)state;
-    stm32f4_poll_hook = NULL;
     return 0;
 }
 
@@ -481,20 +476,20 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(frames_read_out_released_and_posted_in_order, setup_,
-                                        teardown_),
+                                        stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(slow_release_never_delivers_a_frame_twice, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(nothing_read_while_release_in_progress, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(overrun_counted_and_cleared, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(full_event_queue_drops_are_counted, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(no_handler_still_drains_and_counts, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(error_interrupt_counts_and_clears, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(send_uses_mailboxes_and_counts, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(cricket_line_through_ring_and_events, setup_, teardown_),
-        cmocka_unit_test_setup_teardown(every_byte_is_stored_or_counted, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(nothing_read_while_release_in_progress, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(overrun_counted_and_cleared, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(full_event_queue_drops_are_counted, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(no_handler_still_drains_and_counts, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(error_interrupt_counts_and_clears, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(send_uses_mailboxes_and_counts, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(cricket_line_through_ring_and_events, setup_, stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(every_byte_is_stored_or_counted, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(overrun_flag_alone_is_cleared_and_counted, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(write_before_setup_queues_nothing, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(write_before_setup_queues_nothing, setup_, stm32f4_fake_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -17,36 +17,14 @@
 #include "robot/robot_config.h"
 #include "robot/robot_geometry.h"
 #include "stm32f4/stm32f4_drivers.h"
+#include "stm32f4_fake.h"
 
 #define SECTOR_BYTES (128u * 1024u)
 #define MAX_SECTORS 4u
 
-static stm32f4_flash_if_t regs_;
 static uint8_t mem_[MAX_SECTORS * SECTOR_BYTES];
+static stm32f4_fake_flash_t fake_;
 static stm32f4_flash_dev_t dev_;
-static uint32_t erased_snbs_;  // bit n: SNB n was erased
-
-// The flash interface: unlock on the key sequence, a sector erase on STRT (SNB decoded as
-// RM0090 codes it), never busy for long.
-static void flash_hw_(void)
-{
-    if ((regs_.CR & FLASH_CR_LOCK) && regs_.KEYR == FLASH_KEY2) {
-        regs_.CR &= ~FLASH_CR_LOCK;
-    }
-    if (regs_.CR & FLASH_CR_STRT) {
-        regs_.CR &= ~FLASH_CR_STRT;
-        const uint32_t snb = (regs_.CR & FLASH_CR_SNB_MASK) >> FLASH_CR_SNB_SHIFT;
-        erased_snbs_ |= 1u << snb;
-        const uint32_t sector = snb >= 16u ? snb - 4u : snb;
-        const uint32_t s = sector - dev_.first_sector;
-        if (s < MAX_SECTORS) {
-            memset(&mem_[s * SECTOR_BYTES], 0xFF, SECTOR_BYTES);
-        }
-        regs_.SR |= FLASH_SR_BSY;
-        return;
-    }
-    regs_.SR &= ~FLASH_SR_BSY;
-}
 
 int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
@@ -77,9 +55,8 @@ int hal_flash_write(uint32_t offset, const void *data, size_t len)
 // map and a part of `flash_kb`, no region if it does not fit.
 static void use_region_(uint32_t addr, uint32_t first, uint32_t count, uint32_t flash_kb)
 {
-    memset(&regs_, 0, sizeof regs_);
-    regs_.CR = FLASH_CR_LOCK;
-    dev_.regs = &regs_;
+    stm32f4_fake_flash_reset(&fake_, mem_, MAX_SECTORS, SECTOR_BYTES, first);
+    dev_.regs = &fake_.regs;
     dev_.mem = mem_;
     dev_.first_sector = first;
     dev_.sector_size = SECTOR_BYTES;
@@ -87,7 +64,6 @@ static void use_region_(uint32_t addr, uint32_t first, uint32_t count, uint32_t 
         stm32f4_flash_region_check(addr, first, count, SECTOR_BYTES, flash_kb) == FW_OK ? count
                                                                                        : 0u;
     dev_.on_wait = NULL;
-    erased_snbs_ = 0;
 }
 
 static agent_space_t space_;
@@ -130,14 +106,6 @@ static int setup_(void **state)
 {
     (void)state;
     memset(mem_, 0xFF, sizeof mem_);  // as shipped: erased
-    stm32f4_poll_hook = flash_hw_;
-    return 0;
-}
-
-static int teardown_(void **state)
-{
-    (void)state;
-    stm32f4_poll_hook = NULL;
     return 0;
 }
 
@@ -152,7 +120,7 @@ static void paper_sim_record_does_not_fit_one_sector_slots(void **state)
     assert_int_equal(st.slot_size, SECTOR_BYTES);
     assert_true(learned_store_record_size(&agent_paper_sim) > st.slot_size);
     assert_int_equal(learned_store_save(&st, &agent_paper_sim, 1), FW_ERR_NOMEM);
-    assert_int_equal(erased_snbs_, 0);  // refused before touching the flash
+    assert_int_equal(fake_.erased_snbs, 0);  // refused before touching the flash
 }
 
 static void paper_sim_record_persists_in_bank2(void **state)
@@ -170,7 +138,7 @@ static void paper_sim_record_persists_in_bank2(void **state)
     const uint32_t record = learned_store_record_size(&agent_paper_sim);
     assert_true(record > SECTOR_BYTES && record <= st.slot_size);
     assert_int_equal(learned_store_save(&st, &agent_paper_sim, 12), FW_OK);
-    assert_int_equal(erased_snbs_, (1u << 24) | (1u << 25));  // slot 0 = sectors 20, 21
+    assert_int_equal(fake_.erased_snbs, (1u << 24) | (1u << 25));  // slot 0 = sectors 20, 21
 
     // A reboot: a fresh agent, the store found again from flash.
     init_agent_(&agent_paper_sim, &robot_config_paper_sim, &agent_storage_paper_sim, 2);
@@ -186,9 +154,9 @@ static void paper_sim_record_persists_in_bank2(void **state)
     // More learning, the next save goes to the other slot (sectors 22, 23) and wins.
     learn_(&agent_paper_sim, 500, 8);
     const uint32_t more = fingerprint_(&agent_paper_sim);
-    erased_snbs_ = 0;
+    fake_.erased_snbs = 0;
     assert_int_equal(learned_store_save(&again, &agent_paper_sim, 13), FW_OK);
-    assert_int_equal(erased_snbs_, (1u << 26) | (1u << 27));
+    assert_int_equal(fake_.erased_snbs, (1u << 26) | (1u << 27));
     init_agent_(&agent_paper_sim, &robot_config_paper_sim, &agent_storage_paper_sim, 3);
     learned_store_t third;
     assert_int_equal(learned_store_init(&third), FW_OK);
@@ -204,7 +172,7 @@ static void paper_sim_layout_on_a_1mb_part_has_no_region(void **state)
     use_region_(0x08180000u, 20, 4, 1024);
     learned_store_t st;
     assert_int_equal(learned_store_init(&st), FW_ERR_NOSYS);
-    assert_int_equal(erased_snbs_, 0);
+    assert_int_equal(fake_.erased_snbs, 0);
 }
 
 static void paper_lab_record_persists_in_sectors_10_11(void **state)
@@ -218,7 +186,7 @@ static void paper_lab_record_persists_in_sectors_10_11(void **state)
     assert_int_equal(learned_store_init(&st), FW_OK);
     assert_true(learned_store_record_size(&agent_paper_lab) <= st.slot_size);
     assert_int_equal(learned_store_save(&st, &agent_paper_lab, 4), FW_OK);
-    assert_int_equal(erased_snbs_, 1u << 10);
+    assert_int_equal(fake_.erased_snbs, 1u << 10);
     init_agent_(&agent_paper_lab, &robot_config_paper_lab, &agent_storage_paper_lab, 2);
     learned_store_t again;
     assert_int_equal(learned_store_init(&again), FW_OK);
@@ -230,12 +198,12 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(paper_sim_record_does_not_fit_one_sector_slots, setup_,
-                                        teardown_),
-        cmocka_unit_test_setup_teardown(paper_sim_record_persists_in_bank2, setup_, teardown_),
+                                        stm32f4_fake_teardown),
+        cmocka_unit_test_setup_teardown(paper_sim_record_persists_in_bank2, setup_, stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(paper_sim_layout_on_a_1mb_part_has_no_region, setup_,
-                                        teardown_),
+                                        stm32f4_fake_teardown),
         cmocka_unit_test_setup_teardown(paper_lab_record_persists_in_sectors_10_11, setup_,
-                                        teardown_),
+                                        stm32f4_fake_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
