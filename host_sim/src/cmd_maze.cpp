@@ -372,7 +372,7 @@ public:
         tmp_ = special ? path : path + ".partial";
         file_ = std::fopen(tmp_.c_str(), "wb");
         if (file_ == nullptr) {
-            throw std::runtime_error("--csv: cannot write '" + tmp_ + "': " + std::strerror(errno));
+            throw UsageError("--csv: cannot write '" + tmp_ + "': " + std::strerror(errno));
         }
         if (special) {
             tmp_.clear();

@@ -15,7 +15,11 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+
 #include "commands.h"
+#include "hal_host/hal_host_config.h"
 #include "lockstep.h"
 #include "options.h"
 #include "scenario_bridge.h"
@@ -112,6 +116,28 @@ std::string csv_row(const std::string &agent, std::uint32_t set, const EpisodeRo
 }
 
 // Runs sets first, first + stride, ... and hands each row to `emit`.
+// --save names the firmware's flash image: a file of another size is not ours to overwrite, and a
+// path that cannot be created is refused before any training, both as user errors.
+void check_save_target(const std::string &path)
+{
+    const std::uint64_t image = static_cast<std::uint64_t>(FW_CFG_HOST_FLASH_SECTOR_SIZE) * FW_CFG_HOST_FLASH_SECTOR_COUNT;
+    struct stat st;
+    if (stat(path.c_str(), &st) == 0) {
+        if (!S_ISREG(st.st_mode) || static_cast<std::uint64_t>(st.st_size) != image) {
+            throw UsageError("--save: '" + path + "' is not a flash image of this firmware (" +
+                             std::to_string(static_cast<long long>(st.st_size)) + " bytes, an image is " +
+                             std::to_string(image) + "): not overwritten");
+        }
+        return;
+    }
+    const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0) {
+        throw UsageError("--save: cannot create '" + path + "': " + std::strerror(errno));
+    }
+    close(fd);
+    (void)std::remove(path.c_str());
+}
+
 template <typename Emit>
 void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSettings &s,
               std::uint32_t first, std::uint32_t stride, Emit emit)
@@ -199,6 +225,9 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;
 
+    if (!s.save.empty()) {
+        check_save_target(s.save);
+    }
     std::FILE *out = nullptr;
     if (!s.csv.empty()) {
         out = s.csv == "-" ? stdout : std::fopen(s.csv.c_str(), "w");

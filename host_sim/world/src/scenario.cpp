@@ -630,6 +630,11 @@ bool Parser::validate(Scenario *s)
                                        "in the circle (make it larger, or drop 'cells')");
         }
     }
+    // GPS_POSE carries x and y in int16 millimetres (docs/can-protocol.md): a larger arena would
+    // have its poses clamped at 32.767 m.
+    if (s->gps.enabled && (s->arena_w > 32.767 || s->arena_h > 32.767)) {
+        return fail_at(arena_line_, "arena larger than 32.767 m with gps: GPS_POSE carries int16 mm");
+    }
     for (std::size_t i = 0; i < s->cricket.beacons.size(); ++i) {
         const Beacon &b = s->cricket.beacons[i];
         if (b.x < 0.0 || b.x > s->arena_w || b.y < 0.0 || b.y > s->arena_h) {

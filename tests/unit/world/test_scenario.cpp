@@ -188,6 +188,7 @@ const BadFile kBadFiles[] = {
     {"goal_in_obstacle.scn", 3, "goal overlaps the obstacle on line 2"},
     {"goal_outside.scn", 2, "goal outside the arena"},
     {"no_room.scn", 1, "no room for a start pose"},
+    {"gps_too_wide.scn", 1, "arena larger than 32.767 m with gps"},
     {"bad_ray_index.scn", 6, "code_bit ray index 4"},
     {"bad_timing.scn", 6, "not a whole number"},
     {"bad_past.scn", 7, "actions past 0.5 is not inside the next cell"},
