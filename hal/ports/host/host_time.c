@@ -222,10 +222,18 @@ void hal_host_cpu_wake(void)
     unlock();
 }
 
+static bool last_wait_masked_;
+
+bool hal_host_last_wait_masked(void)
+{
+    return last_wait_masked_;
+}
+
 void hal_cpu_wait_until(uint64_t deadline_us)
 {
     const uint32_t masked = host_irq_release();
     lock();
+    last_wait_masked_ = masked > 0u;
     if (mode_ == HAL_HOST_CLOCK_LOCKSTEP) {
         waiting_ = true;
         wait_deadline_us_ = deadline_us;

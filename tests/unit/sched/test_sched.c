@@ -762,6 +762,22 @@ static void test_concurrent_isr_thread(void **state)
     assert_true(can_in_order_);
 }
 
+// The sleep handoff (hal_cpu.h): the scheduler goes to sleep with interrupts masked from its last
+// look at the event queue, so an event posted in between cannot wait for the next tick.
+static void test_sleeps_with_interrupts_masked(void **state)
+{
+    (void)state;
+    sched_config_t cfg = {0};
+    assert_int_equal(sched_init(&s_, &cfg), FW_OK);
+    (void)hal_host_time_set_us(10u);
+    sched_step(&s_);  // nothing to do: it waits
+    assert_true(hal_host_last_wait_masked());
+    // And the mask is given back: an "interrupt" can post again.
+    const hal_irq_state_t irq = hal_irq_save();
+    hal_irq_restore(irq);
+    assert_int_equal(irq, 0);
+}
+
 // Real-time mode: the same loop sleeps in hal_cpu_wait_until() and a receiver thread's frames
 // wake it. Asserts what happened, not how fast.
 static void test_realtime_loop_wakes_on_events(void **state)
@@ -819,6 +835,7 @@ int main(void)
         cmocka_unit_test_setup(test_can_isr_posts_never_lost, setup),
         cmocka_unit_test_setup(test_concurrent_isr_thread, setup),
         cmocka_unit_test_setup(test_realtime_loop_wakes_on_events, setup),
+        cmocka_unit_test_setup(test_sleeps_with_interrupts_masked, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -88,6 +88,10 @@ int hal_host_time_set_speed(double speed);
 /// delivery, UART bytes) happened. A result <= hal_time_us() means: run sched_step() again now.
 uint64_t hal_host_wait_deadline(void);
 
+/// Whether the last hal_cpu_wait_until() was called with interrupts masked, as the sleep handoff
+/// of hal_cpu.h asks (for the scheduler's tests). Context: the thread that waited.
+bool hal_host_last_wait_masked(void);
+
 /// Lock-step: the modelled CPU clock hal_cpu_account() divides by (default FW_CFG_HOST_CPU_HZ).
 /// Returns FW_OK or FW_ERR_INVAL (0).
 int hal_host_cpu_set_hz(uint32_t hz);
