@@ -133,11 +133,6 @@ void print_task_timing(sched_task_id_t id, const sched_task_stats_t &ts, double 
     std::printf("\n");
 }
 
-agent_kind_t kind_of(const std::string &name)
-{
-    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
-}
-
 int run(const std::vector<std::string> &args)
 {
     Settings s;
@@ -173,9 +168,7 @@ int run(const std::vector<std::string> &args)
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
-    cfg.agent = kind_of(s.agent);
-    if (o.seen("--planning")) cfg.planning = s.planning;
-    if (o.seen("--step-cap")) cfg.step_cap = s.step_cap;
+    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, nullptr, nullptr, nullptr}, &cfg);
     if (cfg.pose_source == ROBOT_POSE_CRICKET && s.cricket_tty.empty()) {
         throw UsageError("--cricket-tty: required, " + sb.name + " finds its pose with Cricket beacons");
     }

@@ -20,6 +20,7 @@
 #include "maze/maze.h"
 #include "maze/maze_run.h"
 #include "options.h"
+#include "scenario_bridge.h"
 
 #ifndef DYNAQPC_MAPS_DIR
 #define DYNAQPC_MAPS_DIR "host_sim/maps"
@@ -130,17 +131,6 @@ void check_combinations(const Options &o)
     if (o.seen("--max-episodes") && !o.seen("--until-optimal")) {
         throw UsageError("--max-episodes: only with --until-optimal");
     }
-}
-
-agent_kind_t kind_of(const std::string &name)
-{
-    if (name == "q") {
-        return AGENT_Q_LEARNING;
-    }
-    if (name == "dyna-q") {
-        return AGENT_DYNA_Q;
-    }
-    return AGENT_DYNA_QPC;
 }
 
 // ---- The map ------------------------------------------------------------------------------------
@@ -458,7 +448,7 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
 
     maze_run_config_t cfg = maze_run_default_config();
     cfg.maze = maze.get();
-    cfg.kind = kind_of(s.agent);
+    cfg.kind = agent_kind_of(s.agent);
     cfg.params.alpha = static_cast<float>(s.alpha);
     cfg.params.plan_alpha = static_cast<float>(s.plan_alpha);
     cfg.params.gamma = static_cast<float>(s.gamma);

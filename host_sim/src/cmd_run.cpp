@@ -63,9 +63,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     }
     const ScenarioBundle sb = load_scenario(scenario);
     robot_config_t cfg = sb.robot;
-    cfg.agent = agent == "q" ? AGENT_Q_LEARNING : agent == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
-    if (o.seen("--step-cap")) cfg.step_cap = step_cap;
-    if (o.seen("--planning")) cfg.planning = planning;
+    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr}, &cfg);
     if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");

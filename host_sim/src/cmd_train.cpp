@@ -91,11 +91,6 @@ void declare(Options &o, TrainSettings &s)
                &s.counters);
 }
 
-agent_kind_t kind_of(const std::string &name)
-{
-    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
-}
-
 // Set k of an experiment seeded with s: a splitmix-style mix, so neighbouring seeds and sets
 // give unrelated streams, and a set's results do not depend on --jobs.
 std::uint32_t set_seed(std::uint32_t seed, std::uint32_t set)
@@ -215,12 +210,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
-    cfg.agent = kind_of(s.agent);
-    if (o.seen("--planning")) cfg.planning = s.planning;
-    if (o.seen("--step-cap")) cfg.step_cap = s.step_cap;
-    if (o.seen("--epsilon")) cfg.params.epsilon = static_cast<float>(s.epsilon);
-    if (o.seen("--alpha")) cfg.params.alpha = cfg.params.plan_alpha = static_cast<float>(s.alpha);
-    if (o.seen("--gamma")) cfg.params.gamma = static_cast<float>(s.gamma);
+    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma}, &cfg);
     if (!o.seen("--episodes")) s.episodes = sb.episodes;
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;

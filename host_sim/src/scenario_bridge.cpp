@@ -130,6 +130,23 @@ ScenarioBundle load_scenario(const std::string &arg)
     return b;
 }
 
+agent_kind_t agent_kind_of(const std::string &name)
+{
+    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
+}
+
+void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg)
+{
+    if (v.agent != nullptr) cfg->agent = agent_kind_of(*v.agent);
+    if (v.planning != nullptr && o.seen("--planning")) cfg->planning = *v.planning;
+    if (v.step_cap != nullptr && o.seen("--step-cap")) cfg->step_cap = *v.step_cap;
+    if (v.epsilon != nullptr && o.seen("--epsilon")) cfg->params.epsilon = static_cast<float>(*v.epsilon);
+    if (v.alpha != nullptr && o.seen("--alpha")) {
+        cfg->params.alpha = cfg->params.plan_alpha = static_cast<float>(*v.alpha);
+    }
+    if (v.gamma != nullptr && o.seen("--gamma")) cfg->params.gamma = static_cast<float>(*v.gamma);
+}
+
 std::string arena_json(const world::Scenario &sc)
 {
     std::ostringstream o;
