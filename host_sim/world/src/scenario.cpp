@@ -27,6 +27,7 @@ namespace {
 
 constexpr double kPi = FW_PI;
 constexpr double kDeg = kPi / 180.0;
+constexpr double kBig = 1000.0;  // m: the largest coordinate or extent a scenario may give
 
 using Tokens = std::vector<std::string_view>;
 
@@ -44,7 +45,18 @@ struct Field {
     Type type;
     void *target;  // double* (Real, Deg, Ms: converted to rad / s), int* (Int), std::string* (Text)
     double lo, hi;  // allowed range in file units (Real, Deg, Ms, Int)
+    bool required = false;  // a line without it is refused ("missing field")
     bool seen = false;
+};
+
+class Parser;
+
+// A key of the scenario format (Parser::line has the table).
+struct KeyRule {
+    const char *key;
+    bool single;
+    int Parser::*line_of;
+    bool (Parser::*parse)(const Tokens &t, Scenario *s);
 };
 
 class Parser {
@@ -82,6 +94,25 @@ private:
     bool fields(const Tokens &t, std::vector<Field> &spec);
     bool single(std::string_view key);
     bool line(const Tokens &t, Scenario *s);
+    // One reader a key (kKeyRules says which, and what line() checks before calling it).
+    bool key_arena(const Tokens &t, Scenario *s);
+    bool key_obstacle(const Tokens &t, Scenario *s);
+    bool key_goal(const Tokens &t, Scenario *s);
+    bool key_robot(const Tokens &t, Scenario *s);
+    bool key_ranger(const Tokens &t, Scenario *s);
+    bool key_ray(const Tokens &t, Scenario *s);
+    bool key_code_bit(const Tokens &t, Scenario *s);
+    bool key_gyro(const Tokens &t, Scenario *s);
+    bool key_gps(const Tokens &t, Scenario *s);
+    bool key_cricket(const Tokens &t, Scenario *s);
+    bool key_beacon(const Tokens &t, Scenario *s);
+    bool key_timing(const Tokens &t, Scenario *s);
+    bool key_solver(const Tokens &t, Scenario *s);
+    bool key_start(const Tokens &t, Scenario *s);
+    bool key_encode(const Tokens &t, Scenario *s);
+    bool key_actions(const Tokens &t, Scenario *s);
+    bool key_rewards(const Tokens &t, Scenario *s);
+    bool key_learning(const Tokens &t, Scenario *s);
     bool validate(Scenario *s);
 };
 
@@ -179,7 +210,21 @@ bool Parser::fields(const Tokens &t, std::vector<Field> &spec)
             break;
         }
     }
+    for (const Field &f : spec) {
+        if (f.required && !f.seen) {
+            return fail("missing field '" + key + " " + f.name + "'");
+        }
+    }
     return true;
+}
+
+// Whether the line gave the field `name` (a name of `spec`).
+bool seen_field(const std::vector<Field> &spec, const char *name)
+{
+    for (const Field &f : spec) {
+        if (std::strcmp(f.name, name) == 0) return f.seen;
+    }
+    return false;
 }
 
 bool Parser::single(std::string_view key)
@@ -213,305 +258,345 @@ bool valid_beacon_id(std::string_view id)
 
 bool Parser::line(const Tokens &t, Scenario *s)
 {
-    using T = Field::Type;
+    // One row a key: whether it may appear once only, which member remembers its line (for the
+    // checks after the last line), and the member that reads its values.
+    static const KeyRule kRules[] = {
+        {"arena", true, &Parser::arena_line_, &Parser::key_arena},
+        {"obstacle", false, nullptr, &Parser::key_obstacle},
+        {"goal", true, &Parser::goal_line_, &Parser::key_goal},
+        {"robot", true, &Parser::robot_line_, &Parser::key_robot},
+        {"ranger", true, &Parser::ranger_line_, &Parser::key_ranger},
+        {"ray", false, nullptr, &Parser::key_ray},
+        {"code_bit", false, nullptr, &Parser::key_code_bit},
+        {"gyro", true, nullptr, &Parser::key_gyro},
+        {"gps", true, nullptr, &Parser::key_gps},
+        {"cricket", true, &Parser::cricket_line_, &Parser::key_cricket},
+        {"beacon", false, nullptr, &Parser::key_beacon},
+        {"timing", true, &Parser::timing_line_, &Parser::key_timing},
+        {"solver", true, nullptr, &Parser::key_solver},
+        {"start", true, nullptr, &Parser::key_start},
+        {"encode", true, &Parser::encode_line_, &Parser::key_encode},
+        {"actions", true, &Parser::actions_line_, &Parser::key_actions},
+        {"rewards", true, nullptr, &Parser::key_rewards},
+        {"learning", true, nullptr, &Parser::key_learning},
+    };
     const std::string_view key = t[0];
-    constexpr double kBig = 1000.0;
-
-    if (key == "arena") {
-        if (!single(key) || !count(t, 2, 2, "arena <width m> <height m>")) return false;
-        arena_line_ = line_;
-        return number(t[1], "arena width", 0.5, kBig, &s->arena_w) &&
-               number(t[2], "arena height", 0.5, kBig, &s->arena_h);
-    }
-    if (key == "obstacle") {
-        if (t.size() < 2) {
-            return fail("missing value: expected 'obstacle box|circle ...'");
-        }
-        if (static_cast<int>(s->obstacles.size()) >= kMaxObstacles) {
-            return fail("too many obstacles (at most " + std::to_string(kMaxObstacles) + ")");
-        }
-        Obstacle o;
-        o.line = line_;
-        if (t[1] == "box") {
-            const char *usage = "obstacle box <cx m> <cy m> <w m> <h m> [angle deg]";
-            if (!count(t, 5, 6, usage)) return false;
-            o.shape = Obstacle::Shape::Box;
-            if (!number(t[2], "box cx", -kBig, kBig, &o.cx) ||
-                !number(t[3], "box cy", -kBig, kBig, &o.cy) ||
-                !number(t[4], "box width", 0.01, kBig, &o.w) ||
-                !number(t[5], "box height", 0.01, kBig, &o.h)) {
-                return false;
-            }
-            if (t.size() == 7) {
-                double deg = 0.0;
-                if (!number(t[6], "box angle", -360.0, 360.0, &deg)) return false;
-                o.angle = deg * kDeg;
-            }
-        } else if (t[1] == "circle") {
-            if (!count(t, 4, 4, "obstacle circle <cx m> <cy m> <radius m>")) return false;
-            o.shape = Obstacle::Shape::Circle;
-            if (!number(t[2], "circle cx", -kBig, kBig, &o.cx) ||
-                !number(t[3], "circle cy", -kBig, kBig, &o.cy) ||
-                !number(t[4], "circle radius", 0.01, kBig, &o.radius)) {
-                return false;
-            }
-        } else {
-            return fail("unknown obstacle shape '" + std::string(t[1]) + "' (box or circle)");
-        }
-        s->obstacles.push_back(o);
-        return true;
-    }
-    if (key == "goal") {
-        if (!single(key) || !count(t, 3, 4, "goal <cx m> <cy m> <radius m> [cells]")) return false;
-        goal_line_ = line_;
-        if (t.size() == 5) {
-            if (t[4] != "cells") {
-                return fail("goal: '" + std::string(t[4]) + "' after the radius (only 'cells')");
-            }
-            s->goal.cells = true;
-        }
-        return number(t[1], "goal cx", -kBig, kBig, &s->goal.cx) &&
-               number(t[2], "goal cy", -kBig, kBig, &s->goal.cy) &&
-               number(t[3], "goal radius", 0.01, kBig, &s->goal.radius);
-    }
-    if (key == "robot") {
-        if (!single(key)) return false;
-        robot_line_ = line_;
-        RobotSpec &r = s->robot;
-        std::vector<Field> f = {
-            {"length", T::Real, &r.length, 0.05, 5.0},
-            {"width", T::Real, &r.width, 0.05, 5.0},
-            {"mass", T::Real, &r.mass, 0.1, 1000.0},
-            {"track", T::Real, &r.track, 0.02, 5.0},
-            {"max_speed", T::Real, &r.max_speed, 0.01, 20.0},
-            {"max_accel", T::Real, &r.max_accel, 0.1, 1000.0},
-            {"friction", T::Real, &r.friction, 0.0, 2.0},
-        };
-        if (!fields(t, f)) return false;
-        for (int i = 0; i < 4; ++i) {
-            if (i == 2) continue;  // mass has a default
-            if (!f[static_cast<std::size_t>(i)].seen) {
-                return fail(std::string("missing field 'robot ") + f[static_cast<std::size_t>(i)].name +
-                            "'");
-            }
-        }
-        if (r.track > r.width) {
-            return fail("robot track " + fmt_num(r.track) + " wider than the body (" +
-                        fmt_num(r.width) + ")");
-        }
-        return true;
-    }
-    if (key == "ranger") {
-        if (!single(key)) return false;
-        ranger_line_ = line_;
-        RangerSpec &g = s->ranger;
-        std::string kind;
-        std::vector<Field> f = {
-            {"kind", T::Text, &kind, 0, 0},
-            {"min", T::Real, &g.min_range, 0.0, 100.0},
-            {"max", T::Real, &g.max_range, 0.01, 100.0},
-            {"noise_prop", T::Real, &g.noise_prop, 0.0, 1.0},
-            {"noise_sd", T::Real, &g.noise_sd, 0.0, 10.0},
-        };
-        if (!fields(t, f)) return false;
-        for (int i = 0; i < 3; ++i) {
-            if (!f[static_cast<std::size_t>(i)].seen) {
-                return fail(std::string("missing field 'ranger ") + f[static_cast<std::size_t>(i)].name +
-                            "'");
-            }
-        }
-        if (kind == "sonar") {
-            g.kind = RangerSpec::Kind::Sonar;
-        } else if (kind == "ir") {
-            g.kind = RangerSpec::Kind::Ir;
-        } else {
-            return fail("unknown ranger kind '" + kind + "' (sonar or ir)");
-        }
-        if (g.min_range >= g.max_range) {
-            return fail("ranger min " + fmt_num(g.min_range) + " not below max " +
-                        fmt_num(g.max_range));
-        }
-        return true;
-    }
-    if (key == "ray") {
-        if (!count(t, 1, 3, "ray <angle deg> [<x m> <y m>]")) return false;
-        if (t.size() == 3) {
-            return fail("missing value: expected 'ray <angle deg> [<x m> <y m>]'");
-        }
-        if (static_cast<int>(s->ranger.rays.size()) >= kMaxRays) {
-            return fail("too many rays (at most " + std::to_string(kMaxRays) + ")");
-        }
-        Ray r;
-        double deg = 0.0;
-        if (!number(t[1], "ray angle", -360.0, 360.0, &deg)) return false;
-        r.angle = deg * kDeg;
-        if (t.size() == 4 && (!number(t[2], "ray x", -5.0, 5.0, &r.x) ||
-                              !number(t[3], "ray y", -5.0, 5.0, &r.y))) {
-            return false;
-        }
-        s->ranger.rays.push_back(r);
-        ray_lines_.push_back(line_);
-        ray_has_mount_.push_back(t.size() == 4);
-        return true;
-    }
-    if (key == "code_bit") {
-        if (!count(t, 2, 1 + kMaxRays, "code_bit <threshold m> <ray index>...")) return false;
-        if (static_cast<int>(s->code_bits.size()) >= kMaxCodeBits) {
-            return fail("too many code bits (at most " + std::to_string(kMaxCodeBits) + ")");
-        }
-        CodeBit b;
-        if (!number(t[1], "code_bit threshold", 0.0, 100.0, &b.threshold)) return false;
-        for (std::size_t i = 2; i < t.size(); ++i) {
-            int idx = 0;
-            if (!integer(t[i], "code_bit ray index", 0, kMaxRays - 1, &idx)) return false;
-            b.rays.push_back(idx);
-        }
-        s->code_bits.push_back(b);
-        code_bit_lines_.push_back(line_);
-        return true;
-    }
-    if (key == "gyro") {
-        if (!single(key)) return false;
-        std::vector<Field> f = {
-            {"bias", T::Real, &s->gyro.bias, -1.0, 1.0},
-            {"noise_sd", T::Real, &s->gyro.noise_sd, 0.0, 10.0},
-        };
-        return fields(t, f);
-    }
-    if (key == "gps") {
-        if (!single(key)) return false;
-        s->gps.enabled = true;
-        std::vector<Field> f = {
-            {"xy_sd", T::Real, &s->gps.xy_sd, 0.0, 10.0},
-            {"heading_sd_deg", T::Deg, &s->gps.heading_sd, 0.0, 90.0},
-        };
-        return fields(t, f);
-    }
-    if (key == "cricket") {
-        if (!single(key)) return false;
-        cricket_line_ = line_;
-        CricketSpec &c = s->cricket;
-        std::vector<Field> f = {
-            {"space", T::Text, &c.space, 0, 0},
-            {"min_interval_ms", T::Ms, &c.min_interval, 10.0, 60000.0},
-            {"max_interval_ms", T::Ms, &c.max_interval, 10.0, 60000.0},
-            {"noise_sd", T::Real, &c.noise_sd, 0.0, 1.0},
-            {"listener_height", T::Real, &c.listener_height, 0.0, 10.0},
-            {"speed_of_sound", T::Real, &c.speed_of_sound, 300.0, 400.0},
-        };
-        if (!fields(t, f)) return false;
-        if (c.space.empty() || c.space.size() > 16 ||
-            c.space.find_first_of(",=") != std::string::npos) {
-            return fail("cricket space '" + c.space + "': 1 to 16 characters, no ',' or '='");
-        }
-        if (c.min_interval > c.max_interval) {
-            return fail("cricket min_interval_ms above max_interval_ms");
-        }
-        return true;
-    }
-    if (key == "beacon") {
-        if (!count(t, 4, 4, "beacon <id> <x m> <y m> <z m>")) return false;
-        if (static_cast<int>(s->cricket.beacons.size()) >= kMaxBeacons) {
-            return fail("too many beacons (at most " + std::to_string(kMaxBeacons) + ")");
-        }
-        Beacon b;
-        if (!valid_beacon_id(t[1])) {
-            return fail("beacon id '" + std::string(t[1]) +
-                        "': expected 8 hex bytes separated by ':' (e.g. 1:5e:3c:3c:a:0:0:ba)");
-        }
-        b.id = std::string(t[1]);
-        for (const Beacon &o : s->cricket.beacons) {
-            if (o.id == b.id) return fail("duplicate beacon id '" + b.id + "'");
-        }
-        if (!number(t[2], "beacon x", -kBig, kBig, &b.x) ||
-            !number(t[3], "beacon y", -kBig, kBig, &b.y) ||
-            !number(t[4], "beacon z", 0.0, 100.0, &b.z)) {
-            return false;
-        }
-        s->cricket.beacons.push_back(b);
-        beacon_lines_.push_back(line_);
-        return true;
-    }
-    if (key == "timing") {
-        if (!single(key)) return false;
-        timing_line_ = line_;
-        std::vector<Field> f = {
-            {"control_period", T::Real, &s->timing.control_period, 0.001, 10.0},
-            {"physics_dt", T::Real, &s->timing.physics_dt, 0.0001, 0.1},
-        };
-        if (!fields(t, f)) return false;
-        double n = s->timing.control_period / s->timing.physics_dt;
-        double r = std::round(n);
-        if (r < 1.0 || r > 1000.0 || std::fabs(n - r) > 1e-6 * r) {
-            return fail("timing control_period " + fmt_num(s->timing.control_period) +
-                        " is not a whole number (1..1000) of physics_dt " +
-                        fmt_num(s->timing.physics_dt));
-        }
-        s->timing.substeps = static_cast<int>(r);
-        return true;
-    }
-    if (key == "solver") {
-        if (!single(key)) return false;
-        std::vector<Field> f = {
-            {"velocity_iterations", T::Int, &s->solver.velocity_iterations, 1, 100},
-            {"position_iterations", T::Int, &s->solver.position_iterations, 1, 100},
-        };
-        return fields(t, f);
-    }
-    if (key == "start") {
-        if (!single(key)) return false;
-        std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0}};
-        return fields(t, f);
-    }
-    if (key == "encode") {
-        if (!single(key)) return false;
-        encode_line_ = line_;
-        Encoding &e = s->encoding;
-        std::vector<Field> f = {
-            {"x", T::Int, &e.x_bits, 1, 16},
-            {"y", T::Int, &e.y_bits, 1, 16},
-            {"heading", T::Int, &e.heading_bits, 1, 16},
-            {"sensor", T::Int, &e.sensor_bits, 0, kMaxCodeBits},
-        };
-        if (!fields(t, f)) return false;
-        sensor_bits_given_ = f[3].seen;
-        return true;
-    }
-    if (key == "actions") {
-        if (!single(key)) return false;
-        actions_line_ = line_;
-        std::vector<Field> f = {
-            {"step", T::Real, &s->actions.step, 0.001, 10.0},
-            {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
-            {"aligned", T::Int, &s->actions.aligned, 0, 1},
-            {"past", T::Real, &s->actions.past, 0.001, 10.0},
-        };
-        return fields(t, f);
-    }
-    if (key == "rewards") {
-        if (!single(key)) return false;
-        std::vector<Field> f = {
-            {"bump", T::Real, &s->rewards.bump, -1e6, 1e6},
-            {"goal", T::Real, &s->rewards.goal, -1e6, 1e6},
-            {"step", T::Real, &s->rewards.step, -1e6, 1e6},
-        };
-        return fields(t, f);
-    }
-    if (key == "learning") {
-        if (!single(key)) return false;
-        Learning &l = s->learning;
-        std::vector<Field> f = {
-            {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
-            {"alpha", T::Real, &l.alpha, 0.0, 1.0},
-            {"gamma", T::Real, &l.gamma, 0.0, 1.0},
-            {"planning", T::Int, &l.planning, 0, 1000000},
-            {"step_cap", T::Int, &l.step_cap, 1, 100000000},
-            {"sets", T::Int, &l.sets, 1, 1000000},
-            {"episodes", T::Int, &l.episodes, 1, 1000000},
-        };
-        return fields(t, f);
+    for (const KeyRule &rule : kRules) {
+        if (key != rule.key) continue;
+        if (rule.single && !single(key)) return false;
+        if (rule.line_of != nullptr) this->*rule.line_of = line_;
+        return (this->*rule.parse)(t, s);
     }
     return fail("unknown key '" + std::string(key) + "'");
+}
+
+bool Parser::key_arena(const Tokens &t, Scenario *s)
+{
+    if (!count(t, 2, 2, "arena <width m> <height m>")) return false;
+    return number(t[1], "arena width", 0.5, kBig, &s->arena_w) &&
+           number(t[2], "arena height", 0.5, kBig, &s->arena_h);
+}
+
+bool Parser::key_obstacle(const Tokens &t, Scenario *s)
+{
+    if (t.size() < 2) {
+        return fail("missing value: expected 'obstacle box|circle ...'");
+    }
+    if (static_cast<int>(s->obstacles.size()) >= kMaxObstacles) {
+        return fail("too many obstacles (at most " + std::to_string(kMaxObstacles) + ")");
+    }
+    Obstacle o;
+    o.line = line_;
+    if (t[1] == "box") {
+        const char *usage = "obstacle box <cx m> <cy m> <w m> <h m> [angle deg]";
+        if (!count(t, 5, 6, usage)) return false;
+        o.shape = Obstacle::Shape::Box;
+        if (!number(t[2], "box cx", -kBig, kBig, &o.cx) ||
+            !number(t[3], "box cy", -kBig, kBig, &o.cy) ||
+            !number(t[4], "box width", 0.01, kBig, &o.w) ||
+            !number(t[5], "box height", 0.01, kBig, &o.h)) {
+            return false;
+        }
+        if (t.size() == 7) {
+            double deg = 0.0;
+            if (!number(t[6], "box angle", -360.0, 360.0, &deg)) return false;
+            o.angle = deg * kDeg;
+        }
+    } else if (t[1] == "circle") {
+        if (!count(t, 4, 4, "obstacle circle <cx m> <cy m> <radius m>")) return false;
+        o.shape = Obstacle::Shape::Circle;
+        if (!number(t[2], "circle cx", -kBig, kBig, &o.cx) ||
+            !number(t[3], "circle cy", -kBig, kBig, &o.cy) ||
+            !number(t[4], "circle radius", 0.01, kBig, &o.radius)) {
+            return false;
+        }
+    } else {
+        return fail("unknown obstacle shape '" + std::string(t[1]) + "' (box or circle)");
+    }
+    s->obstacles.push_back(o);
+    return true;
+}
+
+bool Parser::key_goal(const Tokens &t, Scenario *s)
+{
+    if (!count(t, 3, 4, "goal <cx m> <cy m> <radius m> [cells]")) return false;
+    if (t.size() == 5) {
+        if (t[4] != "cells") {
+            return fail("goal: '" + std::string(t[4]) + "' after the radius (only 'cells')");
+        }
+        s->goal.cells = true;
+    }
+    return number(t[1], "goal cx", -kBig, kBig, &s->goal.cx) &&
+           number(t[2], "goal cy", -kBig, kBig, &s->goal.cy) &&
+           number(t[3], "goal radius", 0.01, kBig, &s->goal.radius);
+}
+
+bool Parser::key_robot(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    RobotSpec &r = s->robot;
+    std::vector<Field> f = {
+        {"length", T::Real, &r.length, 0.05, 5.0, true},
+        {"width", T::Real, &r.width, 0.05, 5.0, true},
+        {"mass", T::Real, &r.mass, 0.1, 1000.0},  // has a default
+        {"track", T::Real, &r.track, 0.02, 5.0, true},
+        {"max_speed", T::Real, &r.max_speed, 0.01, 20.0},
+        {"max_accel", T::Real, &r.max_accel, 0.1, 1000.0},
+        {"friction", T::Real, &r.friction, 0.0, 2.0},
+    };
+    if (!fields(t, f)) return false;
+    if (r.track > r.width) {
+        return fail("robot track " + fmt_num(r.track) + " wider than the body (" +
+                    fmt_num(r.width) + ")");
+    }
+    return true;
+}
+
+bool Parser::key_ranger(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    RangerSpec &g = s->ranger;
+    std::string kind;
+    std::vector<Field> f = {
+        {"kind", T::Text, &kind, 0, 0, true},
+        {"min", T::Real, &g.min_range, 0.0, 100.0, true},
+        {"max", T::Real, &g.max_range, 0.01, 100.0, true},
+        {"noise_prop", T::Real, &g.noise_prop, 0.0, 1.0},
+        {"noise_sd", T::Real, &g.noise_sd, 0.0, 10.0},
+    };
+    if (!fields(t, f)) return false;
+    if (kind == "sonar") {
+        g.kind = RangerSpec::Kind::Sonar;
+    } else if (kind == "ir") {
+        g.kind = RangerSpec::Kind::Ir;
+    } else {
+        return fail("unknown ranger kind '" + kind + "' (sonar or ir)");
+    }
+    if (g.min_range >= g.max_range) {
+        return fail("ranger min " + fmt_num(g.min_range) + " not below max " +
+                    fmt_num(g.max_range));
+    }
+    return true;
+}
+
+bool Parser::key_ray(const Tokens &t, Scenario *s)
+{
+    if (!count(t, 1, 3, "ray <angle deg> [<x m> <y m>]")) return false;
+    if (t.size() == 3) {
+        return fail("missing value: expected 'ray <angle deg> [<x m> <y m>]'");
+    }
+    if (static_cast<int>(s->ranger.rays.size()) >= kMaxRays) {
+        return fail("too many rays (at most " + std::to_string(kMaxRays) + ")");
+    }
+    Ray r;
+    double deg = 0.0;
+    if (!number(t[1], "ray angle", -360.0, 360.0, &deg)) return false;
+    r.angle = deg * kDeg;
+    if (t.size() == 4 && (!number(t[2], "ray x", -5.0, 5.0, &r.x) ||
+                          !number(t[3], "ray y", -5.0, 5.0, &r.y))) {
+        return false;
+    }
+    s->ranger.rays.push_back(r);
+    ray_lines_.push_back(line_);
+    ray_has_mount_.push_back(t.size() == 4);
+    return true;
+}
+
+bool Parser::key_code_bit(const Tokens &t, Scenario *s)
+{
+    if (!count(t, 2, 1 + kMaxRays, "code_bit <threshold m> <ray index>...")) return false;
+    if (static_cast<int>(s->code_bits.size()) >= kMaxCodeBits) {
+        return fail("too many code bits (at most " + std::to_string(kMaxCodeBits) + ")");
+    }
+    CodeBit b;
+    if (!number(t[1], "code_bit threshold", 0.0, 100.0, &b.threshold)) return false;
+    for (std::size_t i = 2; i < t.size(); ++i) {
+        int idx = 0;
+        if (!integer(t[i], "code_bit ray index", 0, kMaxRays - 1, &idx)) return false;
+        b.rays.push_back(idx);
+    }
+    s->code_bits.push_back(b);
+    code_bit_lines_.push_back(line_);
+    return true;
+}
+
+bool Parser::key_gyro(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {
+        {"bias", T::Real, &s->gyro.bias, -1.0, 1.0},
+        {"noise_sd", T::Real, &s->gyro.noise_sd, 0.0, 10.0},
+    };
+    return fields(t, f);
+}
+
+bool Parser::key_gps(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    s->gps.enabled = true;
+    std::vector<Field> f = {
+        {"xy_sd", T::Real, &s->gps.xy_sd, 0.0, 10.0},
+        {"heading_sd_deg", T::Deg, &s->gps.heading_sd, 0.0, 90.0},
+    };
+    return fields(t, f);
+}
+
+bool Parser::key_cricket(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    CricketSpec &c = s->cricket;
+    std::vector<Field> f = {
+        {"space", T::Text, &c.space, 0, 0},
+        {"min_interval_ms", T::Ms, &c.min_interval, 10.0, 60000.0},
+        {"max_interval_ms", T::Ms, &c.max_interval, 10.0, 60000.0},
+        {"noise_sd", T::Real, &c.noise_sd, 0.0, 1.0},
+        {"listener_height", T::Real, &c.listener_height, 0.0, 10.0},
+        {"speed_of_sound", T::Real, &c.speed_of_sound, 300.0, 400.0},
+    };
+    if (!fields(t, f)) return false;
+    if (c.space.empty() || c.space.size() > 16 ||
+        c.space.find_first_of(",=") != std::string::npos) {
+        return fail("cricket space '" + c.space + "': 1 to 16 characters, no ',' or '='");
+    }
+    if (c.min_interval > c.max_interval) {
+        return fail("cricket min_interval_ms above max_interval_ms");
+    }
+    return true;
+}
+
+bool Parser::key_beacon(const Tokens &t, Scenario *s)
+{
+    if (!count(t, 4, 4, "beacon <id> <x m> <y m> <z m>")) return false;
+    if (static_cast<int>(s->cricket.beacons.size()) >= kMaxBeacons) {
+        return fail("too many beacons (at most " + std::to_string(kMaxBeacons) + ")");
+    }
+    Beacon b;
+    if (!valid_beacon_id(t[1])) {
+        return fail("beacon id '" + std::string(t[1]) +
+                    "': expected 8 hex bytes separated by ':' (e.g. 1:5e:3c:3c:a:0:0:ba)");
+    }
+    b.id = std::string(t[1]);
+    for (const Beacon &o : s->cricket.beacons) {
+        if (o.id == b.id) return fail("duplicate beacon id '" + b.id + "'");
+    }
+    if (!number(t[2], "beacon x", -kBig, kBig, &b.x) ||
+        !number(t[3], "beacon y", -kBig, kBig, &b.y) ||
+        !number(t[4], "beacon z", 0.0, 100.0, &b.z)) {
+        return false;
+    }
+    s->cricket.beacons.push_back(b);
+    beacon_lines_.push_back(line_);
+    return true;
+}
+
+bool Parser::key_timing(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {
+        {"control_period", T::Real, &s->timing.control_period, 0.001, 10.0},
+        {"physics_dt", T::Real, &s->timing.physics_dt, 0.0001, 0.1},
+    };
+    if (!fields(t, f)) return false;
+    double n = s->timing.control_period / s->timing.physics_dt;
+    double r = std::round(n);
+    if (r < 1.0 || r > 1000.0 || std::fabs(n - r) > 1e-6 * r) {
+        return fail("timing control_period " + fmt_num(s->timing.control_period) +
+                    " is not a whole number (1..1000) of physics_dt " +
+                    fmt_num(s->timing.physics_dt));
+    }
+    s->timing.substeps = static_cast<int>(r);
+    return true;
+}
+
+bool Parser::key_solver(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {
+        {"velocity_iterations", T::Int, &s->solver.velocity_iterations, 1, 100},
+        {"position_iterations", T::Int, &s->solver.position_iterations, 1, 100},
+    };
+    return fields(t, f);
+}
+
+bool Parser::key_start(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {{"margin", T::Real, &s->start.margin, 0.0, 10.0}};
+    return fields(t, f);
+}
+
+bool Parser::key_encode(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    Encoding &e = s->encoding;
+    std::vector<Field> f = {
+        {"x", T::Int, &e.x_bits, 1, 16},
+        {"y", T::Int, &e.y_bits, 1, 16},
+        {"heading", T::Int, &e.heading_bits, 1, 16},
+        {"sensor", T::Int, &e.sensor_bits, 0, kMaxCodeBits},
+    };
+    if (!fields(t, f)) return false;
+    sensor_bits_given_ = seen_field(f, "sensor");
+    return true;
+}
+
+bool Parser::key_actions(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {
+        {"step", T::Real, &s->actions.step, 0.001, 10.0},
+        {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
+        {"aligned", T::Int, &s->actions.aligned, 0, 1},
+        {"past", T::Real, &s->actions.past, 0.001, 10.0},
+    };
+    return fields(t, f);
+}
+
+bool Parser::key_rewards(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    std::vector<Field> f = {
+        {"bump", T::Real, &s->rewards.bump, -1e6, 1e6},
+        {"goal", T::Real, &s->rewards.goal, -1e6, 1e6},
+        {"step", T::Real, &s->rewards.step, -1e6, 1e6},
+    };
+    return fields(t, f);
+}
+
+bool Parser::key_learning(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    Learning &l = s->learning;
+    std::vector<Field> f = {
+        {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
+        {"alpha", T::Real, &l.alpha, 0.0, 1.0},
+        {"gamma", T::Real, &l.gamma, 0.0, 1.0},
+        {"planning", T::Int, &l.planning, 0, 1000000},
+        {"step_cap", T::Int, &l.step_cap, 1, 100000000},
+        {"sets", T::Int, &l.sets, 1, 1000000},
+        {"episodes", T::Int, &l.episodes, 1, 1000000},
+    };
+    return fields(t, f);
 }
 
 // Where a ray from the body's centre at `angle` leaves the rectangle: the default mount point.

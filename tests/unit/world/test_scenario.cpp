@@ -193,6 +193,8 @@ const BadFile kBadFiles[] = {
     {"bad_timing.scn", 6, "not a whole number"},
     {"bad_past.scn", 7, "actions past 0.5 is not inside the next cell"},
     {"unknown_field.scn", 3, "unknown field 'wheels'"},
+    {"missing_field.scn", 3, "missing field 'robot width'"},
+    {"missing_ranger_min.scn", 4, "missing field 'ranger min'"},
     {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
     {"garbage.bin", 3, "not a text file"},
     {"does_not_exist.scn", 0, "cannot open"},
