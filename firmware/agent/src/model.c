@@ -143,8 +143,10 @@ void model_clear(world_model_t *m)
         m->arrivals[i] = MODEL_NO_ARRIVAL;
     }
     for (uint32_t a = 0; a < FW_CFG_MAX_ACTIONS; a++) {
-        for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
-            m->deltas[a][i] = (model_delta_t){{0}, 0};
+        for (uint32_t b = 0; b < MODEL_DELTA_BUCKETS; b++) {
+            for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
+                m->deltas[a][b][i] = (model_delta_t){{0}, 0};
+            }
         }
     }
     m->untrusted = 0;
@@ -250,11 +252,18 @@ static bool delta_of_(const agent_space_t *sp, const uint32_t *from, const uint3
     return true;
 }
 
+// The bucket of changes that arrive in the state `to` (its heading).
+static uint32_t delta_bucket_(const world_model_t *m, const uint32_t *to)
+{
+    const agent_space_t *sp = m->space;
+    return pack_masked_(sp, to, sp->context_mask & ~(uint32_t)sp->absolute_mask) % MODEL_DELTA_BUCKETS;
+}
+
 // Keeps the change an action made, so that predecessors can be searched by undoing it; a full
 // list replaces the change seen least often.
-static void remember_delta_(world_model_t *m, uint32_t a, const int8_t *delta)
+static void remember_delta_(world_model_t *m, uint32_t a, const uint32_t *to, const int8_t *delta)
 {
-    model_delta_t *list = m->deltas[a];
+    model_delta_t *list = m->deltas[a][delta_bucket_(m, to)];
     model_delta_t *least = &list[0];
     for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
         if (list[i].count != 0u && same_delta_(list[i].delta, delta)) {
@@ -329,7 +338,7 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     int8_t delta[FW_CFG_MAX_COMPONENTS];
     bool fits = delta_of_(sp, from, to, delta);
     if (fits) {
-        remember_delta_(m, a, delta);
+        remember_delta_(m, a, to, delta);
     }
     const int16_t reward = reward_fixed_(r, &fits);
     if (m->classes != NULL && fits) {
@@ -496,9 +505,10 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
     model_step_t step;
     uint32_t n = 0;
 
+    const uint32_t bucket = delta_bucket_(m, q->comp);
     for (uint32_t a = 0; a < sp->n_actions; a++) {
         for (uint32_t d = 0; d < MODEL_MAX_DELTAS && n < MODEL_MAX_PREDECESSORS; d++) {
-            const model_delta_t *delta = &m->deltas[a][d];
+            const model_delta_t *delta = &m->deltas[a][bucket][d];
             // Undo a change a has made: where the robot was before, but for what it perceived.
             uint32_t back[FW_CFG_MAX_COMPONENTS];
             if (delta->count == 0u || !apply_delta_(sp, q->comp, delta->delta, -1, back)) {

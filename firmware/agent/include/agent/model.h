@@ -38,12 +38,20 @@ extern "C" {
 
 /// Most predecessors model_query_predecessors() returns for one state.
 #define MODEL_MAX_PREDECESSORS 16u
-/// Most distinct changes kept per action (the least seen is replaced when full).
-#define MODEL_MAX_DELTAS 8u
+/// The changes each action made are kept per arrival heading (the context components that are
+/// not absolute, folded into this many buckets), so the predecessor search of a state tries only
+/// the changes that arrived in its heading: about a quarter of the candidates.
+#define MODEL_DELTA_BUCKETS 16u
+/// Most distinct changes kept per action and bucket (the least seen is replaced when full).
+#define MODEL_MAX_DELTAS 4u
 /// A situation's outcome generalises once it was seen this often...
+#ifndef MODEL_CLASS_MIN_COUNT
 #define MODEL_CLASS_MIN_COUNT 3u
+#endif
 /// ...and disagreed with at most once in this many observations.
+#ifndef MODEL_CLASS_MAX_MISS_SHARE
 #define MODEL_CLASS_MAX_MISS_SHARE 8u
+#endif
 
 /// How a predicted change applies to one component (see decode_() in model.c).
 typedef struct model_field {
@@ -81,7 +89,7 @@ typedef struct world_model {
     uint32_t n_classes;
     int16_t *arrivals;    ///< per position: reward of an arrival that ended an episode
     uint32_t positions;
-    model_delta_t deltas[FW_CFG_MAX_ACTIONS][MODEL_MAX_DELTAS];
+    model_delta_t deltas[FW_CFG_MAX_ACTIONS][MODEL_DELTA_BUCKETS][MODEL_MAX_DELTAS];
     uint32_t untrusted;    ///< predictions refused for low confidence or an out-of-range result
     uint32_t rejected;     ///< predecessor candidates the forward prediction did not confirm
     uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model
