@@ -19,9 +19,9 @@
 
 #include "agent/agent.h"
 #include "console.h"
-#include "fw/fw_crc.h"
 #include "gridrobot.h"
 #include "robot/agent_profiles.h"
+#include "robot/learned_digest.h"
 
 #if defined(QEMU_PROFILE_PAPER_SIM)
 #define PROFILE_NAME "paper-sim"
@@ -60,19 +60,6 @@ void bench_mark_end(void)
 void bench_mark_report(void)
 {
     __asm__ volatile("" ::: "memory");
-}
-
-// CRC-32 over what the agent learned (its tables, as learned_store saves them): equal digests
-// mean equal learning, bit for bit.
-static uint32_t learned_digest_(const agent_t *ag)
-{
-    agent_region_t regions[AGENT_MAX_REGIONS];
-    const uint32_t n = agent_learned_regions(ag, regions);
-    uint32_t crc = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        crc = fw_crc32(crc, regions[i].data, regions[i].size);
-    }
-    return crc;
 }
 
 static uint32_t run_episode_(agent_t *ag, prng_t *world, bool learn)
@@ -143,7 +130,7 @@ int main(void)
     console_kv("first10_mean_steps", first10 / 10u);
     console_kv("last10_mean_steps", last10 / 10u);
     console_puts("\n");
-    console_kv("digest", learned_digest_(ag));
+    console_kv("digest", learned_digest(ag));
     console_puts("\n");
 
     // The greedy policy from fixed starts (a world generator of its own, so the starts do not

@@ -13,6 +13,7 @@
 #include "fw/fw_crc.h"
 #include "fw/fw_prng.h"
 #include "fw/fw_base.h"
+#include "robot/learned_digest.h"
 #include "robot/learned_store.h"
 #include "robot/robot_config.h"
 #include "robot/robot_geometry.h"
@@ -91,17 +92,6 @@ static void learn_(agent_t *ag, uint32_t steps, uint32_t seed)
     }
 }
 
-static uint32_t fingerprint_(const agent_t *ag)
-{
-    agent_region_t r[AGENT_MAX_REGIONS];
-    const uint32_t n = agent_learned_regions(ag, r);
-    uint32_t crc = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        crc = fw_crc32(crc, r[i].data, r[i].size);
-    }
-    return crc;
-}
-
 static int setup_(void **state)
 {
     (void)state;
@@ -129,7 +119,7 @@ static void paper_sim_record_persists_in_bank2(void **state)
     use_region_(0x08180000u, 20, 4, 2048);
     init_agent_(&agent_paper_sim, &robot_config_paper_sim, &agent_storage_paper_sim, 1);
     learn_(&agent_paper_sim, 3000, 7);
-    const uint32_t learned = fingerprint_(&agent_paper_sim);
+    const uint32_t learned = learned_digest(&agent_paper_sim);
 
     learned_store_t st;
     assert_int_equal(learned_store_init(&st), FW_OK);
@@ -142,18 +132,18 @@ static void paper_sim_record_persists_in_bank2(void **state)
 
     // A reboot: a fresh agent, the store found again from flash.
     init_agent_(&agent_paper_sim, &robot_config_paper_sim, &agent_storage_paper_sim, 2);
-    assert_int_not_equal(fingerprint_(&agent_paper_sim), learned);
+    assert_int_not_equal(learned_digest(&agent_paper_sim), learned);
     learned_store_t again;
     assert_int_equal(learned_store_init(&again), FW_OK);
     assert_int_equal(again.newest, 0);
     uint32_t episodes = 0;
     assert_int_equal(learned_store_load(&again, &agent_paper_sim, &episodes), FW_OK);
     assert_int_equal(episodes, 12);
-    assert_int_equal(fingerprint_(&agent_paper_sim), learned);
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);
 
     // More learning, the next save goes to the other slot (sectors 22, 23) and wins.
     learn_(&agent_paper_sim, 500, 8);
-    const uint32_t more = fingerprint_(&agent_paper_sim);
+    const uint32_t more = learned_digest(&agent_paper_sim);
     fake_.erased_snbs = 0;
     assert_int_equal(learned_store_save(&again, &agent_paper_sim, 13), FW_OK);
     assert_int_equal(fake_.erased_snbs, (1u << 26) | (1u << 27));
@@ -162,7 +152,7 @@ static void paper_sim_record_persists_in_bank2(void **state)
     assert_int_equal(learned_store_init(&third), FW_OK);
     assert_int_equal(learned_store_load(&third, &agent_paper_sim, &episodes), FW_OK);
     assert_int_equal(episodes, 13);
-    assert_int_equal(fingerprint_(&agent_paper_sim), more);
+    assert_int_equal(learned_digest(&agent_paper_sim), more);
 }
 
 // The paper-sim image on a 1 MB part: no region, the store says so, nothing is touched.
@@ -181,7 +171,7 @@ static void paper_lab_record_persists_in_sectors_10_11(void **state)
     use_region_(0x080C0000u, 10, 2, 1024);
     init_agent_(&agent_paper_lab, &robot_config_paper_lab, &agent_storage_paper_lab, 1);
     learn_(&agent_paper_lab, 2000, 9);
-    const uint32_t learned = fingerprint_(&agent_paper_lab);
+    const uint32_t learned = learned_digest(&agent_paper_lab);
     learned_store_t st;
     assert_int_equal(learned_store_init(&st), FW_OK);
     assert_true(learned_store_record_size(&agent_paper_lab) <= st.slot_size);
@@ -191,7 +181,7 @@ static void paper_lab_record_persists_in_sectors_10_11(void **state)
     learned_store_t again;
     assert_int_equal(learned_store_init(&again), FW_OK);
     assert_int_equal(learned_store_load(&again, &agent_paper_lab, NULL), FW_OK);
-    assert_int_equal(fingerprint_(&agent_paper_lab), learned);
+    assert_int_equal(learned_digest(&agent_paper_lab), learned);
 }
 
 int main(void)

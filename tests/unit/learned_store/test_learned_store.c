@@ -8,6 +8,7 @@
 #include "agent/agent.h"
 #include "fw/fw_crc.h"
 #include "hal_host/hal_host.h"
+#include "robot/learned_digest.h"
 #include "robot/learned_store.h"
 
 // A small agent, so that a save is a few kilobytes and cutting at every byte stays quick.
@@ -55,17 +56,6 @@ static void learn_(uint32_t steps, uint32_t salt)
     }
 }
 
-static uint32_t fingerprint_(void)
-{
-    agent_region_t r[AGENT_MAX_REGIONS];
-    const uint32_t n = agent_learned_regions(&agent_, r);
-    uint32_t crc = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        crc = fw_crc32(crc, r[i].data, r[i].size);
-    }
-    return crc;
-}
-
 static int setup_(void **state)
 {
     (void)state;
@@ -90,19 +80,19 @@ static void test_save_then_load_gives_back_the_agent(void **state)
     learned_store_t st;
     assert_int_equal(learned_store_init(&st), FW_OK);
     learn_(300, 0);
-    const uint32_t want = fingerprint_();
+    const uint32_t want = learned_digest(&agent_);
     const uint32_t rows = agent_.q.rows_used;
     assert_true(learned_store_record_size(&agent_) <= st.slot_size);
     assert_int_equal(learned_store_save(&st, &agent_, 12), FW_OK);
     // Reboot: a fresh agent, a fresh store over the same flash.
     init_agent_(2);
-    assert_int_not_equal(fingerprint_(), want);
+    assert_int_not_equal(learned_digest(&agent_), want);
     learned_store_t st2;
     assert_int_equal(learned_store_init(&st2), FW_OK);
     uint32_t episodes = 0;
     assert_int_equal(learned_store_load(&st2, &agent_, &episodes), FW_OK);
     assert_int_equal(episodes, 12);
-    assert_int_equal(fingerprint_(), want);
+    assert_int_equal(learned_digest(&agent_), want);
     assert_int_equal(agent_.q.rows_used, rows);
 }
 
@@ -116,14 +106,14 @@ static void test_newest_of_two_wins_and_saves_alternate(void **state)
         assert_int_equal(learned_store_save(&st, &agent_, k), FW_OK);
         assert_int_equal(st.newest, (int32_t)((k - 1) % 2));
     }
-    const uint32_t want = fingerprint_();
+    const uint32_t want = learned_digest(&agent_);
     init_agent_(3);
     learned_store_t st2;
     uint32_t episodes = 0;
     assert_int_equal(learned_store_init(&st2), FW_OK);
     assert_int_equal(learned_store_load(&st2, &agent_, &episodes), FW_OK);
     assert_int_equal(episodes, 5);
-    assert_int_equal(fingerprint_(), want);
+    assert_int_equal(learned_digest(&agent_), want);
 }
 
 static void test_corrupted_record_falls_back_to_the_other(void **state)
@@ -133,7 +123,7 @@ static void test_corrupted_record_falls_back_to_the_other(void **state)
     assert_int_equal(learned_store_init(&st), FW_OK);
     learn_(100, 0);
     assert_int_equal(learned_store_save(&st, &agent_, 1), FW_OK);  // slot 0
-    const uint32_t first = fingerprint_();
+    const uint32_t first = learned_digest(&agent_);
     learn_(100, 1);
     assert_int_equal(learned_store_save(&st, &agent_, 2), FW_OK);  // slot 1
     // A bit flips in slot 1's payload (programming can clear bits): its CRC no longer holds.
@@ -164,7 +154,7 @@ static void test_corrupted_record_falls_back_to_the_other(void **state)
     assert_int_equal(learned_store_init(&st2), FW_OK);
     assert_int_equal(learned_store_load(&st2, &agent_, &episodes), FW_OK);
     assert_int_equal(episodes, 1);
-    assert_int_equal(fingerprint_(), first);
+    assert_int_equal(learned_digest(&agent_), first);
 }
 
 static void test_record_of_another_layout_is_refused(void **state)
@@ -266,7 +256,7 @@ static uint32_t prepare_(uint32_t good_slot, int other)
     }
     init_agent_(1);
     learn_(200, 0);
-    const uint32_t fp = fingerprint_();
+    const uint32_t fp = learned_digest(&agent_);
     assert_int_equal(learned_store_save(&st, &agent_, 1), FW_OK);
     assert_int_equal(st.newest, (int32_t)good_slot);
     if (other == 0 && good_slot == 1u) {
@@ -276,7 +266,7 @@ static uint32_t prepare_(uint32_t good_slot, int other)
         save_foreign_(50);
         init_agent_(1);  // our agent again, knowing what its good record holds
         learn_(200, 0);
-        assert_int_equal(fingerprint_(), fp);
+        assert_int_equal(learned_digest(&agent_), fp);
     }
     flash_keep_();
     return fp;
@@ -293,12 +283,12 @@ static void reboot_expect_(uint32_t old_fp, uint32_t new_fp, int err, uint32_t *
     assert_int_equal(learned_store_init(&s2), FW_OK);
     assert_int_equal(learned_store_load(&s2, &agent_, &episodes), FW_OK);
     if (episodes == 1) {
-        assert_int_equal(fingerprint_(), old_fp);
+        assert_int_equal(learned_digest(&agent_), old_fp);
         assert_int_not_equal(err, FW_OK);
         (*old_seen)++;
     } else {
         assert_int_equal(episodes, 2);
-        assert_int_equal(fingerprint_(), new_fp);
+        assert_int_equal(learned_digest(&agent_), new_fp);
         (*new_seen)++;
     }
 }
@@ -337,7 +327,7 @@ static void power_cuts_(agent_kind_t kind)
         for (int other = 0; other < 3; other++) {
             const uint32_t old_fp = prepare_(good_slot, other);
             learn_(150, 1);
-            const uint32_t new_fp = fingerprint_();
+            const uint32_t new_fp = learned_digest(&agent_);
             assert_int_not_equal(old_fp, new_fp);
             snapshot_take_();
             const uint32_t record = learned_store_record_size(&agent_);
@@ -422,7 +412,7 @@ static void spoiled_record_is_refused_(agent_kind_t kind, spoil_fn spoil, bool w
     learned_store_t st;
     assert_int_equal(learned_store_init(&st), FW_OK);
     learn_(40, 0);
-    const uint32_t good_fp = fingerprint_();
+    const uint32_t good_fp = learned_digest(&agent_);
     if (with_good) {
         assert_int_equal(learned_store_save(&st, &agent_, 1), FW_OK);
     }
@@ -430,7 +420,7 @@ static void spoiled_record_is_refused_(agent_kind_t kind, spoil_fn spoil, bool w
     assert_int_equal(learned_store_save(&st, &agent_, 2), FW_OK);
     // Reboot: the record is refused where it lies; the agent is untouched.
     init_agent_(3);
-    fresh_fp_ = fingerprint_();
+    fresh_fp_ = learned_digest(&agent_);
     learned_store_t s2;
     uint32_t episodes = 0;
     assert_int_equal(learned_store_init(&s2), FW_OK);
@@ -441,14 +431,14 @@ static void spoiled_record_is_refused_(agent_kind_t kind, spoil_fn spoil, bool w
         assert_int_equal(episodes, 1);
         assert_true(s2.fell_back);
         assert_int_equal(s2.fallbacks, 1);
-        assert_int_equal(fingerprint_(), good_fp);
+        assert_int_equal(learned_digest(&agent_), good_fp);
         // The next save goes over the refused record, never over the only good copy.
         assert_int_equal(learned_store_save(&s2, &agent_, 3), FW_OK);
         assert_int_equal(learned_store_slot_state(&s2, &agent_, 0, NULL), LEARNED_SLOT_GOOD);
         assert_int_equal(learned_store_slot_state(&s2, &agent_, 1, NULL), LEARNED_SLOT_GOOD);
     } else {
         assert_int_equal(err, FW_ERR_CORRUPT);
-        assert_int_equal(fingerprint_(), fresh_fp_);
+        assert_int_equal(learned_digest(&agent_), fresh_fp_);
     }
     // The agent works on: a few steps and plans do not crash (ASan) or hang.
     learn_(20, 2);
@@ -656,7 +646,7 @@ static void test_fallback_is_reported(void **state)
     assert_int_equal(learned_store_init(&st), FW_OK);
     learn_(100, 0);
     assert_int_equal(learned_store_save(&st, &agent_, 1), FW_OK);
-    const uint32_t first = fingerprint_();
+    const uint32_t first = learned_digest(&agent_);
     assert_int_equal(learned_store_save(&st, &agent_, 2), FW_OK);  // slot 1
     const uint8_t zero[4] = {0, 0, 0, 0};
     assert_int_equal(hal_flash_write(st.slot_size + 8u, zero, 4), FW_OK);  // the sequence
@@ -668,7 +658,7 @@ static void test_fallback_is_reported(void **state)
     assert_int_equal(episodes, 1);
     assert_true(s2.fell_back);
     assert_int_equal(s2.corrupt_records, 1);
-    assert_int_equal(fingerprint_(), first);
+    assert_int_equal(learned_digest(&agent_), first);
 }
 
 int main(void)
