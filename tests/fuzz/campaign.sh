@@ -5,7 +5,8 @@
 # target: executions, coverage (edges, features), corpus size, seconds, and crashes/timeouts
 # (inputs libFuzzer saved under build/fuzz/artifacts/). Exit 1 if any target failed.
 #
-#   tests/fuzz/campaign.sh [-r RUNS | -t SECONDS] [target...]     (default -r 10000000, all targets)
+#   tests/fuzz/campaign.sh [-r RUNS | -t SECONDS] [-T INPUT_SECONDS] [target...]
+#       default: -r 10000000, -T 1 (an input slower than that is a failure), all targets
 #
 # Build first: cmake --preset fuzz && cmake --build --preset fuzz. A crash input found becomes a
 # regression test by copying it into tests/fuzz/corpus/<target>/ (docs/fuzzing.md).
@@ -13,11 +14,13 @@ set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bin=$root/build/fuzz/bin
 limit=(-runs=10000000)
-while getopts "r:t:" opt; do
+per_input=1
+while getopts "r:t:T:" opt; do
     case $opt in
     r) limit=(-runs="$OPTARG") ;;
     t) limit=(-max_total_time="$OPTARG") ;;
-    *) echo "usage: $0 [-r RUNS | -t SECONDS] [target...]" >&2; exit 2 ;;
+    T) per_input=$OPTARG ;;
+    *) echo "usage: $0 [-r RUNS | -t SECONDS] [-T INPUT_SECONDS] [target...]" >&2; exit 2 ;;
     esac
 done
 shift $((OPTIND - 1))
@@ -37,7 +40,7 @@ for t in "${targets[@]}"; do
     mkdir -p "$work"
     log=$root/build/fuzz/campaign/$t.log
     start=$(date +%s)
-    nice -n 19 "$bin/fuzz_$t" "${limit[@]}" -timeout=1 -rss_limit_mb=2048 -print_final_stats=1 \
+    nice -n 19 "$bin/fuzz_$t" "${limit[@]}" -timeout="$per_input" -rss_limit_mb=2048 -print_final_stats=1 \
         -artifact_prefix="$root/build/fuzz/artifacts/$t-" "$work" "$root/tests/fuzz/corpus/$t" \
         > "$log" 2>&1
     rc=$?
