@@ -206,13 +206,15 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
         ag->stats.real_updates++;
     }
     if (ag->kind == AGENT_DYNA_QPC) {
-        const bool seen = model_has_seen(&ag->model, s_next);
+        // New to the map (which learning is about to show it); a space without one has no
+        // new states.
+        const bool new_state = ag->model.percepts != NULL && !model_has_seen(&ag->model, s_next);
         const bool plannable = model_learn(&ag->model, s, a, r, s_next, terminal);
         if (priority > ag->params.theta) {
             (void)pq_push(&ag->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT),
                           priority);
         }
-        if (!seen && !terminal && model_has_seen(&ag->model, s_next)) {
+        if (new_state && !terminal) {
             queue_new_state_(ag, s_next);
         }
     } else if (ag->kind == AGENT_DYNA_Q) {

@@ -90,7 +90,7 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
         min_count < 1u) {
         return FW_ERR_INVAL;
     }
-    const uint32_t all = (1u << space->n_components) - 1u;
+    const uint32_t all = all_mask_(space);
     const uint32_t place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
     const uint32_t context_bits = masked_bits_(space, space->context_mask);
     const uint32_t position_bits =

@@ -2,6 +2,7 @@
 // dynaqpc: Q(s, a) in a dense array or an open-addressing hash table.
 #include "agent/qstore.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "check.h"
@@ -132,7 +133,9 @@ static uint32_t evict_(qstore_t *qs, agent_state_t s)
     return victim;
 }
 
-float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
+// The row of s for writing, created in a free slot of its window if it has none; a full window
+// forgets the row that learned least when `may_evict`, else refuses (NULL, counted).
+static float *row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
@@ -141,6 +144,10 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
     if (slot == qs->capacity) {
         slot = find_(qs, s);
         if (slot == qs->capacity) {
+            if (!may_evict) {
+                qs->plan_refused++;
+                return NULL;
+            }
             slot = evict_(qs, s);
         }
         qs->keys[slot] = s;
@@ -149,22 +156,14 @@ float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
     return &qs->q[slot * qs->n_actions];
 }
 
+float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
+{
+    return row_for_write_(qs, s, true);
+}
+
 float *qstore_row_for_plan(qstore_t *qs, agent_state_t s)
 {
-    if (qs->dense) {
-        return &qs->q[s * qs->n_actions];
-    }
-    uint32_t slot = lookup_(qs, s);
-    if (slot == qs->capacity) {
-        slot = find_(qs, s);
-        if (slot == qs->capacity) {
-            qs->plan_refused++;
-            return NULL;
-        }
-        qs->keys[slot] = s;
-        qs->rows_used++;
-    }
-    return &qs->q[slot * qs->n_actions];
+    return row_for_write_(qs, s, false);
 }
 
 float qstore_max(const qstore_t *qs, agent_state_t s)
