@@ -24,7 +24,8 @@ typedef struct gridrobot {
 
 enum { GRIDROBOT_FORWARD = 0, GRIDROBOT_BACKWARD, GRIDROBOT_LEFT, GRIDROBOT_RIGHT };
 
-/// x, y (3 bits each, tiles 2 cells wide), heading (4 bits, circular), range (3 bits, a value).
+/// x, y (3 bits each), heading (4 bits, circular), range (3 bits, a value); exact tiles and the
+/// heading and range as the relocatable model's situation, as the shipped robot profiles have.
 extern const agent_space_t gridrobot_space;
 
 /// Places the robot on a random free cell with a random heading.

@@ -8,7 +8,7 @@
 // policy is tried from fixed starts. It prints what it learned (the CRC-32 of every learned table,
 // as learned_store saves them: `digest=`) on its console and exits 0 when
 // learning shortened the episodes to a third and the greedy policy reaches the goal from at
-// least 15 of 20 fixed starts, 1 otherwise. (Measured: paper-lab 145 -> 23 steps, 17 of 20.)
+// least 15 of 20 fixed starts, 1 otherwise. (Measured: paper-lab 84 -> 14 steps, 19 of 20.)
 //
 // Every agent_plan() call is bracketed by bench_mark_begin()/bench_mark_end(), and
 // bench_mark_report() follows the learning run: the QEMU plugin tools/qemu/insn_count.c counts
@@ -127,6 +127,9 @@ int main(void)
     console_kv("planning_skipped", ag->stats.planning_skipped);
     console_kv("queue_dropped", ag->pq.stats.dropped);
     console_kv("cmac_cells_used", ag->model.forward.stats.cells_used);
+    console_kv("model_rejected", ag->model.rejected);
+    console_kv("model_untrusted", ag->model.untrusted);
+    console_kv("model_generalised", ag->model.generalised);
     console_kv("first10_mean_steps", first10 / 10u);
     console_kv("last10_mean_steps", last10 / 10u);
     console_puts("\n");

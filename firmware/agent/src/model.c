@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "fw/fw_base.h"
+#include "inline.h"
 
 static void cmac_config_for_(cmac_config_t *c, const agent_space_t *sp, uint8_t tilings,
                              float rate, uint8_t n_outputs)
@@ -64,20 +65,80 @@ static uint32_t all_mask_(const agent_space_t *sp)
     return (1u << sp->n_components) - 1u;
 }
 
-static uint32_t place_of_(const world_model_t *m, const uint32_t *comp)
+static uint32_t lowest_bit_(uint32_t x)  // x != 0
 {
-    return pack_masked_(m->space, comp, all_mask_(m->space) & ~(uint32_t)m->space->absolute_mask);
+#if defined(__GNUC__)
+    return (uint32_t)__builtin_ctz(x);
+#else
+    uint32_t v = 0;
+    while (!((x >> v) & 1u)) {
+        v++;
+    }
+    return v;
+#endif
 }
 
-static uint32_t position_of_(const world_model_t *m, const uint32_t *comp)
+static uint32_t masked_bits_from_(uint32_t run)  // how many ones
 {
-    const agent_space_t *sp = m->space;
-    return pack_masked_(sp, comp, all_mask_(sp) & ~(uint32_t)(sp->absolute_mask | sp->context_mask));
+    uint32_t n = 0;
+    for (; run != 0u; run &= run - 1u) {
+        n++;
+    }
+    return n;
 }
 
-static model_class_t *class_of_(const world_model_t *m, const uint32_t *comp, uint32_t a)
+static void select_init_(const agent_space_t *sp, uint32_t components, model_select_t *sel)
 {
-    return &m->classes[pack_masked_(m->space, comp, m->space->context_mask) * m->space->n_actions + a];
+    uint32_t shift = 0;
+    for (uint32_t k = 0; k < sp->n_components && !((components >> k) & 1u); k++) {
+        shift += sp->bits[k];
+    }
+    const uint32_t bits = masked_bits_(sp, components);
+    const uint32_t run = components != 0u ? components >> lowest_bit_(components) : 0u;
+    sel->components = components;
+    sel->mask = bits < 32u ? (1u << bits) - 1u : UINT32_MAX;
+    sel->shift = (uint8_t)shift;
+    sel->adjacent = (uint8_t)((run & (run + 1u)) == 0u);
+    sel->first = (uint8_t)(components != 0u ? lowest_bit_(components) : 0u);
+    sel->last = (uint8_t)(sel->first + masked_bits_from_(run) - 1u);
+}
+
+// The index of the selected components of a state, given packed (`s`) and split (`comp`): the
+// planner's tables are indexed by parts of states millions of times, and in the shipped robot
+// each part is a run of adjacent components, one shift and one mask.
+AGENT_ALWAYS_INLINE uint32_t select_(const world_model_t *m, const model_select_t *sel,
+                                     agent_state_t s, const uint32_t *comp)
+{
+    if (sel->adjacent) {
+        return (s >> sel->shift) & sel->mask;
+    }
+    return pack_masked_(m->space, comp, sel->components);
+}
+
+// Sets the absolute components of a state to the percept `v` (an index as percept_of packs
+// it), in both forms.
+static void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s, uint32_t *comp)
+{
+    const model_select_t *sel = &m->percept_of;
+    if (sel->components == 0u) {
+        return;
+    }
+    if (sel->adjacent) {
+        *s = (*s & ~(sel->mask << sel->shift)) | (v << sel->shift);
+        for (uint32_t k = sel->first; k <= sel->last; k++) {
+            comp[k] = v & ((1u << m->space->bits[k]) - 1u);
+            v >>= m->space->bits[k];
+        }
+    } else {
+        unpack_masked_(m->space, v, sel->components, comp);
+        *s = space_pack(m->space, comp);
+    }
+}
+
+static model_class_t *class_of_(const world_model_t *m, agent_state_t s, const uint32_t *comp,
+                                uint32_t a)
+{
+    return &m->classes[select_(m, &m->situation_of, s, comp) * m->space->n_actions + a];
 }
 
 // ---- Set-up ---------------------------------------------------------------------------------------
@@ -113,7 +174,14 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
         const bool circular = (space->circular_mask >> k) & 1u;
         m->field[k].keep_from = absolute ? 0u : UINT32_MAX;
         m->field[k].wrap = circular && !absolute ? (1u << space->bits[k]) - 1u : UINT32_MAX;
+        m->field[k].shift = k == 0u ? 0u : m->field[k - 1u].shift + space->bits[k - 1u];
     }
+    select_init_(space, all & ~(uint32_t)space->absolute_mask, &m->place_of);
+    select_init_(space, all & ~(uint32_t)(space->absolute_mask | space->context_mask),
+                 &m->position_of);
+    select_init_(space, space->context_mask, &m->situation_of);
+    select_init_(space, space->context_mask & ~(uint32_t)space->absolute_mask, &m->heading_of);
+    select_init_(space, space->absolute_mask, &m->percept_of);
     cmac_config_t c;
     cmac_config_for_(&c, space, tilings, learning_rate, (uint8_t)(space->n_components + 2u));
     const int err = cmac_init(&m->forward, &c, fwd->keys, fwd->counts, fwd->weights, fwd->cells);
@@ -253,17 +321,17 @@ static bool delta_of_(const agent_space_t *sp, const uint32_t *from, const uint3
 }
 
 // The bucket of changes that arrive in the state `to` (its heading).
-static uint32_t delta_bucket_(const world_model_t *m, const uint32_t *to)
+static uint32_t delta_bucket_(const world_model_t *m, agent_state_t to, const uint32_t *comp)
 {
-    const agent_space_t *sp = m->space;
-    return pack_masked_(sp, to, sp->context_mask & ~(uint32_t)sp->absolute_mask) % MODEL_DELTA_BUCKETS;
+    return select_(m, &m->heading_of, to, comp) % MODEL_DELTA_BUCKETS;
 }
 
 // Keeps the change an action made, so that predecessors can be searched by undoing it; a full
 // list replaces the change seen least often.
-static void remember_delta_(world_model_t *m, uint32_t a, const uint32_t *to, const int8_t *delta)
+static void remember_delta_(world_model_t *m, uint32_t a, agent_state_t s_to, const uint32_t *to,
+                            const int8_t *delta)
 {
-    model_delta_t *list = m->deltas[a][delta_bucket_(m, to)];
+    model_delta_t *list = m->deltas[a][delta_bucket_(m, s_to, to)];
     model_delta_t *least = &list[0];
     for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
         if (list[i].count != 0u && same_delta_(list[i].delta, delta)) {
@@ -332,34 +400,36 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     const bool stored = cmac_train(&m->forward, &tiles, desired);
 
     if (m->percepts != NULL) {
-        m->percepts[place_of_(m, from)] |= (uint16_t)(1u << pack_masked_(sp, from, sp->absolute_mask));
-        m->percepts[place_of_(m, to)] |= (uint16_t)(1u << pack_masked_(sp, to, sp->absolute_mask));
+        m->percepts[select_(m, &m->place_of, s, from)] |=
+            (uint16_t)(1u << select_(m, &m->percept_of, s, from));
+        m->percepts[select_(m, &m->place_of, s_next, to)] |=
+            (uint16_t)(1u << select_(m, &m->percept_of, s_next, to));
     }
     int8_t delta[FW_CFG_MAX_COMPONENTS];
     bool fits = delta_of_(sp, from, to, delta);
     if (fits) {
-        remember_delta_(m, a, to, delta);
+        remember_delta_(m, a, s_next, to, delta);
     }
     const int16_t reward = reward_fixed_(r, &fits);
     if (m->classes != NULL && fits) {
         if (terminal) {
             // Where an episode ends is a fact about the place, not about the situation.
-            m->arrivals[position_of_(m, to)] = reward;
+            m->arrivals[select_(m, &m->position_of, s_next, to)] = reward;
         } else {
-            train_class_(class_of_(m, from, a), delta, reward);
+            train_class_(class_of_(m, s, from, a), delta, reward);
         }
     }
     return stored;
 }
 
 // CMAC-Model's prediction for taking `a` in the state `from` (its components, and its tiles for
-// any action): the next state's components go to `to` and packed to `next`, the reward and the
-// terminal flag to `out`. False if (s, a) was not tried (a cell trained fewer than min_count
+// any action): the next state, the reward and the terminal flag to `out`. False if (s, a) was not tried (a cell trained fewer than min_count
 // times) or the prediction leaves the space.
 static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
-                           uint32_t a, uint32_t *to, model_step_t *out)
+                           uint32_t a, model_step_t *out)
 {
     int32_t pred[CMAC_MAX_OUTPUTS];
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
     const uint32_t n_comp = m->space->n_components;
     if (!cmac_predict_trusted(&m->forward, tiles, a, m->min_count, pred) ||
         !decode_(m, from, pred, to, &out->next)) {
@@ -376,66 +446,60 @@ static bool class_trusted_(const model_class_t *c)
            (uint32_t)c->miss * MODEL_CLASS_MAX_MISS_SHARE <= c->count;
 }
 
-// The only value the absolute components were seen to take at the place of `comp` (its
-// non-absolute components), into `comp`. False if the place was never seen, or showed more
-// than one percept (then what is there is not predictable).
-static bool percept_at_(const world_model_t *m, uint32_t *comp)
+// Applies a change to every non-absolute component of `from`, into `to` and packed into `*s`
+// (absolute ones copied). False if a component leaves its range (a circular one wraps).
+static bool apply_delta_(const world_model_t *m, const uint32_t *from, const int8_t *delta,
+                         int32_t sign, uint32_t *to, agent_state_t *s)
 {
-    if (m->percepts == NULL) {
-        return true;  // nothing absolute to fill in
+    const uint32_t n = m->space->n_components;
+    agent_state_t packed = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        const uint32_t v = (from[k] + (uint32_t)(sign * delta[k])) & m->field[k].wrap;
+        if (v >> m->space->bits[k]) {  // below 0 or past the range
+            return false;
+        }
+        to[k] = v;
+        packed |= v << m->field[k].shift;
     }
-    const uint32_t seen = m->percepts[place_of_(m, comp)];
-    if (seen == 0u || (seen & (seen - 1u)) != 0u) {
-        return false;
-    }
-    uint32_t v = 0;
-    while (!((seen >> v) & 1u)) {
-        v++;
-    }
-    unpack_masked_(m->space, v, m->space->absolute_mask, comp);
+    *s = packed;
     return true;
 }
 
-// Applies a change to every non-absolute component of `from`, into `to` (absolute ones copied).
-// False if a component leaves its range (a circular one wraps).
-static bool apply_delta_(const agent_space_t *sp, const uint32_t *from, const int8_t *delta,
-                         int32_t sign, uint32_t *to)
+static bool moves_(const int8_t *delta)
 {
-    for (uint32_t k = 0; k < sp->n_components; k++) {
-        const int32_t range = (int32_t)1 << sp->bits[k];
-        int32_t v = (int32_t)from[k] + sign * delta[k];
-        if ((sp->circular_mask >> k) & 1u) {
-            v &= range - 1;
-        } else if (v < 0 || v >= range) {
-            return false;
-        }
-        to[k] = (uint32_t)v;
+    uint32_t any = 0;
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        any |= (uint8_t)delta[k];
     }
-    return true;
+    return any != 0u;
 }
 
 // The relocatable model's prediction for an untried pair: the situation's usual change, the
-// percept the map has for the place it leads to, and the reward of arriving there if an episode
+// percept the map has for the place it leads to (the only one seen there: a place never seen,
+// or showing more than one, is not predictable), and the reward of arriving there if an episode
 // ended there before (else the situation's reward).
-static bool predict_general_(world_model_t *m, const uint32_t *from, uint32_t a, uint32_t *to,
+static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
                              model_step_t *out)
 {
     if (m->classes == NULL) {
         return false;
     }
-    const model_class_t *c = class_of_(m, from, a);
-    if (!class_trusted_(c) || !apply_delta_(m->space, from, c->delta, 1, to)) {
+    const model_class_t *c = class_of_(m, s, from, a);
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
+    agent_state_t next;
+    if (!class_trusted_(c) || !apply_delta_(m, from, c->delta, 1, to, &next)) {
         return false;
     }
-    bool moved = false;
-    for (uint32_t k = 0; k < m->space->n_components; k++) {
-        moved = moved || c->delta[k] != 0;
+    const bool moved = moves_(c->delta);
+    if (moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
+        const uint32_t seen = m->percepts[select_(m, &m->place_of, next, to)];
+        if (seen == 0u || (seen & (seen - 1u)) != 0u) {
+            return false;
+        }
+        set_percept_(m, lowest_bit_(seen), &next, to);
     }
-    if (moved && !percept_at_(m, to)) {  // a step that goes nowhere keeps what it perceives
-        return false;
-    }
-    const int16_t arrival = m->arrivals[position_of_(m, to)];
-    out->next = space_pack(m->space, to);
+    const int16_t arrival = m->arrivals[select_(m, &m->position_of, next, to)];
+    out->next = next;
     out->terminal = (uint8_t)(arrival != MODEL_NO_ARRIVAL && moved);
     out->reward = (float)(out->terminal ? arrival : c->reward) / (float)CMAC_ONE;
     m->generalised++;
@@ -444,10 +508,10 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, uint32_t a,
 
 // The model's prediction for (from, a): CMAC-Model's if the pair was tried, else the
 // relocatable model's. Counts a refusal in `untrusted`.
-static bool predict_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles, uint32_t a,
-                     uint32_t *to, model_step_t *out)
+static bool predict_(world_model_t *m, const uint32_t *from, agent_state_t s,
+                     const cmac_tiles_t *tiles, uint32_t a, model_step_t *out)
 {
-    if (predict_exact_(m, from, tiles, a, to, out) || predict_general_(m, from, a, to, out)) {
+    if (predict_exact_(m, from, tiles, a, out) || predict_general_(m, from, s, a, out)) {
         return true;
     }
     m->untrusted++;
@@ -473,7 +537,7 @@ bool model_has_seen(const world_model_t *m, agent_state_t s)
     }
     uint32_t comp[FW_CFG_MAX_COMPONENTS];
     space_unpack(m->space, s, comp);
-    return (m->percepts[place_of_(m, comp)] >> pack_masked_(m->space, comp, m->space->absolute_mask)) & 1u;
+    return (m->percepts[select_(m, &m->place_of, s, comp)] >> select_(m, &m->percept_of, s, comp)) & 1u;
 }
 
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
@@ -485,8 +549,7 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out)
 {
-    uint32_t to[FW_CFG_MAX_COMPONENTS];
-    return predict_(m, q->comp, &q->tiles, a, to, out);
+    return predict_(m, q->comp, q->state, &q->tiles, a, out);
 }
 
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out)
@@ -500,37 +563,36 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                                   model_query_t *const *queries)
 {
     const agent_space_t *sp = m->space;
-    uint32_t to[FW_CFG_MAX_COMPONENTS];
     model_query_t scratch;
     model_step_t step;
     uint32_t n = 0;
 
-    const uint32_t bucket = delta_bucket_(m, q->comp);
+    const uint32_t bucket = delta_bucket_(m, q->state, q->comp);
     for (uint32_t a = 0; a < sp->n_actions; a++) {
         for (uint32_t d = 0; d < MODEL_MAX_DELTAS && n < MODEL_MAX_PREDECESSORS; d++) {
             const model_delta_t *delta = &m->deltas[a][bucket][d];
             // Undo a change a has made: where the robot was before, but for what it perceived.
             uint32_t back[FW_CFG_MAX_COMPONENTS];
-            if (delta->count == 0u || !apply_delta_(sp, q->comp, delta->delta, -1, back)) {
+            agent_state_t back_state;
+            if (delta->count == 0u ||
+                !apply_delta_(m, q->comp, delta->delta, -1, back, &back_state)) {
                 continue;
             }
             // Each percept seen at that place is a candidate (one, for a space without them).
-            const uint32_t seen = m->percepts != NULL ? m->percepts[place_of_(m, back)] : 1u;
-            for (uint32_t v = 0; seen >> v != 0u && n < MODEL_MAX_PREDECESSORS; v++) {
-                if (!((seen >> v) & 1u)) {
-                    continue;
-                }
+            uint32_t seen =
+                m->percepts != NULL ? m->percepts[select_(m, &m->place_of, back_state, back)] : 1u;
+            for (; seen != 0u && n < MODEL_MAX_PREDECESSORS; seen &= seen - 1u) {
                 model_query_t *const prev = queries != NULL ? queries[n] : &scratch;
-                unpack_masked_(sp, v, sp->absolute_mask, back);
                 for (uint32_t k = 0; k < sp->n_components; k++) {
                     prev->comp[k] = back[k];
                 }
-                prev->state = space_pack(sp, prev->comp);
+                prev->state = back_state;
+                set_percept_(m, lowest_bit_(seen), &prev->state, prev->comp);
                 cmac_tiles_of(&m->forward, prev->comp, a, &prev->tiles);
                 // Confirmed only if the forward prediction leads here, not ending the episode;
                 // the same lookup gives the predecessor's reward.
-                if (!predict_(m, prev->comp, &prev->tiles, a, to, &step) || step.terminal ||
-                    step.next != q->state) {
+                if (!predict_(m, prev->comp, prev->state, &prev->tiles, a, &step) ||
+                    step.terminal || step.next != q->state) {
                     m->rejected++;
                     continue;
                 }

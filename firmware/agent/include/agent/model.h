@@ -57,7 +57,18 @@ extern "C" {
 typedef struct model_field {
     uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
     uint32_t wrap;       // 2^bits - 1 for the change of a circular component, else all ones
+    uint32_t shift;      // where the component sits in a packed state
 } model_field_t;
+
+/// Some components (a mask over them) packed into one index, in order (see select_() in
+/// model.c): one shift and one mask of the packed state when they lie next to each other.
+typedef struct model_select {
+    uint32_t components;  // the mask
+    uint32_t mask;        // of the index: 2^(their bits) - 1
+    uint8_t shift;        // of the lowest one in a packed state
+    uint8_t adjacent;     // they lie next to each other (else packed one by one)
+    uint8_t first, last;  // adjacent: the lowest and the highest of them
+} model_select_t;
 
 /// The usual outcome of one action in one situation.
 typedef struct model_class {
@@ -79,6 +90,12 @@ typedef struct model_delta {
 typedef struct world_model {
     const agent_space_t *space;
     model_field_t field[FW_CFG_MAX_COMPONENTS];
+    // The parts of a state the tables below are indexed by.
+    model_select_t place_of;     // the components outside absolute_mask
+    model_select_t position_of;  // outside absolute_mask and context_mask
+    model_select_t situation_of; // context_mask
+    model_select_t heading_of;   // context_mask outside absolute_mask (the delta buckets)
+    model_select_t percept_of;   // absolute_mask
     cmac_t forward;   // outputs: n_components changes, reward, terminal
     uint8_t min_count;
     // Places (the components outside absolute_mask), situations (context_mask) and positions
