@@ -261,6 +261,8 @@ int run(const std::vector<std::string> &args)
     hal_uart_stats_t us;
     hal_uart_get_stats(&us);
     const std::uint32_t uart_discarded = hal_host_uart_discarded();
+    const std::uint32_t uart_stall_lost = hal_host_uart_stall_lost();
+    const std::uint32_t uart_stalls = hal_host_uart_stalls();
     // Stop sending; keep receiving a little while for frames still in flight, then stop.
     hal_host_can_set_transport(nullptr);
     struct timespec drain = {0, kDrainMs * 1000000L};
@@ -275,11 +277,11 @@ int run(const std::vector<std::string> &args)
                 static_cast<double>(hal_time_us()) * 1e-6);
     std::printf("episodes=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
                 "control_runs=%u misses=%u skipped=%u worst_lateness_us=%u events_dropped=%u q_rows=%u/%u uart_rx_bytes=%u "
-                "uart_overruns=%u uart_discarded=%u\n",
+                "uart_overruns=%u uart_discarded=%u uart_stall_lost=%u uart_stalls=%u\n",
                 st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
                 agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns,
-                uart_discarded);
+                uart_discarded, uart_stall_lost, uart_stalls);
     // Faults and how the firmware met them (docs/realtime.md "Faults").
     std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
                 "tool_refused=%u uart_errors=%u uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u "

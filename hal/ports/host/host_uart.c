@@ -13,12 +13,35 @@
 // the listener began to stream. So opening a path discards the backlog, and bytes fed before
 // hal_uart_init() are not stored either; both are counted apart (hal_host_uart_discarded()),
 // because they are not overruns: the receiver was off, not too slow.
+//
+// A stall of the whole firmware (a debugger halt, a flash erase with the CPU fetching from the
+// bank being erased, interrupts masked too long; on the host SIGSTOP, or the machine not
+// scheduling the process) stops the receive interrupt too. An STM32F4 USART has no FIFO and the
+// port uses no flow control (CR3 = 0; a Cricket listener has none): the first byte that arrives
+// stays in DR, every later one finds RXNE still set, sets ORE and is lost (RM0090 30.6.1). When
+// the CPU runs again the line carries fresh bytes at once. A pty instead keeps every byte its
+// writer sent during the stall (several KB) and would hand that burst to the ring in one go: the
+// 256-byte ring overran, and the firmware spent the next tenths of a second parsing Cricket lines
+// up to a second old, then lost the fresh ones behind them (69.7 % of the bytes received over
+// three 1 s stalls; docs/realtime.md "Stalls"). Neither pacing the reader at the line's rate nor
+// leaving the burst in the kernel (reading only what the ring takes, i.e. RTS/CTS flow control)
+// is what the hardware does: both deliver the stale bytes late instead of losing them.
+//
+// So the reader measures its own absence. It polls every READER_POLL_MS; if more than
+// STALL_GAP_MS passed since it last looked at the line, the process was not running, and what the
+// tty holds now arrived while the receiver could not be serviced: the first byte is kept (DR),
+// the rest are overruns, as on the MCU, and also counted in hal_host_uart_stall_lost(). The host
+// cannot keep the real deadline (one byte time, 87 us at 115200 baud), so a reader late by less
+// than STALL_GAP_MS is treated as on time: the pty stands in for the line's timing there. A
+// reader that runs but feeds a ring the firmware does not drain still overruns the ring
+// (hal_host_uart_feed()), as a too-slow consumer on the MCU does.
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
 #include <string.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "fw/fw_base.h"
@@ -29,6 +52,8 @@
 
 #define RX_MASK ((uint32_t)FW_CFG_HOST_UART_RX_CAPACITY - 1u)
 #define DEFAULT_BAUD 115200u
+#define READER_POLL_MS 20
+#define STALL_GAP_MS 50 // > READER_POLL_MS plus the host's usual wake-up latency, < a 0.1 s stall
 
 static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
 static bool ready_;
@@ -43,6 +68,8 @@ static uint32_t tx_head_;
 static uint32_t tx_count_;
 static hal_uart_stats_t stats_;
 static uint32_t discarded_;
+static uint32_t stall_lost_;
+static uint32_t stalls_;
 
 // Device-path mode.
 static int fd_ = -1;
@@ -50,6 +77,7 @@ static pthread_t reader_;
 static bool reader_running_;
 static bool stop_;
 static bool alive_;
+static bool held_; // hal_host_uart_hold_reader()
 
 static speed_t termios_speed(uint32_t baud)
 {
@@ -215,6 +243,55 @@ size_t hal_host_uart_take_tx(uint8_t *buf, size_t cap)
     return n;
 }
 
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+// What the tty holds after the reader was away longer than STALL_GAP_MS: the first byte is kept
+// (the USART's DR), the rest were lost to overrun while the CPU stood still (the header above).
+// Reads until the tty is empty, bounded like discard_backlog(). Returns false on a read error.
+#define STALL_MAX_READS 4096
+static bool take_stall_backlog(int fd)
+{
+    uint8_t buf[256];
+    uint32_t n = 0;
+    uint8_t first = 0;
+    bool open = true;
+    for (int i = 0; i < STALL_MAX_READS; i++) {
+        ssize_t r = read(fd, buf, sizeof buf);
+        if (r > 0) {
+            if (n == 0u) {
+                first = buf[0];
+            }
+            n += (uint32_t)r;
+        } else if (r < 0 && errno == EINTR) {
+            continue;
+        } else {
+            // Empty (a raw tty with VMIN = VTIME = 0 reads 0, or EAGAIN), or an error such as the
+            // EIO of a pty whose master closed, which ends the reader.
+            open = r == 0 || errno == EAGAIN;
+            break;
+        }
+    }
+    if (n == 0u) {
+        return open;
+    }
+    (void)hal_host_uart_feed(&first, 1u);
+    pthread_mutex_lock(&lock_);
+    if (ready_) {
+        stats_.rx_overruns += n - 1u;
+        stall_lost_ += n - 1u;
+        stalls_++;
+    } else {
+        discarded_ += n - 1u; // receiver off: not an overrun (feed counted the first byte)
+    }
+    pthread_mutex_unlock(&lock_);
+    return open;
+}
+
 static void *reader_main(void *arg)
 {
     (void)arg;
@@ -222,19 +299,34 @@ static void *reader_main(void *arg)
     int fd = fd_;
     pthread_mutex_unlock(&lock_);
     uint8_t buf[64];
+    int64_t looked = now_ms(); // the last time the reader serviced the line
     for (;;) {
         pthread_mutex_lock(&lock_);
         bool stop = stop_;
+        bool held = held_;
         pthread_mutex_unlock(&lock_);
         if (stop) {
             break;
         }
+        if (held) {
+            (void)poll(NULL, 0, 2); // as a stopped process: the line is not serviced
+            continue;
+        }
         struct pollfd pfd = {.fd = fd, .events = POLLIN, .revents = 0};
-        int pr = poll(&pfd, 1, 20);
+        int pr = poll(&pfd, 1, READER_POLL_MS);
         if (pr < 0 && errno != EINTR) {
             break;
         }
+        const int64_t now = now_ms();
+        const bool stalled = now - looked > STALL_GAP_MS;
+        looked = now;
         if (pr <= 0) {
+            continue;
+        }
+        if (stalled) {
+            if (!take_stall_backlog(fd)) {
+                break;
+            }
             continue;
         }
         ssize_t n = read(fd, buf, sizeof buf);
@@ -248,6 +340,29 @@ static void *reader_main(void *arg)
     alive_ = false;
     pthread_mutex_unlock(&lock_);
     return NULL;
+}
+
+void hal_host_uart_hold_reader(bool hold)
+{
+    pthread_mutex_lock(&lock_);
+    held_ = hold;
+    pthread_mutex_unlock(&lock_);
+}
+
+uint32_t hal_host_uart_stall_lost(void)
+{
+    pthread_mutex_lock(&lock_);
+    uint32_t n = stall_lost_;
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
+uint32_t hal_host_uart_stalls(void)
+{
+    pthread_mutex_lock(&lock_);
+    uint32_t n = stalls_;
+    pthread_mutex_unlock(&lock_);
+    return n;
 }
 
 uint32_t hal_host_uart_discarded(void)
@@ -357,5 +472,8 @@ void host_uart_reset(void)
     tx_head_ = tx_count_ = 0;
     memset(&stats_, 0, sizeof stats_);
     discarded_ = 0;
+    stall_lost_ = 0;
+    stalls_ = 0;
+    held_ = false;
     pthread_mutex_unlock(&lock_);
 }

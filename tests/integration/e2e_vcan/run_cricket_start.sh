@@ -50,10 +50,15 @@ written=$(field "$TMP/devices.out" pty_bytes)
 rx=$(field "$TMP/fw.out" uart_rx_bytes)
 overruns=$(field "$TMP/fw.out" uart_overruns)
 discarded=$(field "$TMP/fw.out" uart_discarded)
-[ -n "$written" ] && [ -n "$rx" ] && [ -n "$overruns" ] && [ -n "$discarded" ] || fail "counters missing"
-echo "pty_bytes=$written uart_discarded=$discarded uart_rx_bytes=$rx uart_overruns=$overruns"
+stall_lost=$(field "$TMP/fw.out" uart_stall_lost)
+[ -n "$written" ] && [ -n "$rx" ] && [ -n "$overruns" ] && [ -n "$discarded" ] && [ -n "$stall_lost" ] ||
+    fail "counters missing"
+echo "pty_bytes=$written uart_discarded=$discarded uart_rx_bytes=$rx uart_overruns=$overruns uart_stall_lost=$stall_lost"
 [ "$discarded" -gt 256 ] || fail "no backlog was discarded at the open (uart_discarded=$discarded)"
-[ "$overruns" -eq 0 ] || fail "a normal start overran the UART (uart_overruns=$overruns)"
+# A machine too loaded to run the firmware for more than 50 ms stalls it: those bytes are lost as
+# on the MCU (uart_stall_lost, part of uart_overruns), and are not what this test is about.
+[ "$overruns" -eq "$stall_lost" ] ||
+    fail "a normal start overran the UART's ring (uart_overruns=$overruns, of which $stall_lost in stalls)"
 [ "$rx" -gt 0 ] || fail "no Cricket bytes received after the open"
 [ $((discarded + rx + overruns)) -le "$written" ] || fail "the firmware counted more bytes than were written"
 echo "PASS"

@@ -626,6 +626,66 @@ static void test_uart_pty_backlog_discarded_at_open(void **state)
     close(master);
 }
 
+// A stall of the whole firmware (the reader held as SIGSTOP holds it): what the tty gathered
+// meanwhile is what an STM32F4 USART loses to overrun, all but the first byte (DR); counted in
+// rx_overruns and hal_host_uart_stall_lost(), nothing of it reaches the ring beyond that byte,
+// and the line resumes with the bytes written after the stall, whole. Fails if the backlog is
+// handed to the ring (256 stale bytes received, the rest overruns, stall_lost 0).
+static void test_uart_pty_stall_loses_backlog(void **state)
+{
+    (void)state;
+    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0) {
+        skip();
+    }
+    assert_int_equal(grantpt(master), 0);
+    assert_int_equal(unlockpt(master), 0);
+    struct termios t;
+    assert_int_equal(tcgetattr(master, &t), 0);
+    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    t.c_oflag &= ~(tcflag_t)OPOST;
+    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
+    char slave[128];
+    snprintf(slave, sizeof slave, "%s", ptsname(master));
+    assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
+    assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
+
+    hal_host_uart_hold_reader(true);
+    static uint8_t during[8u * FW_CFG_HOST_UART_RX_CAPACITY];
+    for (size_t i = 0; i < sizeof during; i++) {
+        during[i] = (uint8_t)('a' + i % 26u);
+    }
+    assert_int_equal(write(master, during, sizeof during), (ssize_t)sizeof during);
+    (void)poll(NULL, 0, 120); // longer than the 50 ms the reader may be late by
+    hal_host_uart_hold_reader(false);
+    hal_uart_stats_t st;
+    for (int tries = 0; tries < 400; tries++) {
+        hal_uart_get_stats(&st);
+        if (st.rx_bytes + st.rx_overruns >= sizeof during) {
+            break;
+        }
+        (void)poll(NULL, 0, 5);
+    }
+    assert_int_equal(st.rx_bytes, 1);
+    assert_int_equal(st.rx_overruns, sizeof during - 1u);
+    assert_int_equal(hal_host_uart_stall_lost(), sizeof during - 1u);
+    assert_int_equal(hal_host_uart_stalls(), 1);
+    uint8_t r[64];
+    assert_int_equal(hal_uart_read(r, sizeof r), 1);
+    assert_int_equal(r[0], 'a'); // the first byte of the stall stays in DR
+
+    // Running again: a line written now arrives whole, and no byte more is lost.
+    const char line[] = "VR=2.0,ID=01:02:03:04:05:06:07:08,DB=14,DR=423\r\n";
+    assert_int_equal(write(master, line, sizeof line - 1), (ssize_t)(sizeof line - 1));
+    assert_int_equal(read_n(r, sizeof line - 1), sizeof line - 1);
+    assert_memory_equal(r, line, sizeof line - 1);
+    hal_uart_get_stats(&st);
+    assert_int_equal(st.rx_overruns, sizeof during - 1u);
+    hal_host_uart_close_path();
+    close(master);
+}
+
 // ---- Clock, CPU, watchdog -----------------------------------------------------------------------
 
 static void test_lockstep_clock_and_account(void **state)
@@ -761,6 +821,7 @@ int main(void)
         cmocka_unit_test_setup(test_uart_write_and_take, setup),
         cmocka_unit_test_setup(test_uart_pty, setup),
         cmocka_unit_test_setup(test_uart_pty_backlog_discarded_at_open, setup),
+        cmocka_unit_test_setup(test_uart_pty_stall_loses_backlog, setup),
         cmocka_unit_test_setup(test_lockstep_clock_and_account, setup),
         cmocka_unit_test_setup(test_realtime_clock, setup),
         cmocka_unit_test_setup(test_irq_nesting, setup),

@@ -186,6 +186,21 @@ bool hal_host_uart_path_alive(void);
 /// hal_uart_stats_t's rx_overruns. Reset by hal_host_reset(). Context: any thread.
 uint32_t hal_host_uart_discarded(void);
 
+/// Device-path mode: bytes lost while the firmware was stalled (SIGSTOP, not scheduled): when
+/// the reader thread finds it was away from the line for more than 50 ms, the tty's backlog is
+/// what arrived while no receive interrupt could run. As on an STM32F4 USART (no FIFO, no flow
+/// control), the first of those bytes is received and the others are overruns: they are counted
+/// in hal_uart_stats_t's rx_overruns and here. rx_overruns minus this is what a running firmware
+/// lost to a full ring. Reset by hal_host_reset(). Context: any thread.
+uint32_t hal_host_uart_stall_lost(void);
+
+/// How many stalls hal_host_uart_stall_lost() met with bytes waiting. Context: any thread.
+uint32_t hal_host_uart_stalls(void);
+
+/// For tests: while held, the reader thread does not service the line, as if the process were
+/// stopped; released, it finds the stall as after SIGCONT. Context: any thread.
+void hal_host_uart_hold_reader(bool hold);
+
 // ---- Flash --------------------------------------------------------------------------------------
 
 /// Sets the geometry and erases the whole region to 0xFF; detaches any file. Requirements:
