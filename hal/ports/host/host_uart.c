@@ -77,7 +77,8 @@ static pthread_t reader_;
 static bool reader_running_;
 static bool stop_;
 static bool alive_;
-static bool held_; // hal_host_uart_hold_reader()
+static bool held_;    // hal_host_uart_hold_reader()
+static bool holding_; // the reader saw held_ and stays off the line
 
 static speed_t termios_speed(uint32_t baud)
 {
@@ -308,6 +309,9 @@ static void *reader_main(void *arg)
         if (stop) {
             break;
         }
+        pthread_mutex_lock(&lock_);
+        holding_ = held;
+        pthread_mutex_unlock(&lock_);
         if (held) {
             (void)poll(NULL, 0, 2); // as a stopped process: the line is not serviced
             continue;
@@ -347,6 +351,17 @@ void hal_host_uart_hold_reader(bool hold)
     pthread_mutex_lock(&lock_);
     held_ = hold;
     pthread_mutex_unlock(&lock_);
+    // Holding returns once the reader is off the line (it may be inside a poll of up to
+    // READER_POLL_MS, and would service what arrives there); bounded, should it have ended.
+    for (int i = 0; hold && reader_running_ && i < 1000; i++) {
+        pthread_mutex_lock(&lock_);
+        const bool off = holding_ || !alive_;
+        pthread_mutex_unlock(&lock_);
+        if (off) {
+            break;
+        }
+        (void)poll(NULL, 0, 1);
+    }
 }
 
 uint32_t hal_host_uart_stall_lost(void)
@@ -475,5 +490,6 @@ void host_uart_reset(void)
     stall_lost_ = 0;
     stalls_ = 0;
     held_ = false;
+    holding_ = false;
     pthread_mutex_unlock(&lock_);
 }

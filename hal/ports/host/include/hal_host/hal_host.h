@@ -198,7 +198,8 @@ uint32_t hal_host_uart_stall_lost(void);
 uint32_t hal_host_uart_stalls(void);
 
 /// For tests: while held, the reader thread does not service the line, as if the process were
-/// stopped; released, it finds the stall as after SIGCONT. Context: any thread.
+/// stopped (returns once the reader is off the line); released, it finds the stall as after
+/// SIGCONT. Context: any thread.
 void hal_host_uart_hold_reader(bool hold);
 
 // ---- Flash --------------------------------------------------------------------------------------
