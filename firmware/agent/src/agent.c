@@ -411,14 +411,9 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 
 // ---- Saving and restoring what was learned ----------------------------------------------------
 
-static uint32_t add_region_(agent_region_t *out, uint32_t n, void *data, uint32_t size)
+static uint32_t add_region_(agent_region_t *out, uint32_t n, const void *data, uint32_t size)
 {
-    if (data != NULL && size > 0u) {
-        out[n].data = data;
-        out[n].size = size;
-        n++;
-    }
-    return n;
+    return agent_region_add(out, n, data, size);
 }
 
 static uint32_t add_cmac_(agent_region_t *out, uint32_t n, const cmac_t *c)
@@ -431,19 +426,16 @@ static uint32_t add_cmac_(agent_region_t *out, uint32_t n, const cmac_t *c)
 
 uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS])
 {
-    uint32_t n = 0;
-    const qstore_t *q = &ag->q;
-    n = add_region_(out, n, q->q, q->capacity * q->n_actions * (uint32_t)sizeof(float));
-    if (!q->dense) {
-        n = add_region_(out, n, q->keys, q->capacity * (uint32_t)sizeof(uint32_t));
-    }
+    // Each table lists its own regions; the model's parts are listed here until the model
+    // lists them itself.
+    uint32_t n = qstore_regions(&ag->q, out);
     if (ag->kind == AGENT_DYNA_QPC) {
         const world_model_t *m = &ag->model;
         n = add_cmac_(out, n, &m->forward);
         n = add_region_(out, n, m->percepts, m->places * (uint32_t)sizeof(uint16_t));
         n = add_region_(out, n, m->classes, m->n_classes * (uint32_t)sizeof(model_class_t));
         n = add_region_(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
-        n = add_region_(out, n, (void *)(uintptr_t)m->deltas, (uint32_t)sizeof m->deltas);
+        n = add_region_(out, n, m->deltas, (uint32_t)sizeof m->deltas);
     } else if (ag->kind == AGENT_DYNA_Q) {
         const dynaq_table_t *t = &ag->table;
         n = add_region_(out, n, t->records, t->capacity * (uint32_t)sizeof(dynaq_record_t));
@@ -466,9 +458,7 @@ static uint32_t count_used_(const uint32_t *keys, uint32_t n)
 
 void agent_learned_restored(agent_t *ag)
 {
-    if (!ag->q.dense) {
-        ag->q.rows_used = count_used_(ag->q.keys, ag->q.capacity);
-    }
+    qstore_restored(&ag->q);
     if (ag->kind == AGENT_DYNA_QPC) {
         ag->model.forward.stats.cells_used =
             count_used_(ag->model.forward.keys, ag->model.forward.capacity);
@@ -482,12 +472,11 @@ int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REG
 {
     // The regions in agent_learned_regions()' order.
     const uint32_t state_bits = space_state_bits(ag->space);
-    uint32_t i = 0;
-    const float *q = (const float *)image[i++];
-    const uint32_t *q_keys = ag->q.dense ? NULL : (const uint32_t *)image[i++];
-    if (qstore_check(&ag->q, q, q_keys, state_bits) != FW_OK) {
+    agent_region_t scratch[AGENT_MAX_REGIONS];
+    if (qstore_check(&ag->q, image, state_bits) != FW_OK) {
         return FW_ERR_CORRUPT;
     }
+    uint32_t i = qstore_regions(&ag->q, scratch);
     if (ag->kind == AGENT_DYNA_QPC) {
         const world_model_t *m = &ag->model;
         if (cmac_check(&m->forward, (const uint32_t *)image[i], (const uint8_t *)image[i + 1u],

@@ -8,7 +8,7 @@
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 #include "inline.h"
-#include "probe.h"
+#include "agent/oa_table.h"
 
 int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *counts,
               int16_t *weights, uint32_t capacity)
@@ -305,7 +305,7 @@ AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *til
         const uint32_t key = *tile ^ change;
         const uint32_t home = fw_fib_mix(key) >> home_shift;
         if (home + FW_CFG_MAX_PROBE <= capacity) {
-            const uint32_t *const cell = probe_scan(keys + home, key, full);
+            const uint32_t *const cell = oa_scan_window(keys + home, key, full);
             if (cell == NULL) {
                 return false;
             }

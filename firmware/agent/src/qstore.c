@@ -4,12 +4,12 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "check.h"
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 #include "inline.h"
-#include "probe.h"
 
 // What an unknown state reads as. Large enough for any action count.
 static const float zero_row_[FW_CFG_MAX_ACTIONS];
@@ -22,13 +22,17 @@ int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8
         return FW_ERR_INVAL;
     }
     qs->q = q;
-    qs->keys = keys;
     qs->capacity = capacity;
     qs->n_actions = n_actions;
-    qs->capacity_shift = (uint8_t)fw_log2_ceil(capacity);
     qs->dense = (uint8_t)((1u << state_bits) <= capacity);
-    if (!qs->dense && keys == NULL) {
-        return FW_ERR_INVAL;
+    qs->index = (oa_table_t){0};
+    if (!qs->dense) {
+        // Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive
+        // states, which neighbouring robot poses are, evenly over the table.
+        const uint32_t limit = FW_CFG_MAX_PROBE < capacity ? FW_CFG_MAX_PROBE : capacity;
+        if (oa_init(&qs->index, keys, capacity, limit, OA_HOME_HIGH) != FW_OK) {
+            return FW_ERR_INVAL;
+        }
     }
     qstore_clear(qs);
     return FW_OK;
@@ -41,60 +45,22 @@ void qstore_clear(qstore_t *qs)
         qs->q[i] = 0.0f;
     }
     if (!qs->dense) {
-        for (uint32_t i = 0; i < qs->capacity; i++) {
-            qs->keys[i] = QSTORE_EMPTY;
-        }
+        oa_clear(&qs->index);
     }
     qs->rows_used = 0;
     qs->dropped = 0;
     qs->plan_refused = 0;
 }
 
-// Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive states,
-// which neighbouring robot poses are, evenly over the table.
-static uint32_t home_(const qstore_t *qs, agent_state_t s)
-{
-    return fw_fib_mix(s) >> (32u - qs->capacity_shift);
-}
-
-// The slot holding s, or the first empty slot where it would go, or capacity if neither is
-// within the probe limit.
-static uint32_t find_(const qstore_t *qs, agent_state_t s)
-{
-    const uint32_t mask = qs->capacity - 1u;
-    uint32_t slot = qs->capacity_shift ? home_(qs, s) : 0u;
-    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE && probe < qs->capacity; probe++) {
-        const uint32_t key = qs->keys[slot];
-        if (key == s || key == QSTORE_EMPTY) {
-            return slot;
-        }
-        slot = (slot + 1u) & mask;
-    }
-    return qs->capacity;
-}
-
-// The row holding s, or capacity if it has none: find_() for reading, which is most of the
-// planner's lookups (about three per planning update). A probe window that does not wrap around
-// the table's end is scanned by pointer (probe.h).
-AGENT_ALWAYS_INLINE uint32_t lookup_(const qstore_t *qs, agent_state_t s)
-{
-    const uint32_t home = qs->capacity_shift ? home_(qs, s) : 0u;
-    if (home + FW_CFG_MAX_PROBE > qs->capacity) {
-        const uint32_t slot = find_(qs, s);
-        return slot != qs->capacity && qs->keys[slot] == s ? slot : qs->capacity;
-    }
-    const uint32_t *const row = probe_scan(qs->keys + home, s, qs->rows_used == qs->capacity);
-    return row != NULL ? (uint32_t)(row - qs->keys) : qs->capacity;
-}
-
-// The row of s for reading; an unknown state reads as zeros.
+// The row of state s for reading; an unknown state reads as zeros. The planner's lookups (about
+// three per planning update) come here.
 AGENT_ALWAYS_INLINE const float *row_of_(const qstore_t *qs, agent_state_t s)
 {
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    const uint32_t slot = lookup_(qs, s);
-    return slot == qs->capacity ? zero_row_ : &qs->q[slot * qs->n_actions];
+    const uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
+    return slot == OA_NONE ? zero_row_ : &qs->q[slot * qs->n_actions];
 }
 
 const float *qstore_row(const qstore_t *qs, agent_state_t s)
@@ -102,32 +68,31 @@ const float *qstore_row(const qstore_t *qs, agent_state_t s)
     return row_of_(qs, s);
 }
 
-// A full probe window: the new state takes the row of the window that has learned least (the
-// smallest sum of |Q|: a state seen once or twice), which is emptied. Rows are reused in place,
-// so no probe path is broken.
+// How much a row has learned: the sum of |Q| over its actions (a state seen once or twice has
+// little), for oa_least(). The sum is never negative, and non-negative floats order as their
+// bits do, so the bits are the score.
+static uint32_t learned_(void *ctx, uint32_t slot)
+{
+    const qstore_t *qs = ctx;
+    const float *row = &qs->q[slot * qs->n_actions];
+    float sum = 0.0f;
+    for (uint32_t a = 0; a < qs->n_actions; a++) {
+        sum += row[a] < 0.0f ? -row[a] : row[a];
+    }
+    uint32_t bits;
+    memcpy(&bits, &sum, sizeof bits);
+    return bits;
+}
+
+// A full probe window: the new state takes the row of the window that has learned least, which
+// is emptied and reused in place, so no probe path is broken.
 static uint32_t evict_(qstore_t *qs, agent_state_t s)
 {
-    const uint32_t mask = qs->capacity - 1u;
-    uint32_t slot = qs->capacity_shift ? home_(qs, s) : 0u;
-    uint32_t victim = slot;
-    float least = -1.0f;
-    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE && probe < qs->capacity; probe++) {
-        const float *row = &qs->q[slot * qs->n_actions];
-        float sum = 0.0f;
-        for (uint32_t a = 0; a < qs->n_actions; a++) {
-            sum += row[a] < 0.0f ? -row[a] : row[a];
-        }
-        if (least < 0.0f || sum < least) {
-            least = sum;
-            victim = slot;
-        }
-        slot = (slot + 1u) & mask;
-    }
+    const uint32_t victim = oa_least(&qs->index, s, learned_, qs);
     float *row = &qs->q[victim * qs->n_actions];
     for (uint32_t a = 0; a < qs->n_actions; a++) {
         row[a] = 0.0f;
     }
-    qs->keys[victim] = QSTORE_EMPTY;
     qs->rows_used--;
     qs->dropped++;  // a state forgotten
     return victim;
@@ -140,17 +105,17 @@ static float *row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict)
     if (qs->dense) {
         return &qs->q[s * qs->n_actions];
     }
-    uint32_t slot = lookup_(qs, s);  // the common case: s has its row
-    if (slot == qs->capacity) {
-        slot = find_(qs, s);
-        if (slot == qs->capacity) {
+    uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
+    if (slot == OA_NONE) {  // not the common case: s has no row yet
+        slot = oa_insert(&qs->index, s);
+        if (slot == OA_NONE) {
             if (!may_evict) {
                 qs->plan_refused++;
                 return NULL;
             }
             slot = evict_(qs, s);
+            oa_put(&qs->index, slot, s);
         }
-        qs->keys[slot] = s;
         qs->rows_used++;
     }
     return &qs->q[slot * qs->n_actions];
@@ -178,8 +143,18 @@ float qstore_max(const qstore_t *qs, agent_state_t s)
     return best;
 }
 
-int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint32_t state_bits)
+uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out)
 {
+    uint32_t n = agent_region_add(out, 0, qs->q, qs->capacity * qs->n_actions * (uint32_t)sizeof(float));
+    if (!qs->dense) {
+        n = agent_region_add(out, n, qs->index.keys, qs->capacity * (uint32_t)sizeof(uint32_t));
+    }
+    return n;
+}
+
+int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bits)
+{
+    const float *const q = image[0];
     const uint32_t n = qs->n_actions;
     for (uint32_t i = 0; i < qs->capacity * n; i++) {
         if (!check_finite(q[i]) || q[i] > QSTORE_VALUE_LIMIT || q[i] < -QSTORE_VALUE_LIMIT) {
@@ -189,8 +164,7 @@ int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint3
     if (qs->dense) {
         return FW_OK;
     }
-    const uint32_t mask = qs->capacity - 1u;
-    const uint32_t limit = FW_CFG_MAX_PROBE < qs->capacity ? FW_CFG_MAX_PROBE : qs->capacity;
+    const uint32_t *const keys = image[1];
     for (uint32_t slot = 0; slot < qs->capacity; slot++) {
         const uint32_t key = keys[slot];
         if (key == QSTORE_EMPTY) {
@@ -199,11 +173,16 @@ int qstore_check(const qstore_t *qs, const float *q, const uint32_t *keys, uint3
                     return FW_ERR_CORRUPT;
                 }
             }
-        } else if ((state_bits < 32u && (key >> state_bits) != 0u) ||
-                   !check_probe_path(keys, mask, qs->capacity_shift ? home_(qs, key) : 0u, slot,
-                                     limit)) {
+        } else if ((key >> state_bits) != 0u || !oa_path_ok(&qs->index, keys, slot)) {
             return FW_ERR_CORRUPT;
         }
     }
     return FW_OK;
+}
+
+void qstore_restored(qstore_t *qs)
+{
+    if (!qs->dense) {
+        qs->rows_used = oa_count(&qs->index, qs->index.keys);
+    }
 }

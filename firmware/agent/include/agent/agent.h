@@ -11,6 +11,7 @@
 #include "agent/pqueue.h"
 #include "fw/fw_prng.h"
 #include "agent/qstore.h"
+#include "agent/region.h"
 #include "agent/space.h"
 
 #ifdef __cplusplus
@@ -126,12 +127,6 @@ uint32_t agent_plan(agent_t *ag, uint32_t n);
 
 /// Q(s, a).
 float agent_q(const agent_t *ag, agent_state_t s, uint8_t a);
-
-/// A piece of memory that holds part of what the agent learned.
-typedef struct agent_region {
-    void *data;
-    uint32_t size;  ///< bytes
-} agent_region_t;
 
 /// The most regions agent_learned_regions() lists.
 #define AGENT_MAX_REGIONS 10u
