@@ -416,6 +416,22 @@ static uint32_t evict_(cmac_t *cmac, uint32_t key, const uint32_t *taken, uint32
     return victim;
 }
 
+bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles)
+{
+    uint32_t slots[FW_CFG_MAX_TILINGS];
+    for (uint32_t t = 0; t < cmac->n_patterns; t++) {
+        slots[t] = lookup_(cmac, tiles->key[t]);
+        if (slots[t] == cmac->capacity || cmac->counts[slots[t]] <= 1u) {
+            return false;
+        }
+    }
+    for (uint32_t t = 0; t < cmac->n_patterns; t++) {
+        cmac->counts[slots[t]]--;
+    }
+    cmac->stats.contradicted++;
+    return true;
+}
+
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;

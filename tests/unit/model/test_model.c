@@ -210,8 +210,8 @@ static void untried_pairs_are_predicted_by_their_situation(void **state)
     assert_true(found);
 }
 
-// The gates: a place that showed two codes is not predictable; a situation whose outcome was
-// contradicted more than once in eight observations is not trusted.
+// The gates: a place that showed two codes is not predictable; a situation's outcome is the
+// majority of its observations, trusted once seen MODEL_CLASS_MIN_COUNT (3) times.
 static void generalisation_is_gated_by_confidence(void **state)
 {
     (void)state;
@@ -227,11 +227,49 @@ static void generalisation_is_gated_by_confidence(void **state)
     assert_int_equal(out.next, rel_state(6, 4, 1));
     model_learn(&m, rel_state(6, 4, 3), 2, -1.0f, rel_state(6, 5, 1), false);  // (6, 4) also 3
     assert_false(model_predict(&m, rel_state(5, 4, 0), 0, &out));
-    // Contradict the situation once (a bump): 4 agree, 1 disagrees, 1 * 8 > 4.
+    // Contradicted (a bump), the usual outcome stays while it has the majority: 4 agreed, and
+    // up to 4 disagree...
     model_learn(&m, rel_state(11, 4, 0), 2, -1.0f, rel_state(11, 5, 0), false);
-    assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    for (uint32_t i = 0; i < 4; i++) {
+        model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
+        assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+        assert_int_equal(out.next, rel_state(11, 4, 0));
+    }
+    // ...the fifth replaces it with the bump, not trusted until seen 3 times.
     model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
     assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
+    assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
+    assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(10, 4, 0));
+    assert_true(out.reward == -100.0f);
+}
+
+// A tried pair keeps the outcome most of its observations agreed on: one that contradicts it
+// counts against it, and replaces it only once the contradictions outnumber the agreements.
+static void tried_pairs_keep_their_majority_outcome(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    const agent_state_t s = rel_state(3, 4, 0);
+    for (uint32_t i = 0; i < 3; i++) {  // 3 agree: moves on
+        model_learn(&m, s, 0, -1.0f, rel_state(4, 4, 0), false);
+    }
+    model_step_t out;
+    for (uint32_t i = 0; i < 2; i++) {  // 2 slip: the move is still the outcome
+        model_learn(&m, s, 0, -100.0f, s, false);
+        assert_true(model_predict(&m, s, 0, &out));
+        assert_int_equal(out.next, rel_state(4, 4, 0));
+        assert_true(out.reward == -1.0f);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 2);
+    // The third contradiction finds the move's margin at 1 (3 agreed, 2 disagreed) and replaces it.
+    model_learn(&m, s, 0, -100.0f, s, false);
+    assert_true(model_predict(&m, s, 0, &out));
+    assert_int_equal(out.next, s);
+    assert_true(out.reward == -100.0f);
 }
 
 // Where an episode ended is a fact of the position: arriving there from anywhere ends it.
@@ -314,6 +352,7 @@ int main(void)
         cmocka_unit_test(every_observed_predecessor_is_found),
         cmocka_unit_test(untried_pairs_are_predicted_by_their_situation),
         cmocka_unit_test(generalisation_is_gated_by_confidence),
+        cmocka_unit_test(tried_pairs_keep_their_majority_outcome),
         cmocka_unit_test(terminal_arrivals_are_predicted_by_position),
         cmocka_unit_test(out_of_range_predictions_are_untrusted),
         cmocka_unit_test(min_count_requires_repeated_training),

@@ -41,6 +41,7 @@ typedef struct cmac_stats {
     uint32_t evicted;     ///< cells reused for a new tile: the least-trained one in its window
     uint32_t saturated;   ///< weight updates clipped to the int16 range
     uint32_t trained;     ///< calls to cmac_train()
+    uint32_t contradicted;  ///< observations that cmac_contradict() counted against a kept outcome
 } cmac_stats_t;
 
 /// The tile keys of one input (state components and action), computed once and reused for
@@ -135,6 +136,13 @@ bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_
 /// within the probe limit (counted in `dropped`): predictions over these tiles stay untrusted
 /// until a later training stores them.
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired);
+
+/// One observation contradicted what the cells of `tiles` hold, which keeps it: each cell's
+/// count drops by one, so that a count is how many more observations agreed than disagreed
+/// (`contradicted` counts these). Refuses, changing nothing, when a cell is missing or has a count
+/// of 1: the outcome has lost its majority, and the caller trains on the new one instead.
+/// Returns whether the cells kept their outcome.
+bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles);
 
 /// Checks restored contents before they are copied into `cmac` (which gives the shape):
 /// `keys` and `counts` hold capacity entries, `weights` capacity * n_outputs. Every cell must be

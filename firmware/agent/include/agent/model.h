@@ -31,10 +31,14 @@ extern "C" {
 ///   predecessor is found (CMAC-R named one per (s', a), the last seen), and so are untried
 ///   pairs the generalisation predicts to lead to s.
 ///
+/// Outcomes are stochastic (a wheel slips, a reading is noisy): both models keep the outcome
+/// most observations agreed on, replaced only once as many disagreed (CMAC-Model through
+/// cmac_contradict(); a situation through its counts of agreeing and disagreeing observations).
+///
 /// A prediction is trusted only when its CMAC cells were each trained at least `min_count`
 /// times, or, for an untried pair, when its situation's outcome was seen at least
-/// MODEL_CLASS_MIN_COUNT times with at most one disagreement in MODEL_CLASS_MAX_MISS_SHARE and
-/// the place it leads to shows one percept only; and each predicted component lies in range.
+/// MODEL_CLASS_MIN_COUNT times and the place it leads to shows one percept only; and each
+/// predicted component lies in range.
 
 /// Most predecessors model_query_predecessors() returns for one state.
 #define MODEL_MAX_PREDECESSORS 16u
@@ -44,13 +48,9 @@ extern "C" {
 #define MODEL_DELTA_BUCKETS 16u
 /// Most distinct changes kept per action and bucket (the least seen is replaced when full).
 #define MODEL_MAX_DELTAS 4u
-/// A situation's outcome generalises once it was seen this often...
+/// A situation's outcome generalises once it was seen this often.
 #ifndef MODEL_CLASS_MIN_COUNT
 #define MODEL_CLASS_MIN_COUNT 3u
-#endif
-/// ...and disagreed with at most once in this many observations.
-#ifndef MODEL_CLASS_MAX_MISS_SHARE
-#define MODEL_CLASS_MAX_MISS_SHARE 8u
 #endif
 
 /// How a predicted change applies to one component (see decode_() in model.c).
