@@ -416,14 +416,6 @@ static uint32_t add_region_(agent_region_t *out, uint32_t n, const void *data, u
     return agent_region_add(out, n, data, size);
 }
 
-static uint32_t add_cmac_(agent_region_t *out, uint32_t n, const cmac_t *c)
-{
-    n = add_region_(out, n, c->keys, c->capacity * (uint32_t)sizeof(uint32_t));
-    n = add_region_(out, n, c->counts, c->capacity);
-    return add_region_(out, n, c->weights,
-                       c->capacity * c->cfg.n_outputs * (uint32_t)sizeof(int16_t));
-}
-
 uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS])
 {
     // Each table lists its own regions; the model's parts are listed here until the model
@@ -431,7 +423,7 @@ uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_R
     uint32_t n = qstore_regions(&ag->q, out);
     if (ag->kind == AGENT_DYNA_QPC) {
         const world_model_t *m = &ag->model;
-        n = add_cmac_(out, n, &m->forward);
+        n += cmac_regions(&m->forward, out + n);
         n = add_region_(out, n, m->percepts, m->places * (uint32_t)sizeof(uint16_t));
         n = add_region_(out, n, m->classes, m->n_classes * (uint32_t)sizeof(model_class_t));
         n = add_region_(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
@@ -447,21 +439,11 @@ uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_R
     return n;
 }
 
-static uint32_t count_used_(const uint32_t *keys, uint32_t n)
-{
-    uint32_t used = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        used += keys[i] != UINT32_MAX;
-    }
-    return used;
-}
-
 void agent_learned_restored(agent_t *ag)
 {
     qstore_restored(&ag->q);
     if (ag->kind == AGENT_DYNA_QPC) {
-        ag->model.forward.stats.cells_used =
-            count_used_(ag->model.forward.keys, ag->model.forward.capacity);
+        cmac_restored(&ag->model.forward);
         pq_clear(&ag->pq);
     } else if (ag->kind == AGENT_DYNA_Q) {
         dynaq_restored(&ag->table);
@@ -479,11 +461,10 @@ int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REG
     uint32_t i = qstore_regions(&ag->q, scratch);
     if (ag->kind == AGENT_DYNA_QPC) {
         const world_model_t *m = &ag->model;
-        if (cmac_check(&m->forward, (const uint32_t *)image[i], (const uint8_t *)image[i + 1u],
-                       (const int16_t *)image[i + 2u]) != FW_OK) {
+        if (cmac_check(&m->forward, image + i) != FW_OK) {
             return FW_ERR_CORRUPT;
         }
-        i += 3u;
+        i += cmac_regions(&m->forward, scratch);
         // The situations, arrivals and changes hold any values safely (every use range-checks
         // what it computes from them); a percept mask must not name a value the absolute
         // components cannot take.

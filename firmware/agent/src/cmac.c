@@ -4,7 +4,6 @@
 
 #include <stddef.h>
 
-#include "check.h"
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
 #include "inline.h"
@@ -31,12 +30,15 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         }
     }
     cmac->cfg = *cfg;
-    cmac->keys = keys;
+    // The cells' keys: bounded windows of FW_CFG_MAX_PROBE cells, homes from the top bits of the
+    // key's hash.
+    const uint32_t limit = FW_CFG_MAX_PROBE < capacity ? FW_CFG_MAX_PROBE : capacity;
+    if (oa_init(&cmac->index, keys, capacity, limit, OA_HOME_HIGH) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
     cmac->counts = counts;
     cmac->weights = weights;
     cmac->capacity = capacity;
-    cmac->capacity_shift = (uint8_t)fw_log2_ceil(capacity);
-    cmac->home_shift = (uint8_t)(32u - cmac->capacity_shift);
     const uint32_t tiling_bits = fw_log2_ceil(cfg->n_tilings);
 
     // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
@@ -136,8 +138,8 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
 
 void cmac_clear(cmac_t *cmac)
 {
+    oa_clear(&cmac->index);
     for (uint32_t i = 0; i < cmac->capacity; i++) {
-        cmac->keys[i] = CMAC_EMPTY;
         cmac->counts[i] = 0;
     }
     const uint32_t n = cmac->capacity * cmac->cfg.n_outputs;
@@ -188,7 +190,13 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     for (uint32_t p = 0; p < n; p++) {
         tiles->key[p] = p | common;
     }
-    for (uint32_t j = 0; j < cmac->n_tiled; j++) {
+    // Every input exact (the shipped configurations): no pattern flips anything, and the loop's
+    // set-up is not worth paying.
+    const uint32_t n_tiled = cmac->n_tiled;
+    if (n_tiled == 0u) {
+        return;
+    }
+    for (uint32_t j = 0; j < n_tiled; j++) {
         const uint32_t k = cmac->tiled[j];
         const uint32_t sh = cmac->cfg.tile_shift[k];
         const uint32_t mask = cmac->tile_mask[k];
@@ -204,34 +212,6 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
     }
 }
 
-static uint32_t home_(const cmac_t *cmac, uint32_t key)
-{
-    return fw_fib_mix(key) >> cmac->home_shift;
-}
-
-// The cell holding key, or the first empty cell on its probe path, or capacity when the probe
-// limit is reached first. The table is never deleted from, so an empty cell ends every search.
-static uint32_t find_(const cmac_t *cmac, uint32_t key)
-{
-    const uint32_t mask = cmac->capacity - 1u;
-    uint32_t slot = home_(cmac, key);
-    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE; probe++) {
-        const uint32_t k = cmac->keys[slot];
-        if (k == key || k == CMAC_EMPTY) {
-            return slot;
-        }
-        slot = (slot + 1u) & mask;
-    }
-    return cmac->capacity;
-}
-
-// The cell holding key, or capacity if it has none: find_() for reading.
-static uint32_t lookup_(const cmac_t *cmac, uint32_t key)
-{
-    const uint32_t slot = find_(cmac, key);
-    return slot != cmac->capacity && cmac->keys[slot] == key ? slot : cmac->capacity;
-}
-
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out)
 {
     const uint32_t n_out = cmac->cfg.n_outputs;
@@ -240,8 +220,8 @@ uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *ou
         out[j] = 0;
     }
     for (uint32_t t = 0; t < cmac->n_patterns; t++) {
-        const uint32_t slot = lookup_(cmac, tiles->key[t]);
-        if (slot == cmac->capacity) {
+        const uint32_t slot = oa_lookup(&cmac->index, tiles->key[t], false);
+        if (slot == OA_NONE) {
             confidence = 0;
             continue;
         }
@@ -290,29 +270,33 @@ AGENT_ALWAYS_INLINE void add_cells_(const cmac_t *cmac, const uint32_t *slot, in
 // What cmac_predict_trusted() does in its first pass: the cell of every tile, its key changed by
 // `change` (to another action), into slot[]. False at the first tile without a cell. Two passes
 // keep few values live at once (the Cortex-M4 has 13 registers to spare): the cells are found
-// first, so a missing one ends the search early, and their weights are added after. A probe
-// window that does not wrap around the table's end (nearly always) is scanned by pointer.
-// Inlined once for a full table and once for one with empty cells.
+// first, so a missing one ends the search early, and their weights are added after. Inlined once
+// for a full table and once for one with empty cells (oa_lookup() then skips or makes the test
+// for empty cells).
 AGENT_ALWAYS_INLINE bool find_cells_(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t change,
                                 uint32_t *slot, const bool full)
 {
-    const uint32_t *const keys = cmac->keys;
-    const uint32_t capacity = cmac->capacity;
-    const uint32_t home_shift = cmac->home_shift;
+    // oa_lookup() by its parts, in locals the stores to slot[] cannot alias (so they stay in
+    // registers), and a window's hit tested as a pointer.
+    const oa_table_t *const index = &cmac->index;
+    const uint32_t *const keys = index->keys;
+    const uint32_t mul = index->mul;
+    const uint32_t shift = index->shift;
+    const uint32_t scan_below = index->scan_below;
     const uint32_t *const end = slot + cmac->n_patterns;
     const uint32_t *tile = tiles->key;
     for (; slot != end; slot++, tile++) {
         const uint32_t key = *tile ^ change;
-        const uint32_t home = fw_fib_mix(key) >> home_shift;
-        if (home + FW_CFG_MAX_PROBE <= capacity) {
+        const uint32_t home = (key * mul) >> shift;  // oa_home()
+        if (home < scan_below) {
             const uint32_t *const cell = oa_scan_window(keys + home, key, full);
             if (cell == NULL) {
                 return false;
             }
             *slot = (uint32_t)(cell - keys);
         } else {
-            *slot = lookup_(cmac, key);
-            if (*slot == capacity) {
+            *slot = oa_lookup(index, key, full);
+            if (*slot == OA_NONE) {
                 return false;
             }
         }
@@ -376,40 +360,47 @@ static int16_t saturate_(cmac_t *cmac, int32_t v)
     return (int16_t)v;
 }
 
-// A full probe window: the new tile takes the least-trained cell of its window (not one this
-// training already holds), which is emptied. The other cells of the window age by one count (never
-// below 1, so what was trusted stays trusted): knowledge that is no longer used makes room for
-// where the robot is now, and a cell trained once does not keep out everything new. Returns the
-// emptied cell, or capacity if every candidate is taken by this training.
-static uint32_t evict_(cmac_t *cmac, uint32_t key, const uint32_t *taken, uint32_t n_taken)
+// What a full window's eviction scan needs: the cells this training already holds, which it may
+// not take.
+typedef struct evict_scan {
+    cmac_t *cmac;
+    const uint32_t *taken;
+    uint32_t n_taken;
+} evict_scan_t;
+
+// oa_least()'s score of a cell: its training count, which ages by one as it is scored (never
+// below 1, so what was trusted stays trusted); a cell of this training scores OA_SKIP.
+static uint32_t least_trained_(void *ctx, uint32_t slot)
 {
-    const uint32_t mask = cmac->capacity - 1u;
-    uint32_t slot = home_(cmac, key);
-    uint32_t victim = cmac->capacity;
-    uint32_t least = UINT32_MAX;
-    for (uint32_t probe = 0; probe < FW_CFG_MAX_PROBE; probe++, slot = (slot + 1u) & mask) {
-        bool busy = false;
-        for (uint32_t i = 0; i < n_taken; i++) {
-            busy = busy || taken[i] == slot;
-        }
-        if (busy) {
-            continue;
-        }
-        if (cmac->counts[slot] < least) {
-            least = cmac->counts[slot];
-            victim = slot;
-        }
-        if (cmac->counts[slot] > 1u) {
-            cmac->counts[slot]--;
+    const evict_scan_t *scan = ctx;
+    for (uint32_t i = 0; i < scan->n_taken; i++) {
+        if (scan->taken[i] == slot) {
+            return OA_SKIP;
         }
     }
-    if (victim != cmac->capacity) {
+    uint8_t *const count = &scan->cmac->counts[slot];
+    const uint32_t score = *count;
+    if (*count > 1u) {
+        (*count)--;
+    }
+    return score;
+}
+
+// A full probe window: the new tile takes the least-trained cell of its window (not one this
+// training already holds), which is emptied. The other cells of the window age by one count:
+// knowledge that is no longer used makes room for where the robot is now, and a cell trained once
+// does not keep out everything new. Returns the emptied cell, or OA_NONE if every candidate is
+// taken by this training.
+static uint32_t evict_(cmac_t *cmac, uint32_t key, const uint32_t *taken, uint32_t n_taken)
+{
+    evict_scan_t scan = {cmac, taken, n_taken};
+    const uint32_t victim = oa_least(&cmac->index, key, least_trained_, &scan);
+    if (victim != OA_NONE) {
         int16_t *w = &cmac->weights[victim * cmac->cfg.n_outputs];
         for (uint32_t j = 0; j < cmac->cfg.n_outputs; j++) {
             w[j] = 0;
         }
         cmac->counts[victim] = 0;
-        cmac->keys[victim] = CMAC_EMPTY;
         cmac->stats.cells_used--;
         cmac->stats.evicted++;
     }
@@ -420,8 +411,8 @@ bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles)
 {
     uint32_t slots[FW_CFG_MAX_TILINGS];
     for (uint32_t t = 0; t < cmac->n_patterns; t++) {
-        slots[t] = lookup_(cmac, tiles->key[t]);
-        if (slots[t] == cmac->capacity || cmac->counts[slots[t]] <= 1u) {
+        slots[t] = oa_lookup(&cmac->index, tiles->key[t], false);
+        if (slots[t] == OA_NONE || cmac->counts[slots[t]] <= 1u) {
             return false;
         }
     }
@@ -442,15 +433,16 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 
     cmac->stats.trained++;
     for (uint32_t t = 0; t < n_tiles; t++) {
-        uint32_t slot = find_(cmac, tiles->key[t]);
-        if (slot == cmac->capacity) {
-            slot = evict_(cmac, tiles->key[t], slots, t);
+        const uint32_t key = tiles->key[t];
+        uint32_t slot = oa_find(&cmac->index, key);
+        if (slot == OA_NONE) {
+            slot = evict_(cmac, key, slots, t);
         }
-        if (slot == cmac->capacity) {
+        if (slot == OA_NONE) {
             cmac->stats.dropped++;
             stored = false;
-        } else if (cmac->keys[slot] == CMAC_EMPTY) {
-            cmac->keys[slot] = tiles->key[t];  // weights and count of an empty cell are zero
+        } else if (cmac->index.keys[slot] != key) {  // an empty cell, or the one just emptied
+            oa_put(&cmac->index, slot, key);  // weights and count of an empty cell are zero
             cmac->stats.cells_used++;
         } else {
             const int16_t *w = &cmac->weights[slot * n_out];
@@ -471,7 +463,7 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
     const int32_t n_tilings = cmac->cfg.n_tilings;
     for (uint32_t t = 0; t < n_tiles; t++) {
         const uint32_t slot = slots[t];
-        if (slot == cmac->capacity) {
+        if (slot == OA_NONE) {
             continue;
         }
         int16_t *w = &cmac->weights[slot * n_out];
@@ -486,11 +478,20 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
     return stored;
 }
 
-int cmac_check(const cmac_t *cmac, const uint32_t *keys, const uint8_t *counts,
-               const int16_t *weights)
+uint32_t cmac_regions(const cmac_t *cmac, agent_region_t *out)
 {
+    uint32_t n = agent_region_add(out, 0, cmac->index.keys, cmac->capacity * (uint32_t)sizeof(uint32_t));
+    n = agent_region_add(out, n, cmac->counts, cmac->capacity);
+    return agent_region_add(out, n, cmac->weights,
+                            cmac->capacity * cmac->cfg.n_outputs * (uint32_t)sizeof(int16_t));
+}
+
+int cmac_check(const cmac_t *cmac, const void *const *image)
+{
+    const uint32_t *const keys = image[0];
+    const uint8_t *const counts = image[1];
+    const int16_t *const weights = image[2];
     const uint32_t n_out = cmac->cfg.n_outputs;
-    const uint32_t mask = cmac->capacity - 1u;
     for (uint32_t slot = 0; slot < cmac->capacity; slot++) {
         const uint32_t key = keys[slot];
         if (key == CMAC_EMPTY) {
@@ -503,9 +504,14 @@ int cmac_check(const cmac_t *cmac, const uint32_t *keys, const uint8_t *counts,
                 }
             }
         } else if ((key >> 31) != 0u || counts[slot] == 0u ||
-                   !check_probe_path(keys, mask, home_(cmac, key), slot, FW_CFG_MAX_PROBE)) {
+                   !oa_path_ok(&cmac->index, keys, slot)) {
             return FW_ERR_CORRUPT;
         }
     }
     return FW_OK;
+}
+
+void cmac_restored(cmac_t *cmac)
+{
+    cmac->stats.cells_used = oa_count(&cmac->index, cmac->index.keys);
 }

@@ -24,9 +24,18 @@ int oa_init(oa_table_t *t, uint32_t *keys, uint32_t slots, uint32_t limit, oa_ho
     t->limit = limit;
     // A window scanned by pointer must lie within the array: homes up to slots - FW_CFG_MAX_PROBE.
     t->scan_below = limit == FW_CFG_MAX_PROBE ? slots - FW_CFG_MAX_PROBE + 1u : 0u;
-    // With one slot every key's home is 0 (mask 0), whatever the shift; a shift by 32 would be
-    // undefined.
-    t->shift = (uint8_t)(home == OA_HOME_LOW || slots == 1u ? 0u : 32u - fw_log2_ceil(slots));
+    // A home is the top b = log2(slots) bits of key * FW_FIB_HASH_MUL, or its low b bits. The low
+    // ones are the top bits of the product shifted left by 32 - b, which is key times the
+    // multiplier shifted left so (mod 2^32): both are one multiply and one shift by 32 - b, and
+    // neither needs a mask. With one slot every home is 0 (a shift by 32 would be undefined).
+    const uint32_t bits = fw_log2_ceil(slots);
+    if (slots == 1u) {
+        t->mul = 0;
+        t->shift = 0;
+    } else {
+        t->mul = home == OA_HOME_LOW ? FW_FIB_HASH_MUL << (32u - bits) : FW_FIB_HASH_MUL;
+        t->shift = 32u - bits;
+    }
     return FW_OK;
 }
 

@@ -6,6 +6,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "agent/oa_table.h"
+#include "agent/region.h"
 #include "fw_config.h"
 
 #ifdef __cplusplus
@@ -18,7 +20,7 @@ extern "C" {
 /// The most outputs one CMAC predicts (the forward model: every component, reward, terminal).
 #define CMAC_MAX_OUTPUTS (FW_CFG_MAX_COMPONENTS + 2)
 /// Marks an empty cell. No tile key can take this value (keys use at most 31 bits).
-#define CMAC_EMPTY UINT32_MAX
+#define CMAC_EMPTY OA_EMPTY
 
 /// What a CMAC approximates: a function of a few small integer inputs and an action.
 typedef struct cmac_config {
@@ -53,8 +55,9 @@ typedef struct cmac_tiles {
 
 /// A CMAC in caller-owned storage.
 ///
-/// Collision policy: the table stores each tile's full key beside its weights, so two tiles
-/// never share a cell: the approximation is exact until the table is full. A tile that finds
+/// Collision policy: the table stores each tile's full key beside its weights (the keys in an
+/// open-addressing index, oa_table.h, with bounded windows; cell i belongs to the key in slot i),
+/// so two tiles never share a cell: the approximation is exact until the table is full. A tile that finds
 /// no free cell within FW_CFG_MAX_PROBE slots takes the least-trained cell of that window
 /// (`evicted`), whose old tile then reads as untrained; only when every cell of the window is
 /// held by the same training is the tile not stored (`dropped`).
@@ -67,12 +70,9 @@ typedef struct cmac_tiles {
 /// work. With every input exact (width 1) the CMAC is a table: one pattern.
 typedef struct cmac {
     cmac_config_t cfg;
-    uint32_t *keys;     // capacity
     uint8_t *counts;    // capacity: training hits per cell, saturating at 255 (the confidence)
     int16_t *weights;   // capacity * n_outputs
     uint32_t capacity;
-    uint8_t capacity_shift;
-    uint8_t home_shift;  // 32 - capacity_shift: a key's cell is the top bits of its hash
     uint8_t n_patterns;  // distinct tilings, <= n_tilings
     uint8_t key_shift[FW_CFG_MAX_COMPONENTS];  // where input k's tile index sits in a key
     uint8_t action_shift;
@@ -90,6 +90,7 @@ typedef struct cmac {
     uint8_t copies[FW_CFG_MAX_TILINGS];  // tilings each pattern stands for
     int32_t rate_q;  // learning_rate in 1/256
     cmac_stats_t stats;
+    oa_table_t index;   // capacity slots: the cells' tile keys
 } cmac_t;
 
 /// Prepares an empty CMAC. `capacity` (cells) must be a power of two; `keys` and `counts` hold
@@ -144,14 +145,26 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 /// Returns whether the cells kept their outcome.
 bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles);
 
-/// Checks restored contents before they are copied into `cmac` (which gives the shape):
-/// `keys` and `counts` hold capacity entries, `weights` capacity * n_outputs. Every cell must be
-/// empty with a zero count and zero weights (a new tile takes an empty cell as it is), or hold a
-/// key of at most 31 bits that a search from its home cell finds within FW_CFG_MAX_PROBE cells
-/// (no empty cell and no copy of it before it), trained at least once (the planner trusts every
-/// stored cell: see cmac_predict_trusted). Reads only. Returns FW_OK or FW_ERR_CORRUPT.
-int cmac_check(const cmac_t *cmac, const uint32_t *keys, const uint8_t *counts,
-               const int16_t *weights);
+/// The regions cmac_regions() lists.
+#define CMAC_REGIONS 3u
+
+/// Lists the memory that holds what the CMAC learned, in a fixed order: keys, counts, weights.
+/// Returns CMAC_REGIONS.
+uint32_t cmac_regions(const cmac_t *cmac, agent_region_t *out);
+
+/// Checks restored contents before they are copied into `cmac` (which gives the shape): image[i]
+/// holds the bytes of region i as cmac_regions() lists them (keys and counts: capacity entries;
+/// weights: capacity * n_outputs). Every cell must be empty with a zero count and zero weights (a
+/// new tile takes an empty cell as it is), or hold a key of at most 31 bits that a search from its
+/// home cell finds within FW_CFG_MAX_PROBE cells (no empty cell and no copy of it before it),
+/// trained at least once (the planner trusts every stored cell: see cmac_predict_trusted). Reads
+/// only. Returns FW_OK or FW_ERR_CORRUPT.
+int cmac_check(const cmac_t *cmac, const void *const *image);
+
+/// After contents that passed cmac_check() were copied into the regions: recounts the cells in
+/// use (`stats.cells_used`, which only the CMAC computes). The other counters are left as they
+/// are: statistics are not saved.
+void cmac_restored(cmac_t *cmac);
 
 #ifdef __cplusplus
 }

@@ -36,11 +36,12 @@ extern "C" {
 ///   keys are deleted by backward shift (oa_remove), which leaves no tombstones.
 typedef struct oa_table {
     uint32_t *keys;        ///< slots entries, OA_EMPTY when empty
-    uint32_t mask;         ///< slots - 1
-    uint32_t limit;        ///< most slots a search visits: 1..slots
+    uint32_t mul;          ///< home(key) = (key * mul) >> shift (see oa_init())
+    uint32_t shift;
     uint32_t scan_below;   ///< homes below this have a whole window of FW_CFG_MAX_PROBE slots
                            ///< before the array's end (0 unless limit == FW_CFG_MAX_PROBE)
-    uint8_t shift;         ///< home(key) = (fw_fib_mix(key) >> shift) & mask
+    uint32_t mask;         ///< slots - 1
+    uint32_t limit;        ///< most slots a search visits: 1..slots
 } oa_table_t;
 
 /// Marks an empty slot; no key may take this value.
@@ -80,10 +81,11 @@ static inline uint32_t oa_slots(const oa_table_t *t)
 #define OA_INLINE static inline
 #endif
 
-/// The slot a search for `key` starts at.
+/// The slot a search for `key` starts at: the top or the low log2(slots) bits of fw_fib_mix(key),
+/// as oa_init() was told. One multiply and one shift either way (see oa_init()).
 OA_INLINE uint32_t oa_home(const oa_table_t *t, uint32_t key)
 {
-    return (fw_fib_mix(key) >> t->shift) & t->mask;
+    return (key * t->mul) >> t->shift;
 }
 
 /// The slot holding `key`, or else the first empty slot on its probe path (where it would go),
