@@ -6,7 +6,6 @@
 #include <stdint.h>
 
 #include "fw/fw_base.h"
-#include "fw/fw_util.h"
 #include "inline.h"
 
 // 2 * capacity index slots and every heap position (2 * i + 2) must fit in 32 bits.
@@ -14,63 +13,33 @@
 
 FW_STATIC_ASSERT(PQ_NO_KEY == 0xFFFFFFFFu, pq_no_key_is_all_ones);
 
-// Fibonacci hashing: the product's top bits depend on every bit of the key, so packed keys
-// (state * actions + action, or fields in high bits) still spread. The 32x32->64 multiply by
-// the slot count takes those top log2(slots) bits without storing a shift (one UMULL on a
-// Cortex-M4); the low bits of the product would depend only on the key's low bits.
-static uint32_t index_home(const pqueue_t *pq, uint32_t key)
+// The index (oa_table.h): a half-empty open-addressing table from key to heap position, homes
+// from the top bits of the key's Fibonacci hash, which depend on every bit of the key, so packed
+// keys (state * actions + action, or fields in high bits) still spread. It never holds more than
+// half its slots (size <= capacity = slots / 2), so a search always ends at the key or at an
+// empty slot well before the bound.
+
+// Where `key` is queued in the index (its slot), or OA_NONE.
+AGENT_ALWAYS_INLINE uint32_t index_of_(const pqueue_t *pq, uint32_t key)
 {
-    uint32_t h = fw_fib_mix(key);
-    return (uint32_t)(((uint64_t)h * ((uint64_t)pq->index_mask + 1u)) >> 32);
+    const uint32_t slot = oa_find(&pq->index, key);
+    return slot != OA_NONE && pq->index.keys[slot] == key ? slot : OA_NONE;
 }
 
-// Looks `key` up. Returns true with its slot, or false with the first empty slot on its probe
-// path (where it would be inserted). The index never holds more than half its slots, so an empty
-// slot always ends the probe well before the bound.
-static bool index_find(const pqueue_t *pq, uint32_t key, uint32_t *slot)
+// oa_remove()'s report of a key moved back into a hole: its heap position follows, and the heap
+// item learns its new slot, keeping heap -> index links O(1).
+AGENT_ALWAYS_INLINE void index_moved_(void *ctx, uint32_t from, uint32_t to)
 {
-    uint32_t mask = pq->index_mask;
-    uint32_t s = index_home(pq, key);
-    uint32_t n;
-
-    for (n = 0; n <= mask; ++n) {
-        uint32_t k = pq->index_keys[s];
-        if (k == key || k == PQ_NO_KEY) {
-            *slot = s;
-            return k == key;
-        }
-        s = (s + 1u) & mask;
-    }
-    *slot = s;  // unreachable while size <= capacity; pq_check() would catch a full index
-    return false;
+    pqueue_t *const pq = ctx;
+    pq->index_pos[to] = pq->index_pos[from];
+    pq->heap[pq->index_pos[to]].slot = to;
 }
 
-// Backward-shift deletion: entries after the hole move back into it when their home lies at or
-// before the hole, so no tombstones accumulate and probe lengths stay those of a fresh table.
-// A moved entry's heap item learns its new slot, keeping heap -> index links O(1).
-static void index_remove(pqueue_t *pq, uint32_t hole)
+// Backward-shift deletion: no tombstones accumulate and probe lengths stay those of a fresh
+// table.
+static void index_remove_(pqueue_t *pq, uint32_t slot)
 {
-    uint32_t mask = pq->index_mask;
-    uint32_t j = hole;
-    uint32_t n;
-
-    for (n = 0; n < mask; ++n) {
-        uint32_t k;
-        j = (j + 1u) & mask;
-        k = pq->index_keys[j];
-        if (k == PQ_NO_KEY) {
-            break;
-        }
-        // Distances are taken modulo the table size so a probe run that wraps past slot 0
-        // compares like any other.
-        if (((j - index_home(pq, k)) & mask) >= ((j - hole) & mask)) {
-            pq->index_keys[hole] = k;
-            pq->index_pos[hole] = pq->index_pos[j];
-            pq->heap[pq->index_pos[hole]].slot = hole;
-            hole = j;
-        }
-    }
-    pq->index_keys[hole] = PQ_NO_KEY;
+    oa_remove(&pq->index, slot, index_moved_, pq);
 }
 
 AGENT_ALWAYS_INLINE void heap_place(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
@@ -137,24 +106,22 @@ int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index
         !FW_IS_POW2(capacity) || capacity > PQ_MAX_CAPACITY) {
         return FW_ERR_INVAL;
     }
+    const uint32_t slots = PQ_INDEX_SLOTS(capacity);
+    if (oa_init(&pq->index, index_keys, slots, slots, OA_HOME_HIGH) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
     pq->heap = heap;
-    pq->index_keys = index_keys;
     pq->index_pos = index_pos;
     pq->capacity = capacity;
-    pq->index_mask = PQ_INDEX_SLOTS(capacity) - 1u;
     pq_clear(pq);
     return FW_OK;
 }
 
 void pq_clear(pqueue_t *pq)
 {
-    uint32_t s;
-
     // Only the index keys say what is queued; heap items and index positions beyond `size` are
     // never read, so they are left as they are.
-    for (s = 0; s <= pq->index_mask; ++s) {
-        pq->index_keys[s] = PQ_NO_KEY;
-    }
+    oa_clear(&pq->index);
     pq->size = 0;
     pq->stats.pushed = 0;
     pq->stats.raised = 0;
@@ -174,7 +141,11 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
     if (key == PQ_NO_KEY || priority != priority) {
         return false;
     }
-    if (index_find(pq, key, &slot)) {
+    slot = oa_find(&pq->index, key);
+    if (slot == OA_NONE) {
+        return false;  // cannot happen: at most half the index's slots hold a key
+    }
+    if (pq->index.keys[slot] == key) {
         pos = pq->index_pos[slot];
         if (priority > pq->heap[pos].priority) {
             pq->heap[pos].priority = priority;
@@ -201,11 +172,11 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
         }
         // The new item takes the leaf's place; being higher than the leaf, it can only need to
         // go up. The removal may shift the new key's probe path, so look its slot up again.
-        index_remove(pq, pq->heap[pos].slot);
-        (void)index_find(pq, key, &slot);
+        index_remove_(pq, pq->heap[pos].slot);
+        slot = oa_find(&pq->index, key);
     }
 
-    pq->index_keys[slot] = key;
+    oa_put(&pq->index, slot, key);
     item.key = key;
     item.priority = priority;
     item.slot = slot;
@@ -225,7 +196,7 @@ bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
     top = pq->heap[0];
     // Unlink from the index first: the shift may update slots of items still in the heap,
     // including the last one, which is about to move.
-    index_remove(pq, top.slot);
+    index_remove_(pq, top.slot);
     --pq->size;
     if (pq->size > 0u) {
         pq->heap[0] = pq->heap[pq->size];
@@ -243,9 +214,8 @@ bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
 
 float pq_priority_of(const pqueue_t *pq, uint32_t key)
 {
-    uint32_t slot;
-
-    if (key == PQ_NO_KEY || !index_find(pq, key, &slot)) {
+    const uint32_t slot = key == PQ_NO_KEY ? OA_NONE : index_of_(pq, key);
+    if (slot == OA_NONE) {
         return -1.0f;
     }
     return pq->heap[pq->index_pos[slot]].priority;
@@ -257,11 +227,11 @@ bool pq_check(const pqueue_t *pq)
     uint32_t s;
     uint32_t occupied = 0;
 
-    if (pq == NULL || pq->heap == NULL || pq->index_keys == NULL || pq->index_pos == NULL) {
+    if (pq == NULL || pq->heap == NULL || pq->index.keys == NULL || pq->index_pos == NULL) {
         return false;
     }
     if (pq->capacity < 2u || !FW_IS_POW2(pq->capacity) || pq->capacity > PQ_MAX_CAPACITY ||
-        pq->index_mask != PQ_INDEX_SLOTS(pq->capacity) - 1u) {
+        oa_slots(&pq->index) != PQ_INDEX_SLOTS(pq->capacity)) {
         return false;
     }
     if (pq->size > pq->capacity || pq->stats.high_water < pq->size) {
@@ -269,12 +239,13 @@ bool pq_check(const pqueue_t *pq)
     }
 
     // Heap order, and each item's link to the index slot that holds its key and position.
+    const uint32_t *const keys = pq->index.keys;
     for (i = 0; i < pq->size; ++i) {
         const pq_item_t *it = &pq->heap[i];
-        if (it->key == PQ_NO_KEY || it->priority != it->priority || it->slot > pq->index_mask) {
+        if (it->key == PQ_NO_KEY || it->priority != it->priority || it->slot > pq->index.mask) {
             return false;
         }
-        if (pq->index_keys[it->slot] != it->key || pq->index_pos[it->slot] != i) {
+        if (keys[it->slot] != it->key || pq->index_pos[it->slot] != i) {
             return false;
         }
         if (i > 0u && !(pq->heap[(i - 1u) / 2u].priority >= it->priority)) {
@@ -283,25 +254,16 @@ bool pq_check(const pqueue_t *pq)
     }
 
     // The index holds exactly the heap's keys (each entry points at the item that points back,
-    // and the counts match), and every key is reachable from its home without an empty slot.
-    for (s = 0; s <= pq->index_mask; ++s) {
-        uint32_t k = pq->index_keys[s];
-        uint32_t t;
-        uint32_t n;
+    // and the counts match), and every key is where a search from its home finds it.
+    for (s = 0; s <= pq->index.mask; ++s) {
+        const uint32_t k = keys[s];
         if (k == PQ_NO_KEY) {
             continue;
         }
         ++occupied;
         if (pq->index_pos[s] >= pq->size || pq->heap[pq->index_pos[s]].key != k ||
-            pq->heap[pq->index_pos[s]].slot != s) {
+            pq->heap[pq->index_pos[s]].slot != s || !oa_path_ok(&pq->index, keys, s)) {
             return false;
-        }
-        t = index_home(pq, k);
-        for (n = 0; t != s; ++n) {
-            if (n > pq->index_mask || pq->index_keys[t] == PQ_NO_KEY) {
-                return false;
-            }
-            t = (t + 1u) & pq->index_mask;
         }
     }
     return occupied == pq->size;

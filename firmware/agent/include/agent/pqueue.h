@@ -6,6 +6,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "agent/oa_table.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -19,7 +21,7 @@ typedef struct pq_item {
 } pq_item_t;
 
 /// The one key value a caller may not queue: it marks an empty index slot.
-#define PQ_NO_KEY UINT32_MAX
+#define PQ_NO_KEY OA_EMPTY
 
 /// Counters, for telemetry and tests. They only ever grow, until pq_clear().
 typedef struct pq_stats {
@@ -33,16 +35,15 @@ typedef struct pq_stats {
 
 /// A binary max-heap with a position index, in caller-owned static storage.
 ///
-/// The index is an open-addressing hash table from key to heap position, so a key that is
-/// already queued has its priority raised in place instead of being queued twice. When the
+/// The index is an open-addressing hash table from key to heap position (oa_table.h, half
+/// empty, deletion by backward shift), so a key that is already queued has its priority raised in place instead of being queued twice. When the
 /// heap is full, a push drops whichever is lowest: the new item or the current minimum.
 typedef struct pqueue {
     pq_item_t *heap;        // capacity items
-    uint32_t *index_keys;   // index_capacity slots, PQ_NO_KEY when empty
+    oa_table_t index;       // PQ_INDEX_SLOTS(capacity) slots: the queued keys
     uint32_t *index_pos;    // heap position of the key in the same slot
     uint32_t capacity;
     uint32_t size;
-    uint32_t index_mask;    // index_capacity - 1
     pq_stats_t stats;
 } pqueue_t;
 
