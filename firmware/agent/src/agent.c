@@ -429,12 +429,7 @@ uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_R
         n = add_region_(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
         n = add_region_(out, n, m->deltas, (uint32_t)sizeof m->deltas);
     } else if (ag->kind == AGENT_DYNA_Q) {
-        const dynaq_table_t *t = &ag->table;
-        n = add_region_(out, n, t->records, t->capacity * (uint32_t)sizeof(dynaq_record_t));
-        n = add_region_(out, n, t->index_keys,
-                        DYNAQ_INDEX_SLOTS(t->capacity) * (uint32_t)sizeof(uint32_t));
-        n = add_region_(out, n, t->index_rec,
-                        DYNAQ_INDEX_SLOTS(t->capacity) * (uint32_t)sizeof(uint32_t));
+        n += dynaq_regions(&ag->table, out + n);
     }
     return n;
 }
@@ -472,9 +467,7 @@ int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REG
             return FW_ERR_CORRUPT;
         }
     } else if (ag->kind == AGENT_DYNA_Q) {
-        if (dynaq_check(&ag->table, (const dynaq_record_t *)image[i],
-                        (const uint32_t *)image[i + 1u], (const uint32_t *)image[i + 2u],
-                        state_bits) != FW_OK) {
+        if (dynaq_check(&ag->table, image + i, state_bits) != FW_OK) {
             return FW_ERR_CORRUPT;
         }
     }

@@ -21,23 +21,6 @@ static inline bool check_finite(float x)
     return ((bits >> 23) & 0xFFu) != 0xFFu;
 }
 
-// Whether the key in keys[slot] of an open-addressing table with linear probing (slots
-// mask + 1, UINT32_MAX empty) is where a search from its home slot finds it: fewer than `limit`
-// slots on, with neither an empty slot (a search stops there) nor another copy of the key (a
-// search would find that one) before it.
-static inline bool check_probe_path(const uint32_t *keys, uint32_t mask, uint32_t home,
-                                    uint32_t slot, uint32_t limit)
-{
-    const uint32_t key = keys[slot];
-    if (((slot - home) & mask) >= limit) {
-        return false;
-    }
-    for (uint32_t j = home; j != slot; j = (j + 1u) & mask) {
-        if (keys[j] == UINT32_MAX || keys[j] == key) {
-            return false;
-        }
-    }
-    return true;
-}
+// Where a hashed table's saved key must lie: oa_path_ok() (oa_table.h).
 
 #endif // AGENT_CHECK_H

@@ -16,11 +16,16 @@ int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
         !FW_IS_POW2(capacity) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS) {
         return FW_ERR_INVAL;
     }
+    // The index: half empty (twice as many slots as records), so a search always ends at the key
+    // or at an empty slot; homes from the low bits of the state's hash, as the index has always
+    // been laid out (saved tables stay valid).
+    const uint32_t slots = DYNAQ_INDEX_SLOTS(capacity);
+    if (oa_init(&t->index, index_keys, slots, slots, OA_HOME_LOW) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
     t->records = records;
-    t->index_keys = index_keys;
     t->index_rec = index_rec;
     t->capacity = capacity;
-    t->index_mask = DYNAQ_INDEX_SLOTS(capacity) - 1u;
     t->n_actions = n_actions;
     dynaq_clear(t);
     return FW_OK;
@@ -28,62 +33,34 @@ int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
 
 void dynaq_clear(dynaq_table_t *t)
 {
-    for (uint32_t i = 0; i <= t->index_mask; i++) {
-        t->index_keys[i] = DYNAQ_EMPTY;
-    }
+    oa_clear(&t->index);
     t->count = 0;
     t->oldest = 0;
     t->evicted = 0;
 }
 
-static uint32_t home_(const dynaq_table_t *t, agent_state_t s)
+// oa_remove()'s report of a state moved back into a hole: its record number follows.
+static void index_moved_(void *ctx, uint32_t from, uint32_t to)
 {
-    return fw_fib_mix(s) & t->index_mask;
-}
-
-// Linear probing without tombstones (Knuth's Algorithm R): empty the slot, then move back every
-// key after it in its run that would no longer be found from its home slot.
-static void unindex_(dynaq_table_t *t, agent_state_t s)
-{
-    uint32_t hole = home_(t, s);
-    while (t->index_keys[hole] != s) {
-        hole = (hole + 1u) & t->index_mask;
-    }
-    t->index_keys[hole] = DYNAQ_EMPTY;
-    for (uint32_t j = (hole + 1u) & t->index_mask; t->index_keys[j] != DYNAQ_EMPTY;
-         j = (j + 1u) & t->index_mask) {
-        const uint32_t h = home_(t, t->index_keys[j]);
-        // The key at j stays if its home lies cyclically in (hole, j].
-        const bool stays = hole <= j ? (h > hole && h <= j) : (h > hole || h <= j);
-        if (!stays) {
-            t->index_keys[hole] = t->index_keys[j];
-            t->index_rec[hole] = t->index_rec[j];
-            t->index_keys[j] = DYNAQ_EMPTY;
-            hole = j;
-        }
-    }
+    dynaq_table_t *const t = ctx;
+    t->index_rec[to] = t->index_rec[from];
 }
 
 void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                   bool terminal)
 {
-    // The index has twice as many slots as there are records, so its load stays at or below
-    // one half and a probe always ends at the key or at an empty slot.
-    uint32_t slot = home_(t, s);
-    while (t->index_keys[slot] != s && t->index_keys[slot] != DYNAQ_EMPTY) {
-        slot = (slot + 1u) & t->index_mask;
+    uint32_t slot = oa_find(&t->index, s);
+    if (slot == OA_NONE) {
+        return;  // cannot happen: at most half the index's slots hold a state
     }
-    if (t->index_keys[slot] == DYNAQ_EMPTY) {
+    if (t->index.keys[slot] == DYNAQ_EMPTY) {
         uint32_t rec_no = t->count;
         if (t->count == t->capacity) {  // the oldest state makes room
             rec_no = t->oldest;
             t->oldest = (t->oldest + 1u) & (t->capacity - 1u);
-            unindex_(t, t->records[rec_no].state);
+            oa_remove(&t->index, oa_find(&t->index, t->records[rec_no].state), index_moved_, t);
             t->evicted++;
-            slot = home_(t, s);  // the move-back may have emptied a slot before this one
-            while (t->index_keys[slot] != DYNAQ_EMPTY) {
-                slot = (slot + 1u) & t->index_mask;
-            }
+            slot = oa_find(&t->index, s);  // the shift may have emptied a slot before this one
         } else {
             t->count++;
         }
@@ -91,7 +68,7 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
         fresh->state = s;
         memset(fresh->tried, 0, sizeof fresh->tried);
         memset(fresh->terminal, 0, sizeof fresh->terminal);
-        t->index_keys[slot] = s;
+        oa_put(&t->index, slot, s);
         t->index_rec[slot] = rec_no;
     }
     dynaq_record_t *rec = &t->records[t->index_rec[slot]];
@@ -154,16 +131,23 @@ static bool record_ok_(const dynaq_table_t *t, const dynaq_record_t *rec, uint32
     return any;  // a record exists because an action was observed in its state
 }
 
-int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uint32_t *index_keys,
-                const uint32_t *index_rec, uint32_t state_bits)
+uint32_t dynaq_regions(const dynaq_table_t *t, agent_region_t *out)
 {
-    const uint32_t slots = t->index_mask + 1u;
-    uint32_t count = 0;
-    for (uint32_t i = 0; i < slots; i++) {
-        count += index_keys[i] != DYNAQ_EMPTY;
-    }
+    const uint32_t index_bytes = DYNAQ_INDEX_SLOTS(t->capacity) * (uint32_t)sizeof(uint32_t);
+    uint32_t n = agent_region_add(out, 0, t->records, t->capacity * (uint32_t)sizeof(dynaq_record_t));
+    n = agent_region_add(out, n, t->index.keys, index_bytes);
+    return agent_region_add(out, n, t->index_rec, index_bytes);
+}
+
+int dynaq_check(const dynaq_table_t *t, const void *const *image, uint32_t state_bits)
+{
+    const dynaq_record_t *const records = image[0];
+    const uint32_t *const index_keys = image[1];
+    const uint32_t *const index_rec = image[2];
+    const uint32_t slots = oa_slots(&t->index);
     // More states than records would overrun the record array; a full index would make every
     // search for a new state spin for ever.
+    const uint32_t count = oa_count(&t->index, index_keys);
     if (count > t->capacity) {
         return FW_ERR_CORRUPT;
     }
@@ -175,8 +159,7 @@ int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uin
         // Keys are unique and each names its record, so the count records pointed at are the
         // first count, each once.
         if (!state_ok_(key, state_bits) || index_rec[i] >= count ||
-            records[index_rec[i]].state != key ||
-            !check_probe_path(index_keys, t->index_mask, home_(t, key), i, slots)) {
+            records[index_rec[i]].state != key || !oa_path_ok(&t->index, index_keys, i)) {
             return FW_ERR_CORRUPT;
         }
     }
@@ -190,11 +173,7 @@ int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uin
 
 void dynaq_restored(dynaq_table_t *t)
 {
-    uint32_t count = 0;
-    for (uint32_t i = 0; i <= t->index_mask; i++) {
-        count += t->index_keys[i] != DYNAQ_EMPTY;
-    }
-    t->count = count;
+    t->count = oa_count(&t->index, t->index.keys);
     t->oldest = 0;
     t->evicted = 0;
 }

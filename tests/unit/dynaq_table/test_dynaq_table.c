@@ -89,13 +89,13 @@ static void samples_states_then_actions_uniformly(void **state)
 static void expect_index_consistent_(const dynaq_table_t *t)
 {
     uint32_t keys = 0;
-    for (uint32_t i = 0; i <= t->index_mask; i++) {
-        if (t->index_keys[i] == DYNAQ_EMPTY) {
+    for (uint32_t i = 0; i <= t->index.mask; i++) {
+        if (t->index.keys[i] == DYNAQ_EMPTY) {
             continue;
         }
         keys++;
         assert_true(t->index_rec[i] < t->count);
-        assert_int_equal(t->records[t->index_rec[i]].state, t->index_keys[i]);
+        assert_int_equal(t->records[t->index_rec[i]].state, t->index.keys[i]);
     }
     assert_int_equal(keys, t->count);
 }

@@ -7,6 +7,8 @@
 #include <stdint.h>
 
 #include "fw/fw_prng.h"
+#include "agent/oa_table.h"
+#include "agent/region.h"
 #include "agent/space.h"
 
 #ifdef __cplusplus
@@ -35,22 +37,22 @@ static inline bool dynaq_bit(const uint8_t *mask, uint32_t a)
 }
 
 /// Records live in a dense array (so a uniformly random observed state is one index) and an
-/// open-addressing index maps a state to its record. When the array is full, a new state takes
+/// open-addressing index (oa_table.h, half empty, deletion by backward shift) maps a state to its
+/// record. When the array is full, a new state takes
 /// the record of the state first stored longest ago (first in, first out, as a replay buffer),
 /// and the forgotten state is counted.
 typedef struct dynaq_table {
     dynaq_record_t *records;  // capacity
-    uint32_t *index_keys;     // 2 * capacity slots, DYNAQ_EMPTY when empty
+    oa_table_t index;         // DYNAQ_INDEX_SLOTS(capacity) slots: the recorded states
     uint32_t *index_rec;      // record number of the key in the same slot
     uint32_t capacity;
     uint32_t count;
-    uint32_t index_mask;
     uint32_t oldest;   ///< once full: the record a new state takes next
     uint8_t n_actions;
     uint32_t evicted;  ///< states forgotten to make room for new ones
 } dynaq_table_t;
 
-#define DYNAQ_EMPTY UINT32_MAX
+#define DYNAQ_EMPTY OA_EMPTY
 /// The largest |reward| a restored record may hold: beyond any robot's settings, and small
 /// enough that the values learned from it stay within QSTORE_VALUE_LIMIT (for gamma < 0.999).
 #define DYNAQ_REWARD_LIMIT 1e6f
@@ -72,20 +74,27 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
 bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t *a, float *r,
                   agent_state_t *s_next, bool *terminal);
 
-/// Checks restored contents before they are copied into `t` (which gives the shape: capacity,
-/// actions): `records` holds capacity records, `index_keys` and `index_rec`
-/// DYNAQ_INDEX_SLOTS(capacity) entries. The index must hold at most `capacity` states, each of
-/// `state_bits` bits, found by a search from its home slot (no empty slot and no copy of it
-/// before it), pointing at a record below the count that names the same state: so the records
-/// in use are exactly the first `count` and every one is indexed once. Each of those must have
-/// at least one action tried and none past n_actions, terminal bits only on tried actions, and
-/// for every tried action a next state of `state_bits` bits and a finite reward within
-/// DYNAQ_REWARD_LIMIT. Reads only.
-/// Returns FW_OK or FW_ERR_CORRUPT.
-int dynaq_check(const dynaq_table_t *t, const dynaq_record_t *records, const uint32_t *index_keys,
-                const uint32_t *index_rec, uint32_t state_bits);
+/// The regions dynaq_regions() lists.
+#define DYNAQ_REGIONS 3u
 
-/// After contents that passed dynaq_check() were copied in: recounts the records in use.
+/// Lists the memory that holds what the table learned, in a fixed order: the records, the
+/// index's keys, the index's record numbers. Returns DYNAQ_REGIONS.
+uint32_t dynaq_regions(const dynaq_table_t *t, agent_region_t *out);
+
+/// Checks restored contents before they are copied into `t` (which gives the shape: capacity,
+/// actions): image[i] holds the bytes of region i as dynaq_regions() lists them (capacity records,
+/// DYNAQ_INDEX_SLOTS(capacity) keys and record numbers). The index must hold at most `capacity`
+/// states, each of `state_bits` bits, found by a search from its home slot (no empty slot and no
+/// copy of it before it), pointing at a record below the count that names the same state: so the
+/// records in use are exactly the first `count` and every one is indexed once. Each of those
+/// must have at least one action tried and none past n_actions, terminal bits only on tried
+/// actions, and for every tried action a next state of `state_bits` bits and a finite reward
+/// within DYNAQ_REWARD_LIMIT. Reads only. Returns FW_OK or FW_ERR_CORRUPT.
+int dynaq_check(const dynaq_table_t *t, const void *const *image, uint32_t state_bits);
+
+/// After contents that passed dynaq_check() were copied into the regions: recounts the records
+/// in use (the table's fill, which only the table computes) and starts replacing from record 0;
+/// `evicted` starts again from 0.
 void dynaq_restored(dynaq_table_t *t);
 
 #ifdef __cplusplus
