@@ -493,13 +493,36 @@ static void test_idle_planning_when_planning_is_zero(void **state)
         bench_period_();
     }
     const agent_stats_t *st = &agent_paper_sim.stats;
-    assert_int_equal(st->planning_updates, 0);  // nothing planned inside the control period
+    assert_true(st->real_steps >= 29);
+    // Each step plans a first ROBOT_PLAN_BEFORE_ACT updates before its next action is chosen...
+    assert_true(st->planning_updates > 0);
+    assert_true(st->planning_updates + st->planning_skipped <= ROBOT_PLAN_BEFORE_ACT * st->real_steps);
+    const uint32_t before = st->planning_updates + st->planning_skipped;
+    // ...and the idle hook plans on until the queue runs dry.
     uint32_t n = 0;
     while (robot_ctrl_plan(&bench_.ctrl) && n < 100000) {
         n++;
     }
-    assert_true(n > 0 && n < 100000);  // the idle hook works until the queue runs dry
-    assert_int_equal(st->planning_updates, n);
+    assert_true(n < 100000);
+    assert_int_equal(st->planning_updates + st->planning_skipped, before + n);
+}
+
+// With idle planning the first updates come before the next action: after one real step the
+// control period has planned on it (with none, the queue would still hold the step's pair).
+static void test_idle_planning_plans_before_the_next_action(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.cfg.planning = 0;
+    bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    const agent_stats_t *st = &agent_paper_sim.stats;
+    for (int i = 0; i < 30 && st->real_steps < 1u; i++) {
+        bench_period_();
+    }
+    assert_int_equal(st->real_steps, 1);
+    assert_true(st->planning_updates >= 1u);
+    assert_true(st->planning_updates + st->planning_skipped <= ROBOT_PLAN_BEFORE_ACT);
 }
 
 int main(void)
@@ -523,6 +546,7 @@ int main(void)
         cmocka_unit_test(test_safe_stop_while_waiting_for_a_fix_keeps_the_step),
         cmocka_unit_test(test_fixed_planning_runs_after_each_step),
         cmocka_unit_test(test_idle_planning_when_planning_is_zero),
+        cmocka_unit_test(test_idle_planning_plans_before_the_next_action),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
