@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 
+#include "agent/model_state.h"
 #include "fw/fw_base.h"
 
 agent_params_t agent_default_params(void)
@@ -247,9 +248,7 @@ typedef struct plan_carry {
     uint32_t n;
     model_pred_t pred[MODEL_MAX_PREDECESSORS];
     model_query_t *query[MODEL_MAX_PREDECESSORS];  // pred[i]'s
-    uint32_t rejected;    // what finding them added to the model's counters
-    uint32_t untrusted;
-    uint32_t generalised;
+    model_counts_t counted;  // what finding them added to the model's counters
     model_query_t store[MODEL_MAX_PREDECESSORS + 1];  // where `here` and `query` point, all apart
 } plan_carry_t;
 
@@ -278,7 +277,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
         return false;
     }
     if (key & UNPLANNABLE_BIT) {
-        ag->model.untrusted++;  // what model_predict() would have counted
+        model_count_untrusted(&ag->model);  // what model_predict() would have counted
         ag->stats.planning_skipped++;
         return true;
     }
@@ -334,17 +333,11 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     }
 
     if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
-        ag->model.rejected += c->rejected;
-        ag->model.untrusted += c->untrusted;
-        ag->model.generalised += c->generalised;
+        model_count_again(&ag->model, c->counted);
     } else {
-        const uint32_t rejected = ag->model.rejected;
-        const uint32_t untrusted = ag->model.untrusted;
-        const uint32_t generalised = ag->model.generalised;
+        const model_counts_t before = model_counts(&ag->model);
         c->n = model_query_predecessors(&ag->model, c->here, c->pred, c->query);
-        c->rejected = ag->model.rejected - rejected;
-        c->untrusted = ag->model.untrusted - untrusted;
-        c->generalised = ag->model.generalised - generalised;
+        c->counted = model_counts_since(&ag->model, before);
         c->valid = true;
     }
     if (c->n == 0u) {
@@ -411,35 +404,31 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 
 // ---- Saving and restoring what was learned ----------------------------------------------------
 
-static uint32_t add_region_(agent_region_t *out, uint32_t n, const void *data, uint32_t size)
-{
-    return agent_region_add(out, n, data, size);
-}
+// Each module lists its own regions, checks its own part of a saved image and recounts its own
+// fill; the agent only strings them together, in this order: the Q store, then the model
+// (Dyna-QPC) or the transition table (Dyna-Q).
 
 uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_REGIONS])
 {
-    // Each table lists its own regions; the model's parts are listed here until the model
-    // lists them itself.
     uint32_t n = qstore_regions(&ag->q, out);
     if (ag->kind == AGENT_DYNA_QPC) {
-        const world_model_t *m = &ag->model;
-        n += cmac_regions(&m->forward, out + n);
-        n = add_region_(out, n, m->percepts, m->places * (uint32_t)sizeof(uint16_t));
-        n = add_region_(out, n, m->classes, m->n_classes * (uint32_t)sizeof(model_class_t));
-        n = add_region_(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
-        n = add_region_(out, n, m->deltas, (uint32_t)sizeof m->deltas);
+        n += model_regions(&ag->model, out + n);
     } else if (ag->kind == AGENT_DYNA_Q) {
         n += dynaq_regions(&ag->table, out + n);
     }
     return n;
 }
 
+FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS &&
+                     QSTORE_MAX_REGIONS + DYNAQ_REGIONS <= AGENT_MAX_REGIONS,
+                 every_agent_lists_at_most_AGENT_MAX_REGIONS);
+
 void agent_learned_restored(agent_t *ag)
 {
     qstore_restored(&ag->q);
     if (ag->kind == AGENT_DYNA_QPC) {
-        cmac_restored(&ag->model.forward);
-        pq_clear(&ag->pq);
+        model_restored(&ag->model);
+        pq_clear(&ag->pq);  // work in progress, not knowledge: never saved
     } else if (ag->kind == AGENT_DYNA_Q) {
         dynaq_restored(&ag->table);
     }
@@ -447,29 +436,19 @@ void agent_learned_restored(agent_t *ag)
 
 int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REGIONS])
 {
-    // The regions in agent_learned_regions()' order.
-    const uint32_t state_bits = space_state_bits(ag->space);
+    // The regions in agent_learned_regions()' order: each module checks its own, starting where
+    // the one before it ends.
     agent_region_t scratch[AGENT_MAX_REGIONS];
+    const uint32_t state_bits = space_state_bits(ag->space);
     if (qstore_check(&ag->q, image, state_bits) != FW_OK) {
         return FW_ERR_CORRUPT;
     }
-    uint32_t i = qstore_regions(&ag->q, scratch);
+    const void *const *const rest = image + qstore_regions(&ag->q, scratch);
     if (ag->kind == AGENT_DYNA_QPC) {
-        const world_model_t *m = &ag->model;
-        if (cmac_check(&m->forward, image + i) != FW_OK) {
-            return FW_ERR_CORRUPT;
-        }
-        i += cmac_regions(&m->forward, scratch);
-        // The situations, arrivals and changes hold any values safely (every use range-checks
-        // what it computes from them); a percept mask must not name a value the absolute
-        // components cannot take.
-        if (m->places != 0u && model_percepts_check(m, (const uint16_t *)image[i]) != FW_OK) {
-            return FW_ERR_CORRUPT;
-        }
-    } else if (ag->kind == AGENT_DYNA_Q) {
-        if (dynaq_check(&ag->table, image + i, state_bits) != FW_OK) {
-            return FW_ERR_CORRUPT;
-        }
+        return model_check(&ag->model, rest) == FW_OK ? FW_OK : FW_ERR_CORRUPT;
+    }
+    if (ag->kind == AGENT_DYNA_Q) {
+        return dynaq_check(&ag->table, rest, state_bits) == FW_OK ? FW_OK : FW_ERR_CORRUPT;
     }
     return FW_OK;
 }

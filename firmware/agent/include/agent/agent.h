@@ -132,9 +132,9 @@ float agent_q(const agent_t *ag, agent_state_t s, uint8_t a);
 #define AGENT_MAX_REGIONS 10u
 
 /// Lists, in a fixed order for the agent's kind and storage, the memory that holds what it
-/// learned: the Q values (and their keys when hashed), and CMAC-Model, the percept map, the
-/// relocatable model and the changes per action (Dyna-QPC) or
-/// the transition table (Dyna-Q). The priority queue is not listed: it is work in progress, not
+/// learned: each module's own regions one after the other, the Q store's (qstore_regions), then
+/// the model's (model_regions: CMAC-Model, the percept map, the relocatable model and the changes
+/// per action; Dyna-QPC) or the transition table's (dynaq_regions; Dyna-Q). The priority queue is not listed: it is work in progress, not
 /// knowledge. Saving these bytes and, into an agent initialised with the same configuration,
 /// restoring them and calling agent_learned_restored() gives back the same agent.
 /// Returns the number of regions written to `out`.
@@ -142,14 +142,15 @@ uint32_t agent_learned_regions(const agent_t *ag, agent_region_t out[AGENT_MAX_R
 
 /// Checks saved bytes before they are restored: image[i] points at the bytes of region i as
 /// agent_learned_regions() lists them for this agent (the same sizes: the caller checked the
-/// layout). Each table checks its own invariants (qstore_check, cmac_check, dynaq_check): what
-/// passes cannot make the agent read or write out of bounds or loop for ever, whatever the bytes.
+/// layout). Each module checks its own part of the image (qstore_check, model_check with
+/// cmac_check, dynaq_check): what passes cannot make the agent read or write out of bounds or loop for ever, whatever the bytes.
 /// Reads only; the agent is not changed. Returns FW_OK or FW_ERR_CORRUPT.
 int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REGIONS]);
 
-/// Call after the regions' bytes were restored (bytes that passed agent_learned_check()):
-/// recomputes the tables' fill counters from the restored keys and empties the priority queue.
-/// Statistics are not restored.
+/// Call after the regions' bytes were restored (bytes that passed agent_learned_check()): each
+/// module recounts its own fill from the restored keys (qstore_restored, model_restored with
+/// cmac_restored, dynaq_restored), and the priority queue is emptied. Statistics are not
+/// restored.
 void agent_learned_restored(agent_t *ag);
 
 /// Real plus planning Q updates so far.
