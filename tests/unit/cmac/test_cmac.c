@@ -90,6 +90,38 @@ static void one_training_at_rate_one_hits_the_target(void **state)
     assert_false(cmac_predict_trusted(&m, &t, 2, 2, out));
 }
 
+// A contradiction lowers the count of every cell of the tiles and leaves the weights alone, down
+// to a count of 1; then it refuses and changes nothing, and the caller trains instead.
+static void contradictions_lower_counts_down_to_one(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_config_t c = config_2d(5, 1, 2);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    const uint32_t in[2] = {10, 20};
+    const int32_t desired[2] = {3 * CMAC_ONE, -CMAC_ONE};
+    cmac_tiles_t t;
+    int32_t before[CMAC_MAX_OUTPUTS];
+    int32_t out[CMAC_MAX_OUTPUTS];
+    cmac_tiles_of(&m, in, 1, &t);
+    const uint32_t other[2] = {0, 0};
+    cmac_tiles_t untrained;
+    cmac_tiles_of(&m, other, 1, &untrained);
+    assert_false(cmac_contradict(&m, &untrained));  // no cells: nothing to keep
+    for (int i = 0; i < 3; i++) {
+        cmac_train(&m, &t, desired);
+    }
+    assert_int_equal(cmac_predict(&m, &t, before), 3);
+    assert_true(cmac_contradict(&m, &t));
+    assert_true(cmac_contradict(&m, &t));
+    assert_int_equal(cmac_predict(&m, &t, out), 1);
+    assert_memory_equal(out, before, 2 * sizeof out[0]);
+    assert_false(cmac_contradict(&m, &t));  // the last count: the outcome has lost its majority
+    assert_int_equal(cmac_predict(&m, &t, out), 1);
+    assert_int_equal(m.stats.contradicted, 2);
+    assert_int_equal(m.stats.trained, 3);
+}
+
 // The rule moves every hit cell by rate / T of the error: at rate 1/2 the error halves.
 static void learning_rule_scales_the_error(void **state)
 {
@@ -479,6 +511,7 @@ int main(void)
         cmocka_unit_test(init_rejects_bad_configs),
         cmocka_unit_test(untrained_predicts_zero_with_no_confidence),
         cmocka_unit_test(one_training_at_rate_one_hits_the_target),
+        cmocka_unit_test(contradictions_lower_counts_down_to_one),
         cmocka_unit_test(learning_rule_scales_the_error),
         cmocka_unit_test(approximates_a_smooth_function),
         cmocka_unit_test(neighbours_generalise_but_are_not_trusted),
