@@ -505,6 +505,71 @@ static void trusted_prediction_for_any_action_agrees_with_predict(void **state)
     }
 }
 
+static uint32_t keys2_[64];
+static uint8_t counts2_[64];
+static int16_t weights2_[64 * CMAC_MAX_OUTPUTS];
+
+// The CMAC's own save regions, checked and restored into a second CMAC over other arrays, give
+// the same predictions and fill; a cell that was never trained, or a key a search cannot reach,
+// is refused.
+static void saved_regions_check_and_restore_themselves(void **state)
+{
+    (void)state;
+    cmac_t m;
+    cmac_t back;
+    const cmac_config_t c = config_2d(5, 0, 3);
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, 64), FW_OK);
+    cmac_tiles_t t;
+    for (uint32_t i = 0; i < 200; i++) {  // more pairs than cells: some are evicted
+        const uint32_t in[2] = {i % 32u, i / 32u};
+        const int32_t want[3] = {(int32_t)i, -(int32_t)i, 5};
+        cmac_tiles_of(&m, in, i % 4u, &t);
+        (void)cmac_train(&m, &t, want);
+    }
+    assert_true(m.stats.evicted > 0);
+    agent_region_t r[CMAC_REGIONS];
+    assert_int_equal(cmac_regions(&m, r), CMAC_REGIONS);
+    assert_int_equal(r[0].size, 64 * sizeof(uint32_t));
+    assert_int_equal(r[1].size, 64);
+    assert_int_equal(r[2].size, 64 * 3 * sizeof(int16_t));
+    const void *image[CMAC_REGIONS] = {r[0].data, r[1].data, r[2].data};
+    assert_int_equal(cmac_check(&m, image), FW_OK);
+
+    assert_int_equal(cmac_init(&back, &c, keys2_, counts2_, weights2_, 64), FW_OK);
+    agent_region_t rb[CMAC_REGIONS];
+    assert_int_equal(cmac_regions(&back, rb), CMAC_REGIONS);
+    for (uint32_t i = 0; i < CMAC_REGIONS; i++) {
+        memcpy(rb[i].data, r[i].data, r[i].size);
+    }
+    cmac_restored(&back);
+    assert_int_equal(back.stats.cells_used, m.stats.cells_used);
+    for (uint32_t i = 0; i < 200; i++) {
+        const uint32_t in[2] = {i % 32u, i / 32u};
+        int32_t a[3];
+        int32_t b[3];
+        cmac_tiles_of(&m, in, i % 4u, &t);
+        const uint32_t conf = cmac_predict(&m, &t, a);
+        assert_int_equal(cmac_predict(&back, &t, b), conf);
+        assert_memory_equal(a, b, sizeof a);
+    }
+
+    uint32_t slot = 0;
+    while (keys_[slot] == CMAC_EMPTY) {
+        slot++;
+    }
+    const uint8_t count = counts2_[slot];
+    counts2_[slot] = 0;  // a stored cell never trained
+    const void *bad[CMAC_REGIONS] = {keys2_, counts2_, weights2_};
+    assert_int_equal(cmac_check(&m, bad), FW_ERR_CORRUPT);
+    counts2_[slot] = count;
+    const uint32_t far = (slot + FW_CFG_MAX_PROBE) % 64u;  // past the key's window
+    const uint32_t was = keys2_[far];
+    keys2_[far] = keys2_[slot];
+    counts2_[far] = counts2_[far] == 0u ? 1u : counts2_[far];
+    assert_int_equal(cmac_check(&m, bad), FW_ERR_CORRUPT);
+    keys2_[far] = was;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -525,6 +590,7 @@ int main(void)
         cmocka_unit_test(tile_keys_match_their_definition),
         cmocka_unit_test(train_reports_tiles_stored_in_a_full_table),
         cmocka_unit_test(trusted_prediction_for_any_action_agrees_with_predict),
+        cmocka_unit_test(saved_regions_check_and_restore_themselves),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,6 +2,8 @@
 // Tests of the Q store: dense and hashed layouts, unknown states, a full table.
 #include "test_common.h"
 
+#include <string.h>
+
 #include "agent/qstore.h"
 #include "fw/fw_base.h"
 
@@ -121,6 +123,66 @@ static void init_rejects_bad_arguments(void **state)
     assert_int_equal(qstore_init(&qs, q_, keys_, 256, FW_CFG_MAX_ACTIONS + 1, 8), FW_ERR_INVAL);
 }
 
+static float q2_[256 * FW_CFG_MAX_ACTIONS];
+static uint32_t keys2_[256];
+static uint32_t image_keys_[256];
+
+// The store's own save regions, checked and restored into a second store over other arrays,
+// give the same values and fill; a saved key a search cannot reach is refused.
+static void saved_regions_check_and_restore_themselves(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    qstore_t back;
+    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    for (uint32_t s = 0; s < 1000; s++) {  // more states than rows: some are forgotten
+        qstore_row_for_update(&qs, s * 613u % 262144u)[s % 4] = (float)(s + 1u);
+    }
+    assert_true(qs.dropped > 0);
+    agent_region_t r[QSTORE_MAX_REGIONS];
+    assert_int_equal(qstore_regions(&qs, r), 2);
+    assert_ptr_equal(r[0].data, q_);
+    assert_int_equal(r[0].size, 256 * 4 * sizeof(float));
+    assert_ptr_equal(r[1].data, keys_);
+    assert_int_equal(r[1].size, 256 * sizeof(uint32_t));
+    const void *image[QSTORE_MAX_REGIONS] = {r[0].data, r[1].data};
+    assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
+
+    assert_int_equal(qstore_init(&back, q2_, keys2_, 256, 4, 18), FW_OK);
+    agent_region_t rb[QSTORE_MAX_REGIONS];
+    assert_int_equal(qstore_regions(&back, rb), 2);
+    for (uint32_t i = 0; i < 2; i++) {
+        memcpy(rb[i].data, r[i].data, r[i].size);
+    }
+    qstore_restored(&back);
+    assert_int_equal(back.rows_used, qs.rows_used);
+    for (uint32_t s = 0; s < 1000; s++) {
+        const agent_state_t st = s * 613u % 262144u;
+        assert_memory_equal(qstore_row(&back, st), qstore_row(&qs, st), 4 * sizeof(float));
+    }
+
+    // A stored key copied FW_CFG_MAX_PROBE slots on: past its window, where no search looks.
+    uint32_t slot = 0;
+    while (keys_[slot] == QSTORE_EMPTY) {
+        slot++;
+    }
+    const uint32_t far = (slot + FW_CFG_MAX_PROBE) % 256u;
+    memcpy(image_keys_, keys_, sizeof image_keys_);
+    image_keys_[far] = keys_[slot];
+    const void *bad[QSTORE_MAX_REGIONS] = {q_, image_keys_};
+    assert_int_equal(qstore_check(&qs, bad, 18), FW_ERR_CORRUPT);
+    // A key of more bits than a state has.
+    memcpy(image_keys_, keys_, sizeof image_keys_);
+    image_keys_[slot] = keys_[slot] | (1u << 18);
+    assert_int_equal(qstore_check(&qs, bad, 18), FW_ERR_CORRUPT);
+    memcpy(image_keys_, keys_, sizeof image_keys_);
+    assert_int_equal(qstore_check(&qs, bad, 18), FW_OK);
+
+    // A dense store saves its values only.
+    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 8), FW_OK);
+    assert_int_equal(qstore_regions(&qs, r), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -130,6 +192,7 @@ int main(void)
         cmocka_unit_test(full_table_forgets_what_it_learned_least),
         cmocka_unit_test(planning_never_forgets_a_state),
         cmocka_unit_test(init_rejects_bad_arguments),
+        cmocka_unit_test(saved_regions_check_and_restore_themselves),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
