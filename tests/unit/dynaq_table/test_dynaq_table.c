@@ -2,6 +2,8 @@
 // Tests of table-based Dyna-Q's model: what it records and how it samples (Fig. 5).
 #include "test_common.h"
 
+#include <string.h>
+
 #include "agent/dynaq_table.h"
 #include "fw/fw_base.h"
 
@@ -143,6 +145,71 @@ static void full_table_forgets_the_oldest_state_and_counts(void **state)
     assert_int_equal(t.evicted, 0);
 }
 
+static dynaq_record_t records2_[64];
+static uint32_t index_keys2_[DYNAQ_INDEX_SLOTS(64)];
+static uint32_t index_rec2_[DYNAQ_INDEX_SLOTS(64)];
+
+// The table's own save regions, checked and restored into a second table over other arrays,
+// give the same records, each found through the index; a record number past the count or a state
+// moved off its probe path is refused.
+static void saved_regions_check_and_restore_themselves(void **state)
+{
+    (void)state;
+    dynaq_table_t t;
+    dynaq_table_t back;
+    setup_table(&t);
+    for (uint32_t s = 0; s < 100; s++) {  // the oldest states leave: the index shifts back
+        dynaq_remember(&t, s * 64u, (uint8_t)(s & 3u), (float)s, s + 1u, false);
+    }
+    agent_region_t r[DYNAQ_REGIONS];
+    assert_int_equal(dynaq_regions(&t, r), DYNAQ_REGIONS);
+    assert_int_equal(r[0].size, 64 * sizeof(dynaq_record_t));
+    assert_int_equal(r[1].size, DYNAQ_INDEX_SLOTS(64) * sizeof(uint32_t));
+    assert_int_equal(r[2].size, DYNAQ_INDEX_SLOTS(64) * sizeof(uint32_t));
+    const void *image[DYNAQ_REGIONS] = {r[0].data, r[1].data, r[2].data};
+    assert_int_equal(dynaq_check(&t, image, 18), FW_OK);
+
+    assert_int_equal(dynaq_init(&back, records2_, index_keys2_, index_rec2_, 64, 4), FW_OK);
+    agent_region_t rb[DYNAQ_REGIONS];
+    assert_int_equal(dynaq_regions(&back, rb), DYNAQ_REGIONS);
+    for (uint32_t i = 0; i < DYNAQ_REGIONS; i++) {
+        memcpy(rb[i].data, r[i].data, r[i].size);
+    }
+    dynaq_restored(&back);
+    assert_int_equal(back.count, t.count);
+    expect_index_consistent_(&back);
+    for (uint32_t s = 100 - 64; s < 100; s++) {
+        assert_int_equal(tried_of_(&back, s * 64u), 1u << (s & 3u));
+    }
+
+    const void *bad[DYNAQ_REGIONS] = {records2_, index_keys2_, index_rec2_};
+    uint32_t slot = 0;
+    while (index_keys2_[slot] == DYNAQ_EMPTY) {
+        slot++;
+    }
+    const uint32_t rec = index_rec2_[slot];
+    index_rec2_[slot] = 64;  // no such record
+    assert_int_equal(dynaq_check(&t, bad, 18), FW_ERR_CORRUPT);
+    index_rec2_[slot] = rec;
+    assert_int_equal(dynaq_check(&t, bad, 18), FW_OK);
+    // A state moved to the empty slot just before its home: no search from its home finds it.
+    uint32_t moved = 0;
+    uint32_t before = 0;
+    for (; moved <= back.index.mask; moved++) {
+        if (index_keys2_[moved] != DYNAQ_EMPTY) {
+            before = (oa_home(&back.index, index_keys2_[moved]) + back.index.mask) & back.index.mask;
+            if (index_keys2_[before] == DYNAQ_EMPTY) {
+                break;
+            }
+        }
+    }
+    assert_true(moved <= back.index.mask);  // half the slots are empty: there is one
+    index_keys2_[before] = index_keys2_[moved];
+    index_rec2_[before] = index_rec2_[moved];
+    index_keys2_[moved] = DYNAQ_EMPTY;
+    assert_int_equal(dynaq_check(&t, bad, 18), FW_ERR_CORRUPT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -150,6 +217,7 @@ int main(void)
         cmocka_unit_test(samples_only_what_was_observed_and_the_latest_outcome),
         cmocka_unit_test(samples_states_then_actions_uniformly),
         cmocka_unit_test(full_table_forgets_the_oldest_state_and_counts),
+        cmocka_unit_test(saved_regions_check_and_restore_themselves),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
