@@ -210,6 +210,57 @@ static void untried_pairs_are_predicted_by_their_situation(void **state)
     assert_true(found);
 }
 
+// The same robot with its components in another order: the code first, then x, then the
+// heading. Its situation (code and heading) is no longer one run of adjacent bits, so the model
+// packs it component by component (select_() in model.c) instead of with one shift and mask.
+static const agent_space_t rel_swapped_ = {3, {2, 5, 4}, {0, 0, 0}, 0x4, 0x1, 4, 0x5};
+
+static agent_state_t swapped_state(uint32_t x, uint32_t h, uint32_t r)
+{
+    const uint32_t c[3] = {r, x, h};
+    return space_pack(&rel_swapped_, c);
+}
+
+typedef agent_state_t (*state_of_fn)(uint32_t x, uint32_t h, uint32_t r);
+
+static uint32_t layout_run_(const agent_space_t *sp, state_of_fn st, model_step_t *out,
+                            model_pred_t *preds)
+{
+    world_model_t m;
+    assert_int_equal(model_init(&m, sp, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_learn(&m, st(20, 4, 2), 2, -1.0f, st(20, 5, 3), false);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&m, st(x, 4, 0), 0, -1.0f, st(x + 1, 4, 0), false);
+    }
+    model_learn(&m, st(19, 4, 0), 2, -1.0f, st(19, 5, 0), false);
+    model_learn(&m, st(7, 4, 0), 3, -100.0f, st(7, 4, 0), false);
+    assert_true(model_predict(&m, st(19, 4, 0), 0, out));
+    return model_predecessors(&m, st(20, 4, 2), preds);
+}
+
+static void the_order_of_components_does_not_matter(void **state)
+{
+    (void)state;
+    model_step_t a;
+    model_step_t b;
+    model_pred_t pa[MODEL_MAX_PREDECESSORS];
+    model_pred_t pb[MODEL_MAX_PREDECESSORS];
+    const uint32_t na = layout_run_(&rel_, rel_state, &a, pa);
+    const uint32_t nb = layout_run_(&rel_swapped_, swapped_state, &b, pb);
+    assert_int_equal(a.next, rel_state(20, 4, 2));
+    assert_int_equal(b.next, swapped_state(20, 4, 2));
+    assert_true(a.reward == b.reward && a.terminal == b.terminal);
+    assert_true(na > 0u);
+    assert_int_equal(na, nb);
+    for (uint32_t i = 0; i < na; i++) {
+        uint32_t c[3];
+        space_unpack(&rel_, pa[i].state, c);
+        assert_int_equal(pb[i].state, swapped_state(c[0], c[1], c[2]));
+        assert_int_equal(pb[i].action, pa[i].action);
+        assert_true(pb[i].reward == pa[i].reward);
+    }
+}
+
 // The gates: a place that showed two codes is not predictable; a situation's outcome is the
 // majority of its observations, trusted once seen MODEL_CLASS_MIN_COUNT (3) times.
 static void generalisation_is_gated_by_confidence(void **state)
@@ -351,6 +402,7 @@ int main(void)
         cmocka_unit_test(self_loops_are_predecessors_beside_the_real_one),
         cmocka_unit_test(every_observed_predecessor_is_found),
         cmocka_unit_test(untried_pairs_are_predicted_by_their_situation),
+        cmocka_unit_test(the_order_of_components_does_not_matter),
         cmocka_unit_test(generalisation_is_gated_by_confidence),
         cmocka_unit_test(tried_pairs_keep_their_majority_outcome),
         cmocka_unit_test(terminal_arrivals_are_predicted_by_position),
