@@ -51,12 +51,11 @@ for scn in paper-lab paper-sim; do
         done
     done
     train $scn q 0 $sets $eps "$d/q-p0.csv"; csvs+=("$d/q-p0.csv")
-    # Idle time with the MCU's cost modelled: Dyna-QPC on paper-lab only. Dyna-Q never runs out of
-    # work and plans ~100,000 updates per real step, and on paper-sim Dyna-QPC's queue does not run
-    # dry either: hours here (docs/results.md).
-    if [ $scn = paper-lab ]; then
-        train $scn dyna-qpc 0 $sets $eps "$d/dyna-qpc-p0.csv"; csvs+=("$d/dyna-qpc-p0.csv")
-    fi
+    # Idle time with the MCU's cost modelled (--planning 0): Dyna-Q never runs out of work and
+    # plans tens of thousands of updates per real step (a minute or so per set here).
+    for a in dyna-q dyna-qpc; do
+        train $scn $a 0 $sets $eps "$d/$a-p0.csv"; csvs+=("$d/$a-p0.csv")
+    done
     table "$scn ($sets sets x $eps episodes, seed $seed)" $thr "${csvs[@]}"
 done
 
