@@ -28,12 +28,7 @@ field() { sed -n "s/.*[ ]$2=\([0-9]*\).*/\1/p;s/^$2=\([0-9]*\).*/\1/p" "$1" | ta
 timeout 30 "$BIN/dynaqpc-sim" devices --scenario paper-lab --speed $SPEED --duration 5 > "$TMP/devices.out" 2>&1 &
 DEV=$!
 PIDS="$DEV"
-n=0
-until grep -q '^cricket_tty=' "$TMP/devices.out" 2>/dev/null; do
-    n=$((n + 1)); [ $n -gt 100 ] && fail "dynaqpc-sim devices printed no cricket_tty"
-    sleep 0.1
-done
-TTY=$(sed -n 's/^cricket_tty=//p' "$TMP/devices.out" | head -n 1)
+TTY=$(cricket_tty_of "$TMP/devices.out") || exit 1
 sleep 1.5  # 15 s of world time: a backlog larger than the UART's ring (several Cricket lines)
 timeout 30 "$BIN/dynaqpc-fw" --scenario paper-lab --speed $SPEED --cricket-tty "$TTY" --duration 6 \
     > "$TMP/fw.out" 2>&1 &

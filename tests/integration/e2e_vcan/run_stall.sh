@@ -40,12 +40,7 @@ total=$(awk -v a="$1" -v b="$2" -v c="$3" 'BEGIN { printf "%d", 4 + a + b + c + 
 "$BIN/dynaqpc-sim" devices --scenario paper-lab --speed $SPEED --duration "$total" > "$TMP/devices.out" 2>&1 &
 DEV=$!
 PIDS="$DEV"
-n=0
-until grep -q '^cricket_tty=' "$TMP/devices.out" 2>/dev/null; do
-    n=$((n + 1)); [ $n -gt 100 ] && fail "no cricket_tty"
-    sleep 0.1
-done
-TTY=$(sed -n 's/^cricket_tty=//p' "$TMP/devices.out" | head -n 1)
+TTY=$(cricket_tty_of "$TMP/devices.out") || exit 1
 "$BIN/dynaqpc-fw" --scenario paper-lab --speed $SPEED --cricket-tty "$TTY" --auto-start --duration $((total + 2)) \
     > "$TMP/fw.out" 2>&1 &
 FW=$!
