@@ -383,8 +383,17 @@ static void check_keys_by_definition_(const cmac_t *m, prng_t *rng)
             in[k] = prng_below(rng, 1u << m->cfg.input_bits[k]);
         }
         const uint32_t action = prng_below(rng, m->cfg.n_actions);
+        uint32_t packed = 0;  // as space_pack() packs a state: input 0 lowest
+        uint32_t shift = 0;
+        for (uint32_t k = 0; k < m->cfg.n_inputs; k++) {
+            packed |= in[k] << shift;
+            shift += m->cfg.input_bits[k];
+        }
         cmac_tiles_t t;
+        cmac_tiles_t from_packed;
         cmac_tiles_of(m, in, action, &t);
+        cmac_tiles_of_packed(m, packed, in, action, &from_packed);
+        assert_int_equal(from_packed.action_bits, t.action_bits);
         for (uint32_t p = 0; p < m->n_patterns; p++) {
             uint32_t key = p | (action << m->action_shift);
             for (uint32_t k = 0; k < m->cfg.n_inputs; k++) {
@@ -392,6 +401,7 @@ static void check_keys_by_definition_(const cmac_t *m, prng_t *rng)
                        << m->key_shift[k];
             }
             assert_int_equal(t.key[p], key);
+            assert_int_equal(from_packed.key[p], key);
         }
     }
 }
@@ -427,6 +437,17 @@ static void tile_keys_match_their_definition(void **state)
     c = config_2d(4, 3, 1);
     assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
     assert_int_equal(m.carry_bits, 0u);
+    check_keys_by_definition_(&m, &rng);
+    // Every input exact, as shipped (x, y, a circular heading, a range code): one pattern, and
+    // cmac_tiles_of_packed() takes its key from the packed state.
+    c = config_2d(3, 0, 1);
+    c.n_inputs = 4;
+    c.input_bits[2] = 4;
+    c.input_bits[3] = 3;
+    c.circular_mask = 4;
+    assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
+    assert_int_equal(m.n_patterns, 1);
+    assert_int_equal(m.n_tiled, 0);
     check_keys_by_definition_(&m, &rng);
 }
 

@@ -107,6 +107,21 @@ void cmac_clear(cmac_t *cmac);
 /// `action`.
 void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles);
 
+/// cmac_tiles_of() for inputs also given packed, input 0 in the lowest bits and each in its
+/// input_bits (as space_pack() packs a state). When every input is exact (tiles one value wide,
+/// the shipped configurations) the one tile's key is the packed inputs shifted into place: no
+/// input is looked at one by one.
+static inline void cmac_tiles_of_packed(const cmac_t *cmac, uint32_t packed, const uint32_t *inputs,
+                                        uint32_t action, cmac_tiles_t *tiles)
+{
+    if (cmac->n_tiled == 0u) {  // then one pattern, the inputs' fields in order from key_shift[0]
+        tiles->action_bits = action << cmac->action_shift;
+        tiles->key[0] = (packed << cmac->key_shift[0]) | tiles->action_bits;
+        return;
+    }
+    cmac_tiles_of(cmac, inputs, action, tiles);
+}
+
 /// Re-targets tiles computed by cmac_tiles_of() to another action, without recomputing them.
 static inline void cmac_tiles_set_action(const cmac_t *cmac, cmac_tiles_t *tiles, uint32_t action)
 {

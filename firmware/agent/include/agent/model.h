@@ -58,6 +58,7 @@ typedef struct model_field {
     uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
     uint32_t wrap;       // 2^bits - 1 for the change of a circular component, else all ones
     uint32_t shift;      // where the component sits in a packed state
+    uint32_t bits;       // its width
 } model_field_t;
 
 /// Some components (a mask over them) packed into one index, in order (see select_() in

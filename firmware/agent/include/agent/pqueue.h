@@ -44,6 +44,7 @@ typedef struct pqueue {
     uint32_t *index_pos;    // heap position of the key in the same slot
     uint32_t capacity;
     uint32_t size;
+    float floor;            // at most the lowest queued priority (see pq_push())
     pq_stats_t stats;
 } pqueue_t;
 
