@@ -10,7 +10,7 @@ extern "C" {
 #endif
 
 /// CRC-32 (IEEE 802.3, reflected, as zlib's crc32()): fw_crc32(0, "123456789", 9) is 0xCBF43926.
-/// Nibble-wise: a 16-entry table (64 bytes of flash), about twice the speed of bit-wise.
+/// Four bytes a step (slicing by 4): tables of 4 KB of flash, about four times nibble-wise.
 uint32_t fw_crc32(uint32_t crc, const void *data, uint32_t len);
 
 /// CRC-8/SAE-J1850 (polynomial 0x1D, init 0xFF, final xor 0xFF, not reflected): fw_crc8(0,

@@ -3,6 +3,7 @@
 #include "agent/cmac.h"
 
 #include <stddef.h>
+#include <string.h>
 
 #include "fw/fw_base.h"
 #include "fw/fw_util.h"
@@ -139,12 +140,10 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
 void cmac_clear(cmac_t *cmac)
 {
     oa_clear(&cmac->index);
-    for (uint32_t i = 0; i < cmac->capacity; i++) {
-        cmac->counts[i] = 0;
-    }
-    const uint32_t n = cmac->capacity * cmac->cfg.n_outputs;
-    for (uint32_t i = 0; i < n; i++) {
-        cmac->weights[i] = 0;
+    // Integers whose empty value is 0 (see model_clear).
+    if (cmac->capacity > 0u) {
+        memset(cmac->counts, 0, cmac->capacity * sizeof *cmac->counts);
+        memset(cmac->weights, 0, cmac->capacity * cmac->cfg.n_outputs * sizeof *cmac->weights);
     }
     cmac->stats = (cmac_stats_t){0};
 }

@@ -4,6 +4,7 @@
 #include "agent/model.h"
 
 #include <stddef.h>
+#include <string.h>
 
 #include "fw/fw_base.h"
 #include "inline.h"
@@ -199,25 +200,23 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     return FW_OK;
 }
 
+// Every table but the arrivals is integers whose empty value is 0, so a memset clears it: a
+// fresh agent and a RESET_LEARNING clear up to ~50 KB (paper-sim's places), and element loops
+// cost several times as much where the compiler does not turn them into memset itself (the
+// fuzz preset's instrumented builds: a fifth of the firmware target's time).
 void model_clear(world_model_t *m)
 {
     cmac_clear(&m->forward);
-    for (uint32_t i = 0; i < m->places; i++) {
-        m->percepts[i] = 0;
+    if (m->places > 0u) {
+        memset(m->percepts, 0, m->places * sizeof *m->percepts);
     }
-    for (uint32_t i = 0; i < m->n_classes; i++) {
-        m->classes[i] = (model_class_t){{0}, 0, 0, 0};
+    if (m->n_classes > 0u) {
+        memset(m->classes, 0, m->n_classes * sizeof *m->classes);
     }
     for (uint32_t i = 0; i < m->positions; i++) {
         m->arrivals[i] = MODEL_NO_ARRIVAL;
     }
-    for (uint32_t a = 0; a < FW_CFG_MAX_ACTIONS; a++) {
-        for (uint32_t b = 0; b < MODEL_DELTA_BUCKETS; b++) {
-            for (uint32_t i = 0; i < MODEL_MAX_DELTAS; i++) {
-                m->deltas[a][b][i] = (model_delta_t){{0}, 0};
-            }
-        }
-    }
+    memset(m->deltas, 0, sizeof m->deltas);
     m->untrusted = 0;
     m->rejected = 0;
     m->generalised = 0;
@@ -541,12 +540,13 @@ int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
 {
     const uint32_t values = 1u << masked_bits_(m->space, m->space->absolute_mask);
     const uint32_t allowed = values >= 16u ? 0xFFFFu : (1u << values) - 1u;
+    // One test after the loop, not one a place: the loop has no branch and vectorises (paper-sim
+    // checks 16,384 places at every save and boot).
+    uint32_t stray = 0;
     for (uint32_t i = 0; i < m->places; i++) {
-        if (percepts[i] & ~allowed) {
-            return FW_ERR_CORRUPT;
-        }
+        stray |= percepts[i] & ~allowed;
     }
-    return FW_OK;
+    return stray != 0u ? FW_ERR_CORRUPT : FW_OK;
 }
 
 bool model_has_seen(const world_model_t *m, agent_state_t s)

@@ -2,6 +2,12 @@
 // dynaqpc: the open-addressing key index that the agent's hashed tables share.
 #include "agent/oa_table.h"
 
+#include <string.h>
+
+#include "fw/fw_base.h"
+
+FW_STATIC_ASSERT(OA_EMPTY == 0xFFFFFFFFu, oa_empty_is_all_ones);  // oa_clear memsets 0xFF
+
 // Why one index for four tables: the Q store, the CMAC, the priority queue and the Dyna-Q table
 // each had a probe loop, a delete or an eviction scan and a restore check of their own, written
 // four times with four loop bounds and two ways of testing "is this key still reachable". The
@@ -41,9 +47,8 @@ int oa_init(oa_table_t *t, uint32_t *keys, uint32_t slots, uint32_t limit, oa_ho
 
 void oa_clear(oa_table_t *t)
 {
-    for (uint32_t i = 0; i <= t->mask; i++) {
-        t->keys[i] = OA_EMPTY;
-    }
+    // OA_EMPTY is every bit set: a memset, as in model_clear.
+    memset(t->keys, 0xFF, ((size_t)t->mask + 1u) * sizeof *t->keys);
 }
 
 // Eviction happens on a real step's write only (planning never evicts), so a call per scored

@@ -165,12 +165,25 @@ int hal_flash_write(uint32_t offset, const void *data, size_t len)
             n = cut_left_;
             rc = FW_ERR_IO;
         }
-        for (size_t i = 0; i < n; i++) {
-            uint8_t old = image_[offset + i];
-            image_[offset + i] = (uint8_t)(old & src[i]);
-            if ((uint8_t)(old & src[i]) != src[i]) {
-                rc = FW_ERR_IO; // a 1 was asked where only a 0 can be: verify fails
-            }
+        // Eight bytes a step, without a branch: a save programs tens of KB, and under the fuzz
+        // preset's sanitizers every byte access was checked on its own.
+        uint64_t lost = 0; // bits asked as 1 where only a 0 can be
+        size_t i = 0;
+        for (; i + 8u <= n; i += 8u) {
+            uint64_t old, want;
+            memcpy(&old, &image_[offset + i], 8);
+            memcpy(&want, &src[i], 8);
+            const uint64_t now = old & want;
+            lost |= now ^ want;
+            memcpy(&image_[offset + i], &now, 8);
+        }
+        for (; i < n; i++) {
+            const uint8_t now = (uint8_t)(image_[offset + i] & src[i]);
+            lost |= (uint8_t)(now ^ src[i]);
+            image_[offset + i] = now;
+        }
+        if (lost != 0u) {
+            rc = FW_ERR_IO; // verify fails
         }
         programmed_ += n;
         if (cut_armed_) {
@@ -200,7 +213,9 @@ int hal_host_flash_configure(uint32_t sector_size, uint32_t sector_count, uint32
     geo_.sector_size = sector_size;
     geo_.sector_count = sector_count;
     geo_.write_align = write_align;
-    memset(image_, 0xFF, sizeof image_);
+    // The region only: nothing past it can be read or written until a configure erases it. A
+    // fuzz input configures a small flash every time (the host image is 512 KB).
+    memset(image_, 0xFF, (size_t)sector_size * sector_count);
     image_ready_ = true;
     pthread_mutex_unlock(&lock_);
     return FW_OK;

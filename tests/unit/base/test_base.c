@@ -22,6 +22,45 @@ static void crc32_check_value(void **state)
     assert_int_equal(fw_crc32(fw_crc32(0, "1234", 4), "56789", 5), 0xCBF43926u);
 }
 
+// Bit-wise CRC-32, the definition the table is built from.
+static uint32_t crc32_bitwise_(uint32_t crc, const uint8_t *p, uint32_t len)
+{
+    crc = ~crc;
+    for (uint32_t i = 0; i < len; i++) {
+        crc ^= p[i];
+        for (int bit = 0; bit < 8; bit++) {
+            crc = (crc & 1u) ? (crc >> 1) ^ 0xEDB88320u : crc >> 1;
+        }
+    }
+    return ~crc;
+}
+
+// The tables against the definition: every byte value alone, a long buffer, every length.
+static void crc32_every_byte(void **state)
+{
+    (void)state;
+    uint8_t buf[1024];
+    for (uint32_t v = 0; v < 256u; v++) {
+        const uint8_t b = (uint8_t)v;
+        assert_int_equal(fw_crc32(0, &b, 1), crc32_bitwise_(0, &b, 1));
+        assert_int_equal(fw_crc32(0x12345678u, &b, 1), crc32_bitwise_(0x12345678u, &b, 1));
+    }
+    for (uint32_t i = 0; i < sizeof buf; i++) {
+        buf[i] = (uint8_t)(i * 37u + (i >> 8));
+    }
+    assert_int_equal(fw_crc32(0, buf, sizeof buf), crc32_bitwise_(0, buf, sizeof buf));
+    // Four bytes a step and the tail: every length, start alignment and split point.
+    for (uint32_t start = 0; start < 4u; start++) {
+        for (uint32_t len = 0; len < 24u; len++) {
+            const uint32_t want = crc32_bitwise_(0, buf + start, len);
+            assert_int_equal(fw_crc32(0, buf + start, len), want);
+            for (uint32_t cut = 0; cut <= len; cut++) {
+                assert_int_equal(fw_crc32(fw_crc32(0, buf + start, cut), buf + start + cut, len - cut), want);
+            }
+        }
+    }
+}
+
 static void crc8_check_value(void **state)
 {
     (void)state;
@@ -135,6 +174,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(crc32_check_value),
+        cmocka_unit_test(crc32_every_byte),
         cmocka_unit_test(crc8_check_value),
         cmocka_unit_test(log2_ceil),
         cmocka_unit_test(fib_hash_spreads_and_stays_in_range),

@@ -3,6 +3,8 @@
 // predecessor search, and when a prediction is trusted.
 #include "test_common.h"
 
+#include <string.h>
+
 #include "agent/model.h"
 #include "fw/fw_base.h"
 
@@ -377,6 +379,69 @@ static void min_count_requires_repeated_training(void **state)
     assert_false(model_predict(&m, 3, 1, &out));
 }
 
+// model_clear (RESET_LEARNING, and every model_init) leaves every table as a fresh model has it,
+// however it was filled: no percept, no class, no arrival, no delta, no CMAC cell.
+static void clear_empties_every_table(void **state)
+{
+    (void)state;
+    memset(percepts_, 0xA5, sizeof percepts_);
+    memset(classes_, 0xA5, sizeof classes_);
+    memset(arrivals_, 0xA5, sizeof arrivals_);
+    memset(fk_, 0xA5, sizeof fk_);
+    memset(fc_, 0xA5, sizeof fc_);
+    memset(fw_, 0xA5, sizeof fw_);
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t round = 0; round < 2u; round++) {
+        for (uint32_t i = 0; i < 400u; i++) {
+            const uint32_t x = (i * 7u) % 32u, h = (i * 5u) % 16u, r = i % 4u;
+            model_learn(&m, rel_state(x, h, r), (uint8_t)(i % 4u), i % 3u ? -1.0f : 5.0f,
+                        rel_state((x + 1u) % 32u, (h + i) % 16u, (r + 1u) % 4u), i % 17u == 0u);
+        }
+        uint32_t cells = 0, seen = 0, arrived = 0;
+        for (uint32_t i = 0; i < CELLS; i++) {
+            cells += fc_[i] != 0u;
+        }
+        for (uint32_t i = 0; i < m.places; i++) {
+            seen += percepts_[i] != 0u;
+        }
+        for (uint32_t i = 0; i < m.positions; i++) {
+            arrived += arrivals_[i] != MODEL_NO_ARRIVAL;
+        }
+        assert_true(cells > 0u && seen > 0u && arrived > 0u);  // there is something to clear
+        model_clear(&m);
+        for (uint32_t i = 0; i < m.places; i++) {
+            assert_int_equal(percepts_[i], 0);
+        }
+        for (uint32_t i = 0; i < m.n_classes; i++) {
+            const model_class_t c = classes_[i];
+            assert_int_equal(c.reward, 0);
+            assert_int_equal(c.count, 0);
+            assert_int_equal(c.miss, 0);
+            for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+                assert_int_equal(c.delta[k], 0);
+            }
+        }
+        for (uint32_t i = 0; i < m.positions; i++) {
+            assert_int_equal(arrivals_[i], MODEL_NO_ARRIVAL);
+        }
+        const uint8_t *d = (const uint8_t *)m.deltas;
+        for (uint32_t i = 0; i < sizeof m.deltas; i++) {
+            assert_int_equal(d[i], 0);
+        }
+        for (uint32_t i = 0; i < CELLS; i++) {
+            assert_int_equal(fk_[i], OA_EMPTY);
+            assert_int_equal(fc_[i], 0);
+        }
+        for (uint32_t i = 0; i < CELLS * m.forward.cfg.n_outputs; i++) {  // the outputs in use
+            assert_int_equal(fw_[i], 0);
+        }
+        assert_int_equal(m.untrusted + m.rejected + m.generalised, 0);
+        model_step_t out;
+        assert_false(model_predict(&m, rel_state(1, 4, 0), 0, &out));
+    }
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -408,6 +473,7 @@ int main(void)
         cmocka_unit_test(terminal_arrivals_are_predicted_by_position),
         cmocka_unit_test(out_of_range_predictions_are_untrusted),
         cmocka_unit_test(min_count_requires_repeated_training),
+        cmocka_unit_test(clear_empties_every_table),
         cmocka_unit_test(init_rejects_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
