@@ -142,6 +142,14 @@ static model_class_t *class_of_(const world_model_t *m, agent_state_t s, const u
     return &m->classes[select_(m, &m->situation_of, s, comp) * m->space->n_actions + a];
 }
 
+FW_STATIC_ASSERT(MODEL_MAX_PERCEPTS == 1u << SPACE_MAX_ABSOLUTE_BITS, a_percept_class_per_value);
+
+static model_class_t *percept_class_of_(world_model_t *m, agent_state_t s, const uint32_t *comp,
+                                        uint32_t a)
+{
+    return &m->percept_classes[select_(m, &m->percept_of, s, comp) * m->space->n_actions + a];
+}
+
 // ---- Set-up ---------------------------------------------------------------------------------------
 
 int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
@@ -196,6 +204,9 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     m->n_classes = space->context_mask != 0u ? (1u << context_bits) * space->n_actions : 0u;
     m->arrivals = space->context_mask != 0u ? reloc->arrivals : NULL;
     m->positions = space->context_mask != 0u ? 1u << position_bits : 0u;
+    m->n_percept_classes = space->context_mask != 0u && space->absolute_mask != 0u
+                               ? (1u << masked_bits_(space, space->absolute_mask)) * space->n_actions
+                               : 0u;
     model_clear(m);
     return FW_OK;
 }
@@ -217,6 +228,7 @@ void model_clear(world_model_t *m)
         m->arrivals[i] = MODEL_NO_ARRIVAL;
     }
     memset(m->deltas, 0, sizeof m->deltas);
+    memset(m->percept_classes, 0, m->n_percept_classes * sizeof *m->percept_classes);
     m->untrusted = 0;
     m->rejected = 0;
     m->generalised = 0;
@@ -445,6 +457,9 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
             m->arrivals[select_(m, &m->position_of, s_next, to)] = reward;
         } else {
             train_class_(class_of_(m, s, from, a), delta, reward);
+            if (m->n_percept_classes != 0u) {
+                train_class_(percept_class_of_(m, s, from, a), delta, reward);
+            }
         }
     }
     return stored;
@@ -503,6 +518,11 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
         return false;
     }
     const model_class_t *c = class_of_(m, s, from, a);
+    if (!class_trusted_(c) && m->n_percept_classes != 0u) {
+        // Not yet seen often enough in this heading: what the action does at this percept in
+        // any heading (a bump, a turn, a step too short to leave the cell).
+        c = percept_class_of_(m, s, from, a);
+    }
     uint32_t to[FW_CFG_MAX_COMPONENTS];
     agent_state_t next;
     if (!class_trusted_(c) || !apply_delta_(m, from, c->delta, 1, to, &next)) {

@@ -19,7 +19,9 @@ uint32_t model_regions(const world_model_t *m, agent_region_t *out)
     n = agent_region_add(out, n, m->percepts, m->places * (uint32_t)sizeof(uint16_t));
     n = agent_region_add(out, n, m->classes, m->n_classes * (uint32_t)sizeof(model_class_t));
     n = agent_region_add(out, n, m->arrivals, m->positions * (uint32_t)sizeof(int16_t));
-    return agent_region_add(out, n, m->deltas, (uint32_t)sizeof m->deltas);
+    n = agent_region_add(out, n, m->deltas, (uint32_t)sizeof m->deltas);
+    return agent_region_add(out, n, m->percept_classes,
+                            m->n_percept_classes * (uint32_t)sizeof(model_class_t));
 }
 
 int model_check(const world_model_t *m, const void *const *image)

@@ -212,6 +212,38 @@ static void untried_pairs_are_predicted_by_their_situation(void **state)
     assert_true(found);
 }
 
+// A situation not yet trusted (a heading never driven in with this code) falls back on what
+// the action did at the same code in any heading: three bumps facing one way predict a bump
+// facing another. Once the situation itself is trusted, its own outcome is the one used.
+static void untried_headings_fall_back_on_the_percept(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    assert_int_equal(m.n_percept_classes, 4u * 4u);  // 2 code bits, 4 actions
+    model_step_t out;
+    for (uint32_t x = 1; x <= 3; x++) {
+        assert_false(model_predict(&m, rel_state(10, 9, 1), 0, &out));
+        model_learn(&m, rel_state(x, 4, 1), 0, -100.0f, rel_state(x, 4, 1), false);
+    }
+    const uint32_t before = m.generalised;
+    assert_true(model_predict(&m, rel_state(10, 9, 1), 0, &out));
+    assert_int_equal(out.next, rel_state(10, 9, 1));  // going nowhere, it keeps its code
+    assert_true(out.reward == -100.0f);
+    assert_int_equal(out.terminal, 0);
+    assert_int_equal(m.generalised, before + 1);
+    // Another code is another percept: nothing known.
+    assert_false(model_predict(&m, rel_state(10, 9, 0), 0, &out));
+    // Heading 9 with code 1 seen moving +1 three times: the situation's own outcome wins.
+    model_learn(&m, rel_state(11, 2, 1), 2, -1.0f, rel_state(11, 9, 1), false);  // (11, 9) shows 1
+    for (uint32_t x = 20; x <= 22; x++) {
+        model_learn(&m, rel_state(x, 9, 1), 0, -1.0f, rel_state(x + 1, 9, 1), false);
+    }
+    assert_true(model_predict(&m, rel_state(10, 9, 1), 0, &out));
+    assert_int_equal(out.next, rel_state(11, 9, 1));
+    assert_true(out.reward == -1.0f);
+}
+
 // The same robot with its components in another order: the code first, then x, then the
 // heading. Its situation (code and heading) is no longer one run of adjacent bits, so the model
 // packs it component by component (select_() in model.c) instead of with one shift and mask.
@@ -429,6 +461,10 @@ static void clear_empties_every_table(void **state)
         for (uint32_t i = 0; i < sizeof m.deltas; i++) {
             assert_int_equal(d[i], 0);
         }
+        for (uint32_t i = 0; i < m.n_percept_classes; i++) {
+            assert_int_equal(m.percept_classes[i].count, 0);
+            assert_int_equal(m.percept_classes[i].miss, 0);
+        }
         for (uint32_t i = 0; i < CELLS; i++) {
             assert_int_equal(fk_[i], OA_EMPTY);
             assert_int_equal(fc_[i], 0);
@@ -467,6 +503,7 @@ int main(void)
         cmocka_unit_test(self_loops_are_predecessors_beside_the_real_one),
         cmocka_unit_test(every_observed_predecessor_is_found),
         cmocka_unit_test(untried_pairs_are_predicted_by_their_situation),
+        cmocka_unit_test(untried_headings_fall_back_on_the_percept),
         cmocka_unit_test(the_order_of_components_does_not_matter),
         cmocka_unit_test(generalisation_is_gated_by_confidence),
         cmocka_unit_test(tried_pairs_keep_their_majority_outcome),

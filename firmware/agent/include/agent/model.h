@@ -22,7 +22,10 @@ extern "C" {
 ///   outcome of an action in a *situation* (the context components: heading and range code),
 ///   wherever the robot is, with counts of agreeing and disagreeing observations; a map of what
 ///   the robot perceived at each place (the absolute components seen at each value of the
-///   others); and where arriving ended an episode. Together they predict pairs never tried:
+///   others); and where arriving ended an episode. A situation not yet seen often enough falls
+///   back on the action's usual outcome at the same percept in any heading (what generalises
+///   across headings: a bump, a turn, a step too short to leave the cell). Together they
+///   predict pairs never tried:
 ///   the situation's usual change applied to s, the percept the map has for the place it leads
 ///   to, the goal's reward if arriving there ended an episode before.
 /// - **The predecessors** (what the paper's CMAC-R is for): every change an action has produced
@@ -48,6 +51,9 @@ extern "C" {
 #define MODEL_DELTA_BUCKETS 16u
 /// Most distinct changes kept per action and bucket (the least seen is replaced when full).
 #define MODEL_MAX_DELTAS 4u
+/// Most values the absolute components (the percept) take together: a place's percepts are a
+/// 16-bit mask (space.h: SPACE_MAX_ABSOLUTE_BITS).
+#define MODEL_MAX_PERCEPTS 16u
 /// A situation's outcome generalises once it was seen this often.
 #ifndef MODEL_CLASS_MIN_COUNT
 #define MODEL_CLASS_MIN_COUNT 3u
@@ -108,6 +114,11 @@ typedef struct world_model {
     int16_t *arrivals;    ///< per position: reward of an arrival that ended an episode
     uint32_t positions;
     model_delta_t deltas[FW_CFG_MAX_ACTIONS][MODEL_DELTA_BUCKETS][MODEL_MAX_DELTAS];
+    /// per percept and action (a space with both a context_mask and absolute components): the
+    /// usual outcome of the action at that percept in any heading, for situations not yet
+    /// trusted
+    model_class_t percept_classes[MODEL_MAX_PERCEPTS * FW_CFG_MAX_ACTIONS];
+    uint32_t n_percept_classes;  ///< in use: 2^(absolute bits) * n_actions, or 0
     uint32_t untrusted;    ///< predictions refused for low confidence or an out-of-range result
     uint32_t rejected;     ///< predecessor candidates the forward prediction did not confirm
     uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model

@@ -19,18 +19,20 @@ extern "C" {
 /// model.c; it lists exactly the tables model.h declares.
 
 /// The most regions model_regions() lists: CMAC-Model's, the percept map, the situations, the
-/// arrivals and the changes per action.
-#define MODEL_MAX_REGIONS (CMAC_REGIONS + 4u)
+/// arrivals, the changes per action and the percepts' outcomes.
+#define MODEL_MAX_REGIONS (CMAC_REGIONS + 5u)
 
 /// Lists the memory that holds what the model learned, in a fixed order: CMAC-Model (its own
 /// regions, cmac_regions()), then the percept map, the situations and the arrivals (each only if
-/// the space has it), then the changes per action. Returns how many regions it wrote to `out`.
+/// the space has it), then the changes per action, then the percepts' outcomes (if the space has
+/// them). Returns how many regions it wrote to `out`.
 uint32_t model_regions(const world_model_t *m, agent_region_t *out);
 
 /// Checks restored contents before they are copied into `m` (which gives the shape): image[i]
 /// holds the bytes of region i as model_regions() lists them. CMAC-Model checks its own cells
 /// (cmac_check); a percept mask must not name a value the absolute components cannot take
-/// (model_percepts_check). The situations, arrivals and changes hold any values safely: every
+/// (model_percepts_check). The situations, arrivals, changes and percepts' outcomes hold any
+/// values safely: every
 /// use range-checks what it computes from them. Reads only. Returns FW_OK or FW_ERR_CORRUPT.
 int model_check(const world_model_t *m, const void *const *image);
 
