@@ -518,14 +518,21 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
         return false;
     }
     const model_class_t *c = class_of_(m, s, from, a);
-    if (!class_trusted_(c) && m->n_percept_classes != 0u) {
+    if (!class_trusted_(c)) {
         // Not yet seen often enough in this heading: what the action does at this percept in
-        // any heading (a bump, a turn, a step too short to leave the cell).
+        // any heading (a bump, a turn, a step too short to leave the cell), seen at least
+        // MODEL_PERCEPT_MIN_COUNT times.
+        if (m->n_percept_classes == 0u) {
+            return false;
+        }
         c = percept_class_of_(m, s, from, a);
+        if (c->count < MODEL_PERCEPT_MIN_COUNT) {
+            return false;
+        }
     }
     uint32_t to[FW_CFG_MAX_COMPONENTS];
     agent_state_t next;
-    if (!class_trusted_(c) || !apply_delta_(m, from, c->delta, 1, to, &next)) {
+    if (!apply_delta_(m, from, c->delta, 1, to, &next)) {
         return false;
     }
     const bool moved = moves_(c->delta);

@@ -186,8 +186,8 @@ static void untried_pairs_are_predicted_by_their_situation(void **state)
     assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
     model_learn(&m, rel_state(20, 4, 2), 2, -1.0f, rel_state(20, 5, 3), false);  // (20, 4) shows 2
     model_step_t out;
+    assert_false(model_predict(&m, rel_state(19, 4, 0), 0, &out));  // never seen
     for (uint32_t x = 1; x <= 3; x++) {
-        assert_false(model_predict(&m, rel_state(19, 4, 0), 0, &out));  // seen x - 1 times only
         model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
     }
     const uint32_t before = m.generalised;
@@ -213,8 +213,8 @@ static void untried_pairs_are_predicted_by_their_situation(void **state)
 }
 
 // A situation not yet trusted (a heading never driven in with this code) falls back on what
-// the action did at the same code in any heading: three bumps facing one way predict a bump
-// facing another. Once the situation itself is trusted, its own outcome is the one used.
+// the action did at the same code in any heading: a bump facing one way predicts a bump facing
+// another. Once the situation itself is trusted, its own outcome is the one used.
 static void untried_headings_fall_back_on_the_percept(void **state)
 {
     (void)state;
@@ -222,7 +222,8 @@ static void untried_headings_fall_back_on_the_percept(void **state)
     assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
     assert_int_equal(m.n_percept_classes, 4u * 4u);  // 2 code bits, 4 actions
     model_step_t out;
-    for (uint32_t x = 1; x <= 3; x++) {
+    assert_false(model_predict(&m, rel_state(10, 9, 1), 0, &out));
+    for (uint32_t x = 1; x <= MODEL_PERCEPT_MIN_COUNT; x++) {
         assert_false(model_predict(&m, rel_state(10, 9, 1), 0, &out));
         model_learn(&m, rel_state(x, 4, 1), 0, -100.0f, rel_state(x, 4, 1), false);
     }
@@ -320,15 +321,33 @@ static void generalisation_is_gated_by_confidence(void **state)
         assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
         assert_int_equal(out.next, rel_state(11, 4, 0));
     }
-    // ...the fifth replaces it with the bump, not trusted until seen 3 times.
-    model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
-    assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
-    model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
-    assert_false(model_predict(&m, rel_state(10, 4, 0), 0, &out));
+    // ...the fifth replaces it with the bump. The situation has seen it once only; its
+    // percept's outcome (the same observations, so the same bump) stands in.
     model_learn(&m, rel_state(9, 4, 0), 0, -100.0f, rel_state(9, 4, 0), false);
     assert_true(model_predict(&m, rel_state(10, 4, 0), 0, &out));
     assert_int_equal(out.next, rel_state(10, 4, 0));
     assert_true(out.reward == -100.0f);
+}
+
+// A situation's own outcome is used once seen MODEL_CLASS_MIN_COUNT (3) times; before, the
+// percept's majority outcome over every heading stands in, even where the situation disagrees.
+static void a_situation_is_trusted_after_three_observations(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t x = 1; x <= 6; x++) {  // facing 8 with code 0, action 0 goes nowhere
+        model_learn(&m, rel_state(x, 8, 0), 0, -1.0f, rel_state(x, 8, 0), false);
+    }
+    model_learn(&m, rel_state(21, 2, 0), 2, -1.0f, rel_state(21, 4, 0), false);  // (21, 4) shows 0
+    model_step_t out;
+    for (uint32_t x = 1; x <= MODEL_CLASS_MIN_COUNT; x++) {
+        assert_true(model_predict(&m, rel_state(20, 4, 0), 0, &out));
+        assert_int_equal(out.next, rel_state(20, 4, 0));  // the percept's: going nowhere
+        model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    assert_true(model_predict(&m, rel_state(20, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(21, 4, 0));  // the situation's: one ahead
 }
 
 // A tried pair keeps the outcome most of its observations agreed on: one that contradicts it
@@ -506,6 +525,7 @@ int main(void)
         cmocka_unit_test(untried_headings_fall_back_on_the_percept),
         cmocka_unit_test(the_order_of_components_does_not_matter),
         cmocka_unit_test(generalisation_is_gated_by_confidence),
+        cmocka_unit_test(a_situation_is_trusted_after_three_observations),
         cmocka_unit_test(tried_pairs_keep_their_majority_outcome),
         cmocka_unit_test(terminal_arrivals_are_predicted_by_position),
         cmocka_unit_test(out_of_range_predictions_are_untrusted),

@@ -40,8 +40,8 @@ extern "C" {
 ///
 /// A prediction is trusted only when its CMAC cells were each trained at least `min_count`
 /// times, or, for an untried pair, when its situation's outcome was seen at least
-/// MODEL_CLASS_MIN_COUNT times and the place it leads to shows one percept only; and each
-/// predicted component lies in range.
+/// MODEL_CLASS_MIN_COUNT times (else its percept's at least MODEL_PERCEPT_MIN_COUNT times) and
+/// the place it leads to shows one percept only; and each predicted component lies in range.
 
 /// Most predecessors model_query_predecessors() returns for one state.
 #define MODEL_MAX_PREDECESSORS 16u
@@ -57,6 +57,11 @@ extern "C" {
 /// A situation's outcome generalises once it was seen this often.
 #ifndef MODEL_CLASS_MIN_COUNT
 #define MODEL_CLASS_MIN_COUNT 3u
+#endif
+/// A percept's outcome stands in for a situation not yet trusted once it was seen this often
+/// (docs/agent.md: 1 learned fastest on the tuning rooms; the next real step corrects it).
+#ifndef MODEL_PERCEPT_MIN_COUNT
+#define MODEL_PERCEPT_MIN_COUNT 1u
 #endif
 
 /// How a predicted change applies to one component (see decode_() in model.c).
