@@ -406,6 +406,18 @@ static void check_keys_by_definition_(const cmac_t *m, prng_t *rng)
     }
 }
 
+// The grid robot's inputs: x and y of 3 bits, tiles 2^xy_shift wide, a circular 4-bit heading
+// and a 3-bit range code, both exact.
+static cmac_config_t grid_robot_config_(uint8_t xy_shift)
+{
+    cmac_config_t c = config_2d(3, xy_shift, 1);
+    c.n_inputs = 4;
+    c.input_bits[2] = 4;
+    c.input_bits[3] = 3;
+    c.circular_mask = 4;
+    return c;
+}
+
 static void tile_keys_match_their_definition(void **state)
 {
     (void)state;
@@ -413,11 +425,7 @@ static void tile_keys_match_their_definition(void **state)
     prng_seed(&rng, 99);
     cmac_t m;
     // The grid robot's shape (x, y tiled, a circular heading and a range exact): the fast path.
-    cmac_config_t c = config_2d(3, 1, 1);
-    c.n_inputs = 4;
-    c.input_bits[2] = 4;
-    c.input_bits[3] = 3;
-    c.circular_mask = 4;
+    cmac_config_t c = grid_robot_config_(1);
     assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
     assert_int_equal(m.n_patterns, 4);
     assert_true(m.carry_bits != 0u);
@@ -440,11 +448,7 @@ static void tile_keys_match_their_definition(void **state)
     check_keys_by_definition_(&m, &rng);
     // Every input exact, as shipped (x, y, a circular heading, a range code): one pattern, and
     // cmac_tiles_of_packed() takes its key from the packed state.
-    c = config_2d(3, 0, 1);
-    c.n_inputs = 4;
-    c.input_bits[2] = 4;
-    c.input_bits[3] = 3;
-    c.circular_mask = 4;
+    c = grid_robot_config_(0);
     assert_int_equal(cmac_init(&m, &c, keys_, counts_, weights_, CELLS), FW_OK);
     assert_int_equal(m.n_patterns, 1);
     assert_int_equal(m.n_tiled, 0);
