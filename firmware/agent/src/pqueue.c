@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: bounded max-priority queue: a binary max-heap with an open-addressing position index.
+// dynaqpc: bounded max-priority queue: a min-max heap with an open-addressing position index.
 #include "agent/pqueue.h"
 
-#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -49,55 +48,145 @@ AGENT_ALWAYS_INLINE void heap_place(pqueue_t *pq, uint32_t pos, const pq_item_t 
     pq->index_pos[item->slot] = pos;
 }
 
-// Both sifts carry the item in hand and move the others one level, writing it once at the end.
-// Ties do not move, so an equal priority never costs a swap.
-static void heap_sift_up(pqueue_t *pq, uint32_t pos)
-{
-    pq_item_t item = pq->heap[pos];
+// ---- The min-max heap (Atkinson, Sack, Santoro & Strothotte 1986) ---------------------------------
+// Positions on even levels (the root's, its grandchildren's, ...) hold the minimum of their
+// subtree, on odd levels the maximum, so the lowest item is the root and the highest is one of
+// its children: a full queue finds what to drop in O(1) and replaces it in O(log n), where a
+// max-heap scans its leaves (the cost of every drop on a full queue: 23 % of a Cortex-M4
+// planning update on paper-lab). All moves carry the item in hand and write it once at the end;
+// comparisons are strict, so equal priorities never move.
 
-    while (pos > 0u) {
-        uint32_t parent = (pos - 1u) / 2u;
-        if (!(item.priority > pq->heap[parent].priority)) {
-            break;
-        }
-        heap_place(pq, pos, &pq->heap[parent]);
-        pos = parent;
-    }
-    heap_place(pq, pos, &item);
+// True on a min level: the level, floor(log2(pos + 1)), is even, that is the highest set bit of
+// pos + 1 sits at an even bit position, and then the even bits alone outweigh the odd ones.
+AGENT_ALWAYS_INLINE bool on_min_level_(uint32_t pos)
+{
+    const uint32_t n = pos + 1u;
+    return (n & 0x55555555u) > (n & 0xAAAAAAAAu);
 }
 
-static void heap_sift_down(pqueue_t *pq, uint32_t pos)
+// True if an item of priority x belongs above one of priority y on this kind of level: the
+// higher on a max level, the lower on a min level.
+AGENT_ALWAYS_INLINE bool before_(float x, float y, bool max_level)
 {
-    pq_item_t item = pq->heap[pos];
-    uint32_t size = pq->size;
-
-    while (2u * pos + 1u < size) {
-        uint32_t child = 2u * pos + 1u;
-        if (child + 1u < size && pq->heap[child + 1u].priority > pq->heap[child].priority) {
-            ++child;
-        }
-        if (!(pq->heap[child].priority > item.priority)) {
-            break;
-        }
-        heap_place(pq, pos, &pq->heap[child]);
-        pos = child;
-    }
-    heap_place(pq, pos, &item);
+    return max_level ? x > y : x < y;
 }
 
-// The minimum of a max-heap is always among the leaves, the second half of the array, so only
-// size / 2 items need a look. Called on a full queue only, where size >= 2.
-static uint32_t heap_min_leaf(const pqueue_t *pq)
+// Moves `item` from the hole at `pos` up along the grandparents of its own kind of level.
+AGENT_ALWAYS_INLINE uint32_t bubble_up_kind_(pqueue_t *pq, uint32_t pos, const pq_item_t *item,
+                                             bool max_level)
 {
-    uint32_t best = pq->size / 2u;
-    uint32_t i;
+    while (pos > 2u) {
+        const uint32_t grand = ((pos - 1u) / 2u - 1u) / 2u;
+        if (!before_(item->priority, pq->heap[grand].priority, max_level)) {
+            break;
+        }
+        heap_place(pq, pos, &pq->heap[grand]);
+        pos = grand;
+    }
+    return pos;
+}
 
-    for (i = best + 1u; i < pq->size; ++i) {
-        if (pq->heap[i].priority < pq->heap[best].priority) {
-            best = i;
+// Places `item` into the hole at `pos`, moving it up to where both orders hold above it.
+static uint32_t heap_bubble_up(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
+{
+    bool max_level = !on_min_level_(pos);
+    if (pos > 0u) {
+        const uint32_t parent = (pos - 1u) / 2u;
+        // An item on the wrong side of its parent belongs to the parent's kind of level.
+        if (before_(pq->heap[parent].priority, item->priority, max_level)) {
+            heap_place(pq, pos, &pq->heap[parent]);
+            pos = parent;
+            max_level = !max_level;
         }
     }
-    return best;
+    pos = bubble_up_kind_(pq, pos, item, max_level);
+    heap_place(pq, pos, item);
+    return pos;
+}
+
+// Moves `item` from the hole at `pos`, on a level of the given kind, down to where both orders
+// hold below it. Inlined with a constant kind, so each comparison is one instruction.
+AGENT_ALWAYS_INLINE uint32_t trickle_down_kind_(pqueue_t *pq, uint32_t pos, pq_item_t item,
+                                                const bool max_level)
+{
+    const uint32_t size = pq->size;
+    const pq_item_t *const h = pq->heap;
+    for (;;) {
+        // The most extreme of the children and the grandchildren (4 pos + 3 to 4 pos + 6).
+        const uint32_t child = 2u * pos + 1u;
+        if (child >= size) {
+            break;
+        }
+        uint32_t best = child;
+        if (child + 1u < size && before_(h[child + 1u].priority, h[best].priority, max_level)) {
+            best = child + 1u;
+        }
+        const uint32_t first_grand = 2u * child + 1u;
+        const uint32_t end = first_grand + 4u < size ? first_grand + 4u : size;
+        for (uint32_t g = first_grand; g < end; g++) {
+            if (before_(h[g].priority, h[best].priority, max_level)) {
+                best = g;
+            }
+        }
+        if (!before_(h[best].priority, item.priority, max_level)) {
+            break;
+        }
+        heap_place(pq, pos, &h[best]);
+        pos = best;
+        if (best < first_grand) {  // a child: the other kind of level, with nothing to pass below
+            break;
+        }
+        // A grandchild's place: the item may be on the wrong side of the parent between.
+        const uint32_t parent = (best - 1u) / 2u;
+        if (before_(h[parent].priority, item.priority, max_level)) {
+            const pq_item_t swapped = h[parent];
+            heap_place(pq, parent, &item);
+            item = swapped;
+        }
+    }
+    heap_place(pq, pos, &item);
+    return pos;
+}
+
+// Places `item` into the hole at `pos`, moving it down to where both orders hold below it.
+static uint32_t heap_trickle_down(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
+{
+    return on_min_level_(pos) ? trickle_down_kind_(pq, pos, *item, false)
+                              : trickle_down_kind_(pq, pos, *item, true);
+}
+
+// The highest item's position: the root alone, else the higher of its children (the first on a
+// tie).
+static uint32_t heap_max_pos(const pqueue_t *pq)
+{
+    if (pq->size <= 2u) {
+        return pq->size - 1u;
+    }
+    return pq->heap[2].priority > pq->heap[1].priority ? 2u : 1u;
+}
+
+// Raises the item at `pos` to `priority`. On a max level nothing below it can be higher, so it
+// can only go up; on a min level it may now be above what is below it, and above its parent:
+// then the parent, which was above everything below `pos`, takes the hole and goes down, and
+// the raised item takes the parent's place on the max levels.
+static void heap_raise(pqueue_t *pq, uint32_t pos, float priority)
+{
+    pq_item_t item = pq->heap[pos];
+    item.priority = priority;
+    if (!on_min_level_(pos)) {
+        heap_place(pq, bubble_up_kind_(pq, pos, &item, true), &item);
+        return;
+    }
+    if (pos > 0u) {  // the root has no parent
+        const uint32_t parent = (pos - 1u) / 2u;
+        if (priority > pq->heap[parent].priority) {
+            const pq_item_t down = pq->heap[parent];
+            (void)heap_trickle_down(pq, pos, &down);
+            heap_place(pq, bubble_up_kind_(pq, parent, &item, true), &item);
+            return;
+        }
+    }
+    (void)heap_trickle_down(pq, pos, &item);
 }
 
 int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index_pos,
@@ -124,7 +213,6 @@ void pq_clear(pqueue_t *pq)
     // never read, so they are left as they are.
     oa_clear(&pq->index);
     pq->size = 0;
-    pq->floor = FLT_MAX;
     pq->stats.pushed = 0;
     pq->stats.raised = 0;
     pq->stats.kept = 0;
@@ -135,23 +223,18 @@ void pq_clear(pqueue_t *pq)
 
 bool pq_push(pqueue_t *pq, uint32_t key, float priority)
 {
-    uint32_t slot;
-    uint32_t pos;
-    pq_item_t item;
-
     // A NaN compares false with everything and would silently break the heap order.
     if (key == PQ_NO_KEY || priority != priority) {
         return false;
     }
-    slot = oa_find(&pq->index, key);
+    uint32_t slot = oa_find(&pq->index, key);
     if (slot == OA_NONE) {
         return false;  // cannot happen: at most half the index's slots hold a key
     }
     if (pq->index.keys[slot] == key) {
-        pos = pq->index_pos[slot];
+        const uint32_t pos = pq->index_pos[slot];
         if (priority > pq->heap[pos].priority) {
-            pq->heap[pos].priority = priority;
-            heap_sift_up(pq, pos);
+            heap_raise(pq, pos, priority);
             ++pq->stats.raised;
         } else {
             ++pq->stats.kept;
@@ -160,60 +243,46 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
     }
 
     if (pq->size < pq->capacity) {
-        pos = pq->size++;
+        oa_put(&pq->index, slot, key);
+        const pq_item_t item = {key, priority, slot};
+        const uint32_t pos = pq->size++;
         if (pq->size > pq->stats.high_water) {
             pq->stats.high_water = pq->size;
         }
+        (void)heap_bubble_up(pq, pos, &item);
     } else {
-        // Full: something is dropped either way. On a tie the queued item stays, so a stream of
-        // equal priorities does not churn the queue. Finding the lowest item is a scan of the
-        // leaves; `floor` is a bound below every queued priority (the lowest a scan found, or a
-        // lower one pushed since: raises, pops and replacements never lower the lowest), so an
-        // item at or below it is dropped without one. On a full paper-lab queue that is most of
-        // the drops.
+        // Full: something is dropped either way, and the lowest is the root. On a tie the queued
+        // item stays, so a stream of equal priorities does not churn the queue.
         ++pq->stats.dropped;
-        if (!(priority > pq->floor)) {
+        if (!(priority > pq->heap[0].priority)) {
             return false;
         }
-        pos = heap_min_leaf(pq);
-        pq->floor = pq->heap[pos].priority;
-        if (!(priority > pq->heap[pos].priority)) {
-            return false;
-        }
-        // The new item takes the leaf's place; being higher than the leaf, it can only need to
-        // go up. The removal may shift the new key's probe path, so look its slot up again.
-        index_remove_(pq, pq->heap[pos].slot);
+        // The new item takes the root's place and goes down. The removal may shift the new
+        // key's probe path, so look its slot up again.
+        index_remove_(pq, pq->heap[0].slot);
         slot = oa_find(&pq->index, key);
+        oa_put(&pq->index, slot, key);
+        const pq_item_t item = {key, priority, slot};
+        (void)heap_trickle_down(pq, 0, &item);
     }
-
-    oa_put(&pq->index, slot, key);
-    if (priority < pq->floor) {
-        pq->floor = priority;
-    }
-    item.key = key;
-    item.priority = priority;
-    item.slot = slot;
-    heap_place(pq, pos, &item);
-    heap_sift_up(pq, pos);
     ++pq->stats.pushed;
     return true;
 }
 
 bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
 {
-    pq_item_t top;
-
     if (pq->size == 0u) {
         return false;
     }
-    top = pq->heap[0];
+    const uint32_t pos = heap_max_pos(pq);
+    const pq_item_t top = pq->heap[pos];
     // Unlink from the index first: the shift may update slots of items still in the heap,
     // including the last one, which is about to move.
     index_remove_(pq, top.slot);
     --pq->size;
-    if (pq->size > 0u) {
-        pq->heap[0] = pq->heap[pq->size];
-        heap_sift_down(pq, 0);
+    if (pos < pq->size) {  // the last item fills the hole; it is not below the root
+        const pq_item_t last = pq->heap[pq->size];
+        (void)heap_trickle_down(pq, pos, &last);
     }
     ++pq->stats.popped;
     if (key != NULL) {
@@ -261,11 +330,19 @@ bool pq_check(const pqueue_t *pq)
         if (keys[it->slot] != it->key || pq->index_pos[it->slot] != i) {
             return false;
         }
-        if (i > 0u && !(pq->heap[(i - 1u) / 2u].priority >= it->priority)) {
-            return false;
+        // Against its parent and grandparent, which covers every item against its children and
+        // grandchildren: on a min level nothing below is lower, on a max level nothing higher.
+        if (i > 0u) {
+            const float parent = pq->heap[(i - 1u) / 2u].priority;
+            if (on_min_level_(i) ? !(it->priority <= parent) : !(it->priority >= parent)) {
+                return false;
+            }
         }
-        if (!(it->priority >= pq->floor)) {
-            return false;
+        if (i > 2u) {
+            const float grand = pq->heap[((i - 1u) / 2u - 1u) / 2u].priority;
+            if (on_min_level_(i) ? !(it->priority >= grand) : !(it->priority <= grand)) {
+                return false;
+            }
         }
     }
 

@@ -33,7 +33,8 @@ typedef struct pq_stats {
     uint32_t high_water; ///< largest size seen
 } pq_stats_t;
 
-/// A binary max-heap with a position index, in caller-owned static storage.
+/// A min-max heap with a position index, in caller-owned static storage: the highest and the
+/// lowest item are both found in O(1), and pushes, pops and drops cost O(log capacity).
 ///
 /// The index is an open-addressing hash table from key to heap position (oa_table.h, half
 /// empty, deletion by backward shift), so a key that is already queued has its priority raised in place instead of being queued twice. When the
@@ -44,7 +45,6 @@ typedef struct pqueue {
     uint32_t *index_pos;    // heap position of the key in the same slot
     uint32_t capacity;
     uint32_t size;
-    float floor;            // at most the lowest queued priority (see pq_push())
     pq_stats_t stats;
 } pqueue_t;
 
