@@ -135,6 +135,22 @@ static float target_(const agent_t *ag, float r, agent_state_t s_next, bool term
     return terminal ? r : r + ag->params.gamma * qstore_max(&ag->q, s_next);
 }
 
+// The target of a predicted step: with several outcomes (a place seen with several percepts),
+// the mean of their values, each equally likely.
+static float step_target_(const agent_t *ag, const model_step_t *step)
+{
+    if (step->terminal || step->others == 0u) {
+        return target_(ag, step->reward, step->next, step->terminal);
+    }
+    agent_state_t next[MODEL_MAX_PERCEPTS];
+    const uint32_t n = model_step_outcomes(&ag->model, step, next);
+    float sum = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        sum += qstore_max(&ag->q, next[i]);
+    }
+    return step->reward + ag->params.gamma * (sum / (float)n);
+}
+
 static float abs_(float x)
 {
     return x < 0.0f ? -x : x;
@@ -176,6 +192,13 @@ static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float targ
     }
 }
 
+// The target of a predecessor of `here`: its step, leading there (and to its other outcomes).
+static float pred_target_(const agent_t *ag, const model_pred_t *pred, agent_state_t here)
+{
+    const model_step_t step = {here, pred->reward, 0u, pred->others};
+    return step_target_(ag, &step);
+}
+
 // A state seen for the first time makes new predictions possible: its own untried pairs, and
 // untried pairs elsewhere that the relocatable model now sees leading into it. Their successors'
 // values may never change again, so nothing else would queue them: they are queued here.
@@ -187,13 +210,12 @@ static void queue_new_state_(agent_t *ag, agent_state_t s)
     model_query_init(&ag->model, s, &q);
     for (uint32_t a = 0; a < ag->space->n_actions; a++) {
         if (model_query_predict(&ag->model, &q, (uint8_t)a, &step)) {
-            queue_if_urgent_(ag, s, (uint8_t)a, target_(ag, step.reward, step.next, step.terminal));
+            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, &step));
         }
     }
     const uint32_t n = model_query_predecessors(&ag->model, &q, pred, NULL);
-    const float value = ag->params.gamma * qstore_max(&ag->q, s);
     for (uint32_t i = 0; i < n; i++) {
-        queue_if_urgent_(ag, pred[i].state, pred[i].action, pred[i].reward + value);
+        queue_if_urgent_(ag, pred[i].state, pred[i].action, pred_target_(ag, &pred[i], s));
     }
 }
 
@@ -295,6 +317,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
         step.next = c->here->state;
         step.reward = c->pred[known].reward;
         step.terminal = 0;
+        step.others = c->pred[known].others;
         if (!same) {  // the predecessor's query becomes `here`, its old place is free
             model_query_t *const q = c->query[known];
             c->query[known] = c->here;
@@ -311,7 +334,7 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
             return true;
         }
     }
-    const float target = target_(ag, step.reward, step.next, step.terminal);
+    const float target = step_target_(ag, &step);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
     // which then has no row and reads 0.
     float *row = qstore_row_for_plan(&ag->q, s);
@@ -346,7 +369,9 @@ static bool plan_qpc_(agent_t *ag, plan_carry_t *c)
     const float value_here = ag->params.gamma * row_max_(row, n_actions);
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
-        const float p = abs_(pred->reward + value_here - qstore_row(&ag->q, pred->state)[pred->action]);
+        const float target_pred =
+            pred->others == 0u ? pred->reward + value_here : pred_target_(ag, pred, s);
+        const float p = abs_(target_pred - qstore_row(&ag->q, pred->state)[pred->action]);
         if (p > ag->params.theta) {
             (void)pq_push(&ag->pq, pq_key_(ag, pred->state, pred->action), p);
         }

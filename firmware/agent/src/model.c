@@ -136,6 +136,19 @@ static void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s, u
     }
 }
 
+// State s with its percept set to `v`, packed form only.
+static agent_state_t with_percept_(const world_model_t *m, agent_state_t s, uint32_t v)
+{
+    const model_select_t *sel = &m->percept_of;
+    if (sel->adjacent) {
+        return (s & ~(sel->mask << sel->shift)) | (v << sel->shift);
+    }
+    uint32_t comp[FW_CFG_MAX_COMPONENTS];
+    space_unpack(m->space, s, comp);
+    set_percept_(m, v, &s, comp);
+    return s;
+}
+
 static model_class_t *class_of_(const world_model_t *m, agent_state_t s, const uint32_t *comp,
                                 uint32_t a)
 {
@@ -401,6 +414,7 @@ static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_ti
     }
     out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
     out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
+    out->others = 0;
     return true;
 }
 
@@ -508,9 +522,11 @@ static bool moves_(const int8_t *delta)
 }
 
 // The relocatable model's prediction for an untried pair: the situation's usual change, the
-// percept the map has for the place it leads to (the only one seen there: a place never seen,
-// or showing more than one, is not predictable), and the reward of arriving there if an episode
-// ended there before (else the situation's reward).
+// percepts the map has for the place it leads to (a place never seen is not predictable; one
+// seen with several percepts, where the range code depends on where in the cell the robot is,
+// has each as an outcome: refusing it left the values of pairs leading there as they were when
+// the place still showed one, and learned slower: docs/agent.md), and the reward of arriving
+// there if an episode ended there before (else the situation's reward).
 static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
                              model_step_t *out)
 {
@@ -536,17 +552,21 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
         return false;
     }
     const bool moved = moves_(c->delta);
+    uint32_t others = 0;
     if (moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
         const uint32_t seen = m->percepts[select_(m, &m->place_of, next, to)];
-        if (seen == 0u || (seen & (seen - 1u)) != 0u) {
+        if (seen == 0u) {
             return false;
         }
+        // A place seen with several percepts: each is an outcome.
+        others = seen & (seen - 1u);
         set_percept_(m, lowest_bit_(seen), &next, to);
     }
     const int16_t arrival = m->arrivals[select_(m, &m->position_of, next, to)];
     out->next = next;
     out->terminal = (uint8_t)(arrival != MODEL_NO_ARRIVAL && moved);
     out->reward = (float)(out->terminal ? arrival : c->reward) / (float)CMAC_ONE;
+    out->others = (uint16_t)others;
     m->generalised++;
     return true;
 }
@@ -605,6 +625,41 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
     return model_query_predict(m, &q, a, out);
 }
 
+// The bit of s's percept value (1 for a space without absolute components).
+static uint32_t percept_bit_(const world_model_t *m, agent_state_t s)
+{
+    const model_select_t *sel = &m->percept_of;
+    if (sel->components == 0u) {
+        return 1u;
+    }
+    if (sel->adjacent) {
+        return 1u << ((s >> sel->shift) & sel->mask);
+    }
+    uint32_t comp[FW_CFG_MAX_COMPONENTS];
+    space_unpack(m->space, s, comp);
+    return 1u << pack_masked_(m->space, comp, sel->components);
+}
+
+// Whether q's state (its percept value `percept`) is one of the step's outcomes.
+AGENT_ALWAYS_INLINE bool leads_to_(const world_model_t *m, const model_step_t *step,
+                                   const model_query_t *q, uint32_t percept)
+{
+    if (step->next == q->state) {
+        return true;
+    }
+    return ((step->others >> percept) & 1u) != 0u && with_percept_(m, step->next, percept) == q->state;
+}
+
+uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, agent_state_t *out)
+{
+    uint32_t n = 0;
+    out[n++] = step->next;
+    for (uint32_t rest = step->others; rest != 0u; rest &= rest - 1u) {
+        out[n++] = with_percept_(m, step->next, lowest_bit_(rest));
+    }
+    return n;
+}
+
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
                                   model_query_t *const *queries)
 {
@@ -614,6 +669,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
     uint32_t n = 0;
 
     const uint32_t bucket = delta_bucket_(m, q->state, q->comp);
+    const uint32_t percept = select_(m, &m->percept_of, q->state, q->comp);
     for (uint32_t a = 0; a < sp->n_actions; a++) {
         for (uint32_t d = 0; d < MODEL_MAX_DELTAS && n < MODEL_MAX_PREDECESSORS; d++) {
             const model_delta_t *delta = &m->deltas[a][bucket][d];
@@ -643,12 +699,15 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                 // Confirmed only if the forward prediction leads here, not ending the episode;
                 // the same lookup gives the predecessor's reward.
                 if (!predict_(m, prev->comp, prev->state, &prev->tiles, a, &step) ||
-                    step.terminal || step.next != q->state) {
+                    step.terminal || !leads_to_(m, &step, q, percept)) {
                     m->rejected++;
                     continue;
                 }
                 out[n].state = prev->state;
                 out[n].action = (uint8_t)a;
+                // The step's other outcomes, seen from here (with one outcome, it is here).
+                out[n].others = step.others == 0u ? 0u
+                                : (uint16_t)((step.others | percept_bit_(m, step.next)) & ~(1u << percept));
                 out[n].reward = step.reward;
                 n++;
             }

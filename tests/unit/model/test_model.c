@@ -296,7 +296,8 @@ static void the_order_of_components_does_not_matter(void **state)
     }
 }
 
-// The gates: a place that showed two codes is not predictable; a situation's outcome is the
+// The gates: a place never seen is not predictable, one seen with two codes has two outcomes; a
+// situation's outcome is the
 // majority of its observations, trusted once seen MODEL_CLASS_MIN_COUNT (3) times.
 static void generalisation_is_gated_by_confidence(void **state)
 {
@@ -312,7 +313,27 @@ static void generalisation_is_gated_by_confidence(void **state)
     assert_true(model_predict(&m, rel_state(5, 4, 0), 0, &out));
     assert_int_equal(out.next, rel_state(6, 4, 1));
     model_learn(&m, rel_state(6, 4, 3), 2, -1.0f, rel_state(6, 5, 1), false);  // (6, 4) also 3
-    assert_false(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    // Two outcomes now, equally likely: code 1 (the first) and code 3.
+    assert_true(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(6, 4, 1));
+    assert_int_equal(out.others, 1u << 3);
+    agent_state_t outcomes[MODEL_MAX_PERCEPTS];
+    assert_int_equal(model_step_outcomes(&m, &out, outcomes), 2);
+    assert_int_equal(outcomes[0], rel_state(6, 4, 1));
+    assert_int_equal(outcomes[1], rel_state(6, 4, 3));
+    // Each outcome has (5, 4) as a predecessor by action 0, the other outcome named with it.
+    for (uint32_t k = 0; k < 2; k++) {
+        model_pred_t pred[MODEL_MAX_PREDECESSORS];
+        const uint32_t n = model_predecessors(&m, outcomes[k], pred);
+        uint32_t found = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (pred[i].state == rel_state(5, 4, 0) && pred[i].action == 0u) {
+                found++;
+                assert_int_equal(pred[i].others, k == 0u ? 1u << 3 : 1u << 1);
+            }
+        }
+        assert_int_equal(found, 1);
+    }
     // Contradicted (a bump), the usual outcome stays while it has the majority: 4 agreed, and
     // up to 4 disagree...
     model_learn(&m, rel_state(11, 4, 0), 2, -1.0f, rel_state(11, 5, 0), false);

@@ -129,18 +129,22 @@ typedef struct world_model {
     uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model
 } world_model_t;
 
-/// One predicted transition.
+/// One predicted transition. A move into a place the map has seen with several percepts has as
+/// many outcomes, equally likely: `next`, and `next` with each percept (absolute components'
+/// value) in `others` instead of its own (model_step_outcomes()).
 typedef struct model_step {
     agent_state_t next;
     float reward;
     uint8_t terminal;
+    uint16_t others;  ///< a bit per other percept value; 0: `next` is the one outcome
 } model_step_t;
 
 /// A predecessor of a state: taking `action` in `state` is predicted to lead there with
-/// `reward`.
+/// `reward` (or, with `others`, there or to the same place with another of those percepts).
 typedef struct model_pred {
     agent_state_t state;
     uint8_t action;
+    uint16_t others;
     float reward;
 } model_pred_t;
 
@@ -194,6 +198,10 @@ bool model_has_seen(const world_model_t *m, agent_state_t s);
 /// model's. Returns false (and fills nothing) if no prediction is trusted.
 bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out);
 
+/// The outcomes of `step` into out[] (room for MODEL_MAX_PERCEPTS): step->next first, then
+/// step->next with each percept of step->others. Returns how many (1 + the bits of others).
+uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, agent_state_t *out);
+
 /// Predicts the trusted predecessors of s into out[] (room for MODEL_MAX_PREDECESSORS): every
 /// (state, action) predicted to lead to s, not terminal. Returns how many.
 uint32_t model_predecessors(world_model_t *m, agent_state_t s, model_pred_t *out);
@@ -214,8 +222,9 @@ bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, mo
 
 /// model_predecessors() for the query's state. With `queries` (MODEL_MAX_PREDECESSORS places
 /// apart from q, or NULL), *queries[i] also receives the query of out[i].state, ready for
-/// further questions, and model_query_predict() for out[i] is known to give: q's state, reward
-/// out[i].reward, not terminal (that is how a predecessor is confirmed).
+/// further questions, and model_query_predict() for out[i] is known to give: q's state (with
+/// out[i].others as the other outcomes), reward out[i].reward, not terminal (that is how a
+/// predecessor is confirmed).
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
                                   model_query_t *const *queries);
 
