@@ -18,8 +18,8 @@
 
 /// With idle-time planning (config planning 0), the planning updates made when a step is
 /// observed, before the next action is chosen; the idle time plans on after it. Each costs
-/// ~28-34 µs on the MCU (4,667-5,633 instructions at 168 MHz), so the control task runs at
-/// most ~2.1 ms longer, well inside the scheduler's tolerance (docs/realtime.md).
+/// ~23-25 µs on the MCU (3,923-4,213 instructions at 168 MHz), so the control task runs at
+/// most ~1.6 ms longer, well inside the scheduler's tolerance (docs/realtime.md).
 #ifndef ROBOT_PLAN_BEFORE_ACT
 #define ROBOT_PLAN_BEFORE_ACT 64u
 #endif
