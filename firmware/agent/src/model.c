@@ -118,7 +118,7 @@ AGENT_ALWAYS_INLINE uint32_t select_(const world_model_t *m, const model_select_
 
 // Sets the absolute components of a state to the percept `v` (an index as percept_of packs
 // it), in both forms.
-static void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s, uint32_t *comp)
+AGENT_ALWAYS_INLINE void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s, uint32_t *comp)
 {
     const model_select_t *sel = &m->percept_of;
     if (sel->components == 0u) {
