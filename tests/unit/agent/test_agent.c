@@ -268,6 +268,47 @@ static void plan_calls_plan_as_single_steps_would(void **state)
     assert_true(agent_.stats.planning_updates > 2000);
 }
 
+// A robot's space: x (5 bits), heading (4 bits, circular), range code (2 bits, absolute);
+// heading and code are the situation.
+static const agent_space_t robot_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+
+static agent_state_t robot_state_(uint32_t x, uint32_t h, uint32_t r)
+{
+    const uint32_t c[3] = {x, h, r};
+    return space_pack(&robot_, c);
+}
+
+// An untried move into a place the map has seen with two codes has both as outcomes: planning
+// backs up the mean of their values, not either one (and does not refuse the pair).
+static void dyna_qpc_backs_up_the_mean_of_a_places_codes(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.space = &robot_;
+    c.storage = &agent_storage_paper_lab;
+    c.params.alpha = 1.0f;
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    // Action 0 at heading 4 and code 0 moves +1 (3 times: trusted), and (10, 4) shows code 0.
+    for (uint32_t x = 1; x <= 3; x++) {
+        agent_observe(&agent_, robot_state_(x, 4, 0), 0, -1.0f, robot_state_(x + 1, 4, 0), false);
+    }
+    agent_observe(&agent_, robot_state_(10, 4, 0), 2, -1.0f, robot_state_(10, 5, 0), false);
+    // (11, 4) shows codes 1 and 2; from each, action 1 ends the episode, worth 10 and 2.
+    agent_observe(&agent_, robot_state_(11, 4, 1), 1, 10.0f, robot_state_(20, 0, 0), true);
+    agent_observe(&agent_, robot_state_(11, 4, 2), 1, 2.0f, robot_state_(20, 0, 0), true);
+    (void)agent_plan(&agent_, 10000);
+    assert_false(agent_plan_step(&agent_));  // the queue ran dry
+
+    const agent_state_t from = robot_state_(10, 4, 0);
+    const float v1 = qstore_max(&agent_.q, robot_state_(11, 4, 1));
+    const float v2 = qstore_max(&agent_.q, robot_state_(11, 4, 2));
+    assert_true(v1 > v2 + 1.0f);  // the two outcomes are worth clearly different amounts
+    const float mean = -1.0f + 0.9f * 0.5f * (v1 + v2);
+    assert_float_equal(agent_q(&agent_, from, 0), mean, 1e-3f);
+    assert_true(agent_.model.generalised > 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -280,6 +321,7 @@ int main(void)
         cmocka_unit_test(dyna_qpc_skips_what_the_model_cannot_predict),
         cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),
         cmocka_unit_test(plan_calls_plan_as_single_steps_would),
+        cmocka_unit_test(dyna_qpc_backs_up_the_mean_of_a_places_codes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
