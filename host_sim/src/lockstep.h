@@ -19,9 +19,9 @@ namespace dynaqpc {
 
 /// MCU cycles per planning update used to model idle-time planning when none is given: the
 /// Cortex-M4 build's measured guest instructions per update (`ctest --preset cortex-m4 -V -R
-/// bench`, paper-lab: 4,213 with the min-max queue and the several-code places), counted as one cycle each — the M4
-/// retires most instructions in one cycle, and flash wait states are hidden by the ART
-/// accelerator for straight-line code.
+/// bench`, paper-lab: 4,213 with the min-max queue and the several-code places), counted as one
+/// cycle each — the M4 retires most instructions in one cycle, and flash wait states are hidden
+/// by the ART accelerator for straight-line code.
 constexpr std::uint32_t kDefaultPlanCycles = 4213;
 
 /// One finished episode, as the train CSV reports it.
