@@ -118,7 +118,8 @@ AGENT_ALWAYS_INLINE uint32_t select_(const world_model_t *m, const model_select_
 
 // Sets the absolute components of a state to the percept `v` (an index as percept_of packs
 // it), in both forms.
-AGENT_ALWAYS_INLINE void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s, uint32_t *comp)
+AGENT_ALWAYS_INLINE void set_percept_(const world_model_t *m, uint32_t v, agent_state_t *s,
+                                      uint32_t *comp)
 {
     const model_select_t *sel = &m->percept_of;
     if (sel->components == 0u) {
@@ -625,19 +626,15 @@ bool model_predict(world_model_t *m, agent_state_t s, uint8_t a, model_step_t *o
     return model_query_predict(m, &q, a, out);
 }
 
-// The bit of s's percept value (1 for a space without absolute components).
-static uint32_t percept_bit_(const world_model_t *m, agent_state_t s)
+// The percept value of a packed state: select_() for a caller without its components (a space
+// without absolute components has the one value 0).
+static uint32_t percept_value_(const world_model_t *m, agent_state_t s)
 {
-    const model_select_t *sel = &m->percept_of;
-    if (sel->components == 0u) {
-        return 1u;
+    uint32_t comp[FW_CFG_MAX_COMPONENTS] = {0};
+    if (!m->percept_of.adjacent) {
+        space_unpack(m->space, s, comp);
     }
-    if (sel->adjacent) {
-        return 1u << ((s >> sel->shift) & sel->mask);
-    }
-    uint32_t comp[FW_CFG_MAX_COMPONENTS];
-    space_unpack(m->space, s, comp);
-    return 1u << pack_masked_(m->space, comp, sel->components);
+    return select_(m, &m->percept_of, s, comp);
 }
 
 // Whether q's state (its percept value `percept`) is one of the step's outcomes.
@@ -647,7 +644,8 @@ AGENT_ALWAYS_INLINE bool leads_to_(const world_model_t *m, const model_step_t *s
     if (step->next == q->state) {
         return true;
     }
-    return ((step->others >> percept) & 1u) != 0u && with_percept_(m, step->next, percept) == q->state;
+    return ((step->others >> percept) & 1u) != 0u &&
+           with_percept_(m, step->next, percept) == q->state;
 }
 
 uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, agent_state_t *out)
@@ -706,8 +704,9 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                 out[n].state = prev->state;
                 out[n].action = (uint8_t)a;
                 // The step's other outcomes, seen from here (with one outcome, it is here).
-                out[n].others = step.others == 0u ? 0u
-                                : (uint16_t)((step.others | percept_bit_(m, step.next)) & ~(1u << percept));
+                const uint32_t outcomes =
+                    step.others == 0u ? 0u : step.others | (1u << percept_value_(m, step.next));
+                out[n].others = (uint16_t)(outcomes & ~(1u << percept));
                 out[n].reward = step.reward;
                 n++;
             }

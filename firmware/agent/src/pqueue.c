@@ -48,7 +48,7 @@ AGENT_ALWAYS_INLINE void heap_place(pqueue_t *pq, uint32_t pos, const pq_item_t 
     pq->index_pos[item->slot] = pos;
 }
 
-// ---- The min-max heap (Atkinson, Sack, Santoro & Strothotte 1986) ---------------------------------
+// ---- The min-max heap (Atkinson, Sack, Santoro & Strothotte 1986) ----------------------------
 // Positions on even levels (the root's, its grandchildren's, ...) hold the minimum of their
 // subtree, on odd levels the maximum, so the lowest item is the root and the highest is one of
 // its children: a full queue finds what to drop in O(1) and replaces it in O(log n), where a
@@ -87,7 +87,7 @@ AGENT_ALWAYS_INLINE uint32_t bubble_up_kind_(pqueue_t *pq, uint32_t pos, const p
 }
 
 // Places `item` into the hole at `pos`, moving it up to where both orders hold above it.
-static uint32_t heap_bubble_up(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
+static void heap_bubble_up(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
 {
     bool max_level = !on_min_level_(pos);
     if (pos > 0u) {
@@ -99,15 +99,13 @@ static uint32_t heap_bubble_up(pqueue_t *pq, uint32_t pos, const pq_item_t *item
             max_level = !max_level;
         }
     }
-    pos = bubble_up_kind_(pq, pos, item, max_level);
-    heap_place(pq, pos, item);
-    return pos;
+    heap_place(pq, bubble_up_kind_(pq, pos, item, max_level), item);
 }
 
 // Moves `item` from the hole at `pos`, on a level of the given kind, down to where both orders
 // hold below it. Inlined with a constant kind, so each comparison is one instruction.
-AGENT_ALWAYS_INLINE uint32_t trickle_down_kind_(pqueue_t *pq, uint32_t pos, pq_item_t item,
-                                                const bool max_level)
+AGENT_ALWAYS_INLINE void trickle_down_kind_(pqueue_t *pq, uint32_t pos, pq_item_t item,
+                                            const bool max_level)
 {
     const uint32_t size = pq->size;
     const pq_item_t *const h = pq->heap;
@@ -145,14 +143,16 @@ AGENT_ALWAYS_INLINE uint32_t trickle_down_kind_(pqueue_t *pq, uint32_t pos, pq_i
         }
     }
     heap_place(pq, pos, &item);
-    return pos;
 }
 
 // Places `item` into the hole at `pos`, moving it down to where both orders hold below it.
-static uint32_t heap_trickle_down(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
+static void heap_trickle_down(pqueue_t *pq, uint32_t pos, const pq_item_t *item)
 {
-    return on_min_level_(pos) ? trickle_down_kind_(pq, pos, *item, false)
-                              : trickle_down_kind_(pq, pos, *item, true);
+    if (on_min_level_(pos)) {
+        trickle_down_kind_(pq, pos, *item, false);
+    } else {
+        trickle_down_kind_(pq, pos, *item, true);
+    }
 }
 
 // The highest item's position: the root alone, else the higher of its children (the first on a
@@ -181,12 +181,12 @@ static void heap_raise(pqueue_t *pq, uint32_t pos, float priority)
         const uint32_t parent = (pos - 1u) / 2u;
         if (priority > pq->heap[parent].priority) {
             const pq_item_t down = pq->heap[parent];
-            (void)heap_trickle_down(pq, pos, &down);
+            heap_trickle_down(pq, pos, &down);
             heap_place(pq, bubble_up_kind_(pq, parent, &item, true), &item);
             return;
         }
     }
-    (void)heap_trickle_down(pq, pos, &item);
+    heap_trickle_down(pq, pos, &item);
 }
 
 int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index_pos,
@@ -249,7 +249,7 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
         if (pq->size > pq->stats.high_water) {
             pq->stats.high_water = pq->size;
         }
-        (void)heap_bubble_up(pq, pos, &item);
+        heap_bubble_up(pq, pos, &item);
     } else {
         // Full: something is dropped either way, and the lowest is the root. On a tie the queued
         // item stays, so a stream of equal priorities does not churn the queue.
@@ -263,7 +263,7 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
         slot = oa_find(&pq->index, key);
         oa_put(&pq->index, slot, key);
         const pq_item_t item = {key, priority, slot};
-        (void)heap_trickle_down(pq, 0, &item);
+        heap_trickle_down(pq, 0, &item);
     }
     ++pq->stats.pushed;
     return true;
@@ -282,7 +282,7 @@ bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
     --pq->size;
     if (pos < pq->size) {  // the last item fills the hole; it is not below the root
         const pq_item_t last = pq->heap[pq->size];
-        (void)heap_trickle_down(pq, pos, &last);
+        heap_trickle_down(pq, pos, &last);
     }
     ++pq->stats.popped;
     if (key != NULL) {
