@@ -25,7 +25,9 @@
 // up to a second old, then lost the fresh ones behind them (69.7 % of the bytes received over
 // three 1 s stalls; docs/realtime.md "Stalls"). Neither pacing the reader at the line's rate nor
 // leaving the burst in the kernel (reading only what the ring takes, i.e. RTS/CTS flow control)
-// is what the hardware does: both deliver the stale bytes late instead of losing them.
+// is what the hardware does with a stall's backlog: both deliver the stale bytes late instead of
+// losing them. (Bytes the reader finds on time are paced at the line's rate, pace_line(): a
+// burst the writer sent at once would arrive over a wire at 115200 baud, not in a microsecond.)
 //
 // So the reader measures its own absence. It polls every READER_POLL_MS; if more than
 // STALL_GAP_MS passed since it last looked at the line, the process was not running, and what the
@@ -244,11 +246,16 @@ size_t hal_host_uart_take_tx(uint8_t *buf, size_t cap)
     return n;
 }
 
-static int64_t now_ms(void)
+static int64_t now_us(void)
 {
     struct timespec ts;
     (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+static int64_t now_ms(void)
+{
+    return now_us() / 1000;
 }
 
 // What the tty holds after the reader was away longer than STALL_GAP_MS: the first byte is kept
@@ -293,6 +300,28 @@ static bool take_stall_backlog(int fd)
     return open;
 }
 
+// A pty hands over at once what its writer sent in one go; a wire carries it at the baud rate
+// (8N1: 10 bits a byte). A writer that fell behind and caught up (the simulated devices on a
+// loaded host) wrote a dozen Cricket lines at once, and fed in one go they filled the ring
+// within a millisecond, before the firmware could have run: an overrun no MCU would see, since
+// there the same bytes take 22 ms per 256. So the reader feeds no faster than the line: after
+// handing over `n` bytes it waits until the line would have carried them. A stall's backlog is
+// not paced (take_stall_backlog(): those bytes were lost on the MCU).
+static void pace_line(size_t n, int64_t *line_free_us)
+{
+    pthread_mutex_lock(&lock_);
+    const uint32_t baud = baud_;
+    pthread_mutex_unlock(&lock_);
+    const int64_t now = now_us();
+    const int64_t from = *line_free_us > now ? *line_free_us : now;
+    *line_free_us = from + (int64_t)n * 10 * 1000000 / (int64_t)baud;
+    const int64_t wait = *line_free_us - now;
+    if (wait > 0) {
+        const struct timespec ts = {(time_t)(wait / 1000000), (long)(wait % 1000000) * 1000};
+        (void)nanosleep(&ts, NULL);
+    }
+}
+
 static void *reader_main(void *arg)
 {
     (void)arg;
@@ -301,6 +330,7 @@ static void *reader_main(void *arg)
     pthread_mutex_unlock(&lock_);
     uint8_t buf[64];
     int64_t looked = now_ms(); // the last time the reader serviced the line
+    int64_t line_free_us = 0;  // when the line has carried what was fed so far
     for (;;) {
         pthread_mutex_lock(&lock_);
         bool stop = stop_;
@@ -336,6 +366,7 @@ static void *reader_main(void *arg)
         ssize_t n = read(fd, buf, sizeof buf);
         if (n > 0) {
             (void)hal_host_uart_feed(buf, (size_t)n);
+            pace_line((size_t)n, &line_free_us);
         } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
             break; // end of stream (EOF, or EIO from a pty whose master closed)
         }

@@ -626,6 +626,55 @@ static void test_uart_pty_backlog_discarded_at_open(void **state)
     close(master);
 }
 
+// A writer's burst (simulated devices catching up on a loaded host write a dozen Cricket lines
+// at once) reaches the ring at the line's rate, as on a wire, not in one go: a firmware that
+// drains every millisecond loses nothing of four rings' worth written at once. Fails if the
+// reader hands the tty's contents over as fast as it reads them (the ring fills within
+// microseconds and about three quarters of the burst are overruns).
+static void test_uart_pty_burst_arrives_at_line_rate(void **state)
+{
+    (void)state;
+    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0) {
+        skip();
+    }
+    assert_int_equal(grantpt(master), 0);
+    assert_int_equal(unlockpt(master), 0);
+    struct termios t;
+    assert_int_equal(tcgetattr(master, &t), 0);
+    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    t.c_oflag &= ~(tcflag_t)OPOST;
+    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
+    char slave[128];
+    snprintf(slave, sizeof slave, "%s", ptsname(master));
+    assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
+    assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
+
+    static uint8_t burst[4u * FW_CFG_HOST_UART_RX_CAPACITY];
+    for (size_t i = 0; i < sizeof burst; i++) {
+        burst[i] = (uint8_t)(i * 7u + 1u);
+    }
+    assert_int_equal(write(master, burst, sizeof burst), (ssize_t)sizeof burst);
+    static uint8_t got[sizeof burst];
+    size_t n = 0;
+    hal_uart_stats_t st;
+    for (int tries = 0; tries < 2000 && n < sizeof burst; tries++) {
+        n += hal_uart_read(&got[n], sizeof burst - n);
+        hal_uart_get_stats(&st);
+        if (st.rx_overruns != 0u) {
+            break;
+        }
+        (void)poll(NULL, 0, 1);
+    }
+    hal_uart_get_stats(&st);
+    assert_int_equal(st.rx_overruns, 0);
+    assert_int_equal(n, sizeof burst);
+    assert_memory_equal(got, burst, sizeof burst);
+    hal_host_uart_close_path();
+    close(master);
+}
+
 // A stall of the whole firmware (the reader held as SIGSTOP holds it): what the tty gathered
 // meanwhile is what an STM32F4 USART loses to overrun, all but the first byte (DR); counted in
 // rx_overruns and hal_host_uart_stall_lost(), nothing of it reaches the ring beyond that byte,
@@ -821,6 +870,7 @@ int main(void)
         cmocka_unit_test_setup(test_uart_write_and_take, setup),
         cmocka_unit_test_setup(test_uart_pty, setup),
         cmocka_unit_test_setup(test_uart_pty_backlog_discarded_at_open, setup),
+        cmocka_unit_test_setup(test_uart_pty_burst_arrives_at_line_rate, setup),
         cmocka_unit_test_setup(test_uart_pty_stall_loses_backlog, setup),
         cmocka_unit_test_setup(test_lockstep_clock_and_account, setup),
         cmocka_unit_test_setup(test_realtime_clock, setup),
