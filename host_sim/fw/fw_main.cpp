@@ -80,16 +80,49 @@ int transport_send(const hal_can_frame_t *frame, void *ctx)
 
 const hal_host_can_transport_t kTransport = {transport_send, nullptr};
 
-// The CAN interrupt: frames from the bus into the firmware. Polls at most every 50 ms so that it
+// The CAN interrupt: frames from the bus into the firmware. Polls every kRxPollMs so that it
 // notices a stop, and wakes the main loop then, so a signal ends a sleep at once.
+//
+// It also measures its own absence, as the UART's reader does (host_uart.c): more than
+// kRxStallGapMs since it last looked at the bus, the process was not running (SIGSTOP, a machine
+// that did not schedule it), and what the socket holds arrived while no interrupt could take it.
+// That backlog meets bxCAN's three-mailbox FIFO (hal_host_can_stall_begin()): handed over whole it
+// was thousands of stale frames at 10x, which filled the scheduler's event queue (events_dropped
+// 2,604 over three 1 s stalls) and were read as fresh.
+constexpr int kRxPollMs = 20;
+constexpr auto kRxStallGap = std::chrono::milliseconds(50);
+constexpr int kRxStallMaxFrames = 1 << 20;  // a bound on one backlog's reading
+
+// Reads what the socket holds after a stall, `first` being its first frame. False on an error.
+bool take_can_stall_backlog(const hal_can_frame_t &first)
+{
+    hal_host_can_stall_begin();
+    (void)hal_host_can_deliver_stalled(&first);
+    hal_can_frame_t f;
+    int rc = 1;
+    for (int i = 0; i < kRxStallMaxFrames && (rc = g_bus.recv(&f, 0)) == 1; i++) {
+        (void)hal_host_can_deliver_stalled(&f);
+    }
+    hal_host_can_stall_end();
+    return rc >= 0;
+}
+
 void *rx_thread(void *)
 {
     hal_can_frame_t f;
+    auto looked = std::chrono::steady_clock::now();
     while (g_rx_run.load()) {
-        const int rc = g_bus.recv(&f, 50);
-        if (rc == 1) {
+        int rc = g_bus.recv(&f, kRxPollMs);
+        const auto now = std::chrono::steady_clock::now();
+        const bool stalled = now - looked > kRxStallGap;
+        looked = now;
+        if (rc == 1 && stalled) {
+            rc = take_can_stall_backlog(f) ? 1 : -1;
+            looked = std::chrono::steady_clock::now();  // reading the backlog is no absence
+        } else if (rc == 1) {
             (void)hal_host_can_deliver(&f);  // filtered ids are not for the firmware
-        } else if (rc < 0) {
+        }
+        if (rc < 0) {
             std::fprintf(stderr, "dynaqpc-fw: virtual CAN bus receive failed\n");
             g_stop.store(true);
             hal_host_cpu_wake();
@@ -285,10 +318,10 @@ int run(const std::vector<std::string> &args)
     // Faults and how the firmware met them (docs/realtime.md "Faults").
     std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
                 "tool_refused=%u uart_errors=%u uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u "
-                "can_bus_errors=%u\n",
+                "can_bus_errors=%u can_stall_lost=%u\n",
                 st.safe_stops, st.status_errors, static_cast<int>(st.restore_result), st.records_refused,
                 st.restore_fell_back ? 1 : 0, st.tool_refused, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
-                cs.rx_overruns, cs.bus_errors);
+                cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
     std::printf("cricket: lines=%u ranges=%u overlong=%u garbage=%u malformed=%u no_range=%u unknown_beacon=%u "
                 "bad_range=%u bad_geometry=%u inconsistent=%u\n",
                 ck.lines, ck.ranges, ck.overlong, ck.garbage, ck.malformed, ck.no_range, ck.unknown_beacon,

@@ -26,6 +26,14 @@ static hal_can_frame_t tx_[FW_CFG_HOST_CAN_TX_CAPACITY];
 static uint32_t tx_head_; // next to take
 static uint32_t tx_count_;
 static hal_can_stats_t stats_;
+// A stall in progress (hal_host_can_stall_begin()): the accepted frames FIFO 0 took so far, and
+// the newest one, which the next arrival overwrites.
+#define BXCAN_FIFO_DEPTH 3u
+static bool stalled_;
+static uint32_t stall_taken_;
+static bool has_newest_;
+static hal_can_frame_t newest_;
+static uint32_t stall_lost_;
 
 static bool frame_valid(const hal_can_frame_t *f)
 {
@@ -69,6 +77,10 @@ void host_can_reset(void)
     tx_head_ = 0;
     tx_count_ = 0;
     memset(&stats_, 0, sizeof stats_);
+    stalled_ = false;
+    stall_taken_ = 0;
+    has_newest_ = false;
+    stall_lost_ = 0;
     pthread_mutex_unlock(&lock_);
 }
 
@@ -164,24 +176,31 @@ bool hal_host_can_take_tx(hal_can_frame_t *out)
     return got;
 }
 
+// What the controller does with an arriving frame before storing it: FW_OK for one its filters
+// accept, FW_ERR_INVAL (a bus error, counted) or FW_ERR_NOENT (filtered out), FW_ERR_IO before
+// hal_can_init(). Caller holds lock_.
+static int admit_locked(const hal_can_frame_t *frame)
+{
+    if (!ready_) {
+        return FW_ERR_IO;
+    }
+    if (!frame_valid(frame)) {
+        stats_.bus_errors++;
+        return FW_ERR_INVAL;
+    }
+    return accepted_locked(frame) ? FW_OK : FW_ERR_NOENT;
+}
+
 int hal_host_can_deliver(const hal_can_frame_t *frame)
 {
     if (frame == NULL) {
         return FW_ERR_INVAL;
     }
     pthread_mutex_lock(&lock_);
-    if (!ready_) {
+    const int admitted = admit_locked(frame);
+    if (admitted != FW_OK) {
         pthread_mutex_unlock(&lock_);
-        return FW_ERR_IO;
-    }
-    if (!frame_valid(frame)) {
-        stats_.bus_errors++;
-        pthread_mutex_unlock(&lock_);
-        return FW_ERR_INVAL;
-    }
-    if (!accepted_locked(frame)) {
-        pthread_mutex_unlock(&lock_);
-        return FW_ERR_NOENT;
+        return admitted;
     }
     hal_can_rx_fn fn = on_rx_;
     void *ctx = rx_ctx_;
@@ -199,6 +218,65 @@ int hal_host_can_deliver(const hal_can_frame_t *frame)
     hal_irq_restore(irq);
     hal_host_cpu_wake();
     return FW_OK;
+}
+
+void hal_host_can_stall_begin(void)
+{
+    pthread_mutex_lock(&lock_);
+    stalled_ = true;
+    stall_taken_ = 0;
+    has_newest_ = false;
+    pthread_mutex_unlock(&lock_);
+}
+
+int hal_host_can_deliver_stalled(const hal_can_frame_t *frame)
+{
+    if (frame == NULL) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    const int admitted = admit_locked(frame);
+    if (admitted != FW_OK || !stalled_) {
+        const bool stalled = stalled_;
+        pthread_mutex_unlock(&lock_);
+        return admitted != FW_OK ? admitted : (stalled ? FW_OK : hal_host_can_deliver(frame));
+    }
+    // The first mailboxes keep their frames; the last is overwritten by every later arrival
+    // (MCR.RFLM = 0), which sets FOVR0.
+    if (stall_taken_ + 1u < BXCAN_FIFO_DEPTH) {
+        stall_taken_++;
+        pthread_mutex_unlock(&lock_);
+        return hal_host_can_deliver(frame);
+    }
+    if (has_newest_) {
+        stats_.rx_overruns++;
+        stall_lost_++;
+    }
+    newest_ = *frame;
+    has_newest_ = true;
+    pthread_mutex_unlock(&lock_);
+    return FW_OK;
+}
+
+void hal_host_can_stall_end(void)
+{
+    pthread_mutex_lock(&lock_);
+    const bool deliver = stalled_ && has_newest_;
+    const hal_can_frame_t newest = newest_;
+    stalled_ = false;
+    has_newest_ = false;
+    pthread_mutex_unlock(&lock_);
+    if (deliver) {
+        (void)hal_host_can_deliver(&newest);
+    }
+}
+
+uint32_t hal_host_can_stall_lost(void)
+{
+    pthread_mutex_lock(&lock_);
+    const uint32_t n = stall_lost_;
+    pthread_mutex_unlock(&lock_);
+    return n;
 }
 
 void hal_host_can_count_rx_overrun(uint32_t frames)

@@ -366,6 +366,48 @@ static void test_can_init_and_filters(void **state)
     assert_int_equal(st.rx_overruns, 3);
 }
 
+// A stall's backlog meets bxCAN's unlocked three-mailbox FIFO: of ten accepted frames the first
+// two and the last reach the handler, in that order, and the seven overwritten ones are counted
+// as overruns and stall losses; filtered frames take no mailbox and invalid ones are bus errors.
+// Fails if the backlog is handed over whole (ten frames, no overrun).
+static void test_can_stall_keeps_what_the_fifo_holds(void **state)
+{
+    (void)state;
+    rx_n_ = 0;
+    const uint32_t ids[] = {0x100};
+    assert_int_equal(hal_can_init(500000u, ids, 1, can_rx, &rx_n_), FW_OK);
+    hal_can_frame_t f = frame(0x100, 1, 0);
+    hal_can_frame_t other = frame(0x200, 1, 0);
+    hal_can_frame_t bad = frame(0x100, 9, 0);
+    hal_host_can_stall_begin();
+    for (uint8_t i = 0; i < 10u; i++) {
+        f.data[0] = i;
+        assert_int_equal(hal_host_can_deliver_stalled(&f), FW_OK);
+        assert_int_equal(hal_host_can_deliver_stalled(&other), FW_ERR_NOENT);
+    }
+    assert_int_equal(hal_host_can_deliver_stalled(&bad), FW_ERR_INVAL);
+    assert_int_equal(rx_n_, 2);  // the newest waits in the last mailbox until the stall ends
+    hal_host_can_stall_end();
+    assert_int_equal(rx_n_, 3);
+    assert_int_equal(rx_log_[0].data[0], 0);
+    assert_int_equal(rx_log_[1].data[0], 1);
+    assert_int_equal(rx_log_[2].data[0], 9);
+    hal_can_stats_t st;
+    hal_can_get_stats(&st);
+    assert_int_equal(st.rx_frames, 3);
+    assert_int_equal(st.rx_overruns, 7);
+    assert_int_equal(st.bus_errors, 1);
+    assert_int_equal(hal_host_can_stall_lost(), 7);
+
+    // A stall with fewer frames than mailboxes loses nothing; outside one, frames go straight in.
+    hal_host_can_stall_begin();
+    assert_int_equal(hal_host_can_deliver_stalled(&f), FW_OK);
+    hal_host_can_stall_end();
+    assert_int_equal(hal_host_can_deliver_stalled(&f), FW_OK);
+    assert_int_equal(rx_n_, 5);
+    assert_int_equal(hal_host_can_stall_lost(), 7);
+}
+
 static void test_can_send_and_take(void **state)
 {
     (void)state;
@@ -864,6 +906,7 @@ int main(void)
         cmocka_unit_test_setup(test_flash_file_round_trip, flash_setup),
         cmocka_unit_test_setup(test_flash_load_file_leaves_the_file, flash_setup),
         cmocka_unit_test_setup(test_can_init_and_filters, setup),
+        cmocka_unit_test_setup(test_can_stall_keeps_what_the_fifo_holds, setup),
         cmocka_unit_test_setup(test_can_send_and_take, setup),
         cmocka_unit_test_setup(test_can_transport, setup),
         cmocka_unit_test_setup(test_uart_ring_and_overruns, setup),

@@ -141,6 +141,23 @@ bool hal_host_can_take_tx(hal_can_frame_t *out);
 /// codes, or FW_ERR_IO before hal_can_init(). Context: any thread (a receiver thread is an ISR).
 int hal_host_can_deliver(const hal_can_frame_t *frame);
 
+/// A stall of the whole firmware (its process stopped, or not scheduled: a debugger halt or a
+/// flash erase on the MCU) stops the receive interrupt too. bxCAN's receive FIFO 0 has three
+/// mailboxes and the STM32F4 port leaves it unlocked (MCR.RFLM = 0): once full, each arriving
+/// frame overwrites the newest one there and sets FOVR0 (RM0090, "Receive FIFO"). A socket
+/// instead keeps every frame of the stall. A receiver that finds it was away (the firmware's
+/// receive thread) hands that backlog over between these calls, each frame to
+/// hal_host_can_deliver_stalled(): the first two frames the filters accept are delivered at
+/// once, each later one replaces the newest, and hal_host_can_stall_end() delivers that one.
+/// Every replaced frame is counted in rx_overruns and in hal_host_can_stall_lost(). Filtered and
+/// invalid frames are treated as hal_host_can_deliver() treats them; outside a stall,
+/// hal_host_can_deliver_stalled() is hal_host_can_deliver().
+void hal_host_can_stall_begin(void);
+int hal_host_can_deliver_stalled(const hal_can_frame_t *frame);
+void hal_host_can_stall_end(void);
+/// Frames lost to stalls since the last reset (also in rx_overruns).
+uint32_t hal_host_can_stall_lost(void);
+
 /// A transport that lost received frames (its socket buffer overflowed) reports them here:
 /// they are counted in rx_overruns.
 void hal_host_can_count_rx_overrun(uint32_t frames);
