@@ -611,27 +611,49 @@ static void test_uart_pty(void **state)
     hal_host_uart_close_path();
 }
 
+// A pty master in raw mode (as pty_open() makes it: no echo, no line editing, bytes pass
+// unchanged), its slave's path into `slave`; -1 where this sandbox has no ptys.
+static int open_raw_pty(char *slave, size_t cap)
+{
+    const int master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0) {
+        return -1;
+    }
+    assert_int_equal(grantpt(master), 0);
+    assert_int_equal(unlockpt(master), 0);
+    struct termios t;
+    assert_int_equal(tcgetattr(master, &t), 0);
+    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    t.c_oflag &= ~(tcflag_t)OPOST;
+    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
+    snprintf(slave, cap, "%s", ptsname(master));
+    return master;
+}
+
+// The port at 115200 baud on the slave of a new raw pty, whose master it returns (-1: no ptys).
+static int open_port_on_raw_pty(void)
+{
+    char slave[128];
+    const int master = open_raw_pty(slave, sizeof slave);
+    if (master >= 0) {
+        assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
+        assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
+    }
+    return master;
+}
+
 // A listener that streams before the firmware opens its line: the tty's backlog (more than the
 // ring holds) is discarded at the open, counted apart, and is no overrun; what comes after is
 // received whole.
 static void test_uart_pty_backlog_discarded_at_open(void **state)
 {
     (void)state;
-    int master = posix_openpt(O_RDWR | O_NOCTTY);
-    if (master < 0) {
-        skip();
-    }
-    assert_int_equal(grantpt(master), 0);
-    assert_int_equal(unlockpt(master), 0);
-    struct termios t;
-    assert_int_equal(tcgetattr(master, &t), 0);
-    // Raw (as pty_open() makes it): no echo, no line editing, bytes pass unchanged.
-    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
-    t.c_oflag &= ~(tcflag_t)OPOST;
-    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
     char slave[128];
-    snprintf(slave, sizeof slave, "%s", ptsname(master));
+    const int master = open_raw_pty(slave, sizeof slave);
+    if (master < 0) {
+        skip(); // no pty support in this sandbox
+    }
 
     static uint8_t backlog[4u * FW_CFG_HOST_UART_RX_CAPACITY];
     memset(backlog, 'b', sizeof backlog);
@@ -676,22 +698,10 @@ static void test_uart_pty_backlog_discarded_at_open(void **state)
 static void test_uart_pty_burst_arrives_at_line_rate(void **state)
 {
     (void)state;
-    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    const int master = open_port_on_raw_pty();
     if (master < 0) {
-        skip();
+        skip(); // no pty support in this sandbox
     }
-    assert_int_equal(grantpt(master), 0);
-    assert_int_equal(unlockpt(master), 0);
-    struct termios t;
-    assert_int_equal(tcgetattr(master, &t), 0);
-    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
-    t.c_oflag &= ~(tcflag_t)OPOST;
-    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
-    char slave[128];
-    snprintf(slave, sizeof slave, "%s", ptsname(master));
-    assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
-    assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
 
     static uint8_t burst[4u * FW_CFG_HOST_UART_RX_CAPACITY];
     for (size_t i = 0; i < sizeof burst; i++) {
@@ -725,22 +735,10 @@ static void test_uart_pty_burst_arrives_at_line_rate(void **state)
 static void test_uart_pty_stall_loses_backlog(void **state)
 {
     (void)state;
-    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    const int master = open_port_on_raw_pty();
     if (master < 0) {
-        skip();
+        skip(); // no pty support in this sandbox
     }
-    assert_int_equal(grantpt(master), 0);
-    assert_int_equal(unlockpt(master), 0);
-    struct termios t;
-    assert_int_equal(tcgetattr(master, &t), 0);
-    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
-    t.c_oflag &= ~(tcflag_t)OPOST;
-    t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-    assert_int_equal(tcsetattr(master, TCSANOW, &t), 0);
-    char slave[128];
-    snprintf(slave, sizeof slave, "%s", ptsname(master));
-    assert_int_equal(hal_uart_init(115200u, uart_rx, NULL), FW_OK);
-    assert_int_equal(hal_host_uart_open_path(slave), FW_OK);
 
     hal_host_uart_hold_reader(true);
     static uint8_t during[8u * FW_CFG_HOST_UART_RX_CAPACITY];
