@@ -191,17 +191,10 @@ static int admit_locked(const hal_can_frame_t *frame)
     return accepted_locked(frame) ? FW_OK : FW_ERR_NOENT;
 }
 
-int hal_host_can_deliver(const hal_can_frame_t *frame)
+// Hands an admitted frame to the rx handler as the interrupt would, and wakes the CPU. Called
+// with lock_ held; releases it before the handler runs.
+static int hand_over_unlock(const hal_can_frame_t *frame)
 {
-    if (frame == NULL) {
-        return FW_ERR_INVAL;
-    }
-    pthread_mutex_lock(&lock_);
-    const int admitted = admit_locked(frame);
-    if (admitted != FW_OK) {
-        pthread_mutex_unlock(&lock_);
-        return admitted;
-    }
     hal_can_rx_fn fn = on_rx_;
     void *ctx = rx_ctx_;
     stats_.rx_frames++;
@@ -220,6 +213,20 @@ int hal_host_can_deliver(const hal_can_frame_t *frame)
     return FW_OK;
 }
 
+int hal_host_can_deliver(const hal_can_frame_t *frame)
+{
+    if (frame == NULL) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    const int admitted = admit_locked(frame);
+    if (admitted != FW_OK) {
+        pthread_mutex_unlock(&lock_);
+        return admitted;
+    }
+    return hand_over_unlock(frame);
+}
+
 void hal_host_can_stall_begin(void)
 {
     pthread_mutex_lock(&lock_);
@@ -236,17 +243,15 @@ int hal_host_can_deliver_stalled(const hal_can_frame_t *frame)
     }
     pthread_mutex_lock(&lock_);
     const int admitted = admit_locked(frame);
-    if (admitted != FW_OK || !stalled_) {
-        const bool stalled = stalled_;
+    if (admitted != FW_OK) {
         pthread_mutex_unlock(&lock_);
-        return admitted != FW_OK ? admitted : (stalled ? FW_OK : hal_host_can_deliver(frame));
+        return admitted;
     }
     // The first mailboxes keep their frames; the last is overwritten by every later arrival
     // (MCR.RFLM = 0), which sets FOVR0.
-    if (stall_taken_ + 1u < BXCAN_FIFO_DEPTH) {
-        stall_taken_++;
-        pthread_mutex_unlock(&lock_);
-        return hal_host_can_deliver(frame);
+    if (!stalled_ || stall_taken_ + 1u < BXCAN_FIFO_DEPTH) {
+        stall_taken_ += stalled_ ? 1u : 0u;
+        return hand_over_unlock(frame);
     }
     if (has_newest_) {
         stats_.rx_overruns++;
@@ -262,13 +267,14 @@ void hal_host_can_stall_end(void)
 {
     pthread_mutex_lock(&lock_);
     const bool deliver = stalled_ && has_newest_;
-    const hal_can_frame_t newest = newest_;
     stalled_ = false;
     has_newest_ = false;
-    pthread_mutex_unlock(&lock_);
-    if (deliver) {
-        (void)hal_host_can_deliver(&newest);
+    if (!deliver) {
+        pthread_mutex_unlock(&lock_);
+        return;
     }
+    const hal_can_frame_t newest = newest_;  // admitted when it arrived
+    (void)hand_over_unlock(&newest);
 }
 
 uint32_t hal_host_can_stall_lost(void)
