@@ -191,6 +191,20 @@ static int admit_locked(const hal_can_frame_t *frame)
     return accepted_locked(frame) ? FW_OK : FW_ERR_NOENT;
 }
 
+// admit_locked() for a caller without the lock: on FW_OK it returns holding lock_.
+static int admit_and_lock(const hal_can_frame_t *frame)
+{
+    if (frame == NULL) {
+        return FW_ERR_INVAL;
+    }
+    pthread_mutex_lock(&lock_);
+    const int admitted = admit_locked(frame);
+    if (admitted != FW_OK) {
+        pthread_mutex_unlock(&lock_);
+    }
+    return admitted;
+}
+
 // Hands an admitted frame to the rx handler as the interrupt would, and wakes the CPU. Called
 // with lock_ held; releases it before the handler runs.
 static int hand_over_unlock(const hal_can_frame_t *frame)
@@ -215,13 +229,8 @@ static int hand_over_unlock(const hal_can_frame_t *frame)
 
 int hal_host_can_deliver(const hal_can_frame_t *frame)
 {
-    if (frame == NULL) {
-        return FW_ERR_INVAL;
-    }
-    pthread_mutex_lock(&lock_);
-    const int admitted = admit_locked(frame);
+    const int admitted = admit_and_lock(frame);
     if (admitted != FW_OK) {
-        pthread_mutex_unlock(&lock_);
         return admitted;
     }
     return hand_over_unlock(frame);
@@ -238,13 +247,8 @@ void hal_host_can_stall_begin(void)
 
 int hal_host_can_deliver_stalled(const hal_can_frame_t *frame)
 {
-    if (frame == NULL) {
-        return FW_ERR_INVAL;
-    }
-    pthread_mutex_lock(&lock_);
-    const int admitted = admit_locked(frame);
+    const int admitted = admit_and_lock(frame);
     if (admitted != FW_OK) {
-        pthread_mutex_unlock(&lock_);
         return admitted;
     }
     // The first mailboxes keep their frames; the last is overwritten by every later arrival
