@@ -381,6 +381,8 @@ static void test_safe_stop_on_bus_loss_and_resume(void **state)
     bench_.sense.pose = (robot_pose_t){0.5f, 0.5f, 0.0f};
     robot_ctrl_start_episode(&bench_.ctrl);
     bench_period_();
+    bench_period_();  // one real step
+    assert_int_equal(bench_.ctrl.last_step.step, 1);
     const uint32_t steps = agent_paper_sim.stats.real_steps;
     bench_.sense.bus_ok = false;
     for (int i = 0; i < 5; i++) {
@@ -395,8 +397,14 @@ static void test_safe_stop_on_bus_loss_and_resume(void **state)
     bench_period_();  // back: a fresh first state, no update from the interrupted step
     assert_int_equal(agent_paper_sim.stats.real_steps, steps);
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    // Reported as a start state (TLM_LEARN Step 0, reward 0); the episode's count goes on.
+    assert_true(bench_.ctrl.step_done);
+    assert_int_equal(bench_.ctrl.last_step.step, 0);
+    assert_float_equal(bench_.ctrl.last_step.reward, 0.0f, 0);
+    assert_int_equal(bench_.ctrl.step, 1);
     bench_period_();
     assert_int_equal(agent_paper_sim.stats.real_steps, steps + 1);
+    assert_int_equal(bench_.ctrl.last_step.step, 2);
 }
 
 static void test_waits_for_a_fix_taken_after_stopping(void **state)

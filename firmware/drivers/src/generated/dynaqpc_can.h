@@ -911,7 +911,7 @@ struct dynaqpc_can_tlm_learn_t {
     uint16_t episode;
 
     /**
-     * Step within the episode, saturated at 8191.
+     * Step within the episode, saturated at 8191. 0: a start state, nothing learned (reward 0): the episode's first, or the first after a safe stop cut an action short; the episode's count goes on after it.
      *
      * Range: 0..8191 (0..8191 -)
      * Scale: 1
