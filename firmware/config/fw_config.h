@@ -30,18 +30,20 @@
 #define FW_CFG_MAX_PROBE 16
 #endif
 
-// ---- Profile "maze": host gridworlds (up to 4,096 cells) ----------------------------------------
+// ---- Profile "maze": host gridworlds (up to 16,384 cells, 15 state bits) --------------------------
+// Q is dense for every map the parser accepts (2^15 rows), and the model, queue and Dyna-Q table
+// are at most half full on the largest (16,384 free cells, 65,536 pairs).
 #ifndef FW_CFG_MAZE_Q_STATES
-#define FW_CFG_MAZE_Q_STATES 4096
+#define FW_CFG_MAZE_Q_STATES 32768
 #endif
 #ifndef FW_CFG_MAZE_CMAC_CELLS
-#define FW_CFG_MAZE_CMAC_CELLS 65536
+#define FW_CFG_MAZE_CMAC_CELLS 131072
 #endif
 #ifndef FW_CFG_MAZE_PQ_CAPACITY
-#define FW_CFG_MAZE_PQ_CAPACITY 4096
+#define FW_CFG_MAZE_PQ_CAPACITY 32768
 #endif
 #ifndef FW_CFG_MAZE_TABLE_STATES
-#define FW_CFG_MAZE_TABLE_STATES 4096
+#define FW_CFG_MAZE_TABLE_STATES 32768
 #endif
 // Gridworlds have no percept or situation components (the relocatable model is off); the room
 // is for the benchmark's grid robot, shaped like paper-lab's state.
@@ -55,7 +57,7 @@
 #define FW_CFG_MAZE_POSITIONS 64
 #endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
-#define FW_CFG_MAZE_BUDGET_BYTES (4u * 1024u * 1024u)
+#define FW_CFG_MAZE_BUDGET_BYTES (16u * 1024u * 1024u)
 #endif
 
 // ---- Profile "paper-lab": 8,192 states (x, y, heading, IR in 3, 3, 4, 3 bits) ------------------

@@ -75,8 +75,9 @@ static void shortest_paths_(maze_t *m)
     int r;
     int c;
 
-    for (r = 0; r < MAZE_MAX_ROWS; r++) {
-        for (c = 0; c < MAZE_MAX_COLS; c++) {
+    // Only the map's own cells: every read of dist is bounded by rows and cols.
+    for (r = 0; r < m->rows; r++) {
+        for (c = 0; c < m->cols; c++) {
             m->dist[r][c] = MAZE_UNREACHABLE;
         }
     }
@@ -108,6 +109,42 @@ static void shortest_paths_(maze_t *m)
     }
 }
 
+// The starts and goals of a map whose cells are set, and its shortest paths; every start must
+// reach a goal.
+static int index_cells_(maze_t *m, const char *file, maze_error_t *err)
+{
+    int r;
+    int c;
+    m->n_starts = 0;
+    m->n_goals = 0;
+    for (r = 0; r < m->rows; r++) {
+        for (c = 0; c < m->cols; c++) {
+            if (m->cell[r][c] == MAZE_START) {
+                m->starts[m->n_starts].row = (uint8_t)r;
+                m->starts[m->n_starts].col = (uint8_t)c;
+                m->n_starts++;
+            } else if (m->cell[r][c] == MAZE_GOAL) {
+                m->n_goals++;
+            }
+        }
+    }
+    if (m->n_starts == 0) {
+        return fail_(err, file, 1, 1, "no start cell 'S'");
+    }
+    if (m->n_goals == 0) {
+        return fail_(err, file, 1, 1, "no goal cell 'G'");
+    }
+    shortest_paths_(m);
+    for (r = 0; r < m->n_starts; r++) {
+        const maze_pos_t s = m->starts[r];
+        if (m->dist[s.row][s.col] == MAZE_UNREACHABLE) {
+            // Rows are lines one to one: no empty line can come before a row.
+            return fail_(err, file, s.row + 1, s.col + 1, "no goal is reachable from this start");
+        }
+    }
+    return 0;
+}
+
 // ---- Parser -------------------------------------------------------------------------------------
 
 int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_error_t *err)
@@ -115,8 +152,6 @@ int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_e
     size_t pos = 0;
     int line = 0;           // 1-based number of the line being read
     int first_empty = 0;    // first of a run of empty lines not yet followed by a row, or 0
-    int r;
-    int c;
 
     memset(m, 0, sizeof *m);
     if (err != NULL) {
@@ -163,6 +198,10 @@ int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_e
         if (m->rows == MAZE_MAX_ROWS) {
             return fail_(err, file, line, 1, "too many rows (at most %d)", MAZE_MAX_ROWS);
         }
+        if (m->rows > 0 && (uint32_t)(m->rows + 1) * m->cols > MAZE_MAX_CELLS) {
+            return fail_(err, file, line, 1, "too many cells: %d rows of %u columns (at most %d cells)",
+                         m->rows + 1, (unsigned)m->cols, MAZE_MAX_CELLS);
+        }
         for (i = 0; i < n; i++) {
             char shown[8];
             int cell;
@@ -195,32 +234,37 @@ int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_e
     if (m->rows == 0) {
         return fail_(err, file, 1, 1, "empty map (no rows)");
     }
-    for (r = 0; r < m->rows; r++) {
-        for (c = 0; c < m->cols; c++) {
-            if (m->cell[r][c] == MAZE_START) {
-                m->starts[m->n_starts].row = (uint8_t)r;
-                m->starts[m->n_starts].col = (uint8_t)c;
-                m->n_starts++;
-            } else if (m->cell[r][c] == MAZE_GOAL) {
-                m->n_goals++;
-            }
+    return index_cells_(m, file, err);
+}
+
+int maze_refine(maze_t *out, const maze_t *in, unsigned k, const char *file, maze_error_t *err)
+{
+    if (err != NULL) {
+        memset(err, 0, sizeof *err);
+    }
+    if (k < 1u || k > MAZE_MAX_ROWS) {
+        return fail_(err, file, 1, 1, "refinement %u: must be 1..%d", k, MAZE_MAX_ROWS);
+    }
+    const uint32_t rows = in->rows * k;
+    const uint32_t cols = in->cols * k;
+    if (rows > MAZE_MAX_ROWS || cols > MAZE_MAX_COLS || rows * cols > MAZE_MAX_CELLS) {
+        return fail_(err, file, 1, 1,
+                     "refined %u times the map is %u x %u cells (at most %d rows, %d columns and "
+                     "%d cells)", k, (unsigned)rows, (unsigned)cols, MAZE_MAX_ROWS, MAZE_MAX_COLS,
+                     MAZE_MAX_CELLS);
+    }
+    memset(out, 0, sizeof *out);
+    out->rows = (uint16_t)rows;
+    out->cols = (uint16_t)cols;
+    for (uint32_t r = 0; r < rows; r++) {
+        for (uint32_t c = 0; c < cols; c++) {
+            const uint8_t cell = in->cell[r / k][c / k];
+            // A start or a goal stays one cell, the block's first; the rest of its block is free.
+            const bool first = r % k == 0u && c % k == 0u;
+            out->cell[r][c] = cell == MAZE_WALL || first ? cell : (uint8_t)MAZE_FREE;
         }
     }
-    if (m->n_starts == 0) {
-        return fail_(err, file, 1, 1, "no start cell 'S'");
-    }
-    if (m->n_goals == 0) {
-        return fail_(err, file, 1, 1, "no goal cell 'G'");
-    }
-    shortest_paths_(m);
-    for (r = 0; r < m->n_starts; r++) {
-        const maze_pos_t s = m->starts[r];
-        if (m->dist[s.row][s.col] == MAZE_UNREACHABLE) {
-            // Rows are lines one to one: no empty line can come before a row.
-            return fail_(err, file, s.row + 1, s.col + 1, "no goal is reachable from this start");
-        }
-    }
-    return 0;
+    return index_cells_(out, file, err);
 }
 
 // ---- Moves --------------------------------------------------------------------------------------

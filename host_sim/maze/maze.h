@@ -19,12 +19,15 @@ extern "C" {
 /// ignored. Every row must have the same width. Every start must reach some goal.
 ///
 /// Limits, so that garbage can never make the parser crash, hang or overflow: at most
-/// MAZE_MAX_ROWS x MAZE_MAX_COLS cells and MAZE_MAX_FILE_BYTES bytes. 64 x 64 is 12 state
-/// bits: exactly the 4,096 dense Q rows of the "maze" agent profile.
-#define MAZE_MAX_ROWS 64
-#define MAZE_MAX_COLS 64
-#define MAZE_MAX_CELLS (MAZE_MAX_ROWS * MAZE_MAX_COLS)
-#define MAZE_MAX_FILE_BYTES 16384u
+/// MAZE_MAX_ROWS rows, MAZE_MAX_COLS columns, MAZE_MAX_CELLS cells in all, and
+/// MAZE_MAX_FILE_BYTES bytes. 16,384 cells hold Sutton & Barto's largest prioritized-sweeping
+/// maze (Example 8.4: the Dyna maze refined to 6,016 states, 144 x 48 cells), and are at most
+/// 16 state bits; the "maze" agent profile (fw_config.h) has a Q row for each and its tables at
+/// most half full.
+#define MAZE_MAX_ROWS 256
+#define MAZE_MAX_COLS 256
+#define MAZE_MAX_CELLS 16384
+#define MAZE_MAX_FILE_BYTES 65536u
 
 /// The four actions, numbered as the agent sees them.
 typedef enum maze_action {
@@ -53,7 +56,7 @@ typedef struct maze_pos {
 /// Distance of a cell from which no goal can be reached (a wall, or a walled-off cell).
 #define MAZE_UNREACHABLE UINT16_MAX
 
-/// A parsed map. Fixed size (about 20 KB), no pointers: copy it, keep it static or on the heap.
+/// A parsed map. Fixed size (about 225 KB), no pointers: copy it, keep it static or on the heap.
 typedef struct maze {
     uint16_t rows;  ///< 1..MAZE_MAX_ROWS
     uint16_t cols;  ///< 1..MAZE_MAX_COLS
@@ -78,6 +81,13 @@ typedef struct maze_error {
 /// the map in the error report (NULL: "<map>").
 /// Returns 0 with *m filled in, or -1 with *err filled in (and *m unspecified).
 int maze_parse(maze_t *m, const char *text, size_t len, const char *file, maze_error_t *err);
+
+/// The map `in` at k times its resolution into *out: each cell becomes a k x k block of its kind,
+/// but a start or a goal stays one cell, its block's first, the rest of the block free (Sutton &
+/// Barto's Example 8.4: the Dyna maze refined to more states, one start and one goal). `file`
+/// names the map in the error report. Returns 0, or -1 with *err filled in (k of 0, or a result
+/// past the parser's limits) and *out unspecified. k = 1 copies the map.
+int maze_refine(maze_t *out, const maze_t *in, unsigned k, const char *file, maze_error_t *err);
 
 /// One move from `pos` (which must be a free cell). A move into a wall or off the map leaves the
 /// agent where it was. Returns true when the new cell is a goal (the episode ends there).

@@ -36,6 +36,7 @@ namespace fs = std::filesystem;
 
 struct MazeSettings {
     std::string map;
+    std::uint32_t refine = 1;
     std::string agent;
     std::uint32_t runs = 1;
     std::uint32_t episodes = 0;
@@ -74,6 +75,10 @@ void declare(Options &o, MazeSettings &s)
     o.add_string("--map", "FILE",
                  "map file, or a bare name such as dyna-maze for " DYNAQPC_MAPS_DIR "/dyna_maze.txt",
                  &s.map);
+    o.add_uint("--refine", "K",
+               "the map at K times its resolution: each cell a K x K block, a start or goal "
+               "one cell of its block (Sutton & Barto's Example 8.4 mazes; default 1)",
+               &s.refine, 1, MAZE_MAX_ROWS);
     o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc", &s.agent, {"q", "dyna-q", "dyna-qpc"});
     o.add_uint("--runs", "R", "independent runs (default 1)", &s.runs, 1, 1000000);
     o.add_uint("--episodes", "E", "episodes per run: one CSV row per run and episode", &s.episodes,
@@ -283,7 +288,8 @@ void print_summary(std::ostream &out, const MazeSettings &s, const std::string &
     const double shortest = maze_shortest_mean(&m);
     char buf[256];
 
-    out << map_path << ": " << m.rows << " x " << m.cols << " cells, " << m.n_starts
+    out << map_path << (s.refine > 1u ? " refined " + std::to_string(s.refine) + " times" : "")
+        << ": " << m.rows << " x " << m.cols << " cells, " << m.n_starts
         << (m.n_starts == 1 ? " start, " : " starts, ") << m.n_goals
         << (m.n_goals == 1 ? " goal" : " goals") << ", shortest path "
         << (m.n_starts == 1 ? fmt("%g", shortest) + " steps\n"
@@ -438,12 +444,20 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
     // Everything is checked before the CSV is opened.
     const std::string map_path = resolve_map(s.map);
     const std::string text = read_map(map_path);
-    // maze_t is ~20 KB: keep it off the stack.
+    // maze_t is ~225 KB: keep it off the stack.
     auto maze = std::make_unique<maze_t>();
     maze_error_t err;
     if (maze_parse(maze.get(), text.data(), text.size(), map_path.c_str(), &err) != 0) {
         std::cerr << err.message << '\n';
         return kExitUsage;
+    }
+    if (s.refine > 1u) {
+        auto base = std::move(maze);
+        maze = std::make_unique<maze_t>();
+        if (maze_refine(maze.get(), base.get(), s.refine, map_path.c_str(), &err) != 0) {
+            std::cerr << "--refine: " << err.message << '\n';
+            return kExitUsage;
+        }
     }
 
     maze_run_config_t cfg = maze_run_default_config();

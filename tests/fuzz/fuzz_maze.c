@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Fuzz target: a maze map file (dynaqpc-sim maze --map), parsed and, if accepted, walked.
+// Fuzz target: a maze map file (dynaqpc-sim maze --map), parsed and, if accepted, walked, and
+// refined (--refine) as far as the limits allow.
 #include "fuzz.h"
 #include "maze/maze.h"
 
@@ -27,5 +28,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
     }
     (void)maze_shortest_mean(&m);
+    // Refined k times the map is accepted or refused whole, and an accepted one has the same
+    // starts, each k times as far from a goal (every cell's shortest path scales with its block).
+    static maze_t fine;
+    for (unsigned k = 2; k <= 3u; k++) {
+        if (maze_refine(&fine, &m, k, "fuzz", &err) != 0) {
+            continue;
+        }
+        if (fine.n_starts != m.n_starts || fine.rows != m.rows * k) {
+            __builtin_trap();
+        }
+        for (uint32_t i = 0; i < m.n_starts; i++) {
+            if (maze_shortest_from(&fine, fine.starts[i]) > k * maze_shortest_from(&m, m.starts[i])) {
+                __builtin_trap();
+            }
+        }
+    }
     return 0;
 }

@@ -25,7 +25,7 @@ static const char dyna_maze_[] = ".......#G\n"
                                  ".....#...\n"
                                  ".........\n";
 
-// maze_t is ~20 KB: static, not on the stack.
+// maze_t is ~225 KB: static, not on the stack.
 static maze_t maze_;
 static maze_t maze2_;
 static maze_error_t err_;
@@ -181,6 +181,25 @@ static void test_error_empty(void **state)
     assert_error_at_("\r\n\n\r\n", 1, 1, "empty map");
 }
 
+// An open map of rows x cols into text: 'S' at the top left, 'G' at the bottom right. Returns
+// its length.
+static size_t open_map_(char *text, int rows, int cols)
+{
+    size_t n = 0;
+    for (int r = 0; r < rows; r++) {
+        memset(text + n, '.', (size_t)cols);
+        if (r == 0) {
+            text[n] = 'S';
+        }
+        if (r == rows - 1) {
+            text[n + (size_t)cols - 1u] = 'G';
+        }
+        text[n + (size_t)cols] = '\n';
+        n += (size_t)cols + 1u;
+    }
+    return n;
+}
+
 static void test_error_limits(void **state)
 {
     static char big[MAZE_MAX_FILE_BYTES + 1u];
@@ -207,18 +226,56 @@ static void test_error_limits(void **state)
     assert_int_equal(maze_parse(&maze_, text, n, "tall", &err_), -1);
     assert_int_equal(err_.line, MAZE_MAX_ROWS + 1);
     assert_int_equal(err_.column, 1);
-    // The largest map is fine and fills the maze profile's dense Q store exactly.
-    n = 0;
-    for (r = 0; r < MAZE_MAX_ROWS; r++) {
-        memset(text + n, '.', MAZE_MAX_COLS);
-        text[n] = r == 0 ? 'S' : '.';
-        text[n + MAZE_MAX_COLS - 1u] = r == MAZE_MAX_ROWS - 1 ? 'G' : '.';
-        text[n + MAZE_MAX_COLS] = '\n';
-        n += MAZE_MAX_COLS + 1u;
-    }
+    // Too many cells: 128 columns allow 128 rows.
+    n = open_map_(text, 129, 128);
+    assert_int_equal(maze_parse(&maze_, text, n, "wide", &err_), -1);
+    assert_int_equal(err_.line, 129);
+    assert_int_equal(err_.column, 1);
+    assert_non_null(strstr(err_.what, "too many cells"));
+    // The largest maps are fine: 128 x 128, and the most state bits (129 x 127: 8 + 7), which
+    // still fit the maze profile's dense Q store.
+    n = open_map_(text, 128, 128);
+    assert_int_equal(maze_parse(&maze_, text, n, "square", &err_), 0);
+    assert_int_equal(maze_shortest_max(&maze_), 2 * 127);
+    n = open_map_(text, 129, 127);
     assert_int_equal(maze_parse(&maze_, text, n, "max", &err_), 0);
-    assert_int_equal(maze_shortest_max(&maze_), 2 * (MAZE_MAX_ROWS - 1));
-    assert_int_equal(maze_row_bits(&maze_) + maze_col_bits(&maze_), 12);
+    assert_int_equal(maze_shortest_max(&maze_), 128 + 126);
+    assert_int_equal(maze_row_bits(&maze_) + maze_col_bits(&maze_), 15);
+    assert_true((1u << 15) <= FW_CFG_MAZE_Q_STATES);
+    // One row as wide as a row can be.
+    n = open_map_(text, 1, MAZE_MAX_COLS);
+    assert_int_equal(maze_parse(&maze_, text, n, "long", &err_), 0);
+    assert_int_equal(maze_shortest_max(&maze_), MAZE_MAX_COLS - 1);
+}
+
+// Refining keeps walls as blocks and a start or a goal as one cell: the Dyna maze at 2 x has its
+// path twice as long, and its start where the start's block begins.
+static void test_refine(void **state)
+{
+    (void)state;
+    assert_int_equal(maze_parse(&maze_, dyna_maze_, strlen(dyna_maze_), "dyna", &err_), 0);
+    assert_int_equal(maze_refine(&maze2_, &maze_, 2, "dyna", &err_), 0);
+    assert_int_equal(maze2_.rows, 12);
+    assert_int_equal(maze2_.cols, 18);
+    assert_int_equal(maze2_.n_starts, 1);
+    assert_int_equal(maze2_.n_goals, 1);
+    assert_int_equal(maze2_.starts[0].row, 2 * maze_.starts[0].row);
+    assert_int_equal(maze2_.starts[0].col, 2 * maze_.starts[0].col);
+    assert_int_equal(maze_shortest_max(&maze2_), 2 * maze_shortest_max(&maze_));
+    for (int r = 0; r < maze2_.rows; r++) {
+        for (int c = 0; c < maze2_.cols; c++) {
+            assert_int_equal(maze2_.cell[r][c] == MAZE_WALL, maze_.cell[r / 2][c / 2] == MAZE_WALL);
+        }
+    }
+    // 1 copies; 0 and past the limits are refused with a reason, at 1:1.
+    assert_int_equal(maze_refine(&maze2_, &maze_, 1, "dyna", &err_), 0);
+    assert_int_equal(maze_shortest_max(&maze2_), maze_shortest_max(&maze_));
+    assert_int_equal(maze_refine(&maze2_, &maze_, 0, "dyna", &err_), -1);
+    assert_non_null(strstr(err_.message, "dyna:1:1: refinement 0"));
+    assert_int_equal(maze_refine(&maze2_, &maze_, 17, "dyna", &err_), 0);  // 15,606 cells
+    assert_int_equal(maze2_.rows * maze2_.cols, 102 * 153);
+    assert_int_equal(maze_refine(&maze2_, &maze_, 18, "dyna", &err_), -1);  // 17,496 cells
+    assert_non_null(strstr(err_.what, "108 x 162 cells"));
 }
 
 // Binary garbage: never a crash, a hang or an out-of-bounds access (the asan build checks the
@@ -605,6 +662,7 @@ int main(void)
         cmocka_unit_test(test_error_unreachable_goal),
         cmocka_unit_test(test_error_empty),
         cmocka_unit_test(test_error_limits),
+        cmocka_unit_test(test_refine),
         cmocka_unit_test(test_error_garbage),
         cmocka_unit_test(test_moves),
         cmocka_unit_test(test_state_encoding),
