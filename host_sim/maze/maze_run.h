@@ -61,8 +61,8 @@ typedef struct maze_run_config {
     void *ctx;
 } maze_run_config_t;
 
-/// A config with Sutton & Barto's settings (agent_default_params(), step reward 0, goal reward
-/// +1), planning 5, one run of 50 episodes, max_steps 100,000, max_episodes 10,000, seed 1,
+/// A config with Sutton & Barto's settings (agent_default_params() but theta 0, step reward 0,
+/// goal reward +1), planning 5, one run of 50 episodes, max_steps 100,000, max_episodes 10,000, seed 1,
 /// the "maze" profile's storage, and no callbacks. Set `maze` and `kind` before use.
 maze_run_config_t maze_run_default_config(void);
 

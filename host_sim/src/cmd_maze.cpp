@@ -65,7 +65,7 @@ std::string fmt(const char *format, double x)
 
 void declare(Options &o, MazeSettings &s)
 {
-    const agent_params_t d = agent_default_params();
+    const agent_params_t d = maze_run_default_config().params;
     s.alpha = d.alpha;
     s.plan_alpha = d.plan_alpha;
     s.gamma = d.gamma;
