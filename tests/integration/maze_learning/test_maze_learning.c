@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The three agents on Sutton & Barto's Dyna maze (Fig. 8.2), 30 seeds each: what they learn and
-// how fast. Deterministic: every run is seeded.
+// how fast; and Dyna-QPC's sweep on a maze whose start is far from its goal. Deterministic:
+// every run is seeded.
 #include "test_common.h"
 
 #include <string.h>
@@ -27,6 +28,17 @@ static void on_episode(void *ctx, const maze_episode_row_t *row)
 {
     (void)ctx;
     mean_steps_[row->episode - 1] += (double)row->steps / RUNS;
+}
+
+static uint32_t corridor_worst_;
+
+static void on_corridor_run(void *ctx, const maze_run_row_t *row)
+{
+    (void)ctx;
+    assert_true(row->optimal);
+    if (row->episodes > corridor_worst_) {
+        corridor_worst_ = row->episodes;
+    }
 }
 
 static void on_run(void *ctx, const maze_run_row_t *row)
@@ -124,12 +136,64 @@ static void dyna_agents_beat_q_learning(void **state)
     assert_true(mean_steps_[3] <= 20.0);
 }
 
+// A goal 240 steps away (host_sim/maps/corridor_240.txt: rows of wall with a gap at alternate
+// ends). The maze runner's threshold is 0, so the sweep after the first goal reaches the start:
+// in every run the greedy path is within 1.2 x by the second episode. With the agents' 1e-4 a
+// change falls below it 180 steps from the goal (0.95^180), and the far part is learned from
+// real steps alone, over some 85 episodes.
+static uint32_t corridor_episodes_(float theta)
+{
+    static maze_t corridor;
+    static char text[21 * 22];
+    size_t n = 0;
+    for (int r = 0; r < 21; r++) {
+        for (int c = 0; c < 21; c++) {
+            const bool wall_row = r % 2 == 1;
+            const int gap = (r / 2) % 2 == 0 ? 20 : 0;
+            const bool start = r == 0 && c == 0;
+            const bool goal = r == 20 && c == 20;
+            text[n++] = start ? 'S' : goal ? 'G' : wall_row && c != gap ? '#' : '.';
+        }
+        text[n++] = '\n';
+    }
+    maze_error_t err;
+    assert_int_equal(maze_parse(&corridor, text, n, "corridor", &err), 0);
+    assert_int_equal(maze_shortest_max(&corridor), 240);
+    maze_run_config_t cfg = maze_run_default_config();
+    cfg.maze = &corridor;
+    cfg.kind = AGENT_DYNA_QPC;
+    cfg.runs = 5;
+    cfg.until_optimal = 1.2;
+    cfg.max_episodes = 300;
+    cfg.max_steps = 1000000;
+    cfg.seed = 1;
+    cfg.params.theta = theta;
+    cfg.on_run = on_corridor_run;
+    corridor_worst_ = 0;
+    const char *why = NULL;
+    assert_int_equal(maze_run(&cfg, &why), 0);
+    return corridor_worst_;
+}
+
+static void the_sweep_reaches_a_far_start(void **state)
+{
+    (void)state;
+    assert_true(maze_run_default_config().params.theta == 0.0f);
+    const uint32_t swept = corridor_episodes_(0.0f);
+    const uint32_t cut = corridor_episodes_(1e-4f);
+    print_message("corridor, episodes to within 1.2 x (worst of 5 runs): theta 0 %u, 1e-4 %u\n",
+                  swept, cut);
+    assert_true(swept <= 3u);
+    assert_true(cut >= 30u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(shortest_path_is_14),
         cmocka_unit_test(dyna_qpc_learns_the_optimal_path),
         cmocka_unit_test(dyna_agents_beat_q_learning),
+        cmocka_unit_test(the_sweep_reaches_a_far_start),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
