@@ -287,6 +287,10 @@ def run(args, out=None) -> Monitor:
         if logger is not None:
             logger.stop()
         raise
+    if bus is not None:
+        # From here on every frame is heard: a script that sends only after this line (before it
+        # had to guess how long the imports take) misses none of them.
+        print(f"dynaqpc-monitor: listening on {args.interface}:{args.channel}", file=sys.stderr, flush=True)
     live = args.refresh > 0 and out.isatty() and not args.print_frames
     start = time.monotonic()
     next_refresh = start + args.refresh

@@ -88,3 +88,11 @@ def test_monitor_reports_a_missing_dbc(tmp_path, capsys):
     rc = monitor.main(["--dbc", str(tmp_path / "none.dbc"), "--replay", str(tmp_path / "x.asc")])
     assert rc == 2
     assert "DBC file not found" in capsys.readouterr().err
+
+
+def test_monitor_says_when_it_listens_before_any_frame(capsys):
+    """A live bus: one stderr line once the bus is open (scripts send after it), none on replay."""
+    rc = monitor.main(["--interface", "virtual", "--channel", "monitor-listens", "--duration", "0.05"])
+    assert rc == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["dynaqpc-monitor: listening on virtual:monitor-listens"]

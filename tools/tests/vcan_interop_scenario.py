@@ -78,7 +78,12 @@ frames = [f"{pose.frame_id:03X}#" + pose.encode({"X": 10 * c, "Y": 0, "Heading":
 mon = subprocess.Popen([sys.executable, "-m", "dynaqpc_tools.monitor", "--dbc", test_dbc, "--count",
                         str(len(frames)), "--duration", "10", "--bus-kwarg", f"port={port}", "--print"],
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-time.sleep(1.5)  # let the monitor join the group (it prints nothing before the first frame)
+# Sent once the monitor has joined the group (it says so on stderr), not after a guessed delay:
+# with `time.sleep(1.5)` here, a loaded machine started the monitor later and it heard 0 frames.
+joined = mon.stderr.readline()
+if "listening on" not in joined:
+    mon.kill()
+    fail(f"dynaqpc-monitor did not say it was listening: {joined!r}")
 subprocess.run([f"{bin_dir}/vcan-send", "--port", str(port), *frames], check=True)
 out, err = mon.communicate(timeout=20)
 if mon.returncode != 0 or "6 frames" not in out or "2 frames lost" not in out or "3 -> 6" not in err:
