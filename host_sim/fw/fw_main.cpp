@@ -83,16 +83,14 @@ const hal_host_can_transport_t kTransport = {transport_send, nullptr};
 // The CAN interrupt: frames from the bus into the firmware. Polls every kRxPollMs so that it
 // notices a stop, and wakes the main loop then, so a signal ends a sleep at once.
 //
-// It also measures its own absence, as the UART's reader does (host_uart.c): away for more than
-// kRxStallGapUs since it last looked at the bus, the process was not running (SIGSTOP, a
-// debugger), and what the socket holds arrived while no interrupt could take it. Away is asleep
-// or stopped, not waiting on a loaded host's run queue (hal_host_absence_t): a receive
-// interrupt never waits for a CPU, so those frames are delivered as usual.
+// It also measures its own absence, as the UART's reader does (host_uart.c): more than
+// kRxStallGapMs since it last looked at the bus, the process was not running (SIGSTOP, a machine
+// that did not schedule it), and what the socket holds arrived while no interrupt could take it.
 // That backlog meets bxCAN's three-mailbox FIFO (hal_host_can_stall_begin()): handed over whole it
 // was thousands of stale frames at 10x, which filled the scheduler's event queue (events_dropped
 // 2,604 over three 1 s stalls) and were read as fresh.
 constexpr int kRxPollMs = 20;
-constexpr std::int64_t kRxStallGapUs = 50000;
+constexpr auto kRxStallGap = std::chrono::milliseconds(50);
 constexpr int kRxStallMaxFrames = 1 << 20;  // a bound on one backlog's reading
 
 // Reads what the socket holds after a stall, `first` being its first frame. False on an error.
@@ -112,14 +110,15 @@ bool take_can_stall_backlog(const hal_can_frame_t &first)
 void *rx_thread(void *)
 {
     hal_can_frame_t f;
-    hal_host_absence_t looked;  // when the thread last looked at the bus
-    hal_host_absence_start(&looked);
+    auto looked = std::chrono::steady_clock::now();
     while (g_rx_run.load()) {
         int rc = g_bus.recv(&f, kRxPollMs);
-        const bool stalled = hal_host_absence_lap_us(&looked) > kRxStallGapUs;
+        const auto now = std::chrono::steady_clock::now();
+        const bool stalled = now - looked > kRxStallGap;
+        looked = now;
         if (rc == 1 && stalled) {
             rc = take_can_stall_backlog(f) ? 1 : -1;
-            hal_host_absence_start(&looked);  // reading the backlog is no absence
+            looked = std::chrono::steady_clock::now();  // reading the backlog is no absence
         } else if (rc == 1) {
             (void)hal_host_can_deliver(&f);  // filtered ids are not for the firmware
         }

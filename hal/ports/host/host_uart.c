@@ -29,17 +29,14 @@
 // losing them. (Bytes the reader finds on time are paced at the line's rate, pace_line(): a
 // burst the writer sent at once would arrive over a wire at 115200 baud, not in a microsecond.)
 //
-// So the reader measures its own absence. It polls every READER_POLL_MS; if it was away from the
-// line for more than STALL_GAP_MS since it last looked, the process was not running, and what the
+// So the reader measures its own absence. It polls every READER_POLL_MS; if more than
+// STALL_GAP_MS passed since it last looked at the line, the process was not running, and what the
 // tty holds now arrived while the receiver could not be serviced: the first byte is kept (DR),
 // the rest are overruns, as on the MCU, and also counted in hal_host_uart_stall_lost(). The host
 // cannot keep the real deadline (one byte time, 87 us at 115200 baud), so a reader late by less
-// than STALL_GAP_MS is treated as on time: the pty stands in for the line's timing there. Away
-// means asleep or stopped, not waiting for a CPU (hal_host_absence_t): a loaded host that keeps
-// the reader on its run queue for 60 ms has not stopped the firmware, and an MCU's receive
-// interrupt would have run; those bytes are read and paced as usual. A reader that runs but
-// feeds a ring the firmware does not drain still overruns the ring (hal_host_uart_feed()), as a
-// too-slow consumer on the MCU does.
+// than STALL_GAP_MS is treated as on time: the pty stands in for the line's timing there. A
+// reader that runs but feeds a ring the firmware does not drain still overruns the ring
+// (hal_host_uart_feed()), as a too-slow consumer on the MCU does.
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -58,7 +55,7 @@
 #define RX_MASK ((uint32_t)FW_CFG_HOST_UART_RX_CAPACITY - 1u)
 #define DEFAULT_BAUD 115200u
 #define READER_POLL_MS 20
-#define STALL_GAP_MS 50 // > READER_POLL_MS (a poll's sleep is absence too), < a 0.1 s stall
+#define STALL_GAP_MS 50 // > READER_POLL_MS plus the host's usual wake-up latency, < a 0.1 s stall
 
 static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
 static bool ready_;
@@ -256,6 +253,11 @@ static int64_t now_us(void)
     return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
+static int64_t now_ms(void)
+{
+    return now_us() / 1000;
+}
+
 // What the tty holds after the reader was away longer than STALL_GAP_MS: the first byte is kept
 // (the USART's DR), the rest were lost to overrun while the CPU stood still (the header above).
 // Reads until the tty is empty, bounded like discard_backlog(). Returns false on a read error.
@@ -327,10 +329,8 @@ static void *reader_main(void *arg)
     int fd = fd_;
     pthread_mutex_unlock(&lock_);
     uint8_t buf[64];
-    hal_host_absence_t looked; // when the reader last looked at the line
-    hal_host_absence_start(&looked);
-    bool was_held = false;
-    int64_t line_free_us = 0; // when the line has carried what was fed so far
+    int64_t looked = now_ms(); // the last time the reader serviced the line
+    int64_t line_free_us = 0;  // when the line has carried what was fed so far
     for (;;) {
         pthread_mutex_lock(&lock_);
         bool stop = stop_;
@@ -343,7 +343,6 @@ static void *reader_main(void *arg)
         holding_ = held;
         pthread_mutex_unlock(&lock_);
         if (held) {
-            was_held = true; // a stop however long it lasted, as the hold's contract says
             (void)poll(NULL, 0, 2); // as a stopped process: the line is not serviced
             continue;
         }
@@ -352,9 +351,9 @@ static void *reader_main(void *arg)
         if (pr < 0 && errno != EINTR) {
             break;
         }
-        const int64_t away_us = hal_host_absence_lap_us(&looked);
-        const bool stalled = was_held || away_us > (int64_t)STALL_GAP_MS * 1000;
-        was_held = false;
+        const int64_t now = now_ms();
+        const bool stalled = now - looked > STALL_GAP_MS;
+        looked = now;
         if (pr <= 0) {
             continue;
         }

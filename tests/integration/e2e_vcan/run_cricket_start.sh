@@ -50,9 +50,8 @@ stall_lost=$(field "$TMP/fw.out" uart_stall_lost)
     fail "counters missing"
 echo "pty_bytes=$written uart_discarded=$discarded uart_rx_bytes=$rx uart_overruns=$overruns uart_stall_lost=$stall_lost"
 [ "$discarded" -gt 256 ] || fail "no backlog was discarded at the open (uart_discarded=$discarded)"
-# A firmware stopped for more than 50 ms (not merely kept waiting for a CPU by a loaded machine,
-# hal_host_absence_t) loses those bytes as on the MCU (uart_stall_lost, part of uart_overruns):
-# not what this test is about.
+# A machine too loaded to run the firmware for more than 50 ms stalls it: those bytes are lost as
+# on the MCU (uart_stall_lost, part of uart_overruns), and are not what this test is about.
 [ "$overruns" -eq "$stall_lost" ] ||
     fail "a normal start overran the UART's ring (uart_overruns=$overruns, of which $stall_lost in stalls)"
 [ "$rx" -gt 0 ] || fail "no Cricket bytes received after the open"

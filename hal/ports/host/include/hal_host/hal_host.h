@@ -141,16 +141,16 @@ bool hal_host_can_take_tx(hal_can_frame_t *out);
 /// codes, or FW_ERR_IO before hal_can_init(). Context: any thread (a receiver thread is an ISR).
 int hal_host_can_deliver(const hal_can_frame_t *frame);
 
-/// A stall of the whole firmware (its process stopped: a debugger halt or a flash erase on the MCU;
-/// a loaded host keeping it waiting for a CPU is none, hal_host_absence_t) stops the receive
-/// interrupt too. bxCAN's receive FIFO 0 has three mailboxes and the STM32F4 port leaves it
-/// unlocked (MCR.RFLM = 0): once full, each arriving frame overwrites the newest one there and sets
-/// FOVR0 (RM0090, "Receive FIFO"). A socket instead keeps every frame of the stall. A receiver that
-/// finds it was away (the firmware's receive thread) hands that backlog over between these calls,
-/// each frame to hal_host_can_deliver_stalled(): the first two frames the filters accept are
-/// delivered at once, each later one replaces the newest, and hal_host_can_stall_end() delivers
-/// that one. Every replaced frame is counted in rx_overruns and in hal_host_can_stall_lost().
-/// Filtered and invalid frames are treated as hal_host_can_deliver() treats them; outside a stall,
+/// A stall of the whole firmware (its process stopped, or not scheduled: a debugger halt or a
+/// flash erase on the MCU) stops the receive interrupt too. bxCAN's receive FIFO 0 has three
+/// mailboxes and the STM32F4 port leaves it unlocked (MCR.RFLM = 0): once full, each arriving
+/// frame overwrites the newest one there and sets FOVR0 (RM0090, "Receive FIFO"). A socket
+/// instead keeps every frame of the stall. A receiver that finds it was away (the firmware's
+/// receive thread) hands that backlog over between these calls, each frame to
+/// hal_host_can_deliver_stalled(): the first two frames the filters accept are delivered at
+/// once, each later one replaces the newest, and hal_host_can_stall_end() delivers that one.
+/// Every replaced frame is counted in rx_overruns and in hal_host_can_stall_lost(). Filtered and
+/// invalid frames are treated as hal_host_can_deliver() treats them; outside a stall,
 /// hal_host_can_deliver_stalled() is hal_host_can_deliver().
 void hal_host_can_stall_begin(void);
 int hal_host_can_deliver_stalled(const hal_can_frame_t *frame);
@@ -164,30 +164,6 @@ void hal_host_can_count_rx_overrun(uint32_t frames);
 
 /// The bitrate hal_can_init() was given (0 before).
 uint32_t hal_host_can_bitrate(void);
-
-// ---- Receiver threads' absence ------------------------------------------------------------------
-
-/// A receiver thread (the pty reader, the firmware's CAN receive thread) measures how long it was
-/// away between two looks at its line: the wall-clock time less the time it ran or waited for a
-/// CPU, i.e. asleep (its poll, a lock) or stopped (SIGSTOP, a debugger). The time a loaded host
-/// kept it on the run queue is not absence: an MCU's receive interrupt never waits for a CPU
-/// (host_absence.c).
-typedef struct hal_host_absence {
-    int64_t wall_us; ///< CLOCK_MONOTONIC at the last look
-    int64_t busy_us; ///< the thread's run time plus run-queue wait then (valid when known)
-    bool known;      ///< the kernel told the thread's scheduler statistics then
-} hal_host_absence_t;
-
-/// Takes the first look, on the calling thread. Context: the receiver thread.
-void hal_host_absence_start(hal_host_absence_t *a);
-
-/// Microseconds the calling thread was away since the last look (>= 0), and takes a new look.
-/// Without the kernel's scheduler statistics (/proc/thread-self/schedstat), the wall-clock time
-/// since the last look. Context: the thread that called hal_host_absence_start().
-int64_t hal_host_absence_lap_us(hal_host_absence_t *a);
-
-/// True where the kernel tells a thread's run-queue wait (else a lap is wall-clock time).
-bool hal_host_absence_known(void);
 
 // ---- UART ---------------------------------------------------------------------------------------
 
@@ -227,13 +203,12 @@ bool hal_host_uart_path_alive(void);
 /// hal_uart_stats_t's rx_overruns. Reset by hal_host_reset(). Context: any thread.
 uint32_t hal_host_uart_discarded(void);
 
-/// Device-path mode: bytes lost while the firmware was stalled (SIGSTOP, a debugger): when the
-/// reader thread finds it was away from the line for more than 50 ms (asleep or stopped, not
-/// waiting for a CPU: hal_host_absence_t) or held (hal_host_uart_hold_reader()), the tty's backlog
-/// is what arrived while no receive interrupt could run. As on an STM32F4 USART (no FIFO, no flow
-/// control), the first of those bytes is received and the others are overruns: they are counted in
-/// hal_uart_stats_t's rx_overruns and here. rx_overruns minus this is what a running firmware lost
-/// to a full ring. Reset by hal_host_reset(). Context: any thread.
+/// Device-path mode: bytes lost while the firmware was stalled (SIGSTOP, not scheduled): when
+/// the reader thread finds it was away from the line for more than 50 ms, the tty's backlog is
+/// what arrived while no receive interrupt could run. As on an STM32F4 USART (no FIFO, no flow
+/// control), the first of those bytes is received and the others are overruns: they are counted
+/// in hal_uart_stats_t's rx_overruns and here. rx_overruns minus this is what a running firmware
+/// lost to a full ring. Reset by hal_host_reset(). Context: any thread.
 uint32_t hal_host_uart_stall_lost(void);
 
 /// How many stalls hal_host_uart_stall_lost() met with bytes waiting. Context: any thread.
