@@ -22,7 +22,7 @@ extern "C" {
 /// MAZE_MAX_ROWS rows, MAZE_MAX_COLS columns, MAZE_MAX_CELLS cells in all, and
 /// MAZE_MAX_FILE_BYTES bytes. 16,384 cells hold Sutton & Barto's largest prioritized-sweeping
 /// maze (Example 8.4: the Dyna maze refined to 6,016 states, 144 x 48 cells), and are at most
-/// 16 state bits; the "maze" agent profile (fw_config.h) has a Q row for each and its tables at
+/// 15 state bits (129 x 127: 8 + 7); the "maze" agent profile (fw_config.h) has a Q row for each and its tables at
 /// most half full.
 #define MAZE_MAX_ROWS 256
 #define MAZE_MAX_COLS 256

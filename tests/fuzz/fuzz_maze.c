@@ -29,7 +29,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     (void)maze_shortest_mean(&m);
     // Refined k times the map is accepted or refused whole, and an accepted one has the same
-    // starts, each k times as far from a goal (every cell's shortest path scales with its block).
+    // starts, each no farther than k times its distance from a goal (the coarse path, walked
+    // block by block, is one such path).
     static maze_t fine;
     for (unsigned k = 2; k <= 3u; k++) {
         if (maze_refine(&fine, &m, k, "fuzz", &err) != 0) {

@@ -4,6 +4,7 @@
 // every run is seeded.
 #include "test_common.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "robot/agent_profiles.h"
@@ -86,17 +87,26 @@ static void shortest_path_is_14(void **state)
     assert_int_equal(maze_shortest_max(&maze_), 14);
 }
 
-static uint32_t runs_until(double factor, uint32_t max_episodes)
+// Dyna-QPC with N = 5 on `m`, each run until its greedy path is within `factor` x the shortest.
+static maze_run_config_t until_config_(const maze_t *m, uint32_t runs, double factor,
+                                       uint32_t max_episodes,
+                                       void (*on_run_row)(void *, const maze_run_row_t *))
 {
     maze_run_config_t cfg = maze_run_default_config();
-    cfg.maze = &maze_;
+    cfg.maze = m;
     cfg.kind = AGENT_DYNA_QPC;
-    cfg.runs = RUNS;
+    cfg.runs = runs;
     cfg.until_optimal = factor;
     cfg.max_episodes = max_episodes;
     cfg.planning = 5;
     cfg.seed = 1;
-    cfg.on_run = on_run;
+    cfg.on_run = on_run_row;
+    return cfg;
+}
+
+static uint32_t runs_until(double factor, uint32_t max_episodes)
+{
+    maze_run_config_t cfg = until_config_(&maze_, RUNS, factor, max_episodes, on_run);
     optimal_runs_ = 0;
     runs_seen_ = 0;
     const char *why = NULL;
@@ -136,39 +146,25 @@ static void dyna_agents_beat_q_learning(void **state)
     assert_true(mean_steps_[3] <= 20.0);
 }
 
-// A goal 240 steps away (host_sim/maps/corridor_240.txt: rows of wall with a gap at alternate
-// ends). The maze runner's threshold is 0, so the sweep after the first goal reaches the start:
+// A goal 240 steps away (host_sim/maps/corridor_240.txt, `--map corridor-240`: rows of wall with
+// a gap at alternate ends). The maze runner's threshold is 0, so the sweep after the first goal reaches the start:
 // in every run the greedy path is within 1.2 x by the second episode. With the agents' 1e-4 a
 // change falls below it 180 steps from the goal (0.95^180), and the far part is learned from
 // real steps alone, over some 85 episodes.
 static uint32_t corridor_episodes_(float theta)
 {
     static maze_t corridor;
-    static char text[21 * 22];
-    size_t n = 0;
-    for (int r = 0; r < 21; r++) {
-        for (int c = 0; c < 21; c++) {
-            const bool wall_row = r % 2 == 1;
-            const int gap = (r / 2) % 2 == 0 ? 20 : 0;
-            const bool start = r == 0 && c == 0;
-            const bool goal = r == 20 && c == 20;
-            text[n++] = start ? 'S' : goal ? 'G' : wall_row && c != gap ? '#' : '.';
-        }
-        text[n++] = '\n';
-    }
+    static char text[MAZE_MAX_FILE_BYTES];
+    FILE *f = fopen(DYNAQPC_MAPS_DIR "/corridor_240.txt", "rb");
+    assert_non_null(f);
+    const size_t n = fread(text, 1, sizeof text, f);
+    (void)fclose(f);
     maze_error_t err;
-    assert_int_equal(maze_parse(&corridor, text, n, "corridor", &err), 0);
+    assert_int_equal(maze_parse(&corridor, text, n, "corridor_240.txt", &err), 0);
     assert_int_equal(maze_shortest_max(&corridor), 240);
-    maze_run_config_t cfg = maze_run_default_config();
-    cfg.maze = &corridor;
-    cfg.kind = AGENT_DYNA_QPC;
-    cfg.runs = 5;
-    cfg.until_optimal = 1.2;
-    cfg.max_episodes = 300;
+    maze_run_config_t cfg = until_config_(&corridor, 5, 1.2, 300, on_corridor_run);
     cfg.max_steps = 1000000;
-    cfg.seed = 1;
     cfg.params.theta = theta;
-    cfg.on_run = on_corridor_run;
     corridor_worst_ = 0;
     const char *why = NULL;
     assert_int_equal(maze_run(&cfg, &why), 0);
