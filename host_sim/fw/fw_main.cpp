@@ -172,8 +172,8 @@ int run(const std::vector<std::string> &args)
     Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
     o.add_string("--scenario", "S", "paper-sim, paper-lab or a scenario file: the robot's configuration",
                  &s.scenario);
-    o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc (default dyna-qpc)", &s.agent,
-                 {"q", "dyna-q", "dyna-qpc"});
+    o.add_choice("--agent", "NAME", agent_kind_list() + " (default dyna-qpc)", &s.agent,
+                 agent_kind_names());
     o.add_double("--speed", "X", "firmware time runs X times faster than real time (default 1)", &s.speed,
                  0.0, 1000.0, true, false);
     o.add_string("--flash", "FILE", "flash image file: learning restored at boot, saved at episode ends "
@@ -296,6 +296,9 @@ int run(const std::vector<std::string> &args)
     const std::uint32_t uart_discarded = hal_host_uart_discarded();
     const std::uint32_t uart_stall_lost = hal_host_uart_stall_lost();
     const std::uint32_t uart_stalls = hal_host_uart_stalls();
+    agent_counter_t counters[AGENT_MAX_COUNTERS];
+    (void)agent_counters(agent, counters);
+    const agent_counter_t q_rows = counters[0];  // agent_counters() lists the Q store's rows first
     // Stop sending; keep receiving a little while for frames still in flight, then stop.
     hal_host_can_set_transport(nullptr);
     struct timespec drain = {0, kDrainMs * 1000000L};
@@ -313,7 +316,7 @@ int run(const std::vector<std::string> &args)
                 "uart_overruns=%u uart_discarded=%u uart_stall_lost=%u uart_stalls=%u\n",
                 st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
-                agent->q.rows_used, agent->q.capacity, us.rx_bytes, us.rx_overruns,
+                q_rows.value, q_rows.capacity, us.rx_bytes, us.rx_overruns,
                 uart_discarded, uart_stall_lost, uart_stalls);
     // Faults and how the firmware met them (docs/realtime.md "Faults").
     std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "

@@ -103,8 +103,7 @@ int maze_run_check(const maze_run_config_t *cfg, const char **why)
     if (cfg->storage == NULL) {
         return set_why_(why, "no agent storage");
     }
-    if (cfg->kind != AGENT_Q_LEARNING && cfg->kind != AGENT_DYNA_Q &&
-        cfg->kind != AGENT_DYNA_QPC) {
+    if (agent_kind_name(cfg->kind) == NULL) {
         return set_why_(why, "unknown agent kind");
     }
     if (cfg->runs < 1u) {

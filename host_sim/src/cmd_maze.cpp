@@ -79,7 +79,7 @@ void declare(Options &o, MazeSettings &s)
                "the map at K times its resolution: each cell a K x K block, a start or goal "
                "one cell of its block (Sutton & Barto's Example 8.4 mazes; default 1)",
                &s.refine, 1, MAZE_MAX_ROWS);
-    o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc", &s.agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_choice("--agent", "NAME", agent_kind_list(), &s.agent, agent_kind_names());
     o.add_uint("--runs", "R", "independent runs (default 1)", &s.runs, 1, 1000000);
     o.add_uint("--episodes", "E", "episodes per run: one CSV row per run and episode", &s.episodes,
                1, 10000000);

@@ -29,8 +29,8 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     Options o("run", "replay a learned policy greedily from random start poses");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
     o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
-    o.add_choice("--agent", "NAME", "the algorithm that learned it: q, dyna-q or dyna-qpc (default dyna-qpc)",
-                 &agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default dyna-qpc)",
+                 &agent, agent_kind_names());
     o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &starts, 1, 1000000);
     o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
     o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,

@@ -51,7 +51,7 @@ void declare(Options &o, TrainSettings &s)
 {
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)",
                  &s.scenario);
-    o.add_choice("--agent", "NAME", "q, dyna-q or dyna-qpc", &s.agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_choice("--agent", "NAME", agent_kind_list(), &s.agent, agent_kind_names());
     o.add_uint("--sets", "N", "independent sets, each learning from scratch (default 1)", &s.sets, 1,
                100000);
     o.add_uint("--first-set", "K",

@@ -49,11 +49,10 @@ std::string hex_c(std::uint64_t v, int digits)
 
 const char *agent_c(agent_kind_t k)
 {
-    switch (k) {
-    case AGENT_Q_LEARNING: return "AGENT_Q_LEARNING";
-    case AGENT_DYNA_Q: return "AGENT_DYNA_Q";
-    case AGENT_DYNA_QPC: return "AGENT_DYNA_QPC";
-    }
+#define AGENT_C_NAME_(kind, number, name, id) \
+    if (k == kind) return #kind;
+    AGENT_ALGORITHMS(AGENT_C_NAME_)
+#undef AGENT_C_NAME_
     return "?";
 }
 

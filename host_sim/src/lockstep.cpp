@@ -221,23 +221,19 @@ struct Lockstep::Impl {
         sched_stats_t ss;
         sched_get_stats(robot_app_sched(), &ss);
         std::ostringstream o;
-        o << "q_rows=" << agent->q.rows_used << "/" << agent->q.capacity << " q_dropped=" << agent->q.dropped << " q_plan_refused=" << agent->q.plan_refused
-          << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
+        agent_counter_t counters[AGENT_MAX_COUNTERS];
+        const uint32_t n = agent_counters(agent, counters);
+        for (uint32_t i = 0; i < n; i++) {
+            o << (i ? " " : "") << counters[i].name << "=" << counters[i].value;
+            if (counters[i].capacity != 0u) {
+                o << "/" << counters[i].capacity;
+            }
+        }
+        o << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
           << " clock_lead_max_us=" << max_lead_us;
-        if (agent->kind == AGENT_DYNA_QPC) {
-            o << " cmac_fwd=" << agent->model.forward.stats.cells_used << "/" << agent->model.forward.capacity
-              << " cmac_evicted=" << agent->model.forward.stats.evicted
-              << " cmac_dropped=" << agent->model.forward.stats.dropped
-              << " model_untrusted=" << agent->model.untrusted << " model_rejected=" << agent->model.rejected
-              << " model_generalised=" << agent->model.generalised;
-        }
-        if (agent->kind == AGENT_DYNA_Q) {
-            o << " table=" << agent->table.count << "/" << agent->table.capacity
-              << " table_evicted=" << agent->table.evicted;
-        }
         return o.str();
     }
 };

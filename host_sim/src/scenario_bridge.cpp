@@ -132,7 +132,29 @@ ScenarioBundle load_scenario(const std::string &arg)
 
 agent_kind_t agent_kind_of(const std::string &name)
 {
-    return name == "q" ? AGENT_Q_LEARNING : name == "dyna-q" ? AGENT_DYNA_Q : AGENT_DYNA_QPC;
+    agent_kind_t kind;
+    if (agent_kind_from_name(name.c_str(), &kind) != FW_OK) {
+        throw UsageError("unknown agent '" + name + "' (" + agent_kind_list() + ")");
+    }
+    return kind;
+}
+
+std::vector<std::string> agent_kind_names()
+{
+    std::vector<std::string> names;
+    for (uint32_t k = 0; k < AGENT_KINDS; k++) {
+        names.push_back(agent_kind_name(static_cast<agent_kind_t>(k)));
+    }
+    return names;
+}
+
+std::string agent_kind_list()
+{
+    std::string list;
+    for (const auto &n : agent_kind_names()) {
+        list += (list.empty() ? "" : ", ") + n;
+    }
+    return list;
 }
 
 void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg)

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "robot/robot_config.h"
 
@@ -30,8 +31,15 @@ struct ScenarioBundle {
 /// Loads `--scenario NAME|FILE`. A bad file throws UsageError "FILE:LINE: problem".
 ScenarioBundle load_scenario(const std::string &arg);
 
-/// The agent an `--agent` option names: q, dyna-q or dyna-qpc (anything else: dyna-qpc).
+/// The agent an `--agent` option names (agent/algorithms.h: q, dyna-q, dyna-qpc, ...); another
+/// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
+
+/// Every algorithm's name, in agent_kind_t order: the choices of an `--agent` option.
+std::vector<std::string> agent_kind_names();
+
+/// The same names as one "q, dyna-q, dyna-qpc" string, for help texts and errors.
+std::string agent_kind_list();
 
 /// What a command line may change in a scenario's configuration: the variables a command's
 /// Options fill in, null where the command has no such option. The agent always applies (the

@@ -122,14 +122,14 @@ int main(void)
     console_puts("\n");
     bench_mark_report();
     console_puts("profile=" PROFILE_NAME " ");
-    console_kv("real_steps", ag->stats.real_steps);
-    console_kv("planning_updates", ag->stats.planning_updates);
-    console_kv("planning_skipped", ag->stats.planning_skipped);
-    console_kv("queue_dropped", ag->pq.stats.dropped);
-    console_kv("cmac_cells_used", ag->model.forward.stats.cells_used);
-    console_kv("model_rejected", ag->model.rejected);
-    console_kv("model_untrusted", ag->model.untrusted);
-    console_kv("model_generalised", ag->model.generalised);
+    console_kv("real_steps", agent_stats(ag)->real_steps);
+    console_kv("planning_updates", agent_stats(ag)->planning_updates);
+    console_kv("planning_skipped", agent_stats(ag)->planning_skipped);
+    agent_counter_t counters[AGENT_MAX_COUNTERS];
+    const uint32_t n_counters = agent_counters(ag, counters);
+    for (uint32_t i = 0; i < n_counters; i++) {
+        console_kv(counters[i].name, counters[i].value);
+    }
     console_kv("first10_mean_steps", first10 / 10u);
     console_kv("last10_mean_steps", last10 / 10u);
     console_puts("\n");

@@ -164,8 +164,8 @@ int main(int argc, char **argv)
         printf("workload=%s agent=dyna-qpc planning=5 real_steps=%llu planning_updates=%llu "
                "queue_dropped=%u cmac_cells=%u/%u\n",
                workloads[w], (unsigned long long)r.real_steps,
-               (unsigned long long)r.planning_updates, agent_.pq.stats.dropped,
-               agent_.model.forward.stats.cells_used, agent_.model.forward.capacity);
+               (unsigned long long)r.planning_updates, agent_.alg.dyna_qpc.pq.stats.dropped,
+               agent_.alg.dyna_qpc.model.forward.stats.cells_used, agent_.alg.dyna_qpc.model.forward.capacity);
         printf("planning_updates_per_s=%.0f (median of %d; min %.0f, max %.0f)\n", rate[REPS / 2],
                REPS, rate[0], rate[REPS - 1]);
         if (count) {

@@ -33,9 +33,11 @@ static pq_item_t heap_[PQ_CAP];
 static uint32_t pk_[PQ_INDEX_SLOTS(PQ_CAP)], pp_[PQ_INDEX_SLOTS(PQ_CAP)];
 static dynaq_record_t table_[TABLE];
 static uint32_t tk_[DYNAQ_INDEX_SLOTS(TABLE)], tr_[DYNAQ_INDEX_SLOTS(TABLE)];
+static agent_plan_carry_t carry_;
 static const agent_storage_t storage_ = {
-    q_, q_keys_, Q_STATES, {fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP,
-    table_, tk_, tr_, TABLE};
+    .q = q_, .q_keys = q_keys_, .q_states = Q_STATES,
+    .dyna_q = {table_, tk_, tr_, TABLE},
+    .dyna_qpc = {{fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP, &carry_}};
 // 8 x 8 x 4 states (8 bits), two of them tiled: hashed Q rows, generalising CMACs.
 static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4, 0};
 static agent_t agent_;

@@ -274,7 +274,7 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
     const uint32_t period = app_.opt.cfg->period_us;
     const tlm_sched_t sch = {ss.idle_steps_last_period, misses,
                              (uint32_t)(idle >= period ? 1000u : idle * 1000u / period),
-                             app_.opt.agent->kind == AGENT_DYNA_QPC ? pq_size(&app_.opt.agent->pq) : 0u};
+                             agent_backlog(app_.opt.agent)};
     tlm_encode_sched(&app_.dev.tlm, &sch, &f);
     send_(&f);
     if (app_.ctrl.episode_done) {

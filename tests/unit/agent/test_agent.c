@@ -3,6 +3,7 @@
 #include "test_common.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "agent/agent.h"
 #include "robot/agent_profiles.h"
@@ -118,7 +119,7 @@ static void dyna_qpc_plans_back_through_predecessors(void **state)
         assert_float_equal(agent_q(&agent_, s, 1), powf(0.9f, (float)(14 - s)), 1e-3f);
     }
     assert_true(agent_.stats.planning_updates >= 15);
-    assert_int_equal(agent_.pq.stats.dropped, 0);
+    assert_int_equal(agent_.alg.dyna_qpc.pq.stats.dropped, 0);
 }
 
 // Dyna-Q replays observed transitions at random; enough of them converge the same corridor.
@@ -255,16 +256,16 @@ static void plan_calls_plan_as_single_steps_would(void **state)
         assert_memory_equal(ra[i].data, rb[i].data, ra[i].size);
     }
     assert_memory_equal(&agent_.stats, &agent_b_.stats, sizeof agent_.stats);
-    assert_memory_equal(&agent_.pq.stats, &agent_b_.pq.stats, sizeof agent_.pq.stats);
-    assert_int_equal(agent_.model.untrusted, agent_b_.model.untrusted);
-    assert_int_equal(agent_.model.rejected, agent_b_.model.rejected);
+    assert_memory_equal(&agent_.alg.dyna_qpc.pq.stats, &agent_b_.alg.dyna_qpc.pq.stats, sizeof agent_.alg.dyna_qpc.pq.stats);
+    assert_int_equal(agent_.alg.dyna_qpc.model.untrusted, agent_b_.alg.dyna_qpc.model.untrusted);
+    assert_int_equal(agent_.alg.dyna_qpc.model.rejected, agent_b_.alg.dyna_qpc.model.rejected);
     // The run did what it is meant to cover: full tables, and predecessors found and refused.
-    assert_int_equal(agent_.model.forward.stats.cells_used, 64);
-    assert_true(agent_.model.forward.stats.evicted > 0);
+    assert_int_equal(agent_.alg.dyna_qpc.model.forward.stats.cells_used, 64);
+    assert_true(agent_.alg.dyna_qpc.model.forward.stats.evicted > 0);
     assert_true(agent_.q.dropped > 0);
     assert_true(agent_.q.plan_refused > 0);  // planning found the Q store full, forgot nothing
-    assert_true(agent_.pq.stats.dropped > 0);
-    assert_true(agent_.model.rejected > 0);
+    assert_true(agent_.alg.dyna_qpc.pq.stats.dropped > 0);
+    assert_true(agent_.alg.dyna_qpc.model.rejected > 0);
     assert_true(agent_.stats.planning_updates > 2000);
 }
 
@@ -306,7 +307,111 @@ static void dyna_qpc_backs_up_the_mean_of_a_places_codes(void **state)
     assert_true(v1 > v2 + 1.0f);  // the two outcomes are worth clearly different amounts
     const float mean = -1.0f + 0.9f * 0.5f * (v1 + v2);
     assert_float_equal(agent_q(&agent_, from, 0), mean, 1e-3f);
-    assert_true(agent_.model.generalised > 0u);
+    assert_true(agent_.alg.dyna_qpc.model.generalised > 0u);
+}
+
+// The registry (agent/algorithms.h): every kind has a name, every name its kind, and anything
+// else is an error rather than some default algorithm.
+static void kinds_and_names_round_trip(void **state)
+{
+    (void)state;
+    assert_int_equal(AGENT_KINDS, 3);
+    for (uint32_t k = 0; k < AGENT_KINDS; k++) {
+        agent_kind_t back = (agent_kind_t)99;
+        const char *name = agent_kind_name((agent_kind_t)k);
+        assert_non_null(name);
+        assert_int_equal(agent_kind_from_name(name, &back), FW_OK);
+        assert_int_equal(back, k);
+    }
+    assert_string_equal(agent_kind_name(AGENT_DYNA_QPC), "dyna-qpc");
+    assert_null(agent_kind_name((agent_kind_t)AGENT_KINDS));
+    agent_kind_t kind = AGENT_DYNA_Q;
+    assert_int_equal(agent_kind_from_name("dyna-qpcx", &kind), FW_ERR_INVAL);
+    assert_int_equal(agent_kind_from_name("", &kind), FW_ERR_INVAL);
+    assert_int_equal(agent_kind_from_name(NULL, &kind), FW_ERR_INVAL);
+    assert_int_equal(kind, AGENT_DYNA_Q);  // untouched by a failed lookup
+}
+
+static const agent_counter_t *counter_(const agent_counter_t *c, uint32_t n, const char *name)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        if (strcmp(c[i].name, name) == 0) {
+            return &c[i];
+        }
+    }
+    return NULL;
+}
+
+// One accessor lists every algorithm's counters: the Q store's first, then its own.
+static void counters_list_the_q_store_then_the_algorithm(void **state)
+{
+    (void)state;
+    agent_counter_t c[AGENT_MAX_COUNTERS];
+    agent_config_t cfg = config(AGENT_DYNA_QPC);
+    assert_int_equal(agent_init(&agent_, &cfg), FW_OK);
+    agent_observe(&agent_, 14, 1, 10.0f, 15, true);
+    agent_observe(&agent_, 13, 1, -1.0f, 14, false);
+    uint32_t n = agent_counters(&agent_, c);
+    assert_string_equal(c[0].name, "q_rows");
+    assert_int_equal(c[0].value, agent_.q.rows_used);
+    assert_int_equal(c[0].capacity, agent_.q.capacity);
+    assert_non_null(counter_(c, n, "cmac_fwd"));
+    assert_int_equal(counter_(c, n, "queue")->value, agent_backlog(&agent_));
+    assert_true(agent_backlog(&agent_) > 0u);
+    assert_null(counter_(c, n, "table"));
+
+    cfg = config(AGENT_DYNA_Q);
+    assert_int_equal(agent_init(&agent_, &cfg), FW_OK);
+    agent_observe(&agent_, 13, 1, -1.0f, 14, false);
+    n = agent_counters(&agent_, c);
+    assert_int_equal(counter_(c, n, "table")->value, 1);
+    assert_null(counter_(c, n, "cmac_fwd"));
+    assert_int_equal(agent_backlog(&agent_), 0);
+
+    cfg = config(AGENT_Q_LEARNING);
+    assert_int_equal(agent_init(&agent_, &cfg), FW_OK);
+    assert_int_equal(agent_counters(&agent_, c), 3);
+    assert_int_equal(agent_stats(&agent_)->real_steps, 0);
+}
+
+static jmp_buf assert_jump_;
+static void assert_caught_(const char *file, int line)
+{
+    (void)file;
+    (void)line;
+    longjmp(assert_jump_, 1);
+}
+
+// A state or action outside the space is a caller's programming error (the dense Q store
+// would index past its end): FW_ASSERT stops it.
+static bool asserts_(void (*call)(void))
+{
+    fw_assert_handler_t old = fw_assert_set_handler(assert_caught_);
+    bool fired = false;
+    if (setjmp(assert_jump_) == 0) {
+        call();
+    } else {
+        fired = true;
+    }
+    (void)fw_assert_set_handler(old);
+    return fired;
+}
+static void q_of_bad_action_(void) { (void)agent_q(&agent_, 3, 2); }
+static void q_of_bad_state_(void) { (void)agent_q(&agent_, 16, 0); }
+static void observe_bad_next_(void) { agent_observe(&agent_, 3, 1, 0.0f, 99, false); }
+static void greedy_bad_state_(void) { (void)agent_greedy(&agent_, 1u << 20); }
+static void q_of_good_pair_(void) { (void)agent_q(&agent_, 15, 1); }
+
+static void preconditions_are_asserted(void **state)
+{
+    (void)state;
+    agent_config_t cfg = config(AGENT_DYNA_QPC);
+    assert_int_equal(agent_init(&agent_, &cfg), FW_OK);
+    assert_true(asserts_(q_of_bad_action_));
+    assert_true(asserts_(q_of_bad_state_));
+    assert_true(asserts_(observe_bad_next_));
+    assert_true(asserts_(greedy_bad_state_));
+    assert_false(asserts_(q_of_good_pair_));
 }
 
 int main(void)
@@ -322,6 +427,9 @@ int main(void)
         cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),
         cmocka_unit_test(plan_calls_plan_as_single_steps_would),
         cmocka_unit_test(dyna_qpc_backs_up_the_mean_of_a_places_codes),
+        cmocka_unit_test(kinds_and_names_round_trip),
+        cmocka_unit_test(counters_list_the_q_store_then_the_algorithm),
+        cmocka_unit_test(preconditions_are_asserted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,9 +6,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "agent/dynaq_table.h"
-#include "agent/model.h"
-#include "agent/pqueue.h"
+#include "agent/algorithms.h"
 #include "fw/fw_prng.h"
 #include "agent/qstore.h"
 #include "agent/region.h"
@@ -18,13 +16,11 @@
 extern "C" {
 #endif
 
-/// The three algorithms, chosen at run time; they share the Q store and the step API so every
-/// comparison is like for like.
-typedef enum agent_kind {
-    AGENT_Q_LEARNING = 0,  ///< the paper's Fig. 1: no model, no planning
-    AGENT_DYNA_Q = 1,      ///< Fig. 5: a table of observed transitions, uniform random replay
-    AGENT_DYNA_QPC = 2,    ///< Figs. 3, 7, 10: CMAC-Model, generalisation, prioritized sweeping
-} agent_kind_t;
+#define AGENT_KIND_VALUE_(kind, number, name, id) kind = (number),
+/// The algorithms (algorithms.h), chosen at run time; they share the Q store and the step API so
+/// every comparison is like for like.
+typedef enum agent_kind { AGENT_ALGORITHMS(AGENT_KIND_VALUE_) } agent_kind_t;
+#undef AGENT_KIND_VALUE_
 
 /// Learning settings. agent_default_params() gives Sutton & Barto's gridworld values.
 typedef struct agent_params {
@@ -40,24 +36,18 @@ typedef struct agent_params {
     uint8_t min_count; ///< plan only on predictions whose every cell was trained this often
 } agent_params_t;
 
-/// Caller-owned static storage for an agent. Dyna-Q and Dyna-QPC never run in the same agent at
-/// once, so a profile may overlay their storage (see agent_profiles.h). Pointers for parts the
-/// chosen algorithm does not use may be NULL.
+/// Caller-owned static storage for an agent: the Q store every algorithm has, and each
+/// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
+/// may overlay their parts (see agent_profiles.h). Parts the chosen algorithm does not use may
+/// be left zero (NULL).
+#define AGENT_STORAGE_MEMBER_(kind, number, name, id) agent_##id##_storage_t id;
 typedef struct agent_storage {
-    float *q;             // q_states * FW_CFG_MAX_ACTIONS
-    uint32_t *q_keys;     // q_states
+    float *q;             ///< q_states * FW_CFG_MAX_ACTIONS
+    uint32_t *q_keys;     ///< q_states
     uint32_t q_states;
-    model_cmac_storage_t forward;  // weights: cells * (FW_CFG_MAX_COMPONENTS + 2)
-    model_reloc_storage_t reloc;   // the relocatable model and the percept map
-    pq_item_t *pq_heap;            // pq_capacity
-    uint32_t *pq_index_keys;       // PQ_INDEX_SLOTS(pq_capacity)
-    uint32_t *pq_index_pos;        // PQ_INDEX_SLOTS(pq_capacity)
-    uint32_t pq_capacity;
-    dynaq_record_t *table;         // table_states
-    uint32_t *table_index_keys;    // DYNAQ_INDEX_SLOTS(table_states)
-    uint32_t *table_index_rec;     // DYNAQ_INDEX_SLOTS(table_states)
-    uint32_t table_states;
+    AGENT_ALGORITHMS(AGENT_STORAGE_MEMBER_)
 } agent_storage_t;
+#undef AGENT_STORAGE_MEMBER_
 
 typedef struct agent_config {
     agent_kind_t kind;
@@ -68,24 +58,43 @@ typedef struct agent_config {
 } agent_config_t;
 
 /// Counters for telemetry, benchmarks and tests. They only grow, until agent_reset().
-typedef struct agent_stats {
+typedef struct {
     uint32_t real_steps;        ///< calls to agent_observe()
     uint32_t real_updates;      ///< Q updates from real steps
     uint32_t planning_updates;  ///< Q updates from planning
     uint32_t planning_skipped;  ///< planning calls that found nothing it could trust or do
 } agent_stats_t;
 
+struct agent_algorithm;
+
+/// An agent: the settings and Q store every algorithm shares, and the chosen algorithm's own
+/// state. Read it through the functions below; only the algorithm files look inside `alg`.
+#define AGENT_STATE_MEMBER_(kind, number, name, id) agent_##id##_t id;
 typedef struct agent {
     agent_kind_t kind;
+    const struct agent_algorithm *algorithm;  ///< the kind's operations (algorithm.h)
     const agent_space_t *space;
+    uint32_t state_bits;  ///< space_state_bits(space): states are below 2^state_bits
     agent_params_t params;
     qstore_t q;
-    world_model_t model;  // Dyna-QPC
-    pqueue_t pq;          // Dyna-QPC
-    dynaq_table_t table;  // Dyna-Q
     prng_t rng;
     agent_stats_t stats;
+    union {
+        AGENT_ALGORITHMS(AGENT_STATE_MEMBER_)
+    } alg;
 } agent_t;
+#undef AGENT_STATE_MEMBER_
+
+/// The name of an algorithm as the tools and scenario files spell it ("q", "dyna-q",
+/// "dyna-qpc"), or NULL for a kind that is not one.
+const char *agent_kind_name(agent_kind_t kind);
+
+/// The algorithm called `name`: FW_OK and *kind, or FW_ERR_INVAL for a name that is none.
+int agent_kind_from_name(const char *name, agent_kind_t *kind);
+
+/// How many algorithms there are: agent_kind_t values 0 .. AGENT_KINDS - 1.
+#define AGENT_COUNT_KIND_(kind, number, name, id) +1
+#define AGENT_KINDS (0 AGENT_ALGORITHMS(AGENT_COUNT_KIND_))
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
 /// 16 tilings,
@@ -152,6 +161,29 @@ int agent_learned_check(const agent_t *ag, const void *const image[AGENT_MAX_REG
 /// cmac_restored, dynaq_restored), and the priority queue is emptied. Statistics are not
 /// restored.
 void agent_learned_restored(agent_t *ag);
+
+/// One counter of what an agent holds or did, for telemetry, benchmarks and `--counters`.
+typedef struct agent_counter {
+    const char *name;   ///< e.g. "q_rows", "cmac_evicted"
+    uint32_t value;
+    uint32_t capacity;  ///< a table's size, or 0 for a plain count
+} agent_counter_t;
+
+/// The most counters agent_counters() lists.
+#define AGENT_MAX_COUNTERS 16u
+
+/// Lists the agent's counters: the Q store's (q_rows of its capacity, q_dropped,
+/// q_plan_refused), then the algorithm's own. Returns how many were written to `out`.
+uint32_t agent_counters(const agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS]);
+
+/// The step and update counts every algorithm keeps.
+static inline const agent_stats_t *agent_stats(const agent_t *ag)
+{
+    return &ag->stats;
+}
+
+/// Planning work waiting to be done (Dyna-QPC: pairs in its queue; the others: 0).
+uint32_t agent_backlog(const agent_t *ag);
 
 /// Real plus planning Q updates so far.
 static inline uint64_t agent_updates(const agent_t *ag)

@@ -44,7 +44,7 @@ void model_restored(world_model_t *m);
 /// The model's counters (model.h: untrusted, rejected, generalised) as one value, so that what a
 /// piece of work added is the difference of two, and a caller that keeps an answer instead of
 /// asking again (the planner's carry, agent.c) can have the model count it as if asked.
-typedef struct model_counts {
+typedef struct {
     uint32_t untrusted;
     uint32_t rejected;
     uint32_t generalised;

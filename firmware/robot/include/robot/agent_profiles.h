@@ -29,6 +29,7 @@ extern "C" {
                 pq_item_t pq_heap[PQ_CAP];                                                     \
                 uint32_t pq_index_keys[PQ_INDEX_SLOTS(PQ_CAP)];                                \
                 uint32_t pq_index_pos[PQ_INDEX_SLOTS(PQ_CAP)];                                 \
+                agent_plan_carry_t carry;                                                      \
             } qpc;                                                                             \
             struct {                                                                           \
                 dynaq_record_t records[TABLE_STATES];                                          \
@@ -43,16 +44,17 @@ extern "C" {
 /// An agent_storage_t initializer pointing into a variable of an AGENT_MEMORY_STRUCT type.
 #define AGENT_STORAGE_OF(mem)                                                                  \
     {                                                                                          \
-        (mem).q, (mem).q_keys, AGENT_COUNT_OF((mem).q_keys),                                   \
-            {(mem).model.qpc.fwd_keys, (mem).model.qpc.fwd_counts,                             \
-             (mem).model.qpc.fwd_weights, AGENT_COUNT_OF((mem).model.qpc.fwd_keys)},           \
-            {(mem).model.qpc.percepts, AGENT_COUNT_OF((mem).model.qpc.percepts),               \
-             (mem).model.qpc.classes, AGENT_COUNT_OF((mem).model.qpc.classes),                 \
-             (mem).model.qpc.arrivals, AGENT_COUNT_OF((mem).model.qpc.arrivals)},              \
-            (mem).model.qpc.pq_heap, (mem).model.qpc.pq_index_keys,                            \
-            (mem).model.qpc.pq_index_pos, AGENT_COUNT_OF((mem).model.qpc.pq_heap),             \
-            (mem).model.dynaq.records, (mem).model.dynaq.index_keys,                           \
-            (mem).model.dynaq.index_rec, AGENT_COUNT_OF((mem).model.dynaq.records)             \
+        .q = (mem).q, .q_keys = (mem).q_keys, .q_states = AGENT_COUNT_OF((mem).q_keys),        \
+        .dyna_q = {(mem).model.dynaq.records, (mem).model.dynaq.index_keys,                    \
+                   (mem).model.dynaq.index_rec, AGENT_COUNT_OF((mem).model.dynaq.records)},    \
+        .dyna_qpc = {{(mem).model.qpc.fwd_keys, (mem).model.qpc.fwd_counts,                    \
+                      (mem).model.qpc.fwd_weights, AGENT_COUNT_OF((mem).model.qpc.fwd_keys)},  \
+                     {(mem).model.qpc.percepts, AGENT_COUNT_OF((mem).model.qpc.percepts),      \
+                      (mem).model.qpc.classes, AGENT_COUNT_OF((mem).model.qpc.classes),        \
+                      (mem).model.qpc.arrivals, AGENT_COUNT_OF((mem).model.qpc.arrivals)},     \
+                     (mem).model.qpc.pq_heap, (mem).model.qpc.pq_index_keys,                   \
+                     (mem).model.qpc.pq_index_pos, AGENT_COUNT_OF((mem).model.qpc.pq_heap),    \
+                     &(mem).model.qpc.carry},                                                  \
     }
 
 typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,

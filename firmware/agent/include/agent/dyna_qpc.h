@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: Dyna-QPC (the paper's Figs. 3, 7, 10): its state and storage.
+#ifndef AGENT_DYNA_QPC_H
+#define AGENT_DYNA_QPC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/model.h"
+#include "agent/model_state.h"
+#include "agent/pqueue.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// What planning updates pass on to the next ones in the same agent_plan() call (dyna_qpc.c
+/// says why it pays): the last state whose predecessors were found, those predecessors, and
+/// the model queries of all of them. About 1.8 KB; it lives in the agent's storage, where the
+/// size report counts it and the MCU's planning stack stays small.
+typedef struct agent_plan_carry {
+    bool valid;           ///< `here` and the predecessors belong together
+    model_query_t *here;  ///< the last state whose predecessors were found
+    uint32_t n;
+    model_pred_t pred[MODEL_MAX_PREDECESSORS];
+    model_query_t *query[MODEL_MAX_PREDECESSORS];  ///< pred[i]'s
+    model_counts_t counted;  ///< what finding them added to the model's counters
+    model_query_t store[MODEL_MAX_PREDECESSORS + 1];  ///< where `here` and `query` point
+} agent_plan_carry_t;
+
+/// Dyna-QPC's state: the world model, the priority queue, and where its planner's carry is.
+typedef struct agent_dyna_qpc {
+    world_model_t model;
+    pqueue_t pq;
+    agent_plan_carry_t *carry;
+} agent_dyna_qpc_t;
+
+/// Dyna-QPC's part of agent_storage_t.
+typedef struct agent_dyna_qpc_storage {
+    model_cmac_storage_t forward;  ///< weights: cells * (FW_CFG_MAX_COMPONENTS + 2)
+    model_reloc_storage_t reloc;   ///< the relocatable model and the percept map
+    pq_item_t *pq_heap;            ///< pq_capacity
+    uint32_t *pq_index_keys;       ///< PQ_INDEX_SLOTS(pq_capacity)
+    uint32_t *pq_index_pos;        ///< PQ_INDEX_SLOTS(pq_capacity)
+    uint32_t pq_capacity;
+    agent_plan_carry_t *carry;
+} agent_dyna_qpc_storage_t;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif // AGENT_DYNA_QPC_H

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: private to the agent's sources: what an algorithm file provides (its table of
+// operations, as a TinyUSB class driver does) and the shared Q-learning step it builds on.
+#ifndef AGENT_ALGORITHM_H
+#define AGENT_ALGORITHM_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "agent/agent.h"
+#include "inline.h"
+
+/// One learning algorithm. agent.c does what every algorithm does (the Q store, acting, the
+/// real step's Q update, the counters of steps and updates) and calls these for the rest. Every
+/// operation is given (a trivial one where the algorithm has nothing to do).
+typedef struct agent_algorithm {
+    /// Takes the algorithm's own part of `st` (FW_ERR_INVAL when a part it needs is missing)
+    /// and prepares it knowing nothing.
+    int (*init)(agent_t *ag, const agent_storage_t *st);
+    /// Forgets what it learned (agent_reset()).
+    void (*clear)(agent_t *ag);
+    /// After a real step's shared Q update (agent_observe()); `priority` is |target - Q(s, a)|
+    /// before that update.
+    void (*observe)(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                    bool terminal, float priority);
+    /// Up to n planning updates, stopping when there is nothing to plan on; returns how many
+    /// did work (agent_plan()).
+    uint32_t (*plan)(agent_t *ag, uint32_t n);
+    /// Its regions of learned memory, after the Q store's (agent_learned_regions()).
+    uint32_t (*regions)(const agent_t *ag, agent_region_t *out);
+    /// Checks its part of a saved image (agent_learned_check()): FW_OK or not.
+    int (*check)(const agent_t *ag, const void *const *image, uint32_t state_bits);
+    /// Its regions' bytes were restored (agent_learned_restored()).
+    void (*restored)(agent_t *ag);
+    /// Its own counters, after the Q store's (agent_counters()); at most
+    /// AGENT_MAX_COUNTERS - 3.
+    uint32_t (*counters)(const agent_t *ag, agent_counter_t *out);
+    /// Planning work waiting (agent_backlog()).
+    uint32_t (*backlog)(const agent_t *ag);
+} agent_algorithm_t;
+
+#define AGENT_DECLARE_ALGORITHM_(kind, number, name, id) \
+    extern const agent_algorithm_t agent_##id##_algorithm;
+AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
+#undef AGENT_DECLARE_ALGORITHM_
+
+// ---- The shared Q-learning step (Fig. 1), for the algorithm files ----------------------------
+
+AGENT_ALWAYS_INLINE float agent_abs_(float x)
+{
+    return x < 0.0f ? -x : x;
+}
+
+/// r, plus gamma times the best value of s_next unless the episode ended there.
+AGENT_ALWAYS_INLINE float agent_target_(const agent_t *ag, float r, agent_state_t s_next,
+                                        bool terminal)
+{
+    return terminal ? r : r + ag->params.gamma * qstore_max(&ag->q, s_next);
+}
+
+/// Q(s, a) += alpha * (target - Q(s, a)). A real step's write may forget another state to make
+/// room; a planning write may not (qstore_row_for_plan) and returns false when s has no row.
+AGENT_ALWAYS_INLINE bool agent_q_update_(agent_t *ag, agent_state_t s, uint8_t a, float target,
+                                         float alpha, bool planning)
+{
+    float *row = planning ? qstore_row_for_plan(&ag->q, s) : qstore_row_for_update(&ag->q, s);
+    if (row == NULL) {
+        return false;
+    }
+    row[a] += alpha * (target - row[a]);
+    return true;
+}
+
+/// The largest of row[0 .. n-1].
+AGENT_ALWAYS_INLINE float agent_row_max_(const float *row, uint32_t n)
+{
+    float best = row[0];
+    for (uint32_t a = 1; a < n; a++) {
+        if (row[a] > best) {
+            best = row[a];
+        }
+    }
+    return best;
+}
+
+/// Trivial operations for an algorithm that has nothing to do there.
+int agent_init_nothing_(agent_t *ag, const agent_storage_t *st);
+void agent_nothing_(agent_t *ag);
+uint32_t agent_plan_nothing_(agent_t *ag, uint32_t n);
+uint32_t agent_list_nothing_(const agent_t *ag, agent_region_t *out);
+int agent_check_nothing_(const agent_t *ag, const void *const *image, uint32_t state_bits);
+uint32_t agent_count_nothing_(const agent_t *ag, agent_counter_t *out);
+uint32_t agent_backlog_none_(const agent_t *ag);
+
+#endif // AGENT_ALGORITHM_H

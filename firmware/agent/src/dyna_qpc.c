@@ -1,0 +1,284 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: Dyna-QPC (the paper's Figs. 3, 7, 10): a learned world model (model.h) predicts
+// outcomes and names predecessors, and prioritized sweeping spends planning on the pairs whose
+// values would change most.
+#include <stddef.h>
+
+#include "algorithm.h"
+#include "fw/fw_base.h"
+
+FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS,
+                 dyna_qpc_lists_at_most_AGENT_MAX_REGIONS);
+
+static int init_(agent_t *ag, const agent_storage_t *st)
+{
+    const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
+                         ag->params.min_count, &mine->forward, &mine->reloc);
+    if (err) {
+        return err;
+    }
+    if (mine->pq_heap == NULL || mine->carry == NULL) {
+        return FW_ERR_INVAL;
+    }
+    me->carry = mine->carry;
+    return pq_init(&me->pq, mine->pq_heap, mine->pq_index_keys, mine->pq_index_pos,
+                   mine->pq_capacity);
+}
+
+static void clear_(agent_t *ag)
+{
+    model_clear(&ag->alg.dyna_qpc.model);
+    pq_clear(&ag->alg.dyna_qpc.pq);
+}
+
+// The target of a predicted step: with several outcomes (a place seen with several percepts),
+// the mean of their values, each equally likely.
+static float step_target_(const agent_t *ag, const model_step_t *step)
+{
+    if (step->terminal || step->others == 0u) {
+        return agent_target_(ag, step->reward, step->next, step->terminal);
+    }
+    agent_state_t next[MODEL_MAX_PERCEPTS];
+    const uint32_t n = model_step_outcomes(&ag->alg.dyna_qpc.model, step, next);
+    float sum = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        sum += qstore_max(&ag->q, next[i]);
+    }
+    return step->reward + ag->params.gamma * (sum / (float)n);
+}
+
+static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return s * ag->space->n_actions + a;
+}
+
+// A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key,
+// and popping it is a skip that needs no model lookup (a miss in a full window probes all
+// FW_CFG_MAX_PROBE slots). With eviction this is rare: only a window held entirely by the same
+// training refuses a tile. Should a later real step store the pair's tiles, that step queues it
+// again without the bit.
+#define UNPLANNABLE_BIT 0x80000000u
+// States have at most 24 bits, so s * n_actions + a stays below the bit.
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
+                 queue_keys_leave_the_top_bit_free);
+
+static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float target)
+{
+    const float p = agent_abs_(target - agent_q(ag, s, a));
+    if (p > ag->params.theta) {
+        (void)pq_push(&ag->alg.dyna_qpc.pq, pq_key_(ag, s, a), p);
+    }
+}
+
+// The target of a predecessor of `here`: its step, leading there (and to its other outcomes).
+static float pred_target_(const agent_t *ag, const model_pred_t *pred, agent_state_t here)
+{
+    const model_step_t step = {here, pred->reward, 0u, pred->others};
+    return step_target_(ag, &step);
+}
+
+// A state seen for the first time makes new predictions possible: its own untried pairs, and
+// untried pairs elsewhere that the relocatable model now sees leading into it. Their successors'
+// values may never change again, so nothing else would queue them: they are queued here.
+static void queue_new_state_(agent_t *ag, agent_state_t s)
+{
+    world_model_t *model = &ag->alg.dyna_qpc.model;
+    model_query_t q;
+    model_step_t step;
+    model_pred_t pred[MODEL_MAX_PREDECESSORS];
+    model_query_init(model, s, &q);
+    for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+        if (model_query_predict(model, &q, (uint8_t)a, &step)) {
+            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, &step));
+        }
+    }
+    const uint32_t n = model_query_predecessors(model, &q, pred, NULL);
+    for (uint32_t i = 0; i < n; i++) {
+        queue_if_urgent_(ag, pred[i].state, pred[i].action, pred_target_(ag, &pred[i], s));
+    }
+}
+
+static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                     bool terminal, float priority)
+{
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    // New to the map (which learning is about to show it); a space without one has no new
+    // states.
+    const bool new_state = me->model.percepts != NULL && !model_has_seen(&me->model, s_next);
+    const bool plannable = model_learn(&me->model, s, a, r, s_next, terminal);
+    if (priority > ag->params.theta) {
+        (void)pq_push(&me->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT), priority);
+    }
+    if (new_state && !terminal) {
+        queue_new_state_(ag, s_next);
+    }
+}
+
+// The carry (dyna_qpc.h) of a planning call: nothing trains the model between two updates of
+// one agent_plan() call (a real step does, and each call starts with an empty carry), so what
+// the model said then it would say again:
+// - confirming a predecessor was asking CMAC-Model about it, and the answer was "it leads to
+//   `here` with the predecessor's reward, not terminal". Prioritized sweeping works backwards,
+//   so an update often pops one of them (about a third of the updates on the grid robot);
+// - an update that pops another action of `here` (about one in ten) has the same predecessors.
+static void plan_carry_init_(agent_plan_carry_t *c)
+{
+    c->valid = false;
+    c->here = &c->store[0];
+    for (uint32_t i = 0; i < MODEL_MAX_PREDECESSORS; i++) {
+        c->query[i] = &c->store[i + 1u];
+    }
+}
+
+// Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
+// model knows is queued by how much this change matters to it. `c` holds what the previous
+// updates of this agent_plan() call found, and receives what this one finds.
+static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
+{
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    uint32_t key;
+    float priority;
+    if (!pq_pop(&me->pq, &key, &priority)) {
+        return false;
+    }
+    if (key & UNPLANNABLE_BIT) {
+        model_count_untrusted(&me->model);  // what model_predict() would have counted
+        ag->stats.planning_skipped++;
+        return true;
+    }
+    const uint32_t n_actions = ag->space->n_actions;
+    const agent_state_t s = key / n_actions;
+    const uint8_t a = (uint8_t)(key % n_actions);
+    const bool same = c->valid && c->here->state == s;
+    uint32_t known = 0;
+    while (c->valid && known < c->n &&
+           pq_key_(ag, c->pred[known].state, c->pred[known].action) != key) {
+        known++;
+    }
+    model_step_t step;
+    if (c->valid && known < c->n) {
+        step.next = c->here->state;
+        step.reward = c->pred[known].reward;
+        step.terminal = 0;
+        step.others = c->pred[known].others;
+        if (!same) {  // the predecessor's query becomes `here`, its old place is free
+            model_query_t *const q = c->query[known];
+            c->query[known] = c->here;
+            c->here = q;
+            c->valid = false;
+        }
+    } else {
+        if (!same) {
+            c->valid = false;
+            model_query_init(&me->model, s, c->here);
+        }
+        if (!model_query_predict(&me->model, c->here, a, &step)) {
+            ag->stats.planning_skipped++;
+            return true;
+        }
+    }
+    const float target = step_target_(ag, &step);
+    // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
+    // which then has no row and reads 0.
+    float *row = qstore_row_for_plan(&ag->q, s);
+    if (row == NULL) {
+        // No row and no room for one: nothing changes, so neither the pair nor its predecessors
+        // go back in the queue (requeueing it spun the planner on paper-sim: 10 M refusals in
+        // 15 episodes, 2 updates per real step made of a budget of 1,000).
+        ag->stats.planning_skipped++;
+        return true;
+    }
+    row[a] += ag->params.plan_alpha * (target - row[a]);
+    const float q_sa = row[a];
+    ag->stats.planning_updates++;
+    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
+    // the queue with what is left, so planning keeps working on it while it is the most urgent.
+    const float left = agent_abs_(target - q_sa);
+    if (left > ag->params.theta) {
+        (void)pq_push(&me->pq, key, left);
+    }
+
+    if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
+        model_count_again(&me->model, c->counted);
+    } else {
+        const model_counts_t before = model_counts(&me->model);
+        c->n = model_query_predecessors(&me->model, c->here, c->pred, c->query);
+        c->counted = model_counts_since(&me->model, before);
+        c->valid = true;
+    }
+    if (c->n == 0u) {
+        return true;
+    }
+    const float value_here = ag->params.gamma * agent_row_max_(row, n_actions);
+    for (uint32_t i = 0; i < c->n; i++) {
+        const model_pred_t *pred = &c->pred[i];
+        const float target_pred =
+            pred->others == 0u ? pred->reward + value_here : pred_target_(ag, pred, s);
+        const float p = agent_abs_(target_pred - qstore_row(&ag->q, pred->state)[pred->action]);
+        if (p > ag->params.theta) {
+            (void)pq_push(&me->pq, pq_key_(ag, pred->state, pred->action), p);
+        }
+    }
+    return true;
+}
+
+static uint32_t plan_(agent_t *ag, uint32_t n)
+{
+    agent_plan_carry_t *c = ag->alg.dyna_qpc.carry;
+    uint32_t done = 0;
+    plan_carry_init_(c);
+    while (done < n && plan_one_(ag, c)) {
+        done++;
+    }
+    return done;
+}
+
+static uint32_t regions_(const agent_t *ag, agent_region_t *out)
+{
+    return model_regions(&ag->alg.dyna_qpc.model, out);
+}
+
+static int check_(const agent_t *ag, const void *const *image, uint32_t state_bits)
+{
+    (void)state_bits;
+    return model_check(&ag->alg.dyna_qpc.model, image);
+}
+
+static void restored_(agent_t *ag)
+{
+    model_restored(&ag->alg.dyna_qpc.model);
+    pq_clear(&ag->alg.dyna_qpc.pq);  // work in progress, not knowledge: never saved
+}
+
+static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+{
+    const world_model_t *m = &ag->alg.dyna_qpc.model;
+    out[0] = (agent_counter_t){"cmac_fwd", m->forward.stats.cells_used, m->forward.capacity};
+    out[1] = (agent_counter_t){"cmac_evicted", m->forward.stats.evicted, 0u};
+    out[2] = (agent_counter_t){"cmac_dropped", m->forward.stats.dropped, 0u};
+    out[3] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
+    out[4] = (agent_counter_t){"model_rejected", m->rejected, 0u};
+    out[5] = (agent_counter_t){"model_generalised", m->generalised, 0u};
+    out[6] = (agent_counter_t){"queue", ag->alg.dyna_qpc.pq.size, ag->alg.dyna_qpc.pq.capacity};
+    out[7] = (agent_counter_t){"queue_dropped", ag->alg.dyna_qpc.pq.stats.dropped, 0u};
+    return 8u;
+}
+
+static uint32_t backlog_(const agent_t *ag)
+{
+    return pq_size(&ag->alg.dyna_qpc.pq);
+}
+
+const agent_algorithm_t agent_dyna_qpc_algorithm = {
+    .init = init_,
+    .clear = clear_,
+    .observe = observe_,
+    .plan = plan_,
+    .regions = regions_,
+    .check = check_,
+    .restored = restored_,
+    .counters = counters_,
+    .backlog = backlog_,
+};
