@@ -263,14 +263,18 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     # Visited and modelled cells, over all headings.
     ax = axes[len(hs) // ncols][len(hs) % ncols]
     modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
-    for (x, y), hs_m in modelled.items():
-        ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor="tab:orange",
-                               alpha=0.15 + 0.5 * len(hs_m) / nh, edgecolor="none"))
+    oranges = plt.get_cmap("Oranges")
+    for (x, y) in set(visited) | set(modelled):
+        nv = len(visited.get((x, y), ()))
+        if nv:
+            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none"))
+        else:  # predicted by the model, never visited
+            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//",
+                                   linewidth=0))
+        ax.text((x + 0.5) * cw, (y + 0.5) * ch, f"{nv}/{len(modelled.get((x, y), ()))}", ha="center", va="center",
+                fontsize=7, color="black")
     draw_arena(ax, arena)
-    for (x, y), hs_v in visited.items():
-        ax.text((x + 0.5) * cw, (y + 0.5) * ch, str(len(hs_v)), ha="center", va="center", fontsize=8,
-                color="black", fontweight="bold")
-    ax.set_title("visited cells (number: headings seen there);\norange: cells the model predicts in (darker: more headings)",
+    ax.set_title("visited / modelled headings per cell\n(shade: visited; hatched: modelled, never visited)",
                  fontsize=8)
     ax.set_xlabel("")
     ax.set_ylabel("")
