@@ -194,7 +194,7 @@ def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
 
 # --- drawing -------------------------------------------------------------------------------------
 
-def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color: str) -> None:
+def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color: str, scale: float = 1.0) -> None:
     ang = 2 * math.pi * h / grid["headings"]
     size = 0.38 * min(grid["cell_w"], grid["cell_h"])
     if a in (0, 1):
@@ -202,9 +202,10 @@ def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color
             ang += math.pi
         dx, dy = size * math.cos(ang), size * math.sin(ang)
         ax.annotate("", xy=(x0 + dx, y0 + dy), xytext=(x0 - dx * 0.6, y0 - dy * 0.6),
-                    arrowprops=dict(arrowstyle="-|>", color=color, lw=1.4, shrinkA=0, shrinkB=0))
+                    arrowprops=dict(arrowstyle="-|>", color=color, lw=1.4 * scale, shrinkA=0, shrinkB=0,
+                                    mutation_scale=10 * scale))
     else:
-        ax.text(x0, y0, "\u21ba" if a == 2 else "\u21bb", ha="center", va="center", fontsize=11,
+        ax.text(x0, y0, "\u21ba" if a == 2 else "\u21bb", ha="center", va="center", fontsize=11 * scale,
                 color=color, fontweight="bold")
 
 
@@ -238,7 +239,11 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     n_panels = len(hs) + 2
     nrows = (n_panels + ncols - 1) // ncols
     aspect = arena["height"] / arena["width"]
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.0 * ncols + 1.0, 4.0 * aspect * nrows + 1.2), squeeze=False,
+    # Panels grow with the grid (paper-sim's 32 x 32 cells), marks shrink a little.
+    n = max(nx, ny)
+    panel = 4.0 * max(1.0, math.sqrt(n / 8.0))
+    scale = min(1.0, panel * 2.0 / n)  # a mark's size over a cell's, as on an 8-cell grid in 4 inches
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel * ncols + 1.0, panel * aspect * nrows + 1.2), squeeze=False,
                              layout="constrained")
     cmap = plt.get_cmap("viridis")
     norm = matplotlib.colors.Normalize(vmin=vmin, vmax=vmax)
@@ -255,7 +260,7 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
                 continue  # the episode ends there: no action is taken in a goal cell
             vis = h in visited.get((c["x"], c["y"]), ())
             _arrow(ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"],
-                   "white" if vis else "0.75")
+                   "white" if vis else "0.75", scale)
         deg = 360.0 * h / nh
         ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h.get(h, []))} cells", fontsize=9)
         ax.set_xlabel("")
@@ -271,10 +276,11 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
         else:  # predicted by the model, never visited
             ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//",
                                    linewidth=0))
-        ax.text((x + 0.5) * cw, (y + 0.5) * ch, f"{nv}/{len(modelled.get((x, y), ()))}", ha="center", va="center",
-                fontsize=7, color="black")
+        if max(nx, ny) <= 16:  # beyond, the shades say it
+            ax.text((x + 0.5) * cw, (y + 0.5) * ch, f"{nv}/{len(modelled.get((x, y), ()))}", ha="center",
+                    va="center", fontsize=7, color="black")
     draw_arena(ax, arena)
-    ax.set_title("visited / modelled headings per cell\n(shade: visited; hatched: modelled, never visited)",
+    ax.set_title("visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)",
                  fontsize=8)
     ax.set_xlabel("")
     ax.set_ylabel("")
