@@ -311,8 +311,12 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
                            f"over V = max_a Q\n(several range codes in a cell: the {'largest V' if view['combine'] == 'max' else 'most experienced'})"),
                  fontsize=10)
     fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.6, label="V = max_a Q")
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    try:
+        fig.savefig(out, dpi=110)
+    except OSError as e:
+        raise ToolError(f"cannot write {out}: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -356,7 +360,10 @@ def main(argv: Optional[List[str]] = None) -> int:
             if args.json == "-":
                 print(text)
             else:
-                Path(args.json).write_text(text + "\n", encoding="utf-8")
+                try:
+                    Path(args.json).write_text(text + "\n", encoding="utf-8")
+                except OSError as e:
+                    raise ToolError(f"cannot write {args.json}: {e.strerror or e}") from None
         png = args.png
         if png is None and args.json != "-":
             png = str(Path(args.image).with_suffix(".png"))

@@ -130,6 +130,11 @@ def test_an_image_that_cannot_be_restored_is_one_line_and_exit_2(sim, image, tmp
     assert p.returncode == 2 and "holds no record" in p.stderr
     p = learned(tmp_path / "missing.flash", "--scenario", "paper-lab", "--sim", sim)
     assert p.returncode == 2 and "missing.flash" in p.stderr
+    for out in (["--png", tmp_path / "no" / "such" / "x.png"], ["--json", tmp_path / "no" / "x.json"]):
+        p = learned(image, "--scenario", "paper-lab", "--sim", sim, *out)
+        assert p.returncode == 2 and p.stderr.startswith("error: cannot write") and "Traceback" not in p.stderr
+    p = learned(image, "--scenario", "paper-lab", "--sim", tmp_path / "no-sim")
+    assert p.returncode == 2 and "--sim" in p.stderr
 
 
 def test_a_damaged_newest_record_falls_back_as_the_firmware_does(sim, image, tmp_path):
