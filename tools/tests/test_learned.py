@@ -4,9 +4,10 @@ the greedy arrows it draws lead to the goal; an image that cannot be restored is
 
 import json
 import math
-import shutil
+import struct
 import subprocess
 import sys
+import zlib
 
 import pytest
 
@@ -135,6 +136,25 @@ def test_an_image_that_cannot_be_restored_is_one_line_and_exit_2(sim, image, tmp
         assert p.returncode == 2 and p.stderr.startswith("error: cannot write") and "Traceback" not in p.stderr
     p = learned(image, "--scenario", "paper-lab", "--sim", tmp_path / "no-sim")
     assert p.returncode == 2 and "--sim" in p.stderr
+
+
+def test_a_record_whose_crcs_hold_but_whose_tables_fail_the_firmwares_checks_is_refused(sim, image, tmp_path):
+    """Only the firmware's own checks (agent_learned_check) can catch this: a Q value of NaN,
+    with both CRCs recomputed (the header is learned_store.h's: eight little-endian words)."""
+    data = bytearray(image.read_bytes())
+    for slot in (0, 1):
+        base = slot * SLOT
+        words = list(struct.unpack_from("<8I", data, base))
+        payload_size = words[4]
+        struct.pack_into("<f", data, base + 32, float("nan"))  # the first Q value (qstore's region first)
+        words[5] = zlib.crc32(bytes(data[base + 32:base + 32 + payload_size]))
+        words[7] = zlib.crc32(struct.pack("<7I", *words[:7]))
+        struct.pack_into("<8I", data, base, *words)
+    bad = tmp_path / "refused.flash"
+    bad.write_bytes(bytes(data))
+    p = learned(bad, "--scenario", "paper-lab", "--sim", sim)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1
+    assert "CRCs hold but its tables fail the firmware's checks" in p.stderr
 
 
 def test_a_damaged_newest_record_falls_back_as_the_firmware_does(sim, image, tmp_path):
