@@ -45,7 +45,7 @@ setup() {
             cp tools/requirements.txt .venv/.requirements.txt
         fi
         # The tools' own package (console scripts dynaqpc-operator, -monitor, -viewer, -cricket,
-        # -experiment), again whenever tools/pyproject.toml changed (a new console script).
+        # -experiment, -learned), again whenever tools/pyproject.toml changed (a new console script).
         if ! .venv/bin/python -c "import dynaqpc_tools" 2>/dev/null || ! cmp -s tools/pyproject.toml .venv/.pyproject.toml; then
             .venv/bin/pip install -q --disable-pip-version-check --no-deps -e tools
             cp tools/pyproject.toml .venv/.pyproject.toml
@@ -78,7 +78,11 @@ demo() {
         --trajectory "$long/trajectory.csv" --arena "$long/arena.json" > "$long/replay.csv"
     .venv/bin/dynaqpc-experiment trajectory --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results \
         --load "$long/dyna-qpc.flash" --starts 5 >/dev/null
+    log "what it learned, read from its flash image: per heading, the greedy action over V = max_a Q"
+    .venv/bin/dynaqpc-learned "$long/dyna-qpc.flash" --scenario paper-lab --sim "$bin/dynaqpc-sim" \
+        --png "$long/learned.png" --json "$long/learned.json"
     log "plots and CSVs are in $out/ (table1.md: Table 1, printed above; fig13.png: learning curves; trajectories.png: the replayed paths; demo/: the long run)"
+    log "what the robot learned: $long/learned.png (the greedy action per heading over V; docs/tools.md, dynaqpc-learned)"
 }
 
 run_tests() {

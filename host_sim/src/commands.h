@@ -28,6 +28,9 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args);
 /// `run`: replays a learned policy from random starts (cmd_run.cpp).
 int cmd_run(const std::string &program, const std::vector<std::string> &args);
 
+/// `learned`: what a flash image holds, decoded by the firmware, as JSON (cmd_learned.cpp).
+int cmd_learned(const std::string &program, const std::vector<std::string> &args);
+
 /// `devices`: the simulated robot's devices in real time on the virtual CAN bus (cmd_devices.cpp).
 int cmd_devices(const std::string &program, const std::vector<std::string> &args);
 

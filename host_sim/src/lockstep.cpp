@@ -260,6 +260,11 @@ bool Lockstep::restored() const
     return impl_->restored;
 }
 
+agent_t *Lockstep::agent() const
+{
+    return impl_->agent;
+}
+
 std::string Lockstep::counters() const
 {
     return impl_->counters();

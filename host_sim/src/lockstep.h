@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "agent/agent.h"
 #include "robot/robot_config.h"
 
 namespace world {
@@ -79,6 +80,9 @@ public:
 
     /// Whether the firmware restored what it learned from the flash file at boot.
     bool restored() const;
+
+    /// The firmware's agent, for reading what it holds (dynaqpc-sim learned); owned by the firmware.
+    agent_t *agent() const;
 
     /// Firmware counters for reports: Q rows dropped, planning updates per period, misses.
     std::string counters() const;

@@ -15,6 +15,7 @@ namespace {
 const dynaqpc::Command kCommands[] = {
     {"train", "the firmware learns on the simulated robot: sets of episodes, a CSV row each", dynaqpc::cmd_train},
     {"run", "replay a learned policy greedily from random starts, with a trajectory log", dynaqpc::cmd_run},
+    {"learned", "what a flash image holds (Q, greedy actions, visited and modelled states, fill) as JSON", dynaqpc::cmd_learned},
     {"devices", "the simulated robot's devices in real time on the virtual CAN bus, for dynaqpc-fw", dynaqpc::cmd_devices},
     {"maze", "gridworld experiments: Q-learning, Dyna-Q and Dyna-QPC on a map", dynaqpc::cmd_maze},
     {"rooms", "seeded random rooms for paper-lab or paper-sim, one scenario file each", dynaqpc::cmd_rooms},

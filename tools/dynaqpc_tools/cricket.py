@@ -9,6 +9,13 @@ against), prints the range to each beacon (DR, the ultrasound time of flight in 
 343 m/s; DB, the distance in cm, when DR is off) and, given the beacons' positions, a
 trilaterated x, y. Garbage lines are reported and skipped. The stream ending (device unplugged,
 simulator closed) ends the console cleanly.
+
+Beacon IDs are compared as the eight bytes they name, however a beacons file spells them
+(`1:5e:3c:3c:a:0:0:b1`, `01:5E:3C:3C:0A:00:00:B1`, `01-5e-...`, `015e3c3c0a0000b1`). Hints on
+stderr: when every line is skipped (not a listener, or the wrong baud rate), when none of the
+beacons heard is in the beacons file, and when every fix is refused because the ranges disagree
+(most often the listener's height: --listener-z, or a `listener_height H` line in the file).
+--raw echoes every line as it arrives.
 """
 
 from __future__ import annotations
@@ -31,6 +38,8 @@ SPACE_MAX = 16
 #: Ranges beyond are refused (struct cricket_config max_range_mm default).
 MAX_RANGE_M = 10.0
 XON, XOFF = 0x11, 0x13
+#: Skipped lines, none read, before the console hints (once) that this may not be a listener.
+EARLY_HINT_LINES = 20
 
 
 class CricketLineError(ValueError):
@@ -159,9 +168,22 @@ def parse_line(line: str) -> CricketReading:
     return CricketReading(tuple(present), values, raw)
 
 
+def parse_beacon_id(text: str) -> int:
+    """A beacon ID in a beacons file, however it is spelt: eight bytes of one or two hex digits
+    separated by ':' or '-' (either case: `1:5e:3c:3c:a:0:0:b1`, `01-5E-3C-3C-0A-00-00-B1`), or
+    sixteen hex digits (`015e3c3c0a0000b1`, optionally `0x`-prefixed). The same eight bytes are the
+    same beacon. (A listener's line is read strictly, as the firmware reads it: parse_id.)"""
+    t = text.strip()
+    if t[:2].lower() == "0x":
+        t = t[2:]
+    if len(t) == 16 and all(c in "0123456789abcdefABCDEF" for c in t):
+        return int(t, 16)
+    return parse_id(t.replace("-", ":"))
+
+
 def _beacon_key(text: str, where: str) -> int:
     try:
-        return parse_id(text)
+        return parse_beacon_id(text)
     except CricketLineError as e:
         raise ToolError(f"{where}: {e}") from None
 
@@ -198,6 +220,14 @@ def load_beacons(path: str) -> Tuple[Dict[int, Tuple[float, float, float]], Opti
                 if words[0] != "beacon":
                     continue
                 words = words[1:]
+            elif words[0] == "listener_height":
+                try:
+                    if len(words) != 2:
+                        raise ValueError
+                    listener_z = float(words[1])
+                except ValueError:
+                    raise ToolError(f"{path}:{n}: want 'listener_height H' (m), got {line.strip()!r}") from None
+                continue
             try:
                 if len(words) != 4:
                     raise ValueError
@@ -300,6 +330,30 @@ class Console:
     readings: int = 0
     garbage: int = 0
     fixes: int = 0
+    #: beacons heard with a range, and fixes trilat_solve refused by kind (3+ known beacons fresh)
+    heard: set = field(default_factory=set)
+    refused: Dict[str, int] = field(default_factory=dict)
+    last_residual: Optional[float] = None
+
+    def hints(self, device: str = "the device", beacons_file: str = "the beacons file") -> List[str]:
+        """What probably went wrong, when something did: every line skipped; none of the beacons
+        heard in the beacons file; every fix refused for disagreeing ranges."""
+        out = []
+        if self.lines and not self.readings:
+            out.append(f"every one of the {self.lines} lines was skipped: is {device} a Cricket listener, and at "
+                       f"its baud rate (115200 8N1; --baud)? Another process reading the same line (the firmware "
+                       f"on its pty) also leaves only fragments")
+        if self.beacons and self.heard and not self.heard & set(self.beacons):
+            heard = ", ".join(id_text(b) for b in sorted(self.heard)[:5])
+            known = ", ".join(id_text(b) for b in sorted(self.beacons)[:5])
+            out.append(f"none of the {len(self.heard)} beacons heard ({heard}) is in {beacons_file} "
+                       f"({known}): no fix can be made")
+        elif self.beacons and not self.fixes and self.refused.get("inconsistent"):
+            out.append(f"all {self.refused['inconsistent']} fixes were refused because the ranges disagree (rms "
+                       f"residual above {MAX_RESIDUAL_M * 100:g} cm): is the listener's height right? It is "
+                       f"{self.listener_z:g} m (--listener-z, or a `listener_height H` line in the beacons file; a "
+                       f"scenario file gives its own)")
+        return out
 
     def feed(self, line: str, now: float) -> List[str]:
         """Returns what to print for this line; a garbage line raises CricketLineError."""
@@ -314,13 +368,20 @@ class Console:
             why = "" if r.range_m is None or r.beacon_id is None else f" (range {r.range_m:.3f} m refused)"
             return [f"listener: {','.join(f'{k}={v}' for k, v in r.raw.items())}{why}"]
         self.ranges[r.beacon_id] = (r.range_m, now)
+        self.heard.add(r.beacon_id)
         detail = f"DR {r.values['DR']} us" if r.range_source == "DR" else f"DB {r.values['DB']:g} cm"
         out = [f"beacon {id_text(r.beacon_id)} {r.range_m:7.3f} m  ({detail})"]
         if self.beacons:
             if r.beacon_id not in self.beacons:
                 out[0] += "  (not in the beacons file)"
             fresh = {b: rng for b, (rng, t) in self.ranges.items() if now - t <= self.max_age_s}
-            fix = trilaterate(fresh, self.beacons, self.listener_z)
+            anchors = [(*self.beacons[b], rng) for b, rng in fresh.items() if b in self.beacons]
+            fix = None
+            if len(anchors) >= 3:
+                try:
+                    fix = trilat_solve(anchors, self.listener_z)
+                except TrilatRefused as e:
+                    self.refused[e.kind] = self.refused.get(e.kind, 0) + 1
             if fix is not None:
                 self.fixes += 1
                 out.append(f"fix x={fix[0]:.3f} m y={fix[1]:.3f} m  (rms residual {fix[2]:.3f} m, "
@@ -362,6 +423,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="listener height (m; default: the scenario's, else 0)")
     p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=3.0,
                    help="ranges older than this (s) are not used for a fix (default 3, the firmware's)")
+    p.add_argument("--raw", action="store_true",
+                   help="echo every line as it arrives ('<' and the line, unprintable bytes escaped)")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N lines")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     return p
@@ -395,11 +458,17 @@ def run(args, out=None, err=None) -> Console:
                 if not piece:
                     continue
                 text = piece.decode("latin-1")
+                if args.raw:
+                    shown = "".join(c if 0x20 <= ord(c) <= 0x7E else f"\\x{ord(c):02x}" for c in text)
+                    print(f"{now - start:9.3f} < {shown}", file=out, flush=True)
                 try:
                     for line in console.feed(text, now - start):
                         print(f"{now - start:9.3f} {line}", file=out, flush=True)
                 except CricketLineError as e:
                     print(f"{now - start:9.3f} skipped line {text.strip()[:60]!r}: {e}", file=err, flush=True)
+                    if console.garbage == EARLY_HINT_LINES and not console.readings:
+                        for h in console.hints(args.device):
+                            print(f"hint: {h}", file=err, flush=True)
                 if args.count is not None and console.lines >= args.count:
                     break
             if args.count is not None and console.lines >= args.count:
@@ -410,6 +479,8 @@ def run(args, out=None, err=None) -> Console:
         port.close()
     print(f"{console.lines} lines, {console.readings} readings, {console.garbage} skipped, "
           f"{console.fixes} fixes", file=out)
+    for h in console.hints(args.device, args.beacons or "the beacons file"):
+        print(f"hint: {h}", file=err, flush=True)
     return console
 
 

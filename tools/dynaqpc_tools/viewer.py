@@ -7,6 +7,18 @@ decodes it with the DBC and draws the robot and its trail. The pose signals are 
 (X, Y, Heading, Fix...) and converted by their DBC unit (mm or m; deg or rad). The fix is named
 from the DBC's value table; a pose without a fix (TLM_POSE FixState LOST, GPS_POSE Fix NONE) is
 not drawn, and when the asked-for frame never comes the viewer says which frames did.
+
+One trail per episode: a new trail starts when the firmware reports an episode's end
+(TLM_EPISODE), when TLM_LEARN's episode number changes, or when the pose jumps farther than
+--jump metres at once (the robot put down somewhere else), so no line is drawn across the room
+from one episode to the next. The title reads episode, step (TLM_LEARN), mode (FW_STATUS) and
+fix; the range sensors' latest readings are drawn as rays from the robot (IR_RANGES: left, front,
+right at +45, 0, -45 degrees; SONAR_RANGES_A/B: sonar k at 11.25 + 22.5 k degrees, or the angles
+of a scenario's `ray` lines with --scenario), and each bump (MOTOR_STATUS BumpFront/BumpRear
+rising) as a red x where it happened. Frames the DBC does not define are simply not used.
+
+Without a display (no DISPLAY or WAYLAND_DISPLAY, or a non-interactive matplotlib backend) it
+says so in one line and exits 2, unless --png FILE asks for a picture instead.
 """
 
 from __future__ import annotations
@@ -14,6 +26,7 @@ from __future__ import annotations
 import argparse
 import collections
 import math
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -109,10 +122,116 @@ class PoseDecoder:
         return self.fix is None or self.fix_name(int(values[self.fix.name])) not in NO_POSE
 
 
+#: The IR board's rays (IR_RANGES), degrees counter-clockwise from the robot's heading.
+IR_ANGLES = {"RangeLeft": 45.0, "RangeFront": 0.0, "RangeRight": -45.0}
+#: Sonar k of the 16-sonar ring (paper-sim's `ray` lines).
+SONAR_ANGLES = [11.25 + 22.5 * k for k in range(16)]
+
+
+def _message(db, name):
+    try:
+        return db.get_message_by_name(name)
+    except KeyError:
+        return None
+
+
+class BusState:
+    """What the viewer shows besides the pose: episode and step (TLM_LEARN, TLM_EPISODE), mode
+    (FW_STATUS), the latest range readings (IR_RANGES, SONAR_RANGES_A/B) and bumps (MOTOR_STATUS).
+    Frames the DBC lacks are ignored."""
+
+    def __init__(self, db, ray_angles=None):
+        self.learn = _message(db, "TLM_LEARN")
+        self.episode_end = _message(db, "TLM_EPISODE")
+        self.status = _message(db, "FW_STATUS")
+        self.ir = _message(db, "IR_RANGES")
+        self.sonar = [m for m in (_message(db, "SONAR_RANGES_A"), _message(db, "SONAR_RANGES_B")) if m]
+        self.motor = _message(db, "MOTOR_STATUS")
+        self.ray_angles = ray_angles  # a scenario's, in ray order (sonar k, or IR left/front/right)
+        self.by_id = {m.frame_id: m for m in (self.learn, self.episode_end, self.status, self.ir, self.motor,
+                                              *self.sonar) if m is not None}
+        self.episode: Optional[int] = None
+        self.step: Optional[int] = None
+        self.mode: Optional[str] = None
+        self.episodes_ended = 0
+        self._ended = False  # an episode's end was seen since TLM_LEARN's number last changed
+        self.rays = {}  # signal name -> (angle rad relative to heading, range m or None)
+        self.bumping = False
+
+    def feed(self, msg) -> str:
+        """Takes a frame; returns 'new episode' (TLM_EPISODE), 'episode number changed' (TLM_LEARN,
+        no end seen), 'bump' or ''."""
+        m = self.by_id.get(msg.arbitration_id)
+        if m is None or msg.is_remote_frame or msg.is_error_frame:
+            return ""
+        try:
+            v = m.decode(bytes(msg.data), decode_choices=False)
+        except Exception:
+            return ""
+        if m is self.learn:
+            ep = int(v["Episode"])
+            changed = self.episode is not None and ep != self.episode
+            self.episode, self.step = ep, int(v["Step"])
+            # A new number without the last episode's end seen (a frame lost): a new trail too.
+            missed_end = changed and not self._ended
+            if changed:
+                self._ended = False
+            return "episode number changed" if missed_end else ""
+        if m is self.episode_end:
+            self.episodes_ended += 1
+            self._ended = True
+            self.step = None
+            return "new episode"
+        if m is self.status:
+            sig = m.get_signal_by_name("Mode")
+            mode = int(v["Mode"])
+            self.mode = str(sig.choices.get(mode, mode)) if sig.choices else str(mode)
+            return ""
+        if m is self.motor:
+            bump = bool(v.get("BumpFront", 0)) or bool(v.get("BumpRear", 0))
+            rising = bump and not self.bumping
+            self.bumping = bump
+            return "bump" if rising else ""
+        if m is self.ir:
+            names = list(IR_ANGLES)
+            for i, name in enumerate(names):
+                if name not in v:
+                    continue
+                valid = int(v.get(name.replace("Range", "Valid"), 1))
+                ang = self.ray_angles[i] if self.ray_angles and i < len(self.ray_angles) else IR_ANGLES[name]
+                self.rays[name] = (math.radians(ang), float(v[name]) * 1e-3 if valid else None)
+            return ""
+        for sig in m.signals:  # a sonar frame
+            if not sig.name.startswith("Sonar"):
+                continue
+            k = int(sig.name[5:])
+            raw = int(v[sig.name])
+            no_echo = sig.choices and raw in (sig.choices or {}) or raw * (sig.scale or 1) >= 254
+            ang = self.ray_angles[k] if self.ray_angles and k < len(self.ray_angles) else SONAR_ANGLES[k % 16]
+            self.rays[sig.name] = (math.radians(ang), None if no_echo else float(raw) * (sig.scale or 1) * 1e-2)
+        return ""
+
+
+def scenario_ray_angles(path: str):
+    """The `ray` lines' angles (degrees) of a scenario file, in order."""
+    angles = []
+    try:
+        with open(path, encoding="utf-8") as f:
+            for line in f:
+                words = line.split("#", 1)[0].split()
+                if words and words[0] == "ray" and len(words) >= 2:
+                    angles.append(float(words[1]))
+    except (OSError, ValueError) as e:
+        raise ToolError(f"--scenario: cannot read ray angles from {path}: {e}") from None
+    if not angles:
+        raise ToolError(f"--scenario: {path} has no `ray` lines")
+    return angles
+
+
 class PoseView:
     """The figure: arena, trail, robot arrow."""
 
-    def __init__(self, arena=None, trail: int = 5000):
+    def __init__(self, arena=None, trail: int = 5000, jump: float = 1.0):
         import matplotlib.pyplot as plt
 
         from .arena import draw_arena
@@ -125,37 +244,113 @@ class PoseView:
             self.ax.set_xlabel("x (m)")
             self.ax.set_ylabel("y (m)")
         self.has_arena = arena is not None
-        self.trail = collections.deque(maxlen=trail)
-        (self.trail_line,) = self.ax.plot([], [], "-", color="tab:blue", linewidth=1, alpha=0.7)
+        self.max_points = trail
+        self.jump = jump
+        #: One list of (x, y) per episode: a trail never joins two episodes.
+        self.segments = collections.deque()
+        self.points = 0
+        self.lines = []
         self.arrow = None
-        self.title = self.ax.set_title("waiting for pose frames")
+        self.title = self.ax.set_title("waiting for pose frames", fontsize=9)
         self.poses = 0
         self.skipped = 0
+        self.state: Optional[BusState] = None
+        self.bumps = []  # where each bump happened
+        self._break = True  # the next pose starts a trail
+        self.ray_lines = []
+        (self.bump_marks,) = self.ax.plot([], [], "x", color="tab:red", markersize=8, mew=2, linestyle="none")
+
+    def new_episode(self, late: bool = False) -> None:
+        """The next pose starts a trail. `late`: known only from TLM_LEARN's episode number, which
+        may come a pose after the episode's first: a trail just begun (by a jump) is kept."""
+        if late and self.segments and len(self.segments[-1]) <= 1:
+            return
+        self._break = True
+
+    def bump(self) -> None:
+        if self.poses:
+            self.bumps.append((self.last.x, self.last.y))
 
     def add(self, pose: Pose) -> None:
         if not pose.usable:
             self.skipped += 1  # no fix: its x, y (often 0, 0) are not where the robot is
             return
+        if self.poses and math.hypot(pose.x - self.last.x, pose.y - self.last.y) > self.jump:
+            self._break = True  # put down somewhere else
+        if self._break or not self.segments:
+            self.segments.append([])
+            self._break = False
+        self.segments[-1].append((pose.x, pose.y))
+        self.points += 1
+        while self.points > self.max_points and len(self.segments) > 1:
+            self.points -= len(self.segments.popleft())
         self.poses += 1
-        self.trail.append((pose.x, pose.y))
         self.last = pose
 
+    def readout(self) -> str:
+        p = self.last
+        parts = []
+        st = self.state
+        if st is not None and st.episode is not None:
+            parts.append(f"episode {st.episode}")
+        if st is not None and st.step is not None:
+            parts.append(f"step {st.step}")
+        if st is not None and st.mode is not None:
+            parts.append(f"mode {st.mode}")
+        if p.fix is not None:
+            parts.append(f"fix {p.fix_name or p.fix}")
+        pose = f"x {p.x:.3f} m  y {p.y:.3f} m  heading {math.degrees(p.heading):.1f} deg  ({self.poses} poses)"
+        return ("  ".join(parts) + "\n" if parts else "") + pose
+
     def redraw(self) -> None:
-        if not self.trail:
+        if not self.segments:
             return
-        xs, ys = zip(*self.trail)
-        self.trail_line.set_data(xs, ys)
+        colors = ["tab:blue", "tab:cyan"]
+        while len(self.lines) < len(self.segments):
+            (ln,) = self.ax.plot([], [], "-", linewidth=1, alpha=0.7)
+            self.lines.append(ln)
+        for i, ln in enumerate(self.lines):
+            if i < len(self.segments):
+                xs, ys = zip(*self.segments[i])
+                ln.set_data(xs, ys)
+                # the episode in progress darker, earlier ones alternating light
+                ln.set_color("tab:blue" if i == len(self.segments) - 1 else colors[1 - (len(self.segments) - 1 - i) % 2])
+            else:
+                ln.set_data([], [])
         p = self.last
         if self.arrow is not None:
             self.arrow.remove()
         self.arrow = self.ax.arrow(p.x, p.y, 0.25 * math.cos(p.heading), 0.25 * math.sin(p.heading),
                                    width=0.04, color="tab:red", length_includes_head=True)
-        fix = "" if p.fix is None else f"  fix {p.fix_name or p.fix}"
-        self.title.set_text(f"x {p.x:.3f} m  y {p.y:.3f} m  heading {math.degrees(p.heading):.1f} deg"
-                            f"{fix}  ({self.poses} poses)")
+        for ln in self.ray_lines:
+            ln.remove()
+        self.ray_lines = []
+        if self.state is not None:
+            for ang, r in self.state.rays.values():
+                a = p.heading + ang
+                length = r if r is not None else 0.15
+                (ln,) = self.ax.plot([p.x, p.x + length * math.cos(a)], [p.y, p.y + length * math.sin(a)],
+                                     "-" if r is not None else ":", color="tab:orange", linewidth=1)
+                self.ray_lines.append(ln)
+        if self.bumps:
+            bx, by = zip(*self.bumps)
+            self.bump_marks.set_data(bx, by)
+        self.title.set_text(self.readout())
         if not self.has_arena:
             self.ax.relim()
             self.ax.autoscale_view()
+
+
+def no_display_reason() -> Optional[str]:
+    """Why no window can be shown here, or None."""
+    import matplotlib
+
+    if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        return "no display (DISPLAY and WAYLAND_DISPLAY are not set)"
+    backend = matplotlib.get_backend().lower()
+    if backend in ("agg", "pdf", "ps", "svg", "pgf", "cairo", "template") or backend.startswith("module://matplotlib_inline"):
+        return f"no display (matplotlib backend {backend} draws no window)"
+    return None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -168,7 +363,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--heading-signal"), p.add_argument("--fix-signal")
     p.add_argument("--arena", metavar="JSON", help="arena file written by the simulator")
     p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf) instead of a bus")
-    p.add_argument("--headless-png", metavar="FILE", help="no window: render to FILE at the end")
+    p.add_argument("--png", "--headless-png", dest="headless_png", metavar="FILE",
+                   help="no window: render to FILE at the end (what to do without a display)")
+    p.add_argument("--scenario", metavar="FILE", help="a scenario file whose `ray` lines give the rays' angles "
+                   "(default: IR left/front/right at 45/0/-45 deg, sonar k at 11.25 + 22.5 k deg)")
+    p.add_argument("--jump", type=float_in(0, lo_open=True), default=1.0, metavar="M",
+                   help="a pose this far (m) from the last starts a new trail (default %(default)s)")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N pose frames")
     return p
@@ -183,9 +383,31 @@ def run(args) -> PoseView:
 
     from .arena import load_arena
 
-    decoder = PoseDecoder(load_dbc(args.dbc), args.frame, args.x_signal, args.y_signal,
-                          args.heading_signal, args.fix_signal)
-    view = PoseView(load_arena(args.arena) if args.arena else None)
+    if not args.headless_png:
+        why = no_display_reason()
+        if why is not None:
+            raise ToolError(f"{why}: cannot show the viewer; write a picture with --png FILE")
+    db = load_dbc(args.dbc)
+    decoder = PoseDecoder(db, args.frame, args.x_signal, args.y_signal, args.heading_signal, args.fix_signal)
+    angles = None
+    if args.scenario:
+        angles = scenario_ray_angles(args.scenario)
+    view = PoseView(load_arena(args.arena) if args.arena else None, jump=args.jump)
+    view.state = BusState(db, angles)
+
+    def feed(msg) -> None:
+        seen.add(msg.arbitration_id)
+        event = view.state.feed(msg)
+        if event == "new episode":
+            view.new_episode()
+        elif event == "episode number changed":
+            view.new_episode(late=True)
+        elif event == "bump":
+            view.bump()
+        pose = decoder.decode(msg)
+        if pose is not None:
+            view.add(pose)
+
     if not args.headless_png:
         plt.ion()
         plt.show(block=False)
@@ -203,10 +425,7 @@ def run(args) -> PoseView:
             from .canlog import read_log
 
             for msg in read_log(args.replay):
-                seen.add(msg.arbitration_id)
-                pose = decoder.decode(msg)
-                if pose is not None:
-                    view.add(pose)
+                feed(msg)
                 if done():
                     break
         else:
@@ -214,10 +433,7 @@ def run(args) -> PoseView:
             while not done():
                 msg = bus.recv(timeout=0.05)
                 if msg is not None:
-                    seen.add(msg.arbitration_id)
-                pose = decoder.decode(msg) if msg is not None else None
-                if pose is not None:
-                    view.add(pose)
+                    feed(msg)
                 now = time.monotonic()
                 if not args.headless_png and now - last_draw > 0.1:
                     last_draw = now
@@ -232,6 +448,10 @@ def run(args) -> PoseView:
             bus.shutdown()
     view.redraw()
     skipped = f", {view.skipped} without a fix not drawn" if view.skipped else ""
+    if len(view.segments) > 1:
+        skipped += f", {len(view.segments)} trails (one per episode)"
+    if view.bumps:
+        skipped += f", {len(view.bumps)} bumps"
     if view.poses == 0 and view.skipped == 0:
         m = decoder.message
         others = sorted({(msg.name if msg else f"0x{i:03X}") for i in seen if i != m.frame_id

@@ -221,3 +221,96 @@ def test_fixes_from_the_simulators_pty():
     ys = [float(ln.split("y=")[1].split()[0]) for ln in fixes]
     assert all(0 < x < 4.3 for x in xs) and all(0 < y < 3.2 for y in ys)
     assert max(xs) - min(xs) < 0.1 and max(ys) - min(ys) < 0.1
+
+
+def _run_on_pty(lines, argv, until=None):
+    """The console on a pty fed `lines`; returns (console, out, err) once the stream ended."""
+    master, slave = os.openpty()
+    path = os.ttyname(slave)
+    os.close(slave)
+    out, err = io.StringIO(), _Signal()
+    args = cricket.build_parser().parse_args([path, *argv])
+    result = {}
+    t = threading.Thread(target=lambda: result.setdefault("c", cricket.run(args, out, err)))
+    t.start()
+    assert err.opened.wait(10), "console did not open the pty"
+    os.write(master, "".join(lines).encode("latin-1"))
+    for _ in range(200):  # until the reader took them (closing drops unread pty input)
+        c = result.get("c")
+        text = out.getvalue() + err.getvalue()
+        if until is not None and until(text):
+            break
+        threading.Event().wait(0.05)
+    os.close(master)
+    t.join(10)
+    assert not t.is_alive()
+    return result["c"], out.getvalue(), err.getvalue()
+
+
+LAB = {"1:5e:3c:3c:a:0:0:b1": (0.5, 0.5, 2.5), "1:5e:3c:3c:a:0:0:b2": (3.8, 0.5, 2.5),
+       "1:5e:3c:3c:a:0:0:b3": (0.5, 2.7, 2.5), "1:5e:3c:3c:a:0:0:b4": (3.8, 2.7, 2.5)}
+
+
+def _listener_lines(beacons, at=(1.2, 1.0, 0.15), repeat=2):
+    out = []
+    for _ in range(repeat):
+        for k, p in beacons.items():
+            dr = round(math.dist(at, p) / 343.0 * 1e6)
+            out.append(f"VR=2.0,ID={k},SP=LAB,DB={round(dr * 343e-4)},DR={dr},TM=0,TS=0\r\n")
+    return out
+
+
+def test_beacon_ids_are_compared_as_bytes_however_spelt(tmp_path):
+    same = ["1:5e:3c:3c:a:0:0:b1", "01:5E:3C:3C:0A:00:00:B1", "01-5e-3c-3c-0a-00-00-b1", "015e3c3c0a0000b1",
+            "0x015E3C3C0A0000B1"]
+    assert {cricket.parse_beacon_id(t) for t in same} == {0x015E3C3C0A0000B1}
+    # A beacons file in upper case, zero-padded, with the listener's height; the listener prints
+    # one-digit lower-case bytes: the console fixes where the listener is.
+    f = tmp_path / "beacons.txt"
+    f.write_text("listener_height 0.15\n" + "".join(
+        f"{':'.join(f'{int(b, 16):02X}' for b in k.split(':'))} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
+    beacons, z = cricket.load_beacons(str(f))
+    assert z == 0.15 and set(beacons) == {cricket.parse_id(k) for k in LAB}
+    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)], until=lambda t: t.count("fix x=") >= 5)
+    assert c.fixes >= 5 and "hint" not in err
+    fix = [ln for ln in out.splitlines() if "fix x=" in ln][-1]
+    assert float(fix.split("x=")[1].split()[0]) == pytest.approx(1.2, abs=0.01)
+
+
+def test_a_wrong_listener_height_is_hinted(tmp_path):
+    # The issue's 0 fixes: a file of `ID x y z` lines (no height) leaves the listener at 0 m, 15 cm
+    # below where it is, and every fix is refused as inconsistent; the console says why.
+    f = tmp_path / "beacons.txt"
+    f.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
+    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)],
+                              until=lambda t: t.count("beacon 01:") >= 8)
+    assert c.readings == 8 and c.fixes == 0
+    hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
+    assert len(hints) == 1 and "listener's height" in hints[0] and "0 m" in hints[0]
+    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0.15"],
+                              until=lambda t: t.count("fix x=") >= 5)
+    assert c.fixes >= 5 and "hint" not in err
+
+
+def test_hints_when_every_line_is_skipped_and_when_no_beacon_matches(tmp_path):
+    # The wrong baud rate: bytes, no lines a listener writes.
+    noise = ["\x8a\xf3Z\x11\x9c=,\x02\r\n"] * 25
+    c, out, err = _run_on_pty(noise, [], until=lambda t: "25 skipped" in t or t.count("skipped line") >= 25)
+    assert c.readings == 0 and c.garbage == 25
+    hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
+    # once after 20 skipped lines, once at the end
+    assert len(hints) == 2 and all("every one of the" in h and "baud" in h for h in hints)
+    # A beacons file of other beacons.
+    f = tmp_path / "other.txt"
+    f.write_text("1:0:0:0:0:0:0:1 0 0 2\n1:0:0:0:0:0:0:2 3 0 2\n1:0:0:0:0:0:0:3 0 3 2\n")
+    c, out, err = _run_on_pty(_listener_lines(LAB, repeat=1), ["--beacons", str(f)],
+                              until=lambda t: t.count("beacon 01:") >= 4)
+    hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
+    assert len(hints) == 1 and "none of the 4 beacons heard" in hints[0] and "01:5e:3c:3c:0a:00:00:b1" in hints[0]
+
+
+def test_raw_echoes_every_line(tmp_path):
+    lines = _listener_lines(dict(list(LAB.items())[:1]), repeat=1) + ["junk\x07line\r\n"]
+    c, out, err = _run_on_pty(lines, ["--raw"], until=lambda t: "skipped line" in t)
+    raw = [ln.split(" < ", 1)[1] for ln in out.splitlines() if " < " in ln]
+    assert raw == [lines[0].strip(), "junk\\x07line"]

@@ -82,6 +82,30 @@ def test_table1_numbers(csv_dir):
     assert "paper 0.192" in table
 
 
+def test_the_threshold_is_explicit_and_short_runs_are_warned_about(tmp_path, capsys):
+    # A Q-learning run stuck at the 200-step cap: relative to its own end it "learns" at once.
+    write_runs(tmp_path / "q.csv", "q", [[200] * 8, [200] * 6 + [150, 150]])
+    rc = experiment.main(["table", "--csv", str(tmp_path / "q.csv"), "--scenario", "paper-lab"])
+    assert rc == 0
+    cap = capsys.readouterr()
+    assert "### Table 1: paper-lab (learned: trailing 5-episode mean <= 1.5 x the set's last-10 mean" in cap.out
+    # The thresholds the relative rule gave, in steps, are in the caption: 1.5 x 200 and 1.5 x 187.5.
+    assert "per set: Q-learning 281.2–300.0" in cap.out and "No absolute threshold was given" in cap.out
+    assert "**Warning:** the runs have 8 episodes, no more than the final window of 10" in cap.out
+    err = cap.err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("warning: Table 1: the runs have 8 episodes")
+    # With --threshold: explicit in the title and the caption, and no warning.
+    rc = experiment.main(["table", "--csv", str(tmp_path / "q.csv"), "--scenario", "paper-lab", "--threshold", "50"])
+    cap = capsys.readouterr()
+    assert rc == 0 and "(learned: trailing 5-episode mean <= 50 steps)" in cap.out
+    assert "(threshold 50 steps for every set)" in cap.out and "| 0/2 |" in cap.out
+    assert "Warning" not in cap.out and cap.err == ""
+    # Fewer episodes than the smoothing window: warned about even with a threshold.
+    write_runs(tmp_path / "short.csv", "q", [[200] * 3])
+    experiment.main(["table", "--csv", str(tmp_path / "short.csv"), "--threshold", "50"])
+    assert "fewer than the --smooth window of 5" in capsys.readouterr().err
+
+
 def test_table_command_at_several_budgets(tmp_path, capsys):
     # The same agent at two budgets (named <agent>-p<N>.csv) is two rows, budget order, idle last.
     write_runs(tmp_path / "dyna-q-p0.csv", "dyna-q", [[60, 40, 40, 40, 40, 40]])

@@ -49,3 +49,94 @@ def test_headless_png_from_a_log(tmp_path, test_dbc):
     assert view.poses == 40
     assert view.last.x == pytest.approx(2.0 + math.cos(39 / 40 * 2 * math.pi), abs=1e-3)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
+
+
+from conftest import REPO  # noqa: E402
+
+DBC = str(REPO / "docs" / "dynaqpc.dbc")
+
+
+def _frame(db, name, t, **signals):
+    m = db.get_message_by_name(name)
+    values = {s.name: 0 for s in m.signals}
+    values.update(signals)
+    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=m.encode(values))
+
+
+def _two_episodes(db):
+    """Episode 1 drives east along y = 0.5 m and bumps once; the operator puts the robot down
+    2 m away (x 3.0 m, y 2.5 m) for episode 2, which drives west."""
+    msgs, t = [], 0.0
+    msgs.append(_frame(db, "FW_STATUS", t, Mode=2))
+    for episode, (x0, y0, dx) in ((1, (0.5, 0.5, 0.1)), (2, (3.0, 2.5, -0.1))):
+        for step in range(10):
+            t += 0.192
+            x = x0 + dx * step
+            msgs.append(_frame(db, "TLM_POSE", t, X=round(x * 1000), Y=round(y0 * 1000),
+                               Heading=0 if dx > 0 else 180, FixState=0))
+            msgs.append(_frame(db, "TLM_LEARN", t, Episode=episode, Step=step + 1, Action=0))
+            msgs.append(_frame(db, "IR_RANGES", t, RangeLeft=400, RangeFront=250, RangeRight=900,
+                               ValidLeft=1, ValidFront=1, ValidRight=0))
+            msgs.append(_frame(db, "MOTOR_STATUS", t, BumpFront=int(episode == 1 and step in (4, 5)), Enabled=1))
+        msgs.append(_frame(db, "TLM_EPISODE", t, Episode=episode, Steps=10))
+    msgs.append(_frame(db, "FW_STATUS", t + 0.1, Mode=1))
+    return msgs
+
+
+def test_one_trail_per_episode_with_readout_rays_and_bumps(tmp_path):
+    db = cantools.database.load_file(DBC)
+    log = tmp_path / "run.asc"
+    with can.Logger(str(log)) as w:
+        for m in _two_episodes(db):
+            w(m)
+    png = tmp_path / "v.png"
+    # --jump 5: only the episode frames may split the trail here
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(log), "--png", str(png), "--jump", "5"]))
+    assert view.poses == 20
+    assert [len(s) for s in view.segments] == [10, 10]
+    for seg in view.segments:  # no line across the room
+        assert all(math.hypot(b[0] - a[0], b[1] - a[1]) < 0.2 for a, b in zip(seg, seg[1:]))
+    text = view.title.get_text()
+    assert "episode 2" in text and "mode IDLE" in text and "fix FRESH" in text
+    assert view.bumps == [(pytest.approx(0.9), pytest.approx(0.5))]  # one bump: the rising edge
+    rays = view.state.rays
+    assert rays["RangeFront"] == (0.0, pytest.approx(0.25)) and rays["RangeRight"][1] is None
+    assert len(view.ray_lines) == 3
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # TLM_EPISODE lost: TLM_LEARN's new episode number splits the trail as well, one pose late here
+    # (this log sends the pose before TLM_LEARN); the jump splits it where the robot was put down.
+    end = db.get_message_by_name("TLM_EPISODE").frame_id
+    with can.Logger(str(log)) as w:
+        for m in _two_episodes(db):
+            if m.arbitration_id != end:
+                w(m)
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(log), "--png", str(png), "--jump", "5"]))
+    assert [len(s) for s in view.segments] == [11, 9]
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(log), "--png", str(png)]))
+    assert [len(s) for s in view.segments] == [10, 10]
+
+
+def test_a_jump_starts_a_new_trail_without_episode_frames(tmp_path, test_dbc):
+    db = cantools.database.load_file(test_dbc)
+    log = tmp_path / "run.asc"
+    with can.Logger(str(log)) as w:
+        for i in range(20):
+            x = 500 + 50 * (i % 10) + (2500 if i >= 10 else 0)
+            w(_pose_msg(db, i * 0.192, x, 1000, 0.0, i))
+    view = viewer.run(viewer.build_parser().parse_args(["--dbc", test_dbc, "--frame", "POSE_T", "--replay", str(log),
+                                                        "--png", str(tmp_path / "v.png")]))
+    assert [len(s) for s in view.segments] == [10, 10]
+
+
+def test_without_a_display_it_says_so_and_exits_2(tmp_path, test_dbc, monkeypatch, capsys):
+    log = tmp_path / "run.asc"
+    db = cantools.database.load_file(test_dbc)
+    with can.Logger(str(log)) as w:
+        w(_pose_msg(db, 0.0, 1000, 1000, 0.0, 0))
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert viewer.main(["--dbc", test_dbc, "--frame", "POSE_T", "--replay", str(log)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and "no display" in err[0] and "--png" in err[0], err
+    assert "poses" not in captured.out  # it did not pretend to show anything

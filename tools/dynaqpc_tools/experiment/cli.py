@@ -82,6 +82,11 @@ def write_text(path: str, text: str) -> None:
         raise ToolError(f"cannot write {path}: {e.strerror or e}") from None
 
 
+def warn_table(summaries, settings: LearnSettings) -> None:
+    for w in stats.table_warnings(summaries, settings):
+        print(f"warning: Table 1: {w}", file=sys.stderr)
+
+
 def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: str = "",
            trajectory: Optional[str] = None, arena: Optional[str] = None) -> str:
     """fig13.png, table1.md and (given a trajectory) trajectories.png in out_dir; returns Table 1."""
@@ -91,6 +96,7 @@ def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: st
         raise ToolError(f"cannot make {out_dir}: {e.strerror or e}") from None
     summaries = stats.summarise_all(runs, settings)
     table = stats.table_markdown(summaries, settings, scenario)
+    warn_table(summaries, settings)
     plots.plot_fig13(runs, os.path.join(out_dir, "fig13.png"), title or scenario)
     write_text(os.path.join(out_dir, "table1.md"), table)
     if trajectory:
@@ -194,7 +200,9 @@ def cmd_plot(args) -> int:
 def cmd_table(args) -> int:
     settings = _settings(args)
     runs = read_csvs(args.csv, allow_repeats=True)
-    table = stats.table_markdown(stats.summarise_all(runs, settings), settings, args.scenario or "")
+    summaries = stats.summarise_all(runs, settings)
+    table = stats.table_markdown(summaries, settings, args.scenario or "")
+    warn_table(summaries, settings)
     if args.out:
         write_text(args.out, table)
     print(table)

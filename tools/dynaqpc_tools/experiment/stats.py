@@ -76,6 +76,30 @@ class LearnSettings:
         if self.smooth < 1:
             raise ToolError(f"--smooth: {self.smooth} is not at least 1")
 
+    def short_rule(self) -> str:
+        """The threshold in a few words, for a table's title."""
+        if self.learned_steps is not None:
+            return f"learned: trailing {self.smooth}-episode mean <= {self.learned_steps:g} steps"
+        return (f"learned: trailing {self.smooth}-episode mean <= {self.learned_factor:g} x the set's "
+                f"last-{self.final_window} mean (no absolute threshold)")
+
+    def warnings(self, n_episodes: int) -> List[str]:
+        """Why "learned" may mislead on a run of n_episodes episodes."""
+        out = []
+        if self.learned_steps is None and n_episodes <= self.final_window:
+            out.append(f"the runs have {n_episodes} episodes, no more than the final window of "
+                       f"{self.final_window}: without --threshold, \"learned\" is measured against the whole "
+                       f"run's own mean, so a set that never improved reads as learned; give --threshold STEPS "
+                       f"or run more episodes")
+        elif self.learned_steps is None and n_episodes < 2 * self.final_window:
+            out.append(f"the runs have {n_episodes} episodes, fewer than twice the final window of "
+                       f"{self.final_window}: without --threshold, \"learned\" is measured against the run's "
+                       f"own end; give --threshold STEPS for an absolute rule")
+        if n_episodes < self.smooth:
+            out.append(f"the runs have {n_episodes} episodes, fewer than the --smooth window of "
+                       f"{self.smooth}: the trailing mean never covers a full window")
+        return out
+
     def rule(self) -> str:
         if self.learned_steps is not None:
             return f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_steps:g}"
@@ -90,6 +114,7 @@ class SetResult:
     episodes: int        # to learn (1-based episode i), or the whole run
     steps: float         # real steps to learn, or the whole run's
     robot_time_s: float  # the same episodes' robot time
+    threshold: float = 0.0  # steps: the set's learned threshold (absolute, or relative to its end)
 
 
 def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
@@ -102,7 +127,8 @@ def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
             threshold = settings.learned_factor * float(sum(tail)) / len(tail)
         i = learned_episode_index(list(row_steps), threshold, settings.smooth)
         n = len(row_steps) if i is None else i + 1
-        out.append(SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n]))))
+        out.append(SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n])),
+                             float(threshold)))
     return out
 
 
@@ -215,7 +241,7 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
         head.append("Paper")
     lines = []
     if scenario:
-        lines += [f"### Table 1: {scenario}", ""]
+        lines += [f"### Table 1: {scenario} ({settings.short_rule()})", ""]
     lines += ["| " + " | ".join(head) + " |", "|---|---|" + "---:|" * (len(head) - 2)]
     for s in summaries:
         cells = [s.label, budget_text(s), f"{s.planning_per_step:,.1f}", f"{s.n_learned}/{s.n_sets}",
@@ -225,11 +251,28 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
         if paper:
             cells.append(paper.get(s.agent, "–"))
         lines.append("| " + " | ".join(cells) + " |")
-    lines += ["", f"Learned: {settings.rule()} to the end of the set. Real steps and robot time to learn: "
+    if settings.learned_steps is not None:
+        thresholds = f" (threshold {settings.learned_steps:g} steps for every set)"
+    else:
+        def _span(s):
+            t = sorted(r.threshold for r in s.sets)
+            return f"{s.label} {t[0]:,.1f}" + (f"–{t[-1]:,.1f}" if t[-1] != t[0] else "")
+        thresholds = ("; the thresholds this gives, in steps, per set: " + "; ".join(_span(s) for s in summaries)
+                      + ". No absolute threshold was given (--threshold)")
+    warn = settings.warnings(min(s.n_episodes for s in summaries))
+    lines += ["", f"Learned: {settings.rule()} to the end of the set{thresholds}. Real steps and robot time to learn: "
               "those of the episodes up to that point, mean ± sample sd over ALL sets (a set that never "
               "learned counts its whole run). Planning updates / real step: (updates - steps) / steps "
               "from the CSV's updates column (real plus planning Q updates).", ""]
+    lines += [f"**Warning:** {w}." for w in warn]
+    if warn:
+        lines.append("")
     return "\n".join(lines)
+
+
+def table_warnings(summaries: Sequence[AgentSummary], settings: LearnSettings) -> List[str]:
+    """What table_markdown() warns about, for stderr."""
+    return settings.warnings(min(s.n_episodes for s in summaries)) if summaries else []
 
 
 def measure(csv_paths: Sequence[str], threshold: Optional[float] = None, smooth: int = 5,

@@ -1,0 +1,296 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc-sim learned: what a flash image holds, decoded by the firmware itself, as JSON.
+//
+// The firmware boots on the image exactly as `run` does (learned_store_load: CRCs, layout, the
+// agent's own checks), and what it restored is then read through the agent's own functions:
+// Q rows (qstore), the greedy action (agent_greedy), the percept map (model_has_seen), CMAC-Model's
+// training counts and the model's predictions (model_predict), Dyna-Q's records. No offset of the
+// store's layout is written down twice: dynaqpc-learned (tools/dynaqpc_tools/learned.py) only
+// draws this JSON. The format is documented in docs/tools.md ("dynaqpc-learned").
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "hal/hal_flash.h"
+#include "lockstep.h"
+#include "options.h"
+#include "robot/learned_store.h"
+#include "robot/robot_app.h"
+#include "robot/robot_geometry.h"
+#include "scenario_bridge.h"
+#include "world/scenario.h"
+
+namespace dynaqpc {
+
+namespace {
+
+const char *kind_name(agent_kind_t k)
+{
+    switch (k) {
+    case AGENT_Q_LEARNING: return "q";
+    case AGENT_DYNA_Q: return "dyna-q";
+    default: return "dyna-qpc";
+    }
+}
+
+const char *slot_state_name(learned_slot_state_t s)
+{
+    switch (s) {
+    case LEARNED_SLOT_EMPTY: return "empty";
+    case LEARNED_SLOT_DAMAGED: return "damaged";
+    case LEARNED_SLOT_FOREIGN: return "foreign";
+    case LEARNED_SLOT_REFUSED: return "refused";
+    default: return "good";
+    }
+}
+
+// A float as JSON (finite by the store's own checks; guard anyway).
+std::string num(double v)
+{
+    if (!std::isfinite(v)) return "null";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+struct SlotInfo {
+    learned_slot_state_t state = LEARNED_SLOT_EMPTY;
+    std::uint32_t sequence = 0;
+    std::uint32_t episodes = 0;
+};
+
+// What each slot of the flash holds for this agent's layout (the store's own classification).
+std::vector<SlotInfo> slots_of(const agent_t *ag)
+{
+    std::vector<SlotInfo> out;
+    learned_store_t st;
+    if (learned_store_init(&st) != FW_OK) return out;
+    for (std::uint32_t slot = 0; slot < 2u; slot++) {
+        SlotInfo si;
+        si.state = learned_store_slot_state(&st, ag, slot, &si.sequence);
+        if (si.state == LEARNED_SLOT_GOOD || si.state == LEARNED_SLOT_FOREIGN || si.state == LEARNED_SLOT_REFUSED) {
+            const auto *h = static_cast<const learned_header_t *>(hal_flash_map(slot * st.slot_size, sizeof(learned_header_t)));
+            if (h != nullptr) si.episodes = h->episodes;
+        }
+        out.push_back(si);
+    }
+    return out;
+}
+
+std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t *ag, const std::vector<SlotInfo> &slots)
+{
+    agent_space_t sp;
+    robot_config_space(&cfg, &sp);
+    const std::uint32_t bits = space_state_bits(&sp);
+    const std::uint32_t n_states = 1u << bits;
+    const std::uint32_t na = sp.n_actions;
+    robot_app_stats_t rs;
+    robot_app_get_stats(&rs);
+
+    std::ostringstream o;
+    o << "{\"format\":\"dynaqpc-learned 1\",\"scenario\":\"" << sb.name << "\",\"agent\":\"" << kind_name(ag->kind)
+      << "\",\n\"record\":{\"episodes\":" << rs.restored_episodes << ",\"fell_back\":" << (rs.restore_fell_back ? "true" : "false")
+      << ",\"slots\":[";
+    for (std::size_t i = 0; i < slots.size(); i++) {
+        o << (i ? "," : "") << "{\"state\":\"" << slot_state_name(slots[i].state) << "\",\"sequence\":" << slots[i].sequence
+          << ",\"episodes\":" << slots[i].episodes << "}";
+    }
+    o << "]},\n\"space\":{\"components\":[";
+    const char *names[4] = {"x", "y", "heading", "code"};
+    std::uint32_t shift = 0;
+    for (std::uint32_t k = 0; k < sp.n_components; k++) {
+        o << (k ? "," : "") << "{\"name\":\"" << names[k] << "\",\"bits\":" << unsigned(sp.bits[k]) << ",\"shift\":" << shift << "}";
+        shift += sp.bits[k];
+    }
+    o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
+      << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << "},\n";
+    float cw, ch;
+    robot_cell_size(&cfg, &cw, &ch);
+    o << "\"grid\":{\"cells_x\":" << (1u << cfg.bits_x) << ",\"cells_y\":" << (1u << cfg.bits_y)
+      << ",\"headings\":" << (1u << cfg.bits_heading) << ",\"codes\":" << (1u << cfg.bits_code)
+      << ",\"cell_w\":" << num(cw) << ",\"cell_h\":" << num(ch) << ",\"goal_cells\":[";
+    bool first = true;
+    for (std::uint32_t y = 0; y < (1u << cfg.bits_y); y++) {
+        for (std::uint32_t x = 0; x < (1u << cfg.bits_x); x++) {
+            robot_pose_t p{};
+            p.x = (static_cast<float>(x) + 0.5f) * cw;
+            p.y = (static_cast<float>(y) + 0.5f) * ch;
+            if (robot_in_goal(&cfg, &p)) {
+                o << (first ? "" : ",") << "[" << x << "," << y << "]";
+                first = false;
+            }
+        }
+    }
+    std::string arena = arena_json(*sb.world);
+    while (!arena.empty() && arena.back() == '\n') arena.pop_back();
+    o << "]},\n\"arena\":" << arena << ",\n";
+
+    // The tables' fill.
+    o << "\"fill\":{\"q\":{\"rows\":" << (ag->q.dense ? 0u : ag->q.rows_used) << ",\"capacity\":" << ag->q.capacity
+      << ",\"dense\":" << (ag->q.dense ? "true" : "false") << "}";
+    if (ag->kind == AGENT_DYNA_QPC) {
+        const world_model_t &m = ag->model;
+        std::uint32_t places = 0, classes = 0, arrivals = 0;
+        for (std::uint32_t i = 0; m.percepts != nullptr && i < m.places; i++) places += m.percepts[i] != 0;
+        for (std::uint32_t i = 0; m.classes != nullptr && i < m.n_classes; i++) classes += m.classes[i].count != 0;
+        for (std::uint32_t i = 0; m.arrivals != nullptr && i < m.positions; i++) arrivals += m.arrivals[i] != MODEL_NO_ARRIVAL;
+        o << ",\"cmac\":{\"cells\":" << m.forward.stats.cells_used << ",\"capacity\":" << m.forward.capacity << "}"
+          << ",\"percepts\":{\"places\":" << places << ",\"capacity\":" << m.places << "}"
+          << ",\"situations\":{\"used\":" << classes << ",\"capacity\":" << m.n_classes << "}"
+          << ",\"arrivals\":{\"used\":" << arrivals << ",\"capacity\":" << m.positions << "}";
+    } else if (ag->kind == AGENT_DYNA_Q) {
+        o << ",\"table\":{\"records\":" << ag->table.count << ",\"capacity\":" << ag->table.capacity << "}";
+    }
+    o << "},\n";
+
+    // Per state: whether it has a Q row, was visited (perceived on a real step), is modelled (the
+    // model predicts an action there, tried or generalised); its Q values and real experience.
+    std::vector<std::uint8_t> visited(n_states, 0), tried(n_states * na, 0);
+    if (ag->kind == AGENT_DYNA_Q) {
+        for (std::uint32_t i = 0; i < ag->table.count; i++) {
+            const dynaq_record_t &r = ag->table.records[i];
+            if (r.state >= n_states) continue;
+            visited[r.state] = 1;
+            for (std::uint32_t a = 0; a < na; a++) {
+                if (dynaq_bit(r.tried, a)) {
+                    tried[r.state * na + a] = 1;
+                    if (r.next[a] < n_states) visited[r.next[a]] = 1;
+                }
+            }
+        }
+    }
+    o << "\"states_columns\":[\"s\",\"x\",\"y\",\"heading\",\"code\",\"row\",\"visited\",\"modelled\",\"greedy\",\"v\",\"q\",\"n\"],\n"
+      << "\"states\":[";
+    first = true;
+    for (std::uint32_t s = 0; s < n_states; s++) {
+        const float *q = qstore_row(&ag->q, s);
+        bool row = false;
+        if (ag->q.dense) {
+            for (std::uint32_t a = 0; a < na; a++) row = row || q[a] != 0.0f;
+        } else {
+            row = oa_lookup(&ag->q.index, s, ag->q.rows_used == ag->q.capacity) != OA_NONE;
+        }
+        bool vis = false, modelled = false;
+        std::uint32_t n[FW_CFG_MAX_ACTIONS] = {0};
+        if (ag->kind == AGENT_DYNA_QPC) {
+            vis = model_has_seen(&ag->model, s);
+            model_query_t mq;
+            model_query_init(&ag->model, s, &mq);
+            for (std::uint32_t a = 0; a < na; a++) {
+                cmac_tiles_t t = mq.tiles;
+                cmac_tiles_set_action(&ag->model.forward, &t, a);
+                std::int32_t out[CMAC_MAX_OUTPUTS];
+                n[a] = cmac_predict(&ag->model.forward, &t, out);
+                model_step_t step;
+                modelled = model_query_predict(&ag->model, &mq, static_cast<std::uint8_t>(a), &step) || modelled;
+            }
+        } else if (ag->kind == AGENT_DYNA_Q) {
+            vis = visited[s] != 0;
+            for (std::uint32_t a = 0; a < na; a++) {
+                n[a] = tried[s * na + a];
+                modelled = modelled || n[a] != 0;
+            }
+        } else {
+            vis = row;  // Q-learning writes rows on real steps only
+        }
+        if (!row && !vis && !modelled) continue;
+        std::uint32_t comp[FW_CFG_MAX_COMPONENTS];
+        space_unpack(&sp, s, comp);
+        o << (first ? "\n" : ",\n") << "[" << s << "," << comp[0] << "," << comp[1] << "," << comp[2] << "," << comp[3] << ","
+          << (row ? 1 : 0) << "," << (vis ? 1 : 0) << "," << (modelled ? 1 : 0) << "," << unsigned(agent_greedy(ag, s)) << ","
+          << num(qstore_max(&ag->q, s)) << ",[";
+        for (std::uint32_t a = 0; a < na; a++) o << (a ? "," : "") << num(q[a]);
+        o << "],[";
+        for (std::uint32_t a = 0; a < na; a++) o << (a ? "," : "") << n[a];
+        o << "]]";
+        first = false;
+    }
+    o << "]}\n";
+    return o.str();
+}
+
+}  // namespace
+
+int cmd_learned(const std::string &program, const std::vector<std::string> &args)
+{
+    std::string scenario, load, agent;
+    Options o("learned", "what a flash image holds, decoded by the firmware's own restore code, as JSON on stdout");
+    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (the one it learned on)", &scenario);
+    o.add_string("--load", "FILE", "a flash image (`train --save FILE`, a board's backup)", &load);
+    o.add_choice("--agent", "NAME", "the algorithm that learned it: q, dyna-q or dyna-qpc (default: whichever the image holds)",
+                 &agent, {"q", "dyna-q", "dyna-qpc"});
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    if (!o.seen("--load")) throw UsageError("--load: required (a flash image: train --save FILE)");
+    struct stat st;
+    if (stat(load.c_str(), &st) != 0) {
+        throw UsageError("--load: cannot open '" + load + "': " + std::strerror(errno));
+    }
+    const ScenarioBundle sb = load_scenario(scenario);
+    std::vector<std::string> kinds;
+    if (o.seen("--agent")) {
+        kinds.push_back(agent);
+    } else {
+        kinds = {"dyna-qpc", "dyna-q", "q"};
+    }
+    LockstepOptions lo;
+    lo.flash_file = load;
+    lo.evaluate = true;
+    lo.flash_read_only = true;
+    // What the slots hold for each agent tried, for the one line that says why nothing restored.
+    bool any_foreign = false, any_refused = false, all_empty = true;
+    for (const std::string &k : kinds) {
+        robot_config_t cfg = sb.robot;
+        cfg.agent = agent_kind_of(k);
+        std::unique_ptr<Lockstep> sim;
+        try {
+            sim = std::make_unique<Lockstep>(*sb.world, cfg, lo);
+        } catch (const std::runtime_error &e) {
+            throw UsageError(std::string("--load: ") + e.what());
+        }
+        agent_t *ag = sim->agent();
+        const std::vector<SlotInfo> slots = slots_of(ag);
+        if (sim->restored()) {
+            std::fputs(json_of(sb, cfg, ag, slots).c_str(), stdout);
+            robot_app_stats_t rs;
+            robot_app_get_stats(&rs);
+            if (rs.restore_fell_back) {
+                std::fprintf(stderr, "%s learned: warning: the newest record in '%s' is damaged or refused; this is the "
+                             "older one (%u episodes), which the firmware would restore\n",
+                             program.c_str(), load.c_str(), rs.restored_episodes);
+            }
+            return kExitOk;
+        }
+        for (const SlotInfo &si : slots) {
+            if (si.state != LEARNED_SLOT_EMPTY) all_empty = false;
+            if (si.state == LEARNED_SLOT_REFUSED) any_refused = true;
+            if (si.state == LEARNED_SLOT_FOREIGN) any_foreign = true;
+        }
+    }
+    const std::string what = o.seen("--agent") ? agent : std::string("q, dyna-q or dyna-qpc");
+    if (all_empty) throw UsageError("--load: '" + load + "' is erased: it holds no learned record");
+    if (any_refused) {
+        throw UsageError("--load: '" + load + "' is corrupted: its record's CRCs hold but its tables fail the firmware's checks");
+    }
+    if (!any_foreign) {
+        throw UsageError("--load: '" + load + "' is corrupted: no whole record (a CRC fails or the header is not ours)");
+    }
+    throw UsageError("--load: '" + load + "' holds no record of " + what + " on " + sb.name +
+                     " (another scenario, agent or firmware layout; try --scenario/--agent)");
+}
+
+}  // namespace dynaqpc

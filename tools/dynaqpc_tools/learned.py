@@ -1,0 +1,386 @@
+# SPDX-License-Identifier: MIT
+"""dynaqpc-learned: what the robot learned, drawn from its flash image.
+
+The image (``dynaqpc-sim train --save FILE``, or a board's backup of its learned-data sector) is
+decoded by the firmware itself: ``dynaqpc-sim learned --scenario S --load FILE`` boots the
+firmware's own restore code on it (learned_store_load: CRCs, layout, the agent's checks) and
+prints what it restored as JSON, read through the agent's own functions (qstore_row, agent_greedy,
+model_has_seen, model_predict, CMAC-Model's counts). This tool only combines and draws that JSON:
+no offset of the store's layout is written down a second time here, so a change to the firmware's
+tables cannot make the picture silently wrong.
+
+A state is (x cell, y cell, heading sector, range code) (the scenario's ``encode`` line). The map
+is over (cell, heading); where a (cell, heading) has Q rows for several range codes (the robot
+perceived different codes at different places within the cell), one is shown, chosen by
+``--combine``:
+
+- ``max`` (default): the code with the largest V = max_a Q (ties: the most experienced);
+- ``visits``: the code with the most real experience there (the sum over actions of CMAC-Model's
+  training counts, Dyna-QPC; Dyna-Q's tried actions; ties, and Q-learning, which keeps no
+  counts, by the larger V): what the robot usually saw in that cell.
+
+On paper-lab (Dyna-QPC, 60 episodes, planning 1,000, seeds 1, 2, 3, 7, 11) the two agree on four
+seeds; on the fifth, following ``visits`` arrows ends in loops from 46 of 336 starts and ``max``
+arrows reach the goal from 90 % (docs/tools.md).
+
+Exit status: 0 drawn, 2 bad usage or an image that cannot be restored (one line saying why).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Tuple
+
+from .common import ToolArgumentParser, ToolError, repo_root, run_main
+
+ACTIONS = ("forward", "backward", "left", "right")
+FORMAT = "dynaqpc-learned 1"
+
+
+def default_sim() -> str:
+    root = repo_root()
+    return str((root or Path.cwd()) / "build" / "host-release" / "bin" / "dynaqpc-sim")
+
+
+def dump_image(sim: str, scenario: str, image: str, agent: Optional[str] = None) -> Dict[str, Any]:
+    """The simulator's JSON of what `image` holds; a ToolError with its one line if it refuses."""
+    if not os.path.exists(image):
+        raise ToolError(f"cannot open {image}: no such file")
+    if not (os.path.isfile(sim) and os.access(sim, os.X_OK)):
+        raise ToolError(f"--sim: {sim} is not an executable (build it: cmake --build --preset host-release)")
+    argv = [sim, "learned", "--scenario", scenario, "--load", image]
+    if agent:
+        argv += ["--agent", agent]
+    try:
+        p = subprocess.run(argv, capture_output=True, text=True, timeout=120)
+    except OSError as e:
+        raise ToolError(f"cannot run {sim}: {e}") from e
+    if p.returncode != 0:
+        lines = [ln for ln in p.stderr.strip().splitlines() if ln.strip()]
+        msg = lines[-1] if lines else f"exit status {p.returncode}"
+        # The simulator's line names itself; keep what it says about the image.
+        if msg.startswith("dynaqpc-sim learned: "):
+            msg = msg[len("dynaqpc-sim learned: "):]
+        if msg.startswith("--load: "):
+            msg = msg[len("--load: "):]
+        raise ToolError(msg)
+    for ln in p.stderr.strip().splitlines():
+        print(ln.replace("dynaqpc-sim learned", "dynaqpc-learned"), file=sys.stderr)
+    try:
+        d = json.loads(p.stdout)
+    except ValueError as e:
+        raise ToolError(f"{sim} learned gave no JSON ({e})") from e
+    if d.get("format") != FORMAT:
+        raise ToolError(f"{sim} learned speaks {d.get('format')!r}, this tool {FORMAT!r}")
+    return d
+
+
+def load_dump(path: str) -> Dict[str, Any]:
+    try:
+        with open(path, encoding="utf-8") as f:
+            d = json.load(f)
+    except (OSError, ValueError) as e:
+        raise ToolError(f"cannot read {path}: {e}") from e
+    if not isinstance(d, dict) or d.get("format") != FORMAT:
+        raise ToolError(f"{path}: not the output of dynaqpc-sim learned ({FORMAT})")
+    return d
+
+
+def combine(dump: Dict[str, Any], how: str = "max") -> Dict[str, Any]:
+    """Per (cell, heading): the row of one range code (see the module's doc), and per cell the
+    headings visited and modelled. Returns the view --json writes."""
+    cols = dump["states_columns"]
+    ix = {c: i for i, c in enumerate(cols)}
+    best: Dict[Tuple[int, int, int], Tuple[Tuple[float, float], list]] = {}
+    codes: Dict[Tuple[int, int, int], List[int]] = {}
+    visited: Dict[Tuple[int, int], set] = {}
+    modelled: Dict[Tuple[int, int], set] = {}
+    for r in dump["states"]:
+        x, y, h, c = r[ix["x"]], r[ix["y"]], r[ix["heading"]], r[ix["code"]]
+        if r[ix["visited"]]:
+            visited.setdefault((x, y), set()).add(h)
+        if r[ix["modelled"]]:
+            modelled.setdefault((x, y), set()).add(h)
+        if not r[ix["row"]]:
+            continue
+        v = r[ix["v"]]
+        v = -math.inf if v is None else v
+        n = sum(r[ix["n"]])
+        key = (n, v) if how == "visits" else (v, n)
+        codes.setdefault((x, y, h), []).append(c)
+        if (x, y, h) not in best or key > best[(x, y, h)][0]:
+            best[(x, y, h)] = (key, r)
+    cells = []
+    for (x, y, h), (_, r) in sorted(best.items()):
+        g = r[ix["greedy"]]
+        cells.append({"x": x, "y": y, "heading": h, "code": r[ix["code"]], "codes": sorted(codes[(x, y, h)]),
+                      "greedy": g, "action": ACTIONS[g] if g < len(ACTIONS) else str(g), "v": r[ix["v"]],
+                      "q": r[ix["q"]], "experience": sum(r[ix["n"]]), "visited": bool(r[ix["visited"]])})
+    return {
+        "format": "dynaqpc-learned view 1",
+        "scenario": dump["scenario"], "agent": dump["agent"], "record": dump["record"],
+        "fill": dump["fill"], "grid": dump["grid"], "combine": how, "actions": list(ACTIONS),
+        "cells": cells,
+        "visited_cells": [[x, y, sorted(hs)] for (x, y), hs in sorted(visited.items())],
+        "modelled_cells": [[x, y, sorted(hs)] for (x, y), hs in sorted(modelled.items())],
+    }
+
+
+# --- following the arrows ------------------------------------------------------------------------
+
+def _step(grid: Dict[str, Any], x: int, y: int, h: int, action: int) -> Tuple[int, int, int]:
+    """The (cell, heading) an action leads to on the grid, as the firmware's aligned actions move
+    (robot_motion.c): a step leaves the cell across the edge its heading's ray from the cell's
+    centre meets first; a turn goes to the next multiple of 90 degrees, skipping one nearer than a
+    quarter turn."""
+    n_h = grid["headings"]
+    quarter = n_h // 4
+    if action in (0, 1):
+        ang = 2 * math.pi * h / n_h + (math.pi if action == 1 else 0.0)
+        c, s = math.cos(ang), math.sin(ang)
+        tx = (grid["cell_w"] / 2) / abs(c) if abs(c) > 1e-6 else math.inf
+        ty = (grid["cell_h"] / 2) / abs(s) if abs(s) > 1e-6 else math.inf
+        if tx < ty - 1e-9:
+            return x + (1 if c > 0 else -1), y, h
+        if ty < tx - 1e-9:
+            return x, y + (1 if s > 0 else -1), h
+        return x + (1 if c > 0 else -1), y + (1 if s > 0 else -1), h
+    turns = h / quarter
+    k = math.floor(turns + 0.25) + 1 if action == 2 else math.ceil(turns - 0.25) - 1
+    return x, y, (k * quarter) % n_h
+
+
+def follow(view: Dict[str, Any], x: int, y: int, h: int, max_steps: int = 200) -> Tuple[str, int]:
+    """Follows the greedy arrows from (x, y, h): 'goal', 'left the arena', 'loop', 'no arrow' or
+    'step cap', and the steps taken."""
+    grid = view["grid"]
+    goal = {tuple(c) for c in grid["goal_cells"]}
+    arrows = {(c["x"], c["y"], c["heading"]): c["greedy"] for c in view["cells"]}
+    seen = set()
+    for steps in range(max_steps + 1):
+        if (x, y) in goal:
+            return "goal", steps
+        if not (0 <= x < grid["cells_x"] and 0 <= y < grid["cells_y"]):
+            return "left the arena", steps
+        if (x, y, h) in seen:
+            return "loop", steps
+        seen.add((x, y, h))
+        a = arrows.get((x, y, h))
+        if a is None:
+            return "no arrow", steps
+        x, y, h = _step(grid, x, y, h, a)
+    return "step cap", max_steps
+
+
+def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
+    """Follows the arrows from every visited (cell, heading) outside the goal that has an arrow."""
+    goal = {tuple(c) for c in view["grid"]["goal_cells"]}
+    outcomes: Dict[str, int] = {}
+    starts = 0
+    for c in view["cells"]:
+        if not c["visited"] or (c["x"], c["y"]) in goal:
+            continue
+        starts += 1
+        o, _ = follow(view, c["x"], c["y"], c["heading"])
+        outcomes[o] = outcomes.get(o, 0) + 1
+    return {"starts": starts, "outcomes": outcomes}
+
+
+# --- drawing -------------------------------------------------------------------------------------
+
+def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color: str, scale: float = 1.0) -> None:
+    ang = 2 * math.pi * h / grid["headings"]
+    size = 0.38 * min(grid["cell_w"], grid["cell_h"])
+    if a in (0, 1):
+        if a == 1:
+            ang += math.pi
+        dx, dy = size * math.cos(ang), size * math.sin(ang)
+        ax.annotate("", xy=(x0 + dx, y0 + dy), xytext=(x0 - dx * 0.6, y0 - dy * 0.6),
+                    arrowprops=dict(arrowstyle="-|>", color=color, lw=1.4 * scale, shrinkA=0, shrinkB=0,
+                                    mutation_scale=10 * scale))
+    else:
+        ax.text(x0, y0, "\u21ba" if a == 2 else "\u21bb", ha="center", va="center", fontsize=11 * scale,
+                color=color, fontweight="bold")
+
+
+def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = "used", title: Optional[str] = None) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    from .arena import draw_arena
+
+    arena = dict(arena, beacons=[])  # their labels would cover the arrows
+    grid = view["grid"]
+    cw, ch, nx, ny, nh = grid["cell_w"], grid["cell_h"], grid["cells_x"], grid["cells_y"], grid["headings"]
+    by_h: Dict[int, List[Dict[str, Any]]] = {}
+    for c in view["cells"]:
+        by_h.setdefault(c["heading"], []).append(c)
+    if headings == "used":
+        hs = sorted(by_h, key=lambda h: (-len(by_h[h]), h))
+        hs = sorted(hs[:8])  # the most used eight; a 90-degree robot uses four
+    elif headings == "all":
+        hs = list(range(nh))
+    else:
+        hs = [int(t) for t in headings.split(",")]
+    vals = [c["v"] for c in view["cells"] if c["v"] is not None]
+    vmin, vmax = (min(vals), max(vals)) if vals else (0.0, 1.0)
+    if vmin == vmax:
+        vmax = vmin + 1.0
+    ncols = 4
+    n_panels = len(hs) + 2
+    nrows = (n_panels + ncols - 1) // ncols
+    aspect = arena["height"] / arena["width"]
+    # Panels grow with the grid (paper-sim's 32 x 32 cells), marks shrink a little.
+    n = max(nx, ny)
+    panel = 4.0 * max(1.0, math.sqrt(n / 8.0))
+    scale = min(1.0, panel * 2.0 / n)  # a mark's size over a cell's, as on an 8-cell grid in 4 inches
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel * ncols + 1.0, panel * aspect * nrows + 1.2), squeeze=False,
+                             layout="constrained")
+    cmap = plt.get_cmap("viridis")
+    norm = matplotlib.colors.Normalize(vmin=vmin, vmax=vmax)
+    visited = {(x, y): set(h) for x, y, h in view["visited_cells"]}
+    for i, h in enumerate(hs):
+        ax = axes[i // ncols][i % ncols]
+        for c in by_h.get(h, []):
+            x0, y0 = c["x"] * cw, c["y"] * ch
+            ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor=cmap(norm(c["v"])), edgecolor="none", alpha=0.85))
+        draw_arena(ax, arena)
+        goal_cells = {tuple(g) for g in grid["goal_cells"]}
+        for c in by_h.get(h, []):
+            if (c["x"], c["y"]) in goal_cells:
+                continue  # the episode ends there: no action is taken in a goal cell
+            vis = h in visited.get((c["x"], c["y"]), ())
+            _arrow(ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"],
+                   "white" if vis else "0.75", scale)
+        deg = 360.0 * h / nh
+        ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h.get(h, []))} cells", fontsize=9)
+        ax.set_xlabel("")
+        ax.set_ylabel("")
+    # Visited and modelled cells, over all headings.
+    ax = axes[len(hs) // ncols][len(hs) % ncols]
+    modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
+    oranges = plt.get_cmap("Oranges")
+    for (x, y) in set(visited) | set(modelled):
+        nv = len(visited.get((x, y), ()))
+        if nv:
+            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none"))
+        else:  # predicted by the model, never visited
+            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//",
+                                   linewidth=0))
+        if max(nx, ny) <= 16:  # beyond, the shades say it
+            ax.text((x + 0.5) * cw, (y + 0.5) * ch, f"{nv}/{len(modelled.get((x, y), ()))}", ha="center",
+                    va="center", fontsize=7, color="black")
+    draw_arena(ax, arena)
+    ax.set_title("visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)",
+                 fontsize=8)
+    ax.set_xlabel("")
+    ax.set_ylabel("")
+    # The tables' fill.
+    ax = axes[(len(hs) + 1) // ncols][(len(hs) + 1) % ncols]
+    names, used, caps = [], [], []
+    for name, f in view["fill"].items():
+        u = f.get("rows", f.get("cells", f.get("places", f.get("used", f.get("records")))))
+        if name == "q" and f.get("dense"):
+            u = sum(1 for _ in view["cells"])
+        names.append(name)
+        used.append(u)
+        caps.append(f["capacity"])
+    ys = range(len(names))
+    ax.barh(ys, [u / c if c else 0 for u, c in zip(used, caps)], color="tab:blue")
+    for yy, u, c in zip(ys, used, caps):
+        ax.text(0.02, yy, f"{u:,} / {c:,}", va="center", fontsize=8, color="white" if c and u / c > 0.35 else "black")
+    ax.set_yticks(list(ys))
+    ax.set_yticklabels(names, fontsize=8)
+    ax.set_xlim(0, 1)
+    ax.invert_yaxis()
+    ax.set_title("tables' fill", fontsize=9)
+    for j in range(n_panels, nrows * ncols):
+        axes[j // ncols][j % ncols].axis("off")
+    rec = view["record"]
+    fig.suptitle(title or (f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: per heading, the greedy "
+                           f"action (arrow: step, \u21ba \u21bb: turn; grey: the robot never had that heading there) "
+                           f"over V = max_a Q\n(several range codes in a cell: the {'largest V' if view['combine'] == 'max' else 'most experienced'})"),
+                 fontsize=10)
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.6, label="V = max_a Q")
+    try:
+        fig.savefig(out, dpi=110)
+    except OSError as e:
+        raise ToolError(f"cannot write {out}: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    p = ToolArgumentParser(
+        prog="dynaqpc-learned",
+        description="Draw what the robot learned: per heading, the greedy action over V = max_a Q on the arena's "
+                    "cells, the visited and modelled cells and the tables' fill, from a flash image.",
+        epilog="The image is decoded by the firmware's own restore code (dynaqpc-sim learned); exit 2 when it "
+               "cannot be restored. docs/tools.md has an example.")
+    p.add_argument("image", help="flash image: dynaqpc-sim train --save FILE, or a board's backup")
+    p.add_argument("--scenario", required=True, help="paper-lab, paper-sim or FILE.scn: the one it learned on")
+    p.add_argument("--agent", choices=["q", "dyna-q", "dyna-qpc"], help="default: whichever the image holds")
+    p.add_argument("--sim", default=default_sim(), help="dynaqpc-sim binary (default %(default)s)")
+    p.add_argument("--png", metavar="OUT", help="write the picture here (default: IMAGE with .png)")
+    p.add_argument("--json", metavar="OUT", help="write the combined view as JSON ('-': stdout)")
+    p.add_argument("--combine", choices=["max", "visits"], default="max",
+                   help="which range code's row a (cell, heading) shows when the robot saw several there: the "
+                        "largest V (default) or the most experienced")
+    p.add_argument("--headings", default="used",
+                   help="headings to draw: 'used' (the eight with most rows), 'all', or a list such as 0,4,8,12")
+    args = p.parse_args(argv)
+    if args.headings not in ("used", "all"):
+        try:
+            hs = [int(t) for t in args.headings.split(",")]
+        except ValueError:
+            p.error(f"--headings: expected used, all or numbers like 0,4,8,12, got {args.headings!r}")
+        if not hs or any(h < 0 for h in hs):
+            p.error(f"--headings: expected used, all or numbers like 0,4,8,12, got {args.headings!r}")
+
+    def body() -> int:
+        dump = dump_image(args.sim, args.scenario, args.image, args.agent)
+        view = combine(dump, args.combine)
+        if args.headings not in ("used", "all"):
+            bad = [h for h in map(int, args.headings.split(",")) if h >= view["grid"]["headings"]]
+            if bad:
+                raise ToolError(f"--headings: {bad[0]} is not a heading of {view['scenario']} "
+                                f"(0..{view['grid']['headings'] - 1})")
+        view["arrows_followed"] = follow_all(view)
+        if args.json:
+            text = json.dumps(view, indent=1)
+            if args.json == "-":
+                print(text)
+            else:
+                try:
+                    Path(args.json).write_text(text + "\n", encoding="utf-8")
+                except OSError as e:
+                    raise ToolError(f"cannot write {args.json}: {e.strerror or e}") from None
+        png = args.png
+        if png is None and args.json != "-":
+            png = str(Path(args.image).with_suffix(".png"))
+        if png:
+            draw(view, dump["arena"], png, args.headings)
+        f = view["arrows_followed"]
+        rec = view["record"]
+        fill = view["fill"]["q"]
+        out = sys.stderr if args.json == "-" else sys.stdout
+        print(f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
+              f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
+              f"{fill['capacity']} rows); from {f['starts']} visited ones the greedy arrows reach the goal from "
+              f"{f['outcomes'].get('goal', 0)}" + (f"; picture: {png}" if png else ""), file=out)
+        return 0
+
+    return run_main(body)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
