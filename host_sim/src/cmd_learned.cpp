@@ -139,7 +139,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     o << "\"fill\":{\"q\":{\"rows\":" << (ag->q.dense ? 0u : ag->q.rows_used) << ",\"capacity\":" << ag->q.capacity
       << ",\"dense\":" << (ag->q.dense ? "true" : "false") << "}";
     if (ag->kind == AGENT_DYNA_QPC) {
-        const world_model_t &m = ag->model;
+        const world_model_t &m = ag->alg.dyna_qpc.model;
         std::uint32_t places = 0, classes = 0, arrivals = 0;
         for (std::uint32_t i = 0; m.percepts != nullptr && i < m.places; i++) places += m.percepts[i] != 0;
         for (std::uint32_t i = 0; m.classes != nullptr && i < m.n_classes; i++) classes += m.classes[i].count != 0;
@@ -149,7 +149,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
           << ",\"situations\":{\"used\":" << classes << ",\"capacity\":" << m.n_classes << "}"
           << ",\"arrivals\":{\"used\":" << arrivals << ",\"capacity\":" << m.positions << "}";
     } else if (ag->kind == AGENT_DYNA_Q) {
-        o << ",\"table\":{\"records\":" << ag->table.count << ",\"capacity\":" << ag->table.capacity << "}";
+        o << ",\"table\":{\"records\":" << ag->alg.dyna_q.table.count << ",\"capacity\":" << ag->alg.dyna_q.table.capacity << "}";
     }
     o << "},\n";
 
@@ -157,8 +157,8 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     // model predicts an action there, tried or generalised); its Q values and real experience.
     std::vector<std::uint8_t> visited(n_states, 0), tried(n_states * na, 0);
     if (ag->kind == AGENT_DYNA_Q) {
-        for (std::uint32_t i = 0; i < ag->table.count; i++) {
-            const dynaq_record_t &r = ag->table.records[i];
+        for (std::uint32_t i = 0; i < ag->alg.dyna_q.table.count; i++) {
+            const dynaq_record_t &r = ag->alg.dyna_q.table.records[i];
             if (r.state >= n_states) continue;
             visited[r.state] = 1;
             for (std::uint32_t a = 0; a < na; a++) {
@@ -183,16 +183,16 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
         bool vis = false, modelled = false;
         std::uint32_t n[FW_CFG_MAX_ACTIONS] = {0};
         if (ag->kind == AGENT_DYNA_QPC) {
-            vis = model_has_seen(&ag->model, s);
+            vis = model_has_seen(&ag->alg.dyna_qpc.model, s);
             model_query_t mq;
-            model_query_init(&ag->model, s, &mq);
+            model_query_init(&ag->alg.dyna_qpc.model, s, &mq);
             for (std::uint32_t a = 0; a < na; a++) {
                 cmac_tiles_t t = mq.tiles;
-                cmac_tiles_set_action(&ag->model.forward, &t, a);
+                cmac_tiles_set_action(&ag->alg.dyna_qpc.model.forward, &t, a);
                 std::int32_t out[CMAC_MAX_OUTPUTS];
-                n[a] = cmac_predict(&ag->model.forward, &t, out);
+                n[a] = cmac_predict(&ag->alg.dyna_qpc.model.forward, &t, out);
                 model_step_t step;
-                modelled = model_query_predict(&ag->model, &mq, static_cast<std::uint8_t>(a), &step) || modelled;
+                modelled = model_query_predict(&ag->alg.dyna_qpc.model, &mq, static_cast<std::uint8_t>(a), &step) || modelled;
             }
         } else if (ag->kind == AGENT_DYNA_Q) {
             vis = visited[s] != 0;
