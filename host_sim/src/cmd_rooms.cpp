@@ -76,7 +76,11 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         std::cout << "\nEach room keeps the robot, sensors, pose source, timing, encoding, actions, rewards\n"
                      "and learning lines of host_sim/scenarios/<robot>.scn and draws interior walls,\n"
                      "obstacles and a goal; every start reaches the goal through passages at least the\n"
-                     "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n";
+                     "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n"
+                     "\nWith --far the rooms are far-goal rooms of one family (or all four in turn, mixed), on\n"
+                     "the base's floor or a larger one (--floor; more x/y bits, the same cells), each with\n"
+                     "its goal farther than the base's (docs/scenarios.md, \"Far-goal rooms\"). Every row\n"
+                     "and --check say the room's longest shortest path from a start, in actions.\n";
         return kExitOk;
     }
     if (o.seen("--check")) {
