@@ -1243,17 +1243,17 @@ bool generate_room(std::string_view base_text, const std::string &base_label,
                           2.0 * robot_radius(base.robot), start_grid_step(base) * 100.0);
         } else {
             std::snprintf(head, sizeof head,
-                          "# %s: a generated far-goal room, a %s on a %s x %s m floor; regenerate it rather "
+                          "# %s: a generated far-goal room (%s, floor %s x %s m); regenerate it rather "
                           "than edit it\n# (docs/scenarios.md, \"Far-goal rooms\").\n"
                           "# %s: room %u, draw %u.\n"
-                          "# Only the layout%s is new: every other line is %s's own.\n"
+                          "# Only the layout%s new: every other line is %s's own.\n"
                           "# Passages: at least the robot's diagonal (%.3f m), checked on a %.0f cm grid.\n",
                           stem(file).c_str(), far_family_name(spec.family), num(floor.arena_w).c_str(),
                           num(floor.arena_h).c_str(), command.c_str(), index, draw,
                           floor.arena_w == base.arena_w && floor.arena_h == base.arena_h
-                              ? ""
-                              : base.cricket.beacons.empty() ? ", the arena and the encoding"
-                                                             : ", the arena, the encoding and the beacons",
+                              ? " is"
+                              : base.cricket.beacons.empty() ? ", the arena and the encoding are"
+                                                             : ", the arena, the encoding and the beacons are",
                           base_label.c_str(), 2.0 * robot_radius(base.robot), start_grid_step(floor) * 100.0);
         }
         Room room;
