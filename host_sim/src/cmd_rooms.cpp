@@ -57,7 +57,8 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     o.add_uint("--seed", "S", "seed of the rooms; room i depends on S and i only (default 1)", &seed, 0,
                UINT32_MAX);
     o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
-    o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...), making DIR if needed", &out);
+    o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...; with --far "
+               "DIR/<robot>-<family>-<W>x<H>-<seed>-<i>.scn), making DIR if needed", &out);
     o.add_choice("--far", "FAMILY",
                  "far-goal rooms instead: hall, open (goal in a corner), culdesac, serpentine, or mixed "
                  "(room i: hall, open, culdesac, serpentine, hall, ...)",
