@@ -46,7 +46,7 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, base, out, check;
+    std::string robot, base, out, check, far, floor;
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
@@ -57,7 +57,16 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     o.add_uint("--seed", "S", "seed of the rooms; room i depends on S and i only (default 1)", &seed, 0,
                UINT32_MAX);
     o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
-    o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...), making DIR if needed", &out);
+    o.add_string("--out", "DIR", "writes DIR/<robot>-<seed>-<i>.scn (i as 001...; with --far "
+               "DIR/<robot>-<family>-<W>x<H>-<seed>-<i>.scn), making DIR if needed", &out);
+    o.add_choice("--far", "FAMILY",
+                 "far-goal rooms instead: hall, open (goal in a corner), culdesac, serpentine, or mixed "
+                 "(room i: hall, open, culdesac, serpentine, hall, ...)",
+                 &far, {"hall", "open", "culdesac", "serpentine", "mixed"});
+    o.add_string("--floor", "WxH",
+                 "with --far: the floor in m, each side the base's times 1/4, 1/2, 1, 2 or 4 (the state "
+                 "cells keep their size; default: the base's)",
+                 &floor);
     o.add_string("--check", "FILE",
                  "instead: check one scenario file as the rooms are checked (it parses; every start "
                  "reaches the goal through passages at least the robot's diagonal wide)",
@@ -68,11 +77,15 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         std::cout << "\nEach room keeps the robot, sensors, pose source, timing, encoding, actions, rewards\n"
                      "and learning lines of host_sim/scenarios/<robot>.scn and draws interior walls,\n"
                      "obstacles and a goal; every start reaches the goal through passages at least the\n"
-                     "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n";
+                     "robot's diagonal wide (docs/scenarios.md, \"Generated rooms\").\n"
+                     "\nWith --far the rooms are far-goal rooms of one family (or all four in turn, mixed), on\n"
+                     "the base's floor or a larger one (--floor; more x/y bits, the same cells), each with\n"
+                     "its goal farther than the base's (docs/scenarios.md, \"Far-goal rooms\"). Every row\n"
+                     "and --check say the room's longest shortest path from a start, in actions.\n";
         return kExitOk;
     }
     if (o.seen("--check")) {
-        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out"}) {
+        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
         world::Scenario s;
@@ -83,6 +96,16 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
                     "passages at least the robot's diagonal (%.3f m) wide\n",
                     s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
+        const world::PathReport p = world::longest_path(s);
+        if (p.longest >= 0) {
+            std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "
+                        "cells, forward/backward one cell, 90-degree turns)\n",
+                        s.path.c_str(), p.longest, p.nx, p.ny);
+        } else {
+            std::printf("%s: longest path: none: %ld of %ld start (place, heading) pairs cannot reach the goal "
+                        "one state cell at a time (%dx%d cells)\n",
+                        s.path.c_str(), p.stranded, p.start_states, p.nx, p.ny);
+        }
         return kExitOk;
     }
     if (o.seen("--robot") == o.seen("--base")) {
@@ -90,9 +113,11 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                                            : "--robot: required (paper-lab or paper-sim), or --base FILE");
     }
     if (!o.seen("--out") || out.empty()) throw UsageError("--out: required (a directory)");
+    if (o.seen("--floor") && !o.seen("--far")) throw UsageError("--floor: needs --far");
 
     const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(robot) : base;
     std::string base_text;
+    double floor_w = 0, floor_h = 0;
     try {
         base_text = read_file(base_path);
     } catch (const std::runtime_error &e) {
@@ -102,6 +127,17 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         world::Scenario parsed;
         std::string error;
         if (!world::parse_scenario(base_text, base_path, &parsed, &error)) throw UsageError(error);
+        floor_w = parsed.arena_w;
+        floor_h = parsed.arena_h;
+        if (o.seen("--floor")) {
+            char tail = 0;
+            if (std::sscanf(floor.c_str(), "%lfx%lf%c", &floor_w, &floor_h, &tail) != 2) {
+                throw UsageError("--floor: '" + floor + "' is not WxH (metres, e.g. 16x4)");
+            }
+            if (!world::floor_check(parsed, floor_w, floor_h, nullptr, nullptr, &error)) {
+                throw UsageError("--floor: " + error);
+            }
+        }
     }
     std::string prefix = robot, label = "host_sim/scenarios/" + robot + ".scn";
     std::string command = program + " rooms --robot " + robot + " --seed " + std::to_string(seed);
@@ -115,11 +151,26 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     // All rooms first, so that a failure leaves no files behind.
     std::vector<std::pair<std::string, world::Room>> rooms;
     for (std::uint32_t i = 1; i <= count; i++) {
-        const std::string name = prefix + "-" + std::to_string(seed) + "-" + (i < 10 ? "00" : i < 100 ? "0" : "") +
-                                 std::to_string(i) + ".scn";
+        world::RoomSpec spec;
+        std::string room_command = command;
+        if (o.seen("--far")) {
+            spec.far = true;
+            spec.floor_w = floor_w;
+            spec.floor_h = floor_h;
+            if (far == "mixed") {
+                spec.family = world::far_family_of_index(i);
+            } else {
+                world::far_family_from_name(far, &spec.family);
+            }
+            // The command that makes this very room (mixed names each room's family).
+            const std::string at = command.substr(0, command.rfind(" --seed "));
+            room_command = at + " --far " + world::far_family_name(spec.family) + " --floor " +
+                           world::floor_name(floor_w, floor_h) + command.substr(command.rfind(" --seed "));
+        }
+        const std::string name = world::room_file_name(prefix, spec, floor_w, floor_h, seed, i);
         world::Room room;
         std::string error;
-        if (!world::generate_room(base_text, label, command, seed, i, name, &room, &error)) {
+        if (!world::generate_room(base_text, label, room_command, seed, i, spec, name, &room, &error)) {
             throw std::runtime_error(error);
         }
         rooms.emplace_back(name, std::move(room));
@@ -127,12 +178,12 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (ec) throw std::runtime_error("--out: cannot make '" + out + "': " + ec.message());
-    std::printf("file,walls,obstacles,draw,start_points\n");
+    std::printf("file,walls,obstacles,draw,start_points,longest_path\n");
     for (const auto &r : rooms) {
         const std::string path = out + "/" + r.first;
         write_file(path, r.second.text);
-        std::printf("%s,%d,%d,%u,%ld\n", path.c_str(), r.second.walls, r.second.obstacles, r.second.draw,
-                    r.second.passages.start_points);
+        std::printf("%s,%d,%d,%u,%ld,%ld\n", path.c_str(), r.second.walls, r.second.obstacles, r.second.draw,
+                    r.second.passages.start_points, r.second.path.longest);
     }
     return kExitOk;
 }

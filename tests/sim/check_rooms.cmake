@@ -11,7 +11,7 @@ foreach(robot paper-lab paper-sim)
     sim(rooms --robot ${robot} --seed 7 --count 3 --out "${WORK}/b")
     sim(rooms --robot ${robot} --seed 7 --count 4 --out "${WORK}/c")
     sim(rooms --robot ${robot} --seed 8 --count 3 --out "${WORK}/d")
-    if(NOT out MATCHES "^file,walls,obstacles,draw,start_points\n")
+    if(NOT out MATCHES "^file,walls,obstacles,draw,start_points,longest_path\n[^\n]*,[1-9][0-9]*\n")
         message(FATAL_ERROR "rooms: unexpected header:\n${out}")
     endif()
     foreach(i 001 002 003)
@@ -37,6 +37,32 @@ foreach(robot paper-lab paper-sim)
         message(FATAL_ERROR "--count 3 wrote ${n} ${robot} files")
     endif()
 endforeach()
+
+# Far-goal rooms: --far mixed gives room i the family (i - 1) mod 4 names, and that room is the
+# family's own room i; the same command writes the same bytes; each row ends in a longest path.
+sim(rooms --robot paper-sim --far mixed --floor 16x4 --seed 7 --count 4 --out "${WORK}/far_a")
+if(NOT out MATCHES "/paper-sim-hall-16x4-7-001\\.scn,[0-9]+,[0-9]+,[0-9]+,[1-9][0-9]*,[1-9][0-9]*\n.*/paper-sim-open-16x4-7-002\\.scn,.*/paper-sim-culdesac-16x4-7-003\\.scn,.*/paper-sim-serpentine-16x4-7-004\\.scn,")
+    message(FATAL_ERROR "rooms --far mixed: unexpected rows:\n${out}")
+endif()
+sim(rooms --robot paper-sim --far mixed --floor 16x4 --seed 7 --count 4 --out "${WORK}/far_b")
+sim(rooms --robot paper-sim --far culdesac --floor 16x4 --seed 7 --count 3 --out "${WORK}/far_c")
+foreach(pair "far_b/paper-sim-hall-16x4-7-001" "far_b/paper-sim-serpentine-16x4-7-004" "far_c/paper-sim-culdesac-16x4-7-003")
+    get_filename_component(name "${pair}" NAME)
+    execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${WORK}/far_a/${name}.scn" "${WORK}/${pair}.scn"
+        RESULT_VARIABLE differ)
+    if(differ)
+        message(FATAL_ERROR "far rooms: ${name} differs between far_a/ and ${pair}")
+    endif()
+endforeach()
+file(READ "${WORK}/far_a/paper-sim-culdesac-16x4-7-003.scn" far)
+if(NOT far MATCHES "\n# longest_path_actions [1-9][0-9]*: " OR NOT far MATCHES "\narena 16 4 " OR
+   NOT far MATCHES "\nencode x 6 y 4 heading 4 sensor 4 ")
+    message(FATAL_ERROR "far room: no longest path, arena or encoding line:\n${far}")
+endif()
+sim(rooms --check "${WORK}/far_a/paper-sim-culdesac-16x4-7-003.scn")
+if(NOT out MATCHES "passages ok.*\n[^\n]*: longest path: [1-9][0-9]* actions from the farthest start")
+    message(FATAL_ERROR "rooms --check on a far room: unexpected output:\n${out}")
+endif()
 
 # A room by its path: trains, and the robot gets to the goal.
 sim(train --scenario "${WORK}/a/paper-lab-7-001.scn" --agent dyna-qpc --sets 1 --episodes 3 --seed 2

@@ -12,8 +12,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 #include "world/random.h"
@@ -41,6 +43,21 @@ constexpr int kPlaceTries = 300;          // positions tried per piece before it
 constexpr int kGoalTries = 1000;
 
 constexpr double kTouch = 1e-6;  // m: a piece this close to an outer wall touches it
+
+// ---- Far-goal rooms (docs/scenarios.md, "Far-goal rooms"), lengths in robot diagonals ----
+constexpr double kHallWidth[2] = {3.0, 5.0};   // a hall narrower than its floor: the rest is solid
+constexpr double kPillarEvery[2] = {3.0, 5.0}; // along a hall
+constexpr double kPillarR[2] = {0.3, 0.5};
+constexpr double kButtress[2] = {0.5, 0.8};    // a pillar against a hall's wall: its depth
+constexpr double kFarDoor[2] = {1.6, 2.5};     // doors and the gaps of partitions
+constexpr double kPocket[2] = {1.6, 2.6};      // a cul-de-sac's inside width
+constexpr double kPocketArm[2] = {2.5, 4.5};   // and depth
+constexpr double kBehind[2] = {0.5, 0.9};      // its back wall's distance from the goal
+constexpr double kSide = 1.6;                  // a passage beside a cul-de-sac, at least
+constexpr double kLane = 1.8;                  // a serpentine lane, at least
+constexpr int kMaxPartitions = 4;
+constexpr double kOpenDensity[2] = {12.0, 18.0};  // D^2 of an open floor per obstacle
+constexpr int kCulDeSacClutter[2] = {2, 4};
 
 // Positions on a 1 mm grid, sizes on 2 mm (so that a box pushed against a wall has its centre on
 // the 1 mm grid too): what the file says is what was checked.
@@ -151,6 +168,8 @@ public:
 
     // Draws the whole layout into `pieces` and `goal`.
     void run();
+    // Draws a far-goal room of `family`; false when this draw cannot hold one (draw again).
+    bool run_far(FarFamily family);
 
     Goal goal;
     std::vector<Piece> pieces;
@@ -166,10 +185,26 @@ private:
     void draw_obstacle(Piece *p);
     bool fits(const Piece &p) const;
 
+    // Far rooms are drawn in a frame of their own: u along the floor's longer side (a square
+    // floor: either), v across it, both mirrored at random; the families put the goal at u = L.
+    void set_frame();
+    void to_xy(double u, double v, double *x, double *y) const;
+    Obstacle box_uv(double u0, double u1, double v0, double v1) const;
+    bool goal_near_uv(double u, double v, double u0, double u1, double v0, double v1);
+    void goal_extent_uv(double *u0, double *u1, double *v0, double *v1) const;
+    bool add_structure(Piece p, bool wall);
+    bool far_hall();
+    bool far_open();
+    bool far_culdesac();
+    bool far_serpentine();
+    void add_obstacles(int n);
+
     const Scenario &base_;
     RandomStream rng_;
     double d_;  // the robot's diagonal, m
     std::vector<Obstacle> goal_region_;
+    bool swap_ = false, flip_u_ = false, flip_v_ = false;
+    double L_ = 0, S_ = 0;  // the frame's long and short sides, m
 };
 
 void Drawer::draw_goal()
@@ -365,6 +400,323 @@ void Drawer::run()
     }
 }
 
+// ---- Far-goal rooms --------------------------------------------------------------------------
+
+void Drawer::set_frame()
+{
+    const double w = base_.arena_w, h = base_.arena_h;
+    swap_ = w < h || (w == h && u(0, 1) < 0.5);
+    L_ = swap_ ? h : w;
+    S_ = swap_ ? w : h;
+    flip_u_ = u(0, 1) < 0.5;
+    flip_v_ = u(0, 1) < 0.5;
+}
+
+void Drawer::to_xy(double uu, double vv, double *x, double *y) const
+{
+    if (flip_u_) uu = L_ - uu;
+    if (flip_v_) vv = S_ - vv;
+    *x = swap_ ? vv : uu;
+    *y = swap_ ? uu : vv;
+}
+
+// An axis-aligned box over [u0, u1] x [v0, v1]; one that reaches an outer wall touches it exactly.
+Obstacle Drawer::box_uv(double u0, double u1, double v0, double v1) const
+{
+    const double lu = q_size(u1 - u0), lv = q_size(v1 - v0);
+    const double uc = u0 <= kTouch ? lu / 2 : u1 >= L_ - kTouch ? L_ - lu / 2 : (u0 + u1) / 2;
+    const double vc = v0 <= kTouch ? lv / 2 : v1 >= S_ - kTouch ? S_ - lv / 2 : (v0 + v1) / 2;
+    double x = 0, y = 0;
+    to_xy(uc, vc, &x, &y);
+    return swap_ ? box(x, y, lv, lu) : box(x, y, lu, lv);
+}
+
+// The goal nearest (u, v) whose region lies within [u0, u1] x [v0, v1] of the frame: the base's
+// circle, its centre at least r + D/2 off the walls (the robot's centre gets in); or the pair of
+// neighbouring state cells whose midpoint is nearest (either orientation; ties go to one drawn at
+// random) and whose circle lies inside the arena. False when no goal fits the bounds.
+bool Drawer::goal_near_uv(double uu, double vv, double u0, double u1, double v0, double v1)
+{
+    const double w = base_.arena_w, h = base_.arena_h;
+    goal = base_.goal;
+    goal_region_.clear();
+    if (!base_.goal.cells) {
+        const double r = base_.goal.radius;
+        const double lo_u = std::max(u0 + r, std::min(r + d_ / 2, L_ / 2));
+        const double hi_u = std::min(u1 - r, L_ - std::min(r + d_ / 2, L_ / 2));
+        const double lo_v = std::max(v0 + r, std::min(r + d_ / 2, S_ / 2));
+        const double hi_v = std::min(v1 - r, S_ - std::min(r + d_ / 2, S_ / 2));
+        if (lo_u > hi_u || lo_v > hi_v) return false;
+        double x = 0, y = 0;
+        to_xy(std::clamp(uu, lo_u, hi_u), std::clamp(vv, lo_v, hi_v), &x, &y);
+        goal.cx = q_pos(x);
+        goal.cy = q_pos(y);
+        Obstacle c;
+        c.shape = Obstacle::Shape::Circle;
+        c.cx = goal.cx;
+        c.cy = goal.cy;
+        c.radius = r;
+        goal_region_.assign(1, c);
+        return true;
+    }
+    double tx = 0, ty = 0;
+    to_xy(uu, vv, &tx, &ty);
+    const int nx = 1 << base_.encoding.x_bits, ny = 1 << base_.encoding.y_bits;
+    const double cw = w / nx, ch = h / ny;
+    const bool prefer_x = u(0, 1) < 0.5;
+    double best = std::numeric_limits<double>::infinity();
+    for (int along = 0; along < 2; along++) {
+        const bool along_x = (along == 0) == prefer_x;
+        for (int j = 0; j < (along_x ? ny : ny - 1); j++) {
+            for (int i = 0; i < (along_x ? nx - 1 : nx); i++) {
+                const double cx = std::round((along_x ? (i + 1) * cw : (i + 0.5) * cw) * 1e4) / 1e4;
+                const double cy = std::round((along_x ? (j + 0.5) * ch : (j + 1) * ch) * 1e4) / 1e4;
+                const double r = std::round(((along_x ? cw : ch) / 2 + 0.1 * std::min(cw, ch)) * 1e4) / 1e4;
+                const double dist = std::hypot(cx - tx, cy - ty);
+                if (cx - r < 0 || cx + r > w || cy - r < 0 || cy + r > h || !(dist < best - 1e-9)) continue;
+                // The two cells, in the frame.
+                double ru[2], rv[2];
+                for (int c = 0; c < 2; c++) {
+                    const double x = c == 0 ? i * cw : (i + (along_x ? 2 : 1)) * cw;
+                    const double y = c == 0 ? j * ch : (j + (along_x ? 1 : 2)) * ch;
+                    ru[c] = flip_u_ ? L_ - (swap_ ? y : x) : (swap_ ? y : x);
+                    rv[c] = flip_v_ ? S_ - (swap_ ? x : y) : (swap_ ? x : y);
+                }
+                if (std::min(ru[0], ru[1]) < u0 - 1e-9 || std::max(ru[0], ru[1]) > u1 + 1e-9 ||
+                    std::min(rv[0], rv[1]) < v0 - 1e-9 || std::max(rv[0], rv[1]) > v1 + 1e-9) {
+                    continue;
+                }
+                best = dist;
+                goal.cx = cx;
+                goal.cy = cy;
+                goal.radius = r;
+            }
+        }
+    }
+    if (!std::isfinite(best)) return false;
+    Scenario s = base_;
+    s.goal = goal;
+    for (const CellBox &c : goal_cells(s)) {
+        goal_region_.push_back(box((c.x0 + c.x1) / 2, (c.y0 + c.y1) / 2, c.x1 - c.x0, c.y1 - c.y0));
+    }
+    return true;
+}
+
+// The goal region's extent in the frame.
+void Drawer::goal_extent_uv(double *u0, double *u1, double *v0, double *v1) const
+{
+    *u0 = *v0 = std::numeric_limits<double>::infinity();
+    *u1 = *v1 = -std::numeric_limits<double>::infinity();
+    for (const Obstacle &g : goal_region_) {
+        double ex = 0, ey = 0;
+        extents(g, &ex, &ey);
+        for (double x : {g.cx - ex, g.cx + ex}) {
+            for (double y : {g.cy - ey, g.cy + ey}) {
+                double uu = swap_ ? y : x, vv = swap_ ? x : y;
+                if (flip_u_) uu = L_ - uu;
+                if (flip_v_) vv = S_ - vv;
+                *u0 = std::min(*u0, uu);
+                *u1 = std::max(*u1, uu);
+                *v0 = std::min(*v0, vv);
+                *v1 = std::max(*v1, vv);
+            }
+        }
+    }
+}
+
+// A piece the family places by its own rule (its spacing is built in, not drawn and tried): kept
+// only if it stays kGoalClear D off the goal.
+bool Drawer::add_structure(Piece p, bool wall)
+{
+    for (const Obstacle &o : p.parts) {
+        for (const Obstacle &g : goal_region_) {
+            if (gap_between(o, g) < kGoalClear * d_) return false;
+        }
+    }
+    p.angle_deg.assign(p.parts.size(), 0);
+    p.may_touch_walls = true;
+    pieces.push_back(std::move(p));
+    (wall ? walls : obstacles)++;
+    return true;
+}
+
+void Drawer::add_obstacles(int n)
+{
+    for (int k = 0; k < n; k++) {
+        for (int t = 0; t < kPlaceTries; t++) {
+            Piece p;
+            draw_obstacle(&p);
+            if (fits(p)) {
+                pieces.push_back(p);
+                obstacles++;
+                break;
+            }
+        }
+    }
+}
+
+// A hall along the floor, the goal at its far end: as wide as the floor where that is under
+// 6.5 D, or 3-5 D with the rest of the floor solid, bending at the end across the floor when the floor is less than twice as
+// long as wide (an L: along one wall, then along the end wall); a wall across it with a door;
+// pillars every 3-5 D along its first leg, in the middle where 1.5 D passes either side, else
+// against the outer wall.
+bool Drawer::far_hall()
+{
+    double hw = q_size(in_d(kHallWidth));
+    const bool block = S_ >= (kHallWidth[1] + kGap) * d_;  // a floor not already a hall
+    if (!block) hw = S_;
+    const bool bend = block && L_ < 2 * S_;
+    const double leg = bend ? q_size(in_d(kHallWidth)) : 0;  // the second leg's width, along u
+    const double clear = kGoalClear * d_;
+    if (bend) {
+        if (!goal_near_uv(L_, S_, L_ - leg + clear, L_, hw + clear, S_)) return false;
+    } else if (!goal_near_uv(L_, hw / 2, 0, L_, 0, block ? hw - clear : S_)) {
+        return false;
+    }
+    if (block) {
+        Piece p;
+        p.parts.push_back(box_uv(0, L_ - leg, hw, S_));
+        p.what = "the floor beside the hall, solid";
+        if (!add_structure(p, true)) return false;
+    }
+    const double first = L_ - leg;  // the first leg's length
+    const double t = q_size(in_d(kWallThick)), door = q_size(in_d(kFarDoor));
+    const double uc = u(0.35, 0.65) * first;
+    if (door < hw - 0.5 * d_) {
+        double a = u(0, hw - door);
+        if (a < 0.5 * d_) a = 0;
+        if (hw - (a + door) < 0.5 * d_) a = hw - door;
+        Piece p;
+        if (a > 0) p.parts.push_back(box_uv(uc - t / 2, uc + t / 2, 0, a));
+        if (a + door < hw) p.parts.push_back(box_uv(uc - t / 2, uc + t / 2, a + door, hw));
+        p.what = "wall across the hall, with a door";
+        if (!add_structure(p, true)) return false;
+    }
+    for (double at = kGap * d_ + in_d(kPillarEvery) / 2; at < first - kGap * d_; at += in_d(kPillarEvery)) {
+        Piece p;
+        double x = 0, y = 0;
+        to_xy(at, hw / 2, &x, &y);
+        Obstacle c;
+        c.shape = Obstacle::Shape::Circle;
+        c.cx = q_pos(x);
+        c.cy = q_pos(y);
+        c.radius = q_size(in_d(kPillarR));
+        p.parts.push_back(c);
+        p.angle_deg.push_back(0);
+        p.what = "pillar";
+        if (!fits(p)) {
+            const double side = q_size(in_d(kButtress)), len = q_size(in_d(kButtress));
+            p.parts.assign(1, box_uv(at - len / 2, at + len / 2, 0, side));
+            p.what = "pillar against the wall";
+            p.may_touch_walls = true;
+        }
+        if (fits(p)) {
+            pieces.push_back(p);
+            obstacles++;
+        }
+    }
+    return true;
+}
+
+// An open floor with the goal in a corner: desks, pillars and L-shapes as the ordinary rooms
+// draw them, one per 12-18 D^2 of floor.
+bool Drawer::far_open()
+{
+    if (!goal_near_uv(L_, S_, 0, L_, 0, S_)) return false;
+    const double area = L_ * S_ / (d_ * d_);
+    add_obstacles(static_cast<int>(std::lround(area / u(kOpenDensity[0], kOpenDensity[1]))));
+    return true;
+}
+
+// The goal behind a cul-de-sac whose mouth faces the rest of the floor: a back wall between the
+// goal and the floor, two arms toward the floor (one of them the floor's side wall when the
+// pocket comes near it), 1.6 D at least beside it; then 2-4 obstacles.
+bool Drawer::far_culdesac()
+{
+    const double t = q_size(in_d(kWallThick));
+    if (!goal_near_uv(L_, u(0.25, 0.75) * S_, 0, L_, 0, S_)) return false;
+    double gu0 = 0, gu1 = 0, gv0 = 0, gv1 = 0;
+    goal_extent_uv(&gu0, &gu1, &gv0, &gv1);
+    const double pw = std::max(in_d(kPocket), gv1 - gv0 + 0.4 * d_);
+    const double vc = (gv0 + gv1) / 2;
+    double ov0 = vc - pw / 2 - t, ov1 = vc + pw / 2 + t;
+    const bool attach0 = ov0 < kSide * d_, attach1 = S_ - ov1 < kSide * d_;
+    if (attach0 && attach1) return false;  // the goal would be walled in
+    if (attach0) ov0 = 0;
+    if (attach1) ov1 = S_;
+    const double bu1 = gu0 - in_d(kBehind), bu0 = bu1 - t;
+    const double arm = std::min(in_d(kPocketArm), bu0 - kSide * d_);
+    if (arm < kGap * d_) return false;
+    Piece p;
+    p.parts.push_back(box_uv(bu0, bu1, ov0, ov1));
+    if (!attach0) p.parts.push_back(box_uv(bu0 - arm, bu0, ov0, ov0 + t));
+    if (!attach1) p.parts.push_back(box_uv(bu0 - arm, bu0, ov1 - t, ov1));
+    p.what = "cul-de-sac";
+    if (!add_structure(p, true)) return false;
+    add_obstacles(kCulDeSacClutter[0] + below(kCulDeSacClutter[1] - kCulDeSacClutter[0] + 1));
+    return true;
+}
+
+// 1-4 partitions along the floor, each open at one end (1.6-2.5 D), the ends alternating, lanes
+// at least 1.8 D wide: the goal at the far end of the last lane. Where no goal fits in a lane
+// (paper-lab's goal cells in a lane of a narrow hall), or the floor is too narrow for a lane
+// each side, 2-6 baffles across the floor instead, open at alternating sides: the goal beyond
+// the last.
+bool Drawer::far_serpentine()
+{
+    const double t = q_size(in_d(kWallThick));
+    const int most = std::min(kMaxPartitions, static_cast<int>(std::floor((S_ - kLane * d_) / (kLane * d_ + t))));
+    if (most >= 1) {
+        const int k = 1 + below(most);
+        const double lane = (S_ - k * t) / (k + 1);
+        bool high = u(0, 1) < 0.5;  // the first partition's gap at u = L
+        for (int j = 1; j <= k; j++, high = !high) {
+            const double v0 = j * lane + (j - 1) * t, gap = q_size(in_d(kFarDoor));
+            Piece p;
+            p.parts.push_back(high ? box_uv(0, L_ - gap, v0, v0 + t) : box_uv(gap, L_, v0, v0 + t));
+            p.what = "partition";
+            p.angle_deg.assign(1, 0);
+            p.may_touch_walls = true;
+            pieces.push_back(p);
+            walls++;
+        }
+        // The last lane is entered through the last partition's gap, which is at u = L when
+        // `high` (flipped once more after it) is false: the goal is at the lane's other end.
+        if (goal_near_uv(high ? L_ : 0, S_ - lane / 2, 0, L_, S_ - lane + kGoalClear * d_, S_)) return true;
+        pieces.clear();
+        walls = 0;
+    }
+    const int baffles = std::min(6, static_cast<int>(std::floor((L_ - kLane * d_) / (kLane * d_ + t))));
+    if (baffles < 2) return false;
+    const int k = 2 + below(baffles - 1);
+    const double bay = (L_ - k * t) / (k + 1);
+    bool high = u(0, 1) < 0.5;  // the first baffle's gap at v = S
+    for (int j = 1; j <= k; j++, high = !high) {
+        const double u0 = j * bay + (j - 1) * t, gap = q_size(in_d(kFarDoor));
+        if (S_ - gap < d_) return false;
+        Piece p;
+        p.parts.push_back(high ? box_uv(u0, u0 + t, 0, S_ - gap) : box_uv(u0, u0 + t, gap, S_));
+        p.what = "baffle";
+        p.angle_deg.assign(1, 0);
+        p.may_touch_walls = true;
+        pieces.push_back(p);
+        walls++;
+    }
+    return goal_near_uv(L_, high ? S_ : 0, L_ - bay + kGoalClear * d_, L_, 0, S_);
+}
+
+bool Drawer::run_far(FarFamily family)
+{
+    set_frame();
+    switch (family) {
+    case FarFamily::Hall: return far_hall();
+    case FarFamily::Open: return far_open();
+    case FarFamily::CulDeSac: return far_culdesac();
+    case FarFamily::Serpentine: return far_serpentine();
+    }
+    return false;
+}
+
 // A number as the file writes it: at most 4 decimals, no trailing zeros.
 std::string num(double v)
 {
@@ -459,16 +811,29 @@ std::string stem(const std::string &file)
 
 }  // namespace
 
-PassageReport check_passages(const Scenario &s)
+namespace {
+
+// The passage check's grid (start_grid_step()): which points are free, may hold a start, are in
+// the goal. check_passages() and longest_path() both stand on it.
+enum : unsigned char { kFree = 1, kStart = 2, kGoal = 4, kReached = 8 };
+
+struct FreeGrid {
+    double step = 0;
+    long nx = 0, ny = 0;
+    std::vector<unsigned char> cell;  // kFree | kStart | kGoal per point, j * nx + i
+    double x(long i) const { return step / 2 + i * step; }
+    double y(long j) const { return step / 2 + j * step; }
+};
+
+FreeGrid free_grid(const Scenario &s, PassageReport *rep)
 {
-    PassageReport rep;
-    const double step = start_grid_step(s);
-    const long nx = static_cast<long>(std::ceil(s.arena_w / step - 0.5));
-    const long ny = static_cast<long>(std::ceil(s.arena_h / step - 0.5));
+    FreeGrid g;
+    g.step = start_grid_step(s);
+    const double step = g.step;
+    const long nx = g.nx = static_cast<long>(std::ceil(s.arena_w / step - 0.5));
+    const long ny = g.ny = static_cast<long>(std::ceil(s.arena_h / step - 0.5));
     const double need = robot_radius(s.robot);
-    enum : unsigned char { kFree = 1, kStart = 2, kReached = 4 };
-    std::vector<unsigned char> cell(static_cast<std::size_t>(nx * ny), 0);
-    std::vector<long> queue;
+    g.cell.assign(static_cast<std::size_t>(nx * ny), 0);
     // clear[k]: the clearance of point k where it is below `enough`, else at least `enough`. Each
     // obstacle is measured only over the points its bounding box, grown by `enough`, covers: the
     // others are farther from it.
@@ -498,20 +863,38 @@ PassageReport check_passages(const Scenario &s)
         for (long i = 0; i < nx; i++) {
             const double x = step / 2 + i * step, y = step / 2 + j * step;
             const double cl = clear[static_cast<std::size_t>(j * nx + i)];
-            unsigned char &c = cell[static_cast<std::size_t>(j * nx + i)];
+            unsigned char &c = g.cell[static_cast<std::size_t>(j * nx + i)];
             if (cl < need) continue;
             c = kFree;
-            rep.free_points++;
+            rep->free_points++;
             // The world's own rule decides a start; where the clearance is too small it cannot hold.
             if (cl >= need + s.start.margin - 1e-12 && start_position_ok(s, x, y)) {
                 c |= kStart;
-                rep.start_points++;
+                rep->start_points++;
             }
             if (in_goal(s, x, y)) {
-                c |= kReached;
-                rep.goal_points++;
-                queue.push_back(j * nx + i);
+                c |= kGoal;
+                rep->goal_points++;
             }
+        }
+    }
+    return g;
+}
+
+}  // namespace
+
+PassageReport check_passages(const Scenario &s)
+{
+    PassageReport rep;
+    FreeGrid g = free_grid(s, &rep);
+    const long nx = g.nx, ny = g.ny;
+    const double step = g.step, need = robot_radius(s.robot);
+    std::vector<unsigned char> &cell = g.cell;
+    std::vector<long> queue;
+    for (long k = 0; k < nx * ny; k++) {
+        if (cell[static_cast<std::size_t>(k)] & kGoal) {
+            cell[static_cast<std::size_t>(k)] |= kReached;
+            queue.push_back(k);
         }
     }
     char buf[256];
@@ -557,31 +940,325 @@ PassageReport check_passages(const Scenario &s)
     return rep;
 }
 
+PathReport longest_path(const Scenario &s)
+{
+    PathReport rep;
+    PassageReport counts;
+    const FreeGrid g = free_grid(s, &counts);
+    const long nx = g.nx, ny = g.ny, n = nx * ny;
+    const int cx = rep.nx = 1 << s.encoding.x_bits, cy = rep.ny = 1 << s.encoding.y_bits;
+    const double cw = s.arena_w / cx, ch = s.arena_h / cy;
+    auto cell_of = [&](long k) {
+        const int i = std::min(cx - 1, static_cast<int>(g.x(k % nx) / cw));
+        const int j = std::min(cy - 1, static_cast<int>(g.y(k / nx) / ch));
+        return j * cx + i;
+    };
+    // Places: free points joined to their four neighbours within one state cell.
+    std::vector<long> place(static_cast<std::size_t>(n), -1);
+    std::vector<int> place_cell;
+    std::vector<long> queue;
+    for (long k0 = 0; k0 < n; k0++) {
+        if (!(g.cell[static_cast<std::size_t>(k0)] & kFree) || place[static_cast<std::size_t>(k0)] >= 0) continue;
+        const long id = static_cast<long>(place_cell.size());
+        const int c = cell_of(k0);
+        place_cell.push_back(c);
+        queue.assign(1, k0);
+        place[static_cast<std::size_t>(k0)] = id;
+        for (std::size_t head = 0; head < queue.size(); head++) {
+            const long k = queue[head], i = k % nx, j = k / nx;
+            const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
+                                  j + 1 < ny ? k + nx : -1};
+            for (long m : next) {
+                if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree) ||
+                    place[static_cast<std::size_t>(m)] >= 0 || cell_of(m) != c) {
+                    continue;
+                }
+                place[static_cast<std::size_t>(m)] = id;
+                queue.push_back(m);
+            }
+        }
+    }
+    const long places = rep.places = static_cast<long>(place_cell.size());
+    // next[p][h]: the places one cell away along heading h (0 +x, 1 +y, 2 -x, 3 -y) that p joins.
+    std::vector<std::array<std::vector<long>, 4>> next(static_cast<std::size_t>(places));
+    std::vector<unsigned char> flags(static_cast<std::size_t>(places), 0);
+    for (long k = 0; k < n; k++) {
+        const unsigned char c = g.cell[static_cast<std::size_t>(k)];
+        if (!(c & kFree)) continue;
+        const long p = place[static_cast<std::size_t>(k)];
+        flags[static_cast<std::size_t>(p)] |= c;
+        const long i = k % nx, j = k / nx;
+        const long right = i + 1 < nx ? k + 1 : -1, up = j + 1 < ny ? k + nx : -1;
+        for (int d = 0; d < 2; d++) {
+            const long m = d == 0 ? right : up;
+            if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree)) continue;
+            const long q = place[static_cast<std::size_t>(m)];
+            if (place_cell[static_cast<std::size_t>(q)] == place_cell[static_cast<std::size_t>(p)]) continue;
+            next[static_cast<std::size_t>(p)][d].push_back(q);      // +x or +y
+            next[static_cast<std::size_t>(q)][d + 2].push_back(p);  // -x or -y
+        }
+    }
+    for (auto &per_heading : next) {
+        for (std::vector<long> &v : per_heading) {
+            std::sort(v.begin(), v.end());
+            v.erase(std::unique(v.begin(), v.end()), v.end());
+        }
+    }
+    // Every move has its reverse (forward / backward along the same heading, left / right), so
+    // the distances from the goal are the distances to it.
+    std::vector<long> dist(static_cast<std::size_t>(places * 4), -1);
+    queue.clear();
+    for (long p = 0; p < places; p++) {
+        if (!(flags[static_cast<std::size_t>(p)] & kGoal)) continue;
+        for (int h = 0; h < 4; h++) {
+            dist[static_cast<std::size_t>(p * 4 + h)] = 0;
+            queue.push_back(p * 4 + h);
+        }
+    }
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        const long st = queue[head], p = st / 4, d = dist[static_cast<std::size_t>(st)];
+        const int h = static_cast<int>(st % 4);
+        auto visit = [&](long to) {
+            if (dist[static_cast<std::size_t>(to)] < 0) {
+                dist[static_cast<std::size_t>(to)] = d + 1;
+                queue.push_back(to);
+            }
+        };
+        visit(p * 4 + (h + 1) % 4);
+        visit(p * 4 + (h + 3) % 4);
+        for (long q : next[static_cast<std::size_t>(p)][h]) visit(q * 4 + h);
+        for (long q : next[static_cast<std::size_t>(p)][(h + 2) % 4]) visit(q * 4 + h);
+    }
+    long longest = 0;
+    for (long p = 0; p < places; p++) {
+        if (!(flags[static_cast<std::size_t>(p)] & kStart)) continue;
+        for (int h = 0; h < 4; h++) {
+            rep.start_states++;
+            const long d = dist[static_cast<std::size_t>(p * 4 + h)];
+            if (d < 0) rep.stranded++;
+            longest = std::max(longest, d);
+        }
+    }
+    rep.longest = rep.stranded > 0 || rep.start_states == 0 ? -1 : longest;
+    return rep;
+}
+
+const char *far_family_name(FarFamily f)
+{
+    switch (f) {
+    case FarFamily::Hall: return "hall";
+    case FarFamily::Open: return "open";
+    case FarFamily::CulDeSac: return "culdesac";
+    case FarFamily::Serpentine: return "serpentine";
+    }
+    return "?";
+}
+
+bool far_family_from_name(const std::string &name, FarFamily *out)
+{
+    for (int k = 0; k < kFarFamilies; k++) {
+        if (name == far_family_name(static_cast<FarFamily>(k))) {
+            *out = static_cast<FarFamily>(k);
+            return true;
+        }
+    }
+    return false;
+}
+
+FarFamily far_family_of_index(std::uint32_t index)
+{
+    return static_cast<FarFamily>((index + kFarFamilies - 1) % kFarFamilies);
+}
+
+bool floor_check(const Scenario &base, double w, double h, int *x_bits, int *y_bits, std::string *error)
+{
+    int bits[2] = {0, 0};
+    const double side[2] = {w, h}, base_side[2] = {base.arena_w, base.arena_h};
+    const int base_bits[2] = {base.encoding.x_bits, base.encoding.y_bits};
+    for (int a = 0; a < 2; a++) {
+        const double ratio = side[a] / base_side[a];
+        const int k = ratio > 0 && std::isfinite(ratio) ? static_cast<int>(std::lround(std::log2(ratio))) : 99;
+        bits[a] = base_bits[a] + k;
+        if (k < -2 || k > 2 || std::fabs(ratio - std::ldexp(1.0, k)) > 1e-6 * ratio || bits[a] < 1 || bits[a] > 16) {
+            if (error != nullptr) {
+                *error = num(w) + "x" + num(h) + ": each side must be the base's (" + num(base.arena_w) + " x " +
+                         num(base.arena_h) + " m) times 1/4, 1/2, 1, 2 or 4, so that the state cells keep their size (" +
+                         num(base.arena_w / (1 << base.encoding.x_bits)) + " x " +
+                         num(base.arena_h / (1 << base.encoding.y_bits)) + " m)";
+            }
+            return false;
+        }
+    }
+    if (bits[0] + bits[1] + base.encoding.heading_bits + base.encoding.sensor_bits > 32) {
+        if (error != nullptr) *error = num(w) + "x" + num(h) + ": its encoding would need more than 32 bits";
+        return false;
+    }
+    if (x_bits != nullptr) *x_bits = bits[0];
+    if (y_bits != nullptr) *y_bits = bits[1];
+    return true;
+}
+
+std::string floor_name(double w, double h)
+{
+    return num(w) + "x" + num(h);
+}
+
+std::string room_file_name(const std::string &prefix, const RoomSpec &spec, double floor_w, double floor_h,
+                           std::uint32_t seed, std::uint32_t index)
+{
+    char idx[16];
+    std::snprintf(idx, sizeof idx, "%03u", index);
+    std::string name = prefix + "-";
+    if (spec.far) {
+        name += std::string(far_family_name(spec.family)) + "-" + floor_name(floor_w, floor_h) + "-";
+    }
+    return name + std::to_string(seed) + "-" + idx + ".scn";
+}
+
+namespace {
+
+// `text` with the first line whose key is `key` replaced by `lines` (any number of lines, each
+// ending in a newline) and every later line of that key dropped.
+std::string replace_key(const std::string &text, const std::string &key, const std::string &lines)
+{
+    std::string out;
+    bool done = false;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        const std::string line = text.substr(pos, end - pos);
+        pos = end + 1;
+        std::istringstream ss(line.substr(0, line.find('#')));
+        std::string k;
+        ss >> k;
+        if (k != key) {
+            out += line + "\n";
+        } else if (!done) {
+            out += lines;
+            done = true;
+        }
+    }
+    return out;
+}
+
+// Beacons for a floor other than the base's: eight (the firmware's most) on the base's
+// ceiling height, two rows min(0.5 m, H/4) in from the long walls, four columns 0.5 m in from
+// the ends and evenly between; their ids the base's first with the last byte counted on.
+std::string beacon_lines(const Scenario &base, double w, double h)
+{
+    const Beacon &b0 = base.cricket.beacons.front();
+    const std::size_t colon = b0.id.find_last_of(':');
+    const std::string prefix = b0.id.substr(0, colon + 1);
+    const unsigned long last = std::strtoul(b0.id.c_str() + colon + 1, nullptr, 16);
+    std::string out;
+    const double inset = std::min(0.5, h / 4), ix = std::min(0.5, w / 4);
+    for (int k = 0; k < 8; k++) {
+        const int col = k / 2, row = k % 2;
+        const double x = q_pos(ix + (w - 2 * ix) * col / 3.0), y = row == 0 ? inset : h - inset;
+        char id[16];
+        std::snprintf(id, sizeof id, "%lx", (last + static_cast<unsigned long>(k)) & 0xffu);
+        out += "beacon " + prefix + id + " " + num(x) + " " + num(q_pos(y)) + " " + num(b0.z) + "\n";
+    }
+    return out;
+}
+
+// The base's lines for a far room on a w x h floor: its arena and encoding (and beacons) new.
+void far_base_lines(const Scenario &base, double w, double h, int xb, int yb, std::string *before,
+                    std::string *after)
+{
+    if (w == base.arena_w && h == base.arena_h) return;
+    const double cw = base.arena_w / (1 << base.encoding.x_bits), ch = base.arena_h / (1 << base.encoding.y_bits);
+    *before = replace_key(*before, "arena",
+                          with_comment("arena " + num(w) + " " + num(h),
+                                       "m; a floor other than the base's " + num(base.arena_w) + " x " +
+                                           num(base.arena_h) + " m"));
+    const int bits = xb + yb + base.encoding.heading_bits + base.encoding.sensor_bits;
+    char states[64];
+    std::snprintf(states, sizeof states, "%d bits; %d x %d cells of %s x %s m, as the base's", bits, 1 << xb,
+                  1 << yb, num(cw).c_str(), num(ch).c_str());
+    *after = replace_key(*after, "encode",
+                         with_comment("encode x " + std::to_string(xb) + " y " + std::to_string(yb) + " heading " +
+                                          std::to_string(base.encoding.heading_bits) + " sensor " +
+                                          std::to_string(base.encoding.sensor_bits),
+                                      states));
+    if (!base.cricket.beacons.empty()) *after = replace_key(*after, "beacon", beacon_lines(base, w, h));
+}
+
+}  // namespace
+
 bool generate_room(std::string_view base_text, const std::string &base_label,
                    const std::string &command, std::uint32_t seed, std::uint32_t index,
                    const std::string &file, Room *out, std::string *error)
+{
+    return generate_room(base_text, base_label, command, seed, index, RoomSpec{}, file, out, error);
+}
+
+bool generate_room(std::string_view base_text, const std::string &base_label,
+                   const std::string &command, std::uint32_t seed, std::uint32_t index,
+                   const RoomSpec &spec, const std::string &file, Room *out, std::string *error)
 {
     Scenario base;
     if (!parse_scenario(base_text, base_label, &base, error)) return false;
     std::string before, after;
     base_without_layout(base_text, &before, &after);
-    const std::uint32_t rs = room_seed(seed, index);
+    std::uint32_t rs = room_seed(seed, index);
+    Scenario floor = base;  // what the Drawer draws on
+    long far_than = 0;      // a far room's longest path must reach this
+    if (spec.far) {
+        const double w = spec.floor_w > 0 ? spec.floor_w : base.arena_w;
+        const double h = spec.floor_h > 0 ? spec.floor_h : base.arena_h;
+        std::string ferr;
+        if (!floor_check(base, w, h, &floor.encoding.x_bits, &floor.encoding.y_bits, &ferr)) {
+            if (error != nullptr) *error = "floor " + ferr;
+            return false;
+        }
+        floor.arena_w = w;
+        floor.arena_h = h;
+        far_base_lines(base, w, h, floor.encoding.x_bits, floor.encoding.y_bits, &before, &after);
+        const std::uint32_t tag = 0x100u + static_cast<std::uint32_t>(spec.family) * 0x1000u +
+                                  static_cast<std::uint32_t>(floor.encoding.x_bits * 32 + floor.encoding.y_bits);
+        rs = room_seed(rs, tag);
+        far_than = longest_path(base).longest;
+    }
     std::string last_problem;
     for (std::uint32_t draw = 0; draw < kMaxRoomDraws; draw++) {
-        Drawer dr(base, rs, draw);
-        dr.run();
-        char head[512];
-        std::snprintf(head, sizeof head,
-                      "# %s: a generated room; regenerate it rather than edit it (docs/scenarios.md, "
-                      "\"Generated rooms\").\n"
-                      "# %s: room %u, draw %u.\n"
-                      "# Only the layout is new: every other line is %s's own.\n"
-                      "# Passages: at least %.1f x the robot's diagonal (%.3f m) as drawn; checked "
-                      "at least the diagonal on a %.0f cm grid.\n\n",
-                      stem(file).c_str(), command.c_str(), index, draw, base_label.c_str(), kGap,
-                      2.0 * robot_radius(base.robot), start_grid_step(base) * 100.0);
+        Drawer dr(floor, rs, draw);
+        if (!spec.far) {
+            dr.run();
+        } else if (!dr.run_far(spec.family)) {
+            last_problem = std::string("the ") + far_family_name(spec.family) + " does not fit this draw";
+            continue;
+        }
+        char head[640];
+        if (!spec.far) {
+            std::snprintf(head, sizeof head,
+                          "# %s: a generated room; regenerate it rather than edit it (docs/scenarios.md, "
+                          "\"Generated rooms\").\n"
+                          "# %s: room %u, draw %u.\n"
+                          "# Only the layout is new: every other line is %s's own.\n"
+                          "# Passages: at least %.1f x the robot's diagonal (%.3f m) as drawn; checked "
+                          "at least the diagonal on a %.0f cm grid.\n\n",
+                          stem(file).c_str(), command.c_str(), index, draw, base_label.c_str(), kGap,
+                          2.0 * robot_radius(base.robot), start_grid_step(base) * 100.0);
+        } else {
+            std::snprintf(head, sizeof head,
+                          "# %s: a generated far-goal room (%s, floor %s x %s m); regenerate it rather "
+                          "than edit it\n# (docs/scenarios.md, \"Far-goal rooms\").\n"
+                          "# %s: room %u, draw %u.\n"
+                          "# Only the layout%s new: every other line is %s's own.\n"
+                          "# Passages: at least the robot's diagonal (%.3f m), checked on a %.0f cm grid.\n",
+                          stem(file).c_str(), far_family_name(spec.family), num(floor.arena_w).c_str(),
+                          num(floor.arena_h).c_str(), command.c_str(), index, draw,
+                          floor.arena_w == base.arena_w && floor.arena_h == base.arena_h
+                              ? " is"
+                              : base.cricket.beacons.empty() ? ", the arena and the encoding are"
+                                                             : ", the arena, the encoding and the beacons are",
+                          base_label.c_str(), 2.0 * robot_radius(base.robot), start_grid_step(floor) * 100.0);
+        }
         Room room;
-        room.text = head + before + "\n" + layout_text(dr) + after;
+        const std::string body = before + "\n" + layout_text(dr) + after;
+        room.text = head + std::string(spec.far ? "\n" : "") + body;
         std::string perr;
         if (!parse_scenario(room.text, file, &room.scenario, &perr)) {
             last_problem = perr;
@@ -591,6 +1268,23 @@ bool generate_room(std::string_view base_text, const std::string &base_label,
         if (!room.passages.ok) {
             last_problem = room.passages.problem;
             continue;
+        }
+        room.path = longest_path(room.scenario);
+        if (spec.far) {
+            if (room.path.longest <= far_than) {
+                last_problem = room.path.longest < 0
+                                   ? std::to_string(room.path.stranded) + " start states cannot reach the goal on the state grid"
+                                   : "longest path " + std::to_string(room.path.longest) +
+                                         " actions, not farther than the base's " + std::to_string(far_than);
+                continue;
+            }
+            room.text = head + ("# longest_path_actions " + std::to_string(room.path.longest)) +
+                        ": the most actions a start needs to reach the goal at best (docs/scenarios.md).\n\n" + body;
+            if (!parse_scenario(room.text, file, &room.scenario, &perr)) {
+                last_problem = perr;
+                continue;
+            }
+            room.family = far_family_name(spec.family);
         }
         room.walls = dr.walls;
         room.obstacles = dr.obstacles;

@@ -234,6 +234,247 @@ void test_same_seed_same_room(void **state)
     }
 }
 
+// ---- Far-goal rooms and the longest path -----------------------------------------------------
+
+std::string far_command(const std::string &robot, world::FarFamily f, double w, double h, std::uint32_t seed)
+{
+    return "dynaqpc-sim rooms --robot " + robot + " --far " + world::far_family_name(f) + " --floor " +
+           world::floor_name(w, h) + " --seed " + std::to_string(seed);
+}
+
+world::Room make_far(const std::string &robot, world::FarFamily f, double w, double h, std::uint32_t seed,
+                     std::uint32_t index)
+{
+    world::RoomSpec spec;
+    spec.far = true;
+    spec.family = f;
+    spec.floor_w = w;
+    spec.floor_h = h;
+    const std::string name = world::room_file_name(robot, spec, w, h, seed, index);
+    world::Room room;
+    std::string err;
+    const bool ok = world::generate_room(base_text(robot), label(robot), far_command(robot, f, w, h, seed), seed,
+                                         index, spec, name, &room, &err);
+    if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
+    assert_true(ok);
+    return room;
+}
+
+// A corridor worked out by hand. paper-sim's robot (radius 0.3905 m) in a band from y = 3.48 to
+// 4.39 m across the 8 m arena: its centre fits at y 3.8705-3.9995, all in state row 15 (3.75-4.0
+// m), and at x 0.3905-7.6095, state columns 1-30: thirty places in a row. The goal circle
+// (7.3, 3.93, r 0.3) holds points of columns 28-30. The worst start is column 1 facing north or
+// south: one turn, then 27 steps east (facing west, 27 steps backward): 28 actions.
+void test_longest_path_corridor(void **state)
+{
+    (void)state;
+    const std::string walls = "obstacle box 4 1.74 8 3.48\nobstacle box 4 6.195 8 3.61\n";
+    const world::Scenario s = with_layout("paper-sim", walls + "goal 7.3 3.93 0.3\n");
+    assert_true(world::check_passages(s).ok);
+    const world::PathReport r = world::longest_path(s);
+    assert_int_equal(r.nx, 32);
+    assert_int_equal(r.ny, 32);
+    assert_int_equal(r.places, 30);
+    assert_int_equal(r.stranded, 0);
+    assert_int_equal(r.longest, 28);
+    // The goal two columns nearer: 26.
+    const world::Scenario nearer = with_layout("paper-sim", walls + "goal 6.8 3.93 0.3\n");
+    assert_int_equal(world::longest_path(nearer).longest, 26);
+    // A wall across the corridor at x = 4 strands the starts west of it.
+    const world::Scenario cut = with_layout("paper-sim", walls + "obstacle box 4 3.935 0.1 0.91\ngoal 7.3 3.93 0.3\n");
+    const world::PathReport rc = world::longest_path(cut);
+    assert_int_equal(rc.longest, -1);
+    assert_true(rc.stranded > 0 && rc.stranded < rc.start_states);
+}
+
+// The shipped scenarios' longest paths, as docs/scenarios.md quotes them.
+void test_longest_path_shipped(void **state)
+{
+    (void)state;
+    const long expect[2] = {14, 29};
+    for (int k = 0; k < 2; k++) {
+        world::Scenario s;
+        std::string err;
+        assert_true(world::load_scenario(kRobots[k], &s, &err));
+        assert_int_equal(world::longest_path(s).longest, expect[k]);
+    }
+}
+
+void test_floor_check(void **state)
+{
+    (void)state;
+    world::Scenario sim, lab;
+    std::string err;
+    assert_true(world::load_scenario("paper-sim", &sim, &err));
+    assert_true(world::load_scenario("paper-lab", &lab, &err));
+    int xb = 0, yb = 0;
+    assert_true(world::floor_check(sim, 16, 4, &xb, &yb, &err));
+    assert_int_equal(xb, 6);
+    assert_int_equal(yb, 4);
+    assert_true(world::floor_check(sim, 16, 16, &xb, &yb, &err));
+    assert_int_equal(xb + yb, 12);
+    assert_true(world::floor_check(lab, 8.6, 1.6, &xb, &yb, &err));
+    assert_int_equal(xb, 4);
+    assert_int_equal(yb, 2);
+    assert_false(world::floor_check(sim, 10, 8, nullptr, nullptr, &err));
+    assert_true(err.find("times 1/4, 1/2, 1, 2 or 4") != std::string::npos);
+    assert_false(world::floor_check(lab, 8, 4, nullptr, nullptr, &err));
+    assert_false(world::floor_check(sim, 64, 8, nullptr, nullptr, &err));
+    assert_false(world::floor_check(sim, 0, 8, nullptr, nullptr, &err));
+}
+
+// Every family, on the base's floor and a larger one, has its goal farther than the base
+// scenario's own longest path, says so in its text, and keeps the base's other lines.
+void test_far_families(void **state)
+{
+    (void)state;
+    struct Floor {
+        const char *robot;
+        double w, h;
+        int x_bits, y_bits;
+    } floors[] = {{"paper-lab", 4.3, 3.2, 3, 3}, {"paper-lab", 8.6, 1.6, 4, 2}, {"paper-lab", 8.6, 3.2, 4, 3},
+                  {"paper-sim", 8, 8, 5, 5},     {"paper-sim", 16, 4, 6, 4},    {"paper-sim", 4, 16, 4, 6}};
+    for (const Floor &f : floors) {
+        world::Scenario base;
+        std::string err;
+        assert_true(world::load_scenario(f.robot, &base, &err));
+        const long base_longest = world::longest_path(base).longest;
+        std::vector<std::string> kept;  // the base's lines but the floor's
+        for (const std::string &l : non_layout_lines(base_text(f.robot))) {
+            const std::string k = key_of(l);
+            if (k != "arena" && k != "encode" && k != "beacon") kept.push_back(l);
+        }
+        for (int fam = 0; fam < world::kFarFamilies; fam++) {
+            for (std::uint32_t index : {1u, 2u}) {
+                const world::Room room = make_far(f.robot, static_cast<world::FarFamily>(fam), f.w, f.h, 7, index);
+                if (room.path.longest <= base_longest) {
+                    std::fprintf(stderr, "%s %s %gx%g: longest %ld\n", f.robot, room.family.c_str(), f.w, f.h,
+                                 room.path.longest);
+                }
+                assert_true(room.path.longest > base_longest);
+                assert_string_equal(room.family.c_str(), world::far_family_name(static_cast<world::FarFamily>(fam)));
+                world::Scenario s;
+                assert_true(world::parse_scenario(room.text, "again.scn", &s, &err));
+                assert_true(world::check_passages(s).ok);
+                assert_int_equal(world::longest_path(s).longest, room.path.longest);
+                assert_true(room.text.find("\n# longest_path_actions " + std::to_string(room.path.longest) + ":") !=
+                            std::string::npos);
+                assert_true(s.arena_w == f.w && s.arena_h == f.h);
+                assert_int_equal(s.encoding.x_bits, f.x_bits);
+                assert_int_equal(s.encoding.y_bits, f.y_bits);
+                assert_int_equal(s.encoding.heading_bits, base.encoding.heading_bits);
+                std::vector<std::string> mine;
+                for (const std::string &l : non_layout_lines(room.text)) {
+                    const std::string k = key_of(l);
+                    if (k != "arena" && k != "encode" && k != "beacon") mine.push_back(l);
+                }
+                assert_true(mine == kept);
+                if (f.w == base.arena_w && f.h == base.arena_h) {
+                    assert_true(non_layout_lines(room.text) == non_layout_lines(base_text(f.robot)));
+                } else if (!base.cricket.beacons.empty()) {
+                    assert_int_equal(s.cricket.beacons.size(), 8);
+                }
+            }
+        }
+    }
+}
+
+void test_far_same_seed_same_room(void **state)
+{
+    (void)state;
+    const world::Room a = make_far("paper-sim", world::FarFamily::CulDeSac, 16, 4, 5, 3);
+    const world::Room b = make_far("paper-sim", world::FarFamily::CulDeSac, 16, 4, 5, 3);
+    assert_true(a.text == b.text);
+    const world::Room c = make_far("paper-sim", world::FarFamily::CulDeSac, 16, 4, 5, 4);
+    assert_true(a.scenario.goal.cx != c.scenario.goal.cx || a.scenario.goal.cy != c.scenario.goal.cy ||
+                a.scenario.obstacles.size() != c.scenario.obstacles.size());
+    assert_int_equal(static_cast<int>(world::far_family_of_index(1)), static_cast<int>(world::FarFamily::Hall));
+    assert_int_equal(static_cast<int>(world::far_family_of_index(4)), static_cast<int>(world::FarFamily::Serpentine));
+    assert_int_equal(static_cast<int>(world::far_family_of_index(6)), static_cast<int>(world::FarFamily::Open));
+}
+
+// A committed far room: what its name (robot, family, floor, seed, index) generates now.
+struct FarName {
+    std::string robot, family;
+    double w = 0, h = 0;
+    unsigned seed = 0, index = 0;
+};
+
+FarName check_far_file(const std::filesystem::path &path)
+{
+    const std::string file = path.filename().string();
+    char robot[8] = {0}, family[16] = {0}, tail[8] = {0};
+    FarName n;
+    assert_int_equal(std::sscanf(file.c_str(), "paper-%3[a-z]-%15[a-z]-%lfx%lf-%u-%u%7s", robot, family, &n.w,
+                                 &n.h, &n.seed, &n.index, tail),
+                     7);
+    assert_string_equal(tail, ".scn");
+    n.robot = std::string("paper-") + robot;
+    n.family = family;
+    world::FarFamily f;
+    assert_true(world::far_family_from_name(n.family, &f));
+    const world::Room again = make_far(n.robot, f, n.w, n.h, n.seed, n.index);
+    const std::string text = read(path.string());
+    if (again.text != text) std::fprintf(stderr, "%s differs from what its command generates now\n", file.c_str());
+    assert_true(again.text == text);
+    world::Scenario s;
+    std::string err;
+    assert_true(world::load_scenario(path.string(), &s, &err));
+    assert_true(world::check_passages(s).ok);
+    return n;
+}
+
+// far-tune/ and far-eval/: at least 12 rooms per robot, every family in each, a floor larger
+// than the base's in each, seeds apart. far-large-tune/ and far-large-eval/ (floors the firmware's
+// tables refuse today): what they generate, at least 4 rooms each, seeds apart.
+void test_committed_far_rooms(void **state)
+{
+    (void)state;
+    std::map<std::string, std::set<unsigned>> seeds;
+    for (const char *set : {"far-tune", "far-eval"}) {
+        std::map<std::string, int> per_robot;
+        std::map<std::string, std::set<std::string>> families;
+        std::map<std::string, int> larger;
+        const std::string dir = std::string(WORLD_TEST_ROOMS) + "/" + set;
+        assert_true(std::filesystem::is_directory(dir));
+        for (const auto &entry : std::filesystem::directory_iterator(dir)) {
+            if (entry.path().extension() != ".scn") continue;
+            const FarName n = check_far_file(entry.path());
+            world::Scenario base;
+            std::string err;
+            assert_true(world::load_scenario(n.robot, &base, &err));
+            per_robot[n.robot]++;
+            families[n.robot].insert(n.family);
+            larger[n.robot] += n.w * n.h > base.arena_w * base.arena_h + 1e-9 ||
+                               std::max(n.w, n.h) > std::max(base.arena_w, base.arena_h) + 1e-9;
+            seeds[std::string(set) + "/" + n.robot].insert(n.seed);
+        }
+        for (const char *robot : kRobots) {
+            assert_true(per_robot[robot] >= 12);
+            assert_int_equal(families[robot].size(), world::kFarFamilies);
+            assert_true(larger[robot] >= 4);
+        }
+    }
+    for (const char *robot : kRobots) {
+        for (unsigned s : seeds[std::string("far-tune/") + robot]) {
+            assert_int_equal(seeds[std::string("far-eval/") + robot].count(s), 0);
+        }
+    }
+    std::set<unsigned> large_seeds[2];
+    for (int k = 0; k < 2; k++) {
+        const std::string large = std::string(WORLD_TEST_ROOMS) + (k == 0 ? "/far-large-tune" : "/far-large-eval");
+        assert_true(std::filesystem::is_directory(large));
+        int n_large = 0;
+        for (const auto &entry : std::filesystem::directory_iterator(large)) {
+            if (entry.path().extension() != ".scn") continue;
+            large_seeds[k].insert(check_far_file(entry.path()).seed);
+            n_large++;
+        }
+        assert_true(n_large >= 4);
+    }
+    for (unsigned s : large_seeds[0]) assert_int_equal(large_seeds[1].count(s), 0);
+}
+
 // The committed sets: at least 10 rooms per robot in each, each accepted, each exactly what its
 // name's (robot, seed, index) generates now, and the two sets from different seeds.
 void test_committed_rooms(void **state)
@@ -287,6 +528,12 @@ int main(void)
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_same_seed_same_room),
         cmocka_unit_test(test_committed_rooms),
+        cmocka_unit_test(test_longest_path_corridor),
+        cmocka_unit_test(test_longest_path_shipped),
+        cmocka_unit_test(test_floor_check),
+        cmocka_unit_test(test_far_families),
+        cmocka_unit_test(test_far_same_seed_same_room),
+        cmocka_unit_test(test_committed_far_rooms),
     };
     return cmocka_run_group_tests_name("world_rooms", tests, nullptr, nullptr);
 }

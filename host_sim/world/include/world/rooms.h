@@ -7,6 +7,12 @@
 // beacons or GPS, timing, encoding, actions, rewards, learning) is copied verbatim. Why the
 // arena keeps its size, the size ranges and how rooms are used: docs/scenarios.md, "Generated
 // rooms".
+//
+// A far-goal room (RoomSpec::far) is drawn from one of four families built so that the goal is
+// far from most starts (a hall, an open floor with the goal in a corner, a goal behind a
+// cul-de-sac, serpentine partitions), on the base's floor or a larger one: its arena, its
+// encoding (the base's cells, more x/y bits) and, with Cricket, its beacons are then new too.
+// Every room reports its longest shortest path from a start, in actions (longest_path()).
 #ifndef WORLD_ROOMS_H
 #define WORLD_ROOMS_H
 
@@ -37,6 +43,66 @@ struct PassageReport {
 /// grid step) may count as closed.
 PassageReport check_passages(const Scenario &s);
 
+/// What longest_path() found.
+struct PathReport {
+    /// The most actions any start needs to reach the goal at best (the longest of the shortest
+    /// paths over every start place and heading); -1 when some start cannot reach it on the
+    /// state grid (then `stranded` says how many (place, heading) pairs).
+    long longest = -1;
+    long places = 0;         ///< nodes: the free points of one state cell that join inside it
+    long start_states = 0;   ///< (place, heading) pairs holding a start point
+    long stranded = 0;       ///< start pairs with no path to the goal
+    int nx = 0, ny = 0;      ///< the state grid (the encoding's x and y bits over the arena)
+};
+
+/// The longest shortest path from a start to the goal, in the robot's aligned actions: forward
+/// or backward one state cell along the heading, a 90-degree turn left or right, each one
+/// action. Computed on the passage check's free points (check_passages(): the robot's
+/// circumscribed circle fits) grouped by state cell: a *place* is the free points of one cell
+/// joined through each other inside that cell (a thin wall through a cell makes two places), two
+/// places of neighbouring cells join where a free point of one neighbours a free point of the
+/// other. A breadth-first search over (place, heading), heading one of the four axis
+/// directions, from every place holding a goal point (in_goal()), gives each start place's
+/// fewest actions at its worst heading; `longest` is the largest over places holding a start
+/// point (start_position_ok()). Meaningful for `actions aligned 1 turn_deg 90` scenarios (the
+/// shipped ones and every generated room); exact up to the state grid: a step may need the
+/// robot to shift sideways within its cell, which aligned actions do not do.
+PathReport longest_path(const Scenario &s);
+
+/// The families of far-goal rooms (docs/scenarios.md, "Far-goal rooms").
+enum class FarFamily { Hall, Open, CulDeSac, Serpentine };
+inline constexpr int kFarFamilies = 4;
+
+/// "hall", "open", "culdesac", "serpentine".
+const char *far_family_name(FarFamily f);
+/// The family named `name` (as far_family_name() spells it); false if none is.
+bool far_family_from_name(const std::string &name, FarFamily *out);
+/// The family `--far mixed` gives room `index` (1-based): hall, open, culdesac, serpentine, hall...
+FarFamily far_family_of_index(std::uint32_t index);
+
+/// What to draw. Default: an ordinary room on the base's floor (the rooms of tune/ and eval/).
+struct RoomSpec {
+    bool far = false;
+    FarFamily family = FarFamily::Hall;
+    /// The floor, m; 0 x 0: the base's arena. Each side must be the base's times 2^k, k in
+    /// -2..2, so that the state cells keep the base's size (floor_check()).
+    double floor_w = 0.0, floor_h = 0.0;
+};
+
+/// Whether `spec`'s floor suits `base`: each side the base's arena side times 2^k (k in -2..2;
+/// within 1e-6 relative), its bits (the base's plus k) within 1..16 and the encoding within 32
+/// bits. Sets *x_bits, *y_bits (may be null). False with *error = one line naming what is wrong.
+bool floor_check(const Scenario &base, double w, double h, int *x_bits, int *y_bits, std::string *error);
+
+/// A floor as file names and commands write it: "16x4", "8.6x3.2".
+std::string floor_name(double w, double h);
+
+/// A room's file name: <prefix>-<seed>-<index as 001>.scn, and for a far room
+/// <prefix>-<family>-<floor w>x<floor h>-<seed>-<index>.scn (the floor in m as the file writes
+/// numbers: 16x4, 8.6x3.2).
+std::string room_file_name(const std::string &prefix, const RoomSpec &spec, double floor_w, double floor_h,
+                           std::uint32_t seed, std::uint32_t index);
+
 /// Limits of the generator: how often a room is drawn again before giving up.
 inline constexpr std::uint32_t kMaxRoomDraws = 1000;
 
@@ -48,6 +114,8 @@ struct Room {
     int obstacles = 0;          ///< obstacles drawn (an L-shape counts once)
     std::uint32_t draw = 0;     ///< which draw passed (0: the first); earlier ones were refused
     PassageReport passages;     ///< check_passages() on it
+    PathReport path;            ///< longest_path() on it
+    std::string family;         ///< far rooms: far_family_name(); "" otherwise
 };
 
 /// Room `index` of `seed`, from the base scenario's text `base_text`. `base_label` names the base
@@ -63,6 +131,15 @@ struct Room {
 bool generate_room(std::string_view base_text, const std::string &base_label,
                    const std::string &command, std::uint32_t seed, std::uint32_t index,
                    const std::string &file, Room *out, std::string *error);
+
+/// As above, drawing what `spec` asks. Ordinary rooms (spec.far false) are exactly the rooms of
+/// the overload above. A far room's draw also fails when longest_path() finds a stranded start
+/// or a longest path shorter than the base scenario's own (on the base's floor): every far room
+/// has its goal farther than the base's. Its text carries `# longest_path_actions N`.
+/// Each (family, floor) draws from its own stream of (seed, index).
+bool generate_room(std::string_view base_text, const std::string &base_label,
+                   const std::string &command, std::uint32_t seed, std::uint32_t index,
+                   const RoomSpec &spec, const std::string &file, Room *out, std::string *error);
 
 }  // namespace world
 
