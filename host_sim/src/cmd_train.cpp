@@ -39,7 +39,8 @@ struct TrainSettings {
     std::uint32_t jobs = 1;
     std::uint32_t step_cap = 0;
     std::uint32_t plan_cycles = 0;
-    double epsilon = 0, alpha = 0, gamma = 0;
+    double epsilon = 0, alpha = 0;
+    std::string gamma;
     std::string csv;
     std::string save;
     bool no_wall_time = false;
@@ -77,7 +78,10 @@ void declare(Options &o, TrainSettings &s)
                  0.0, 1.0);
     o.add_double("--alpha", "B", "learning rate, the paper's beta (default: the scenario's)",
                  &s.alpha, 0.0, 1.0, true, false);
-    o.add_double("--gamma", "G", "discount (default: the scenario's)", &s.gamma, 0.0, 1.0);
+    o.add_string("--gamma", "G|auto",
+                 "discount: a number in [0, 1] (and theta 1e-3: the paper's mode, gamma 0.9), or auto (from the "
+                 "room's size: docs/agent.md); default: the scenario's",
+                 &s.gamma);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
                  "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "

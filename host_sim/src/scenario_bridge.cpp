@@ -97,7 +97,12 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.reward_bump = static_cast<float>(sc->rewards.bump);
     r.reward_step = static_cast<float>(sc->rewards.step);
     r.params.alpha = r.params.plan_alpha = static_cast<float>(sc->learning.alpha);
-    r.params.gamma = static_cast<float>(sc->learning.gamma);
+    if (sc->learning.gamma == world::Learning::kGammaFromRoom) {
+        r.values = ROBOT_VALUES_ROOM;  // gamma and theta from the room: robot_config_agent_params()
+    } else {
+        r.values = ROBOT_VALUES_PAPER;
+        r.params.gamma = static_cast<float>(sc->learning.gamma);
+    }
     r.params.epsilon = static_cast<float>(sc->learning.epsilon);
     r.planning = static_cast<uint32_t>(sc->learning.planning);
     r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
@@ -166,7 +171,19 @@ void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t 
     if (v.alpha != nullptr && o.seen("--alpha")) {
         cfg->params.alpha = cfg->params.plan_alpha = static_cast<float>(*v.alpha);
     }
-    if (v.gamma != nullptr && o.seen("--gamma")) cfg->params.gamma = static_cast<float>(*v.gamma);
+    if (v.gamma != nullptr && o.seen("--gamma")) {
+        if (*v.gamma == "auto") {
+            cfg->values = ROBOT_VALUES_ROOM;
+        } else {
+            char *end = nullptr;
+            const double g = std::strtod(v.gamma->c_str(), &end);
+            if (v.gamma->empty() || *end != '\0' || !(g >= 0.0 && g <= 1.0)) {
+                throw UsageError("--gamma: '" + *v.gamma + "' is neither a discount in [0, 1] nor auto");
+            }
+            cfg->values = ROBOT_VALUES_PAPER;
+            cfg->params.gamma = static_cast<float>(g);
+        }
+    }
 }
 
 std::string arena_json(const world::Scenario &sc)

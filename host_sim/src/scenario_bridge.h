@@ -50,7 +50,7 @@ struct ConfigOverrides {
     const std::uint32_t *step_cap = nullptr;   ///< --step-cap
     const double *epsilon = nullptr;           ///< --epsilon
     const double *alpha = nullptr;             ///< --alpha: the Q learning rate, real and planning
-    const double *gamma = nullptr;             ///< --gamma
+    const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
 };
 
 /// Applies `v` to `cfg` as the options `o` were given (one place for train, run and dynaqpc-fw).

@@ -413,7 +413,8 @@ int robot_app_init(const robot_app_options_t *opt)
 
     static agent_space_t space;
     robot_config_space(cfg, &space);
-    const agent_config_t ac = {cfg->agent, &space, cfg->params, opt->storage, opt->seed};
+    const agent_config_t ac = {cfg->agent, &space, robot_config_agent_params(cfg), opt->storage,
+                               opt->seed};
     err = agent_init(opt->agent, &ac);
     if (err) {
         return err;

@@ -587,16 +587,24 @@ bool Parser::key_learning(const Tokens &t, Scenario *s)
 {
     using T = Field::Type;
     Learning &l = s->learning;
+    std::string gamma = "auto";
     std::vector<Field> f = {
         {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
         {"alpha", T::Real, &l.alpha, 0.0, 1.0},
-        {"gamma", T::Real, &l.gamma, 0.0, 1.0},
+        {"gamma", T::Text, &gamma, 0.0, 1.0},
         {"planning", T::Int, &l.planning, 0, 1000000},
         {"step_cap", T::Int, &l.step_cap, 1, 100000000},
         {"sets", T::Int, &l.sets, 1, 1000000},
         {"episodes", T::Int, &l.episodes, 1, 1000000},
     };
-    return fields(t, f);
+    if (!fields(t, f)) {
+        return false;
+    }
+    if (gamma == "auto") {
+        l.gamma = Learning::kGammaFromRoom;
+        return true;
+    }
+    return number(gamma, "learning gamma", 0.0, 1.0, &l.gamma);
 }
 
 // Where a ray from the body's centre at `angle` leaves the rectangle: the default mount point.

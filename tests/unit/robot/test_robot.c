@@ -45,6 +45,31 @@ static void test_shipped_configs_are_valid(void **state)
     assert_int_equal(robot_config_check(&bad), FW_OK);
 }
 
+// ROBOT_VALUES_ROOM: gamma from the floor's size in cells, theta from the rewards' scale; the
+// paper's mode keeps what the configuration says.
+static void test_values_from_the_room(void **state)
+{
+    (void)state;
+    robot_config_t c = *sim_;
+    c.values = ROBOT_VALUES_PAPER;
+    c.params.gamma = 0.9f;
+    c.params.theta = 1e-3f;
+    agent_params_t p = robot_config_agent_params(&c);
+    assert_true(p.gamma == 0.9f && p.theta == 1e-3f);
+    c.values = ROBOT_VALUES_ROOM;  // 32 + 32 cells along the sides: H = 128
+    p = robot_config_agent_params(&c);
+    assert_float_equal(p.gamma, 1.0f - 1.0f / 128.0f, 1e-7f);
+    assert_float_equal(p.theta, 1e-3f, 1e-9f);
+    assert_true(p.alpha == c.params.alpha && p.epsilon == c.params.epsilon);
+    c.bits_x = 6;  // a floor twice as wide: a longer horizon
+    c.arena_w *= 2.0f;
+    assert_true(robot_config_agent_params(&c).gamma > p.gamma);
+    c.reward_goal = 1.0f, c.reward_bump = -0.5f, c.reward_step = -0.01f;  // rewards 100 x smaller
+    assert_float_equal(robot_config_agent_params(&c).theta, 1e-5f, 1e-11f);
+    c.values = 7;
+    assert_int_equal(robot_config_check(&c), FW_ERR_INVAL);
+}
+
 static void test_defaults_need_a_scenario(void **state)
 {
     (void)state;
@@ -538,6 +563,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_configs_are_valid),
         cmocka_unit_test(test_defaults_need_a_scenario),
+        cmocka_unit_test(test_values_from_the_room),
         cmocka_unit_test(test_position_cells_and_clamping),
         cmocka_unit_test(test_goal_as_cells),
         cmocka_unit_test(test_heading_sectors_wrap),

@@ -133,7 +133,11 @@ struct Rewards {
 };
 
 struct Learning {
-    double epsilon = 0.1, alpha = 0.9, gamma = 0.9;
+    /// `gamma auto` (kGammaFromRoom, the default): the firmware sets the discount and the sweep
+    /// threshold from the room (robot_config_agent_params()); a number: that discount and the
+    /// paper's threshold (the paper's mode: gamma 0.9).
+    static constexpr double kGammaFromRoom = -1.0;
+    double epsilon = 0.1, alpha = 0.9, gamma = kGammaFromRoom;
     int planning = 5;
     int step_cap = 200;
     int sets = 5;
