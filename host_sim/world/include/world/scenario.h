@@ -134,7 +134,7 @@ struct Rewards {
 
 struct Learning {
     double epsilon = 0.1, alpha = 0.9, gamma = 0.9;
-    int planning = 5;
+    int planning = 0;  ///< 0: as many as the MCU's idle time allows (the firmware's default)
     int step_cap = 200;
     int sets = 5;
     int episodes = 20;
