@@ -8,6 +8,7 @@
 //   seed=N        the agent's seed (1)
 //   step_cap=N    real steps after which an episode ends (the scenario's, 200)
 //   planning=N    planning updates per real step, 0 = idle time (the scenario's: 0)
+//   agent=K       0 Q-learning, 1 Dyna-Q, 2 Dyna-QPC (the scenario's: 2)
 //   duration_s=N  end the emulation after N s of firmware time (0: never)
 //   report_s=N    a report line every N s of firmware time (5)
 // The emulation ends with exit code 0, or 1 when a deadline was missed (netduinoplus2/board.h);
@@ -91,6 +92,8 @@ int main(void)
     cfg = robot_config_paper_lab;
     cfg.step_cap = option_(cmdline, "step_cap", cfg.step_cap);
     cfg.planning = option_(cmdline, "planning", cfg.planning);
+    const uint32_t kind = option_(cmdline, "agent", (uint32_t)cfg.agent);
+    cfg.agent = kind <= (uint32_t)AGENT_DYNA_QPC ? (agent_kind_t)kind : cfg.agent;
     const uint64_t duration_us = (uint64_t)option_(cmdline, "duration_s", 0u) * 1000000u;
     const uint64_t report_us = (uint64_t)option_(cmdline, "report_s", 5u) * 1000000u;
 
@@ -110,6 +113,7 @@ int main(void)
     nd2_puts("netduinoplus2: paper-lab firmware running; ");
     nd2_kv("step_cap", cfg.step_cap);
     nd2_kv("planning", cfg.planning);
+    nd2_kv("agent", (uint32_t)cfg.agent);
     nd2_kv("seed", opt.seed);
     nd2_puts("\n");
     uint64_t next_report = report_us;

@@ -35,6 +35,7 @@ from typing import Dict, List, Optional
 from .common import ToolError, VCAN_CHANNEL, VCAN_INTERFACE, default_dbc_path, load_dbc, open_bus, repo_root, run_main
 
 FW_SENDER = "FW"
+AGENTS = ("q", "dyna-q", "dyna-qpc")  # agent_kind_t order
 
 
 class Bridge:
@@ -262,6 +263,8 @@ def cmd_run(args) -> int:
             append += f" step_cap={args.step_cap}"
         if args.planning is not None:
             append += f" planning={args.planning}"
+        if args.agent is not None:
+            append += f" agent={AGENTS.index(args.agent)}"
         qemu_cmd = [args.qemu, "-M", "netduinoplus2", "-display", "none", "-monitor", "none",
                     "-chardev", "stdio,id=sh0", "-semihosting-config", "enable=on,target=native,chardev=sh0",
                     "-serial", "pty", "-serial", cricket_tty, "-kernel", args.elf, "-append", append]
@@ -366,6 +369,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--min-episodes", type=int, default=0, help="fail with fewer finished episodes")
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
+    r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
     r.add_argument("--seed", type=int, default=1)
     r.add_argument("--report-s", type=int, default=2, help="the board's report period, firmware seconds")
     r.add_argument("--icount", type=int, default=None, metavar="SHIFT",
