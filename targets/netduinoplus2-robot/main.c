@@ -9,6 +9,8 @@
 //   step_cap=N    real steps after which an episode ends (the scenario's, 200)
 //   planning=N    planning updates per real step, 0 = idle time (the scenario's: 0)
 //   agent=K       0 Q-learning, 1 Dyna-Q, 2 Dyna-QPC (the scenario's: 2)
+//   persist=0     no saving at episode ends (the control task's worst run is then its own: the
+//                 save of ~51 KB at an episode's end is the longest run otherwise)
 //   duration_s=N  end the emulation after N s of firmware time (0: never)
 //   report_s=N    a report line every N s of firmware time (5)
 // The emulation ends with exit code 0, or 1 when a deadline was missed (netduinoplus2/board.h);
@@ -102,7 +104,7 @@ int main(void)
     opt.agent = &agent_paper_lab;
     opt.storage = &agent_storage_paper_lab;
     opt.seed = option_(cmdline, "seed", 1u);
-    opt.persist = true;
+    opt.persist = option_(cmdline, "persist", 1u) != 0u;
     opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
     const int rc = robot_app_init(&opt);
     if (rc != FW_OK) {

@@ -263,6 +263,8 @@ def cmd_run(args) -> int:
             append += f" step_cap={args.step_cap}"
         if args.planning is not None:
             append += f" planning={args.planning}"
+        if args.no_persist:
+            append += " persist=0"
         if args.agent is not None:
             append += f" agent={AGENTS.index(args.agent)}"
         qemu_cmd = [args.qemu, "-M", "netduinoplus2", "-display", "none", "-monitor", "none",
@@ -370,6 +372,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
     r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
+    r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
     r.add_argument("--seed", type=int, default=1)
     r.add_argument("--report-s", type=int, default=2, help="the board's report period, firmware seconds")
     r.add_argument("--icount", type=int, default=None, metavar="SHIFT",
