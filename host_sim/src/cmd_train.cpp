@@ -66,7 +66,8 @@ void declare(Options &o, TrainSettings &s)
                "the MCU's idle time allows, modelled with --plan-cycles",
                &s.planning, 0, 1000000);
     o.add_uint("--plan-cycles", "C",
-               "with --planning 0: MCU cycles per planning update at 168 MHz (default: the "
+               "with idle-time planning (--planning 0, the default of the shipped scenarios): MCU "
+               "cycles per planning update at 168 MHz (default: the "
                "Cortex-M4 measurement, docs/results.md)",
                &s.plan_cycles, 1, 100000000);
     o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
@@ -209,12 +210,13 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     if (!o.seen("--agent")) {
         throw UsageError("--agent: required (q, dyna-q or dyna-qpc)");
     }
-    if (o.seen("--plan-cycles") && !(o.seen("--planning") && s.planning == 0)) {
-        throw UsageError("--plan-cycles: only with --planning 0");
-    }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma}, &cfg);
+    // Idle-time planning (planning 0) is the shipped scenarios' default, or --planning 0.
+    if (o.seen("--plan-cycles") && cfg.planning != 0) {
+        throw UsageError("--plan-cycles: only with idle-time planning (--planning 0, the shipped scenarios' default)");
+    }
     if (!o.seen("--episodes")) s.episodes = sb.episodes;
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;
@@ -323,7 +325,11 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     }
     if (!s.quiet) {
         std::FILE *sum = s.csv == "-" ? stderr : stdout;
-        std::fprintf(sum, "%s on %s, %u sets: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(), s.sets);
+        const std::string plan = cfg.planning == 0
+                                     ? "planning in idle time (" + std::to_string(s.plan_cycles) + " cycles per update)"
+                                     : "planning " + std::to_string(cfg.planning) + " per real step";
+        std::fprintf(sum, "%s on %s, %u sets, %s: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(),
+                     s.sets, plan.c_str());
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
             if (e <= 10 || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
                 std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, steps_sum[e] / s.sets,

@@ -58,8 +58,9 @@ struct LockstepOptions {
     bool flash_read_only = false;
     /// Replay greedily without learning (dynaqpc-sim run without --learn).
     bool evaluate = false;
-    /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0).
-    std::uint32_t plan_update_cycles = 0;
+    /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0,
+    /// the shipped scenarios' default).
+    std::uint32_t plan_update_cycles = kDefaultPlanCycles;
 };
 
 /// The simulated robot, its devices on an in-process bus, the firmware application on the host

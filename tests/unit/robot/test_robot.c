@@ -498,6 +498,7 @@ static void test_fixed_planning_runs_after_each_step(void **state)
 {
     (void)state;
     bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.cfg.planning = 5;  // the paper's N (the shipped scenarios plan in idle time)
     bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
     robot_ctrl_start_episode(&bench_.ctrl);
     for (int i = 0; i < 30; i++) {

@@ -138,7 +138,7 @@ struct Learning {
     /// paper's threshold (the paper's mode: gamma 0.9).
     static constexpr double kGammaFromRoom = -1.0;
     double epsilon = 0.1, alpha = 0.9, gamma = kGammaFromRoom;
-    int planning = 5;
+    int planning = 0;  ///< 0: as many as the MCU's idle time allows (the firmware's default)
     int step_cap = 200;
     int sets = 5;
     int episodes = 20;

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: MIT
+# The emulated board's tests, with the image at DYNAQPC_EMU_ELF (set by the includer: this port's
+# own build, or the cortex-m4 preset's build of it, targets/CMakeLists.txt). Needs DYNAQPC_EMU_SIM,
+# a host dynaqpc-sim, for the closed loop.
+#   cortex-m4.emu.boot         QEMU alone, 3 s of firmware time: the image starts, its scheduler runs
+#                              the control task, no fault, no miss, a final report (exit 0)
+#   cortex-m4.emu.closed_loop  QEMU + dynaqpc-sim devices + the SLCAN bridge in a private network
+#                              namespace (closed_loop.sh): fails on no frame, no planning update,
+#                              a deadline miss, a hard fault, or no finished episode. Skipped
+#                              (77) without the project's venv (tools/dev.sh setup).
+find_program(DYNAQPC_QEMU NAMES qemu-system-arm)
+find_program(DYNAQPC_TIMEOUT NAMES timeout)
+if(NOT DYNAQPC_QEMU OR NOT DYNAQPC_TIMEOUT)
+    return()
+endif()
+add_test(NAME cortex-m4.emu.boot
+    COMMAND ${DYNAQPC_TIMEOUT} 60 ${DYNAQPC_QEMU} -M netduinoplus2 -display none -monitor none
+        -chardev stdio,id=sh0 -semihosting-config enable=on,target=native,chardev=sh0
+        -serial null -serial null -kernel ${DYNAQPC_EMU_ELF} -append "duration_s=3 report_s=1")
+set_tests_properties(cortex-m4.emu.boot PROPERTIES
+    PASS_REGULAR_EXPRESSION "final: .*control_runs=1[5-7] .*misses=0 "
+    FAIL_REGULAR_EXPRESSION "HARD FAULT|UNEXPECTED")
+add_test(NAME cortex-m4.emu.closed_loop
+    COMMAND ${CMAKE_CURRENT_LIST_DIR}/closed_loop.sh ${DYNAQPC_EMU_ELF} ${DYNAQPC_EMU_SIM} ${PROJECT_SOURCE_DIR})
+set_tests_properties(cortex-m4.emu.closed_loop PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 180
+    RESOURCE_LOCK emu_cpu)
