@@ -128,6 +128,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.listener_z = static_cast<float>(sc->cricket.listener_height);
     b.world = sc;
     r.name = b.world->name.c_str();
+    r.params = robot_config_agent_params(&r);  // what the firmware will use, for all to read
     if (robot_config_check(&r) != 0) {
         throw UsageError((b.path.empty() ? arg : b.path) +
                          ": the firmware cannot run this scenario (state encoding, sensors or actions out of range)");

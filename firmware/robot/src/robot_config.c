@@ -42,7 +42,7 @@ agent_params_t robot_config_agent_params(const robot_config_t *cfg)
         float scale = magnitude_(cfg->reward_goal);
         scale = magnitude_(cfg->reward_bump) > scale ? magnitude_(cfg->reward_bump) : scale;
         scale = magnitude_(cfg->reward_step) > scale ? magnitude_(cfg->reward_step) : scale;
-        p.theta = ROBOT_THETA_PER_REWARD * scale;
+        p.theta = scale / ROBOT_REWARD_PER_THETA;
     }
     return p;
 }

@@ -56,9 +56,9 @@ static void test_values_from_the_room(void **state)
     c.params.theta = 1e-3f;
     agent_params_t p = robot_config_agent_params(&c);
     assert_true(p.gamma == 0.9f && p.theta == 1e-3f);
-    c.values = ROBOT_VALUES_ROOM;  // 32 + 32 cells along the sides: H = 128
+    c.values = ROBOT_VALUES_ROOM;  // 32 + 32 cells along the sides: H = 0.625 x 64 = 40
     p = robot_config_agent_params(&c);
-    assert_float_equal(p.gamma, 1.0f - 1.0f / 128.0f, 1e-7f);
+    assert_float_equal(p.gamma, 0.975f, 1e-7f);
     assert_float_equal(p.theta, 1e-3f, 1e-9f);
     assert_true(p.alpha == c.params.alpha && p.epsilon == c.params.epsilon);
     c.bits_x = 6;  // a floor twice as wide: a longer horizon
@@ -68,6 +68,11 @@ static void test_values_from_the_room(void **state)
     assert_float_equal(robot_config_agent_params(&c).theta, 1e-5f, 1e-11f);
     c.values = 7;
     assert_int_equal(robot_config_check(&c), FW_ERR_INVAL);
+    // paper-lab's 8 + 8 cells give the paper's own 0.9 and 1e-3.
+    c = *lab_;
+    c.values = ROBOT_VALUES_ROOM;
+    assert_true(robot_config_agent_params(&c).gamma == 0.9f);
+    assert_true(robot_config_agent_params(&c).theta == 1e-3f);
 }
 
 static void test_defaults_need_a_scenario(void **state)

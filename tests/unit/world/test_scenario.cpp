@@ -53,7 +53,8 @@ void test_paper_sim_parses(void **state)
     assert_true(s.gps.enabled);
     assert_true(s.cricket.beacons.empty());
     assert_int_equal(s.timing.substeps, 12);
-    assert_true(s.learning.epsilon == 0.01 && s.learning.alpha == 0.9 && s.learning.gamma == 0.9);
+    assert_true(s.learning.epsilon == 0.01 && s.learning.alpha == 0.9 &&
+                s.learning.gamma == world::Learning::kGammaFromRoom);
     assert_int_equal(s.learning.planning, 0);  // idle-time planning, as shipped
     assert_int_equal(s.learning.step_cap, 5000);
     assert_int_equal(s.learning.sets, 40);

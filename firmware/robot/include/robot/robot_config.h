@@ -47,9 +47,9 @@ typedef enum robot_values {
 /// that far still differ by about 0.37 (reward_goal / H + 1) in value, well above a slip's
 /// noise (docs/agent.md, "Values that reach the far end").
 #define ROBOT_HORIZON_PER_SIDE_CELL 0.625f
-/// With ROBOT_VALUES_ROOM, theta is this fraction of the largest reward's magnitude (1e-3 for
-/// the paper's +-100).
-#define ROBOT_THETA_PER_REWARD 1e-5f
+/// With ROBOT_VALUES_ROOM, theta is the largest reward's magnitude over this (1e-3 for the
+/// paper's +-100).
+#define ROBOT_REWARD_PER_THETA 1e5f
 
 /// Where the pose comes from.
 typedef enum robot_pose_source {
@@ -143,7 +143,7 @@ extern const robot_config_t robot_config_paper_lab;
 void robot_config_defaults(robot_config_t *cfg);
 
 /// The agent's learning settings for `cfg`: its params, with gamma and theta from the room when
-/// cfg->values is ROBOT_VALUES_ROOM (ROBOT_HORIZON_PER_SIDE_CELL, ROBOT_THETA_PER_REWARD).
+/// cfg->values is ROBOT_VALUES_ROOM (ROBOT_HORIZON_PER_SIDE_CELL, ROBOT_REWARD_PER_THETA).
 agent_params_t robot_config_agent_params(const robot_config_t *cfg);
 
 /// Checks a configuration's ranges and relations. Returns FW_OK or FW_ERR_INVAL.
