@@ -825,7 +825,8 @@ bool parse_scenario(std::string_view text, const std::string &file, Scenario *ou
 
 std::string resolve_scenario_path(const std::string &name_or_path)
 {
-    if (name_or_path == "paper-sim" || name_or_path == "paper-lab") {
+    if (name_or_path == "paper-sim" || name_or_path == "paper-lab" || name_or_path == "paper-sim-motion" ||
+        name_or_path == "paper-lab-motion") {
         return std::string(DYNAQPC_SCENARIOS_DIR) + "/" + name_or_path + ".scn";
     }
     return name_or_path;

@@ -174,7 +174,7 @@ bool parse_scenario(std::string_view text, const std::string &file, Scenario *ou
                     std::string *error);
 
 /// The path a scenario argument names: a bare name without '/' and without ".scn" that matches a
-/// shipped scenario ("paper-sim", "paper-lab") gives host_sim/scenarios/<name>.scn of this
+/// shipped scenario ("paper-sim", "paper-lab", "paper-sim-motion", "paper-lab-motion") gives host_sim/scenarios/<name>.scn of this
 /// source tree; anything else is returned unchanged as a path.
 std::string resolve_scenario_path(const std::string &name_or_path);
 
