@@ -40,7 +40,7 @@ struct TrainSettings {
     std::uint32_t step_cap = 0;
     std::uint32_t plan_cycles = 0;
     double epsilon = 0, alpha = 0;
-    std::string gamma;
+    std::string gamma, ablate;
     std::string csv;
     std::string save;
     bool no_wall_time = false;
@@ -83,6 +83,10 @@ void declare(Options &o, TrainSettings &s)
                  "discount: a number in [0, 1] (and theta 1e-3: the paper's mode, gamma 0.9), or auto (from the "
                  "room's size: docs/agent.md); default: the scenario's",
                  &s.gamma);
+    o.add_string("--ablate", "PARTS",
+                 "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
+                 "list of generalise, majority, new-states, expected (docs/results.md)",
+                 &s.ablate);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
                  "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "
@@ -213,6 +217,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma}, &cfg);
+    if (o.seen("--ablate")) cfg.params.ablate = ablate_mask(s.ablate);
     // Idle-time planning (planning 0) is the shipped scenarios' default, or --planning 0.
     if (o.seen("--plan-cycles") && cfg.planning != 0) {
         throw UsageError("--plan-cycles: only with idle-time planning (--planning 0, the shipped scenarios' default)");

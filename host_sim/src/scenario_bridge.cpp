@@ -145,6 +145,34 @@ agent_kind_t agent_kind_of(const std::string &name)
     return kind;
 }
 
+uint8_t ablate_mask(const std::string &list)
+{
+    static const struct {
+        const char *name;
+        uint8_t bit;
+    } parts[] = {{"generalise", AGENT_ABLATE_GENERALISE},
+                 {"majority", AGENT_ABLATE_MAJORITY},
+                 {"new-states", AGENT_ABLATE_NEW_STATES},
+                 {"expected", AGENT_ABLATE_EXPECTED}};
+    uint8_t mask = 0;
+    std::stringstream in(list);
+    std::string word;
+    while (std::getline(in, word, ',')) {
+        if (word == "none" || (word.empty() && list.empty())) continue;
+        bool known = false;
+        for (const auto &p : parts) {
+            if (word == p.name) {
+                mask = static_cast<uint8_t>(mask | p.bit);
+                known = true;
+            }
+        }
+        if (!known) {
+            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected)");
+        }
+    }
+    return mask;
+}
+
 std::vector<std::string> agent_kind_names()
 {
     std::vector<std::string> names;

@@ -35,6 +35,10 @@ ScenarioBundle load_scenario(const std::string &arg);
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
 
+/// `--ablate generalise,majority,new-states,expected` as an AGENT_ABLATE_* mask ("" or "none": 0);
+/// another word throws UsageError.
+uint8_t ablate_mask(const std::string &list);
+
 /// Every algorithm's name, in agent_kind_t order: the choices of an `--agent` option.
 std::vector<std::string> agent_kind_names();
 

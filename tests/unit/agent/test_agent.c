@@ -40,6 +40,9 @@ static void init_rejects_bad_configurations(void **state)
     c = config(AGENT_DYNA_QPC);
     c.storage = NULL;
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_DYNA_QPC);
+    c.params.ablate = 0x10;  // not a part the ablation knows
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config((agent_kind_t)7);
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config(AGENT_Q_LEARNING);
