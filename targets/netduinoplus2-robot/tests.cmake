@@ -8,6 +8,8 @@
 #                              namespace (closed_loop.sh): fails on no frame, no planning update,
 #                              a deadline miss, a hard fault, or no finished episode. Skipped
 #                              (77) without the project's venv (tools/dev.sh setup).
+#   cortex-m4.emu.closed_loop_idle_planning  the same with Dyna-Q: fails unless the idle loop
+#                              made at least 1,000 planning updates
 find_program(DYNAQPC_QEMU NAMES qemu-system-arm)
 find_program(DYNAQPC_TIMEOUT NAMES timeout)
 if(NOT DYNAQPC_QEMU OR NOT DYNAQPC_TIMEOUT)
@@ -22,5 +24,10 @@ set_tests_properties(cortex-m4.emu.boot PROPERTIES
     FAIL_REGULAR_EXPRESSION "HARD FAULT|UNEXPECTED")
 add_test(NAME cortex-m4.emu.closed_loop
     COMMAND ${CMAKE_CURRENT_LIST_DIR}/closed_loop.sh ${DYNAQPC_EMU_ELF} ${DYNAQPC_EMU_SIM} ${PROJECT_SOURCE_DIR})
-set_tests_properties(cortex-m4.emu.closed_loop PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 180
-    RESOURCE_LOCK emu_cpu)
+# The idle hand-off itself: Dyna-Q's table never runs dry, so the idle loop must plan (Dyna-QPC's
+# 64 updates before acting usually empty its queue in a short run; docs/realtime.md).
+add_test(NAME cortex-m4.emu.closed_loop_idle_planning
+    COMMAND ${CMAKE_CURRENT_LIST_DIR}/closed_loop.sh ${DYNAQPC_EMU_ELF} ${DYNAQPC_EMU_SIM} ${PROJECT_SOURCE_DIR}
+        --agent dyna-q --min-idle-loop-updates 1000)
+set_tests_properties(cortex-m4.emu.closed_loop cortex-m4.emu.closed_loop_idle_planning PROPERTIES
+    SKIP_RETURN_CODE 77 TIMEOUT 180 RESOURCE_LOCK emu_cpu)

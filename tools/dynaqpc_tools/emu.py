@@ -247,6 +247,7 @@ def cmd_run(args) -> int:
     board = None
     try:
         dev_cmd = [sim, "devices", "--scenario", "paper-lab", "--supervise", "--seed", str(args.seed),
+                   "--speed", str(args.speed),
                    "--wait-firmware", "--duration", str(args.duration + 30)]
         if args.episodes:
             dev_cmd += ["--episodes", str(args.episodes)]
@@ -258,7 +259,7 @@ def cmd_run(args) -> int:
         cricket_tty = m.group(1)
         watch = BusWatch(dbc).start()
 
-        append = f"seed={args.seed} report_s={args.report_s}"
+        append = f"seed={args.seed} report_s={args.report_s} speed={args.speed}"
         if args.step_cap:
             append += f" step_cap={args.step_cap}"
         if args.planning is not None:
@@ -334,6 +335,8 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         problems.append("hard fault (or an unexpected exception) on the board")
     if not reports:
         problems.append("no report line from the board")
+    if idle_loop < args.min_idle_loop_updates:
+        problems.append(f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}")
     if len(watch.episodes) < args.min_episodes:
         problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
     for p in problems:
@@ -369,11 +372,16 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=float, default=60.0, help="wall seconds at most (default 60)")
     r.add_argument("--episodes", type=int, default=0, help="stop after N episodes (the supervisor's count)")
     r.add_argument("--min-episodes", type=int, default=0, help="fail with fewer finished episodes")
+    r.add_argument("--min-idle-loop-updates", type=int, default=0,
+                   help="fail with fewer planning updates made in the idle loop (the board's count)")
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
     r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
     r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
     r.add_argument("--seed", type=int, default=1)
+    r.add_argument("--speed", type=int, default=1,
+                   help="the devices and the firmware's clock X times faster than real time (X divides 168); "
+                        "with --icount 0 at 8 the firmware sees 125 M instructions per second of its time")
     r.add_argument("--report-s", type=int, default=2, help="the board's report period, firmware seconds")
     r.add_argument("--icount", type=int, default=None, metavar="SHIFT",
                    help="QEMU -icount shift=SHIFT,sleep=on: 2^SHIFT ns of emulated time per instruction")
