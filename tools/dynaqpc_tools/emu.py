@@ -275,6 +275,7 @@ def cmd_run(args) -> int:
             qemu_cmd[1:1] = ["-icount", f"shift={args.icount},sleep=on"]
         qemu = subprocess.Popen(qemu_cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         board = Lines(qemu, "board: " if not args.quiet else "", not args.quiet)
+        wall0 = time.monotonic()
         m = board.wait_for(PTY_RE, 15)
         if not m or m.group(2) != "serial0":
             raise ToolError("QEMU did not name the pty of its first serial port (the board's SLCAN line)")
@@ -288,6 +289,7 @@ def cmd_run(args) -> int:
                 break
             time.sleep(0.2)
         time.sleep(0.5)  # the last frames and report line
+        args.wall_s = time.monotonic() - wall0
     finally:
         for p in (devices,):
             _stop(p)
@@ -309,6 +311,12 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
     per = plan / steps if steps else 0.0
     idle_per = idle_loop / steps if steps else 0.0
     idle_pct = sum(watch.idle_percent) / len(watch.idle_percent) if watch.idle_percent else 0.0
+    wall_s = getattr(args, "wall_s", 0.0)
+    if wall_s > 0 and last.get("t_ms"):
+        # The firmware's clock against the wall: below the speed, QEMU could not keep up with
+        # -icount's instruction rate (a loaded host): the devices then see a slow firmware.
+        print(f"emu: firmware clock {last['t_ms'] / 1000:.1f} s at the last report, wall {wall_s:.1f} s "
+              f"(the report lags by up to --report-s)")
     print(f"emu: bridge board->bus {bridge.to_bus} frames, bus->board {bridge.to_board}, errors {bridge.errors}")
     print(f"emu: bus TLM_SCHED {watch.sched} frames ({watch.sched_planning} with PlanUpdates > 0, "
           f"{watch.plan_updates} planning updates), DeadlineMisses {watch.deadline_misses}, "
