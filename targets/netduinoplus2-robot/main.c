@@ -11,6 +11,8 @@
 //   agent=K       0 Q-learning, 1 Dyna-Q, 2 Dyna-QPC (the scenario's: 2)
 //   persist=0     no saving at episode ends (the control task's worst run is then its own: the
 //                 save of ~51 KB at an episode's end is the longest run otherwise)
+//   speed=X       firmware time runs X times faster than QEMU's clock (1; X divides 168): with
+//                 the devices at --speed X (dynaqpc-emu run --speed X)
 //   duration_s=N  end the emulation after N s of firmware time (0: never)
 //   report_s=N    a report line every N s of firmware time (5)
 // The emulation ends with exit code 0, or 1 when a deadline was missed (netduinoplus2/board.h);
@@ -90,6 +92,10 @@ int main(void)
     (void)nd2_board_init();
     static char cmdline[160];
     nd2_cmdline(cmdline, sizeof cmdline);
+    if (nd2_set_time_speed(option_(cmdline, "speed", 1u)) != 0) {
+        nd2_puts("netduinoplus2: speed= must divide 168\n");
+        nd2_exit(ND2_EXIT_INIT);
+    }
     static robot_config_t cfg;
     cfg = robot_config_paper_lab;
     cfg.step_cap = option_(cmdline, "step_cap", cfg.step_cap);

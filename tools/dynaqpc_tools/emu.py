@@ -247,6 +247,7 @@ def cmd_run(args) -> int:
     board = None
     try:
         dev_cmd = [sim, "devices", "--scenario", "paper-lab", "--supervise", "--seed", str(args.seed),
+                   "--speed", str(args.speed),
                    "--wait-firmware", "--duration", str(args.duration + 30)]
         if args.episodes:
             dev_cmd += ["--episodes", str(args.episodes)]
@@ -258,7 +259,7 @@ def cmd_run(args) -> int:
         cricket_tty = m.group(1)
         watch = BusWatch(dbc).start()
 
-        append = f"seed={args.seed} report_s={args.report_s}"
+        append = f"seed={args.seed} report_s={args.report_s} speed={args.speed}"
         if args.step_cap:
             append += f" step_cap={args.step_cap}"
         if args.planning is not None:
@@ -274,6 +275,7 @@ def cmd_run(args) -> int:
             qemu_cmd[1:1] = ["-icount", f"shift={args.icount},sleep=on"]
         qemu = subprocess.Popen(qemu_cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         board = Lines(qemu, "board: " if not args.quiet else "", not args.quiet)
+        wall0 = time.monotonic()
         m = board.wait_for(PTY_RE, 15)
         if not m or m.group(2) != "serial0":
             raise ToolError("QEMU did not name the pty of its first serial port (the board's SLCAN line)")
@@ -287,6 +289,7 @@ def cmd_run(args) -> int:
                 break
             time.sleep(0.2)
         time.sleep(0.5)  # the last frames and report line
+        args.wall_s = time.monotonic() - wall0
     finally:
         for p in (devices,):
             _stop(p)
@@ -308,6 +311,12 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
     per = plan / steps if steps else 0.0
     idle_per = idle_loop / steps if steps else 0.0
     idle_pct = sum(watch.idle_percent) / len(watch.idle_percent) if watch.idle_percent else 0.0
+    wall_s = getattr(args, "wall_s", 0.0)
+    if wall_s > 0 and last.get("t_ms"):
+        # The firmware's clock against the wall: below the speed, QEMU could not keep up with
+        # -icount's instruction rate (a loaded host): the devices then see a slow firmware.
+        print(f"emu: firmware clock {last['t_ms'] / 1000:.1f} s at the last report, wall {wall_s:.1f} s "
+              f"(the report lags by up to --report-s)")
     print(f"emu: bridge board->bus {bridge.to_bus} frames, bus->board {bridge.to_board}, errors {bridge.errors}")
     print(f"emu: bus TLM_SCHED {watch.sched} frames ({watch.sched_planning} with PlanUpdates > 0, "
           f"{watch.plan_updates} planning updates), DeadlineMisses {watch.deadline_misses}, "
@@ -334,6 +343,8 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         problems.append("hard fault (or an unexpected exception) on the board")
     if not reports:
         problems.append("no report line from the board")
+    if idle_loop < args.min_idle_loop_updates:
+        problems.append(f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}")
     if len(watch.episodes) < args.min_episodes:
         problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
     for p in problems:
@@ -369,11 +380,16 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=float, default=60.0, help="wall seconds at most (default 60)")
     r.add_argument("--episodes", type=int, default=0, help="stop after N episodes (the supervisor's count)")
     r.add_argument("--min-episodes", type=int, default=0, help="fail with fewer finished episodes")
+    r.add_argument("--min-idle-loop-updates", type=int, default=0,
+                   help="fail with fewer planning updates made in the idle loop (the board's count)")
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
     r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
     r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
     r.add_argument("--seed", type=int, default=1)
+    r.add_argument("--speed", type=int, default=1,
+                   help="the devices and the firmware's clock X times faster than real time (X divides 168); "
+                        "with --icount 0 at 8 the firmware sees 125 M instructions per second of its time")
     r.add_argument("--report-s", type=int, default=2, help="the board's report period, firmware seconds")
     r.add_argument("--icount", type=int, default=None, metavar="SHIFT",
                    help="QEMU -icount shift=SHIFT,sleep=on: 2^SHIFT ns of emulated time per instruction")

@@ -73,12 +73,22 @@ int nd2_board_init(void)
 
 // ---- Time (SysTick at the core clock, 1 kHz interrupt: as the STM32F4 port) -------------------------
 static volatile uint64_t ms_;
+static uint32_t ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u;  // core cycles per firmware microsecond
+
+int nd2_set_time_speed(uint32_t speed)
+{
+    if (speed == 0u || (STM32F4_SYSCLK_HZ / 1000000u) % speed != 0u) {
+        return -1;
+    }
+    ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u / speed;
+    return 0;
+}
 
 int hal_time_init(void)
 {
     ms_ = 0u;
     SYSTICK->CTRL = 0u;
-    SYSTICK->LOAD = STM32F4_SYSCLK_HZ / 1000u - 1u;
+    SYSTICK->LOAD = ticks_per_us_ * 1000u - 1u;
     SYSTICK->VAL = 0u;
     SCB_SHPR3 = (SCB_SHPR3 & 0x00FFFFFFu) | ((uint32_t)STM32F4_CFG_IRQ_PRIO_SYSTICK << 28);
     SYSTICK->CTRL = SYSTICK_CTRL_CLKSOURCE | SYSTICK_CTRL_TICKINT | SYSTICK_CTRL_ENABLE;
@@ -100,7 +110,7 @@ uint64_t hal_time_us(void)
         val = SYSTICK->VAL;
     }
     hal_irq_restore(s);
-    return stm32f4_time_us(ms, SYSTICK->LOAD, val, STM32F4_SYSCLK_HZ / 1000000u);
+    return stm32f4_time_us(ms, SYSTICK->LOAD, val, ticks_per_us_);
 }
 
 // ---- CPU ------------------------------------------------------------------------------------------

@@ -29,6 +29,14 @@ extern "C" {
 /// no clock tree, so there is nothing to wait for. Returns 0.
 int nd2_board_init(void);
 
+/// Firmware time runs `speed` times faster than the emulated clock (1, the default: as on the
+/// robot): a firmware millisecond is 168,000 / speed core cycles of SysTick. With QEMU's
+/// -icount shift=S, the firmware then sees a CPU of 1e9 / (2^S x speed) instructions per second
+/// of its own time (shift 0 at speed 8, or shift 3 at speed 1: 125 M), while the simulated devices
+/// run `--speed` times faster than real time alongside. speed must divide 168 (1, 2, 4, 6, 7, 8,
+/// 12, 14, ...); call before hal_time_init(). Returns 0, or -1 for a speed it cannot do.
+int nd2_set_time_speed(uint32_t speed);
+
 /// The main stack's bytes never written since reset (the startup code paints it).
 uint32_t nd2_stack_unused_bytes(void);
 
