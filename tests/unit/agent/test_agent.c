@@ -310,6 +310,55 @@ static void dyna_qpc_backs_up_the_mean_of_a_places_codes(void **state)
     assert_true(agent_.alg.dyna_qpc.model.generalised > 0u);
 }
 
+
+// A first visit to a state makes new predictions: its own untried pairs that the relocatable
+// model now predicts, and untried pairs elsewhere now predicted to lead into it. The values
+// they lead to may never change again, so nothing else would queue them: the real step that
+// arrives there does (dyna_qpc.c, queue_new_state_). A state seen before queues nothing more.
+static uint32_t pq_key_(agent_state_t s, uint8_t a)
+{
+    return s * robot_.n_actions + a;
+}
+
+static void a_first_visit_queues_what_it_makes_predictable(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.space = &robot_;
+    c.storage = &agent_storage_paper_lab;
+    c.params.alpha = 1.0f;
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    // Action 0 at heading 4 and code 0 moves +1 (3 times: trusted); the map sees (10, 4) and
+    // (12, 4) with code 0, turning there.
+    for (uint32_t x = 1; x <= 3; x++) {
+        agent_observe(&agent_, robot_state_(x, 4, 0), 0, -1.0f, robot_state_(x + 1, 4, 0), false);
+    }
+    agent_observe(&agent_, robot_state_(10, 4, 0), 2, -1.0f, robot_state_(10, 5, 0), false);
+    agent_observe(&agent_, robot_state_(12, 4, 0), 2, -1.0f, robot_state_(12, 5, 0), false);
+    (void)agent_plan(&agent_, 10000);
+    assert_int_equal(agent_backlog(&agent_), 0);
+    const pqueue_t *pq = &agent_.alg.dyna_qpc.pq;
+    const agent_state_t here = robot_state_(11, 4, 0);
+    const agent_state_t before = robot_state_(10, 4, 0);
+    assert_false(model_has_seen(&agent_.alg.dyna_qpc.model, here));
+    assert_true(agent_q(&agent_, before, 0) == 0.0f);  // (11, 4) unseen: not predictable yet
+
+    // The first visit to (11, 4, 0), turning into it.
+    agent_observe(&agent_, robot_state_(11, 3, 0), 2, -1.0f, here, false);
+    assert_true(pq_priority_of(pq, pq_key_(robot_state_(11, 3, 0), 2)) > 0.0f);  // the real pair
+    assert_true(pq_priority_of(pq, pq_key_(here, 0)) > 0.0f);    // its own: it leads to (12, 4)
+    assert_true(pq_priority_of(pq, pq_key_(before, 0)) > 0.0f);  // (10, 4, 0) now leads here
+    assert_int_equal(agent_backlog(&agent_), 3);
+    (void)agent_plan(&agent_, 10000);
+    assert_float_equal(agent_q(&agent_, before, 0), -1.0f, 1e-4f);  // here is worth 0: untried
+    assert_float_equal(agent_q(&agent_, here, 0), -1.0f, 1e-4f);
+
+    // Arriving again queues the real pair only if it still has something to learn, nothing else.
+    agent_observe(&agent_, robot_state_(11, 3, 0), 2, -1.0f, here, false);
+    assert_int_equal(agent_backlog(&agent_), 0);
+}
+
 // The registry (agent/algorithms.h): every kind has a name, every name its kind, and anything
 // else is an error rather than some default algorithm.
 static void kinds_and_names_round_trip(void **state)
@@ -430,6 +479,7 @@ int main(void)
         cmocka_unit_test(kinds_and_names_round_trip),
         cmocka_unit_test(counters_list_the_q_store_then_the_algorithm),
         cmocka_unit_test(preconditions_are_asserted),
+        cmocka_unit_test(a_first_visit_queues_what_it_makes_predictable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
