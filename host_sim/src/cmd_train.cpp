@@ -212,7 +212,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
         throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
     }
     if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (q, dyna-q or dyna-qpc)");
+        throw UsageError("--agent: required (" + agent_kind_list() + ")");
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;

@@ -101,7 +101,7 @@ int main(void)
     cfg.step_cap = option_(cmdline, "step_cap", cfg.step_cap);
     cfg.planning = option_(cmdline, "planning", cfg.planning);
     const uint32_t kind = option_(cmdline, "agent", (uint32_t)cfg.agent);
-    cfg.agent = kind <= (uint32_t)AGENT_DYNA_QPC ? (agent_kind_t)kind : cfg.agent;
+    cfg.agent = kind < (uint32_t)AGENT_KINDS ? (agent_kind_t)kind : cfg.agent;
     const uint64_t duration_us = (uint64_t)option_(cmdline, "duration_s", 0u) * 1000000u;
     const uint64_t report_us = (uint64_t)option_(cmdline, "report_s", 5u) * 1000000u;
 

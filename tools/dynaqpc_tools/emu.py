@@ -35,7 +35,7 @@ from typing import Dict, List, Optional
 from .common import ToolError, VCAN_CHANNEL, VCAN_INTERFACE, default_dbc_path, load_dbc, open_bus, repo_root, run_main
 
 FW_SENDER = "FW"
-AGENTS = ("q", "dyna-q", "dyna-qpc")  # agent_kind_t order
+AGENTS = ("q", "dyna-q", "dyna-qpc", "dyna-q-majority")  # agent_kind_t order
 
 
 class Bridge:
