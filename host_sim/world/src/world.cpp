@@ -88,6 +88,8 @@ struct World::Impl {
     Scenario sc;
     b2World world{b2Vec2(0.0f, 0.0f)};
     b2Body *robot = nullptr;
+    b2Body *walls = nullptr;
+    std::vector<b2Fixture *> obstacle_fixtures;
     b2Fixture *robot_fixture = nullptr;
     BumpListener bump;
     RandomStream start_rng, range_rng, gyro_rng, gps_rng;
@@ -105,6 +107,7 @@ struct World::Impl {
     }
 
     void build();
+    void build_obstacles();
     void drive();
     void ranges(float out[]) const;
 };
@@ -118,7 +121,7 @@ void World::Impl::build()
     const float w = static_cast<float>(sc.arena_w), h = static_cast<float>(sc.arena_h);
     const float t = 1.0f;  // thickness
     b2BodyDef static_def;
-    b2Body *walls = world.CreateBody(&static_def);
+    walls = world.CreateBody(&static_def);
     b2PolygonShape box;
     box.SetAsBox(t / 2, h / 2 + t, b2Vec2(-t / 2, h / 2), 0.0f);
     walls->CreateFixture(&box, 0.0f);
@@ -129,20 +132,7 @@ void World::Impl::build()
     box.SetAsBox(w / 2 + t, t / 2, b2Vec2(w / 2, h + t / 2), 0.0f);
     walls->CreateFixture(&box, 0.0f);
 
-    for (const Obstacle &o : sc.obstacles) {
-        if (o.shape == Obstacle::Shape::Box) {
-            b2PolygonShape p;
-            p.SetAsBox(static_cast<float>(o.w / 2), static_cast<float>(o.h / 2),
-                       b2Vec2(static_cast<float>(o.cx), static_cast<float>(o.cy)),
-                       static_cast<float>(o.angle));
-            walls->CreateFixture(&p, 0.0f);
-        } else {
-            b2CircleShape c;
-            c.m_p.Set(static_cast<float>(o.cx), static_cast<float>(o.cy));
-            c.m_radius = static_cast<float>(o.radius);
-            walls->CreateFixture(&c, 0.0f);
-        }
-    }
+    build_obstacles();
 
     const RobotSpec &r = sc.robot;
     b2BodyDef def;
@@ -167,6 +157,24 @@ void World::Impl::build()
     // (m a / 2 per wheel) or turning on the spot (I a / (2 h^2) per wheel).
     max_force = 2.0 * r.max_accel *
                 std::max(mass / 2.0, inertia / (2.0 * half_track * half_track));
+}
+
+void World::Impl::build_obstacles()
+{
+    for (const Obstacle &o : sc.obstacles) {
+        if (o.shape == Obstacle::Shape::Box) {
+            b2PolygonShape p;
+            p.SetAsBox(static_cast<float>(o.w / 2), static_cast<float>(o.h / 2),
+                       b2Vec2(static_cast<float>(o.cx), static_cast<float>(o.cy)),
+                       static_cast<float>(o.angle));
+            obstacle_fixtures.push_back(walls->CreateFixture(&p, 0.0f));
+        } else {
+            b2CircleShape c;
+            c.m_p.Set(static_cast<float>(o.cx), static_cast<float>(o.cy));
+            c.m_radius = static_cast<float>(o.radius);
+            obstacle_fixtures.push_back(walls->CreateFixture(&c, 0.0f));
+        }
+    }
 }
 
 void World::Impl::drive()
@@ -274,6 +282,15 @@ void World::reset(const Pose &pose)
     m.robot->SetAngularVelocity(0.0f);
     m.target_l = m.target_r = 0.0;
     m.bump.bumped = false;
+}
+
+void World::set_obstacles(const std::vector<Obstacle> &obstacles)
+{
+    Impl &m = *impl_;
+    for (b2Fixture *f : m.obstacle_fixtures) m.walls->DestroyFixture(f);
+    m.obstacle_fixtures.clear();
+    m.sc.obstacles = obstacles;
+    m.build_obstacles();
 }
 
 void World::set_wheel_targets(double left, double right)
