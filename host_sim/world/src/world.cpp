@@ -86,10 +86,12 @@ double wrap_angle(double a)
 
 struct World::Impl {
     Scenario sc;
-    b2World world{b2Vec2(0.0f, 0.0f)};
+    // A pointer so that a changed room (set_obstacles) is a fresh Box2D world, built as the
+    // constructor builds one: the same contacts in the same order as a World made from the
+    // changed scenario.
+    std::unique_ptr<b2World> world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
     b2Body *robot = nullptr;
     b2Body *walls = nullptr;
-    std::vector<b2Fixture *> obstacle_fixtures;
     b2Fixture *robot_fixture = nullptr;
     BumpListener bump;
     RandomStream start_rng, range_rng, gyro_rng, gps_rng;
@@ -114,14 +116,14 @@ struct World::Impl {
 
 void World::Impl::build()
 {
-    world.SetAllowSleeping(false);
-    world.SetContactListener(&bump);
+    world->SetAllowSleeping(false);
+    world->SetContactListener(&bump);
 
     // Walls: four boxes outside the arena, their inner faces on its edges.
     const float w = static_cast<float>(sc.arena_w), h = static_cast<float>(sc.arena_h);
     const float t = 1.0f;  // thickness
     b2BodyDef static_def;
-    walls = world.CreateBody(&static_def);
+    walls = world->CreateBody(&static_def);
     b2PolygonShape box;
     box.SetAsBox(t / 2, h / 2 + t, b2Vec2(-t / 2, h / 2), 0.0f);
     walls->CreateFixture(&box, 0.0f);
@@ -139,7 +141,7 @@ void World::Impl::build()
     def.type = b2_dynamicBody;
     def.position.Set(w / 2, h / 2);
     def.allowSleep = false;
-    robot = world.CreateBody(&def);
+    robot = world->CreateBody(&def);
     b2PolygonShape body;
     body.SetAsBox(static_cast<float>(r.length / 2), static_cast<float>(r.width / 2));
     b2FixtureDef fd;
@@ -167,12 +169,12 @@ void World::Impl::build_obstacles()
             p.SetAsBox(static_cast<float>(o.w / 2), static_cast<float>(o.h / 2),
                        b2Vec2(static_cast<float>(o.cx), static_cast<float>(o.cy)),
                        static_cast<float>(o.angle));
-            obstacle_fixtures.push_back(walls->CreateFixture(&p, 0.0f));
+            walls->CreateFixture(&p, 0.0f);
         } else {
             b2CircleShape c;
             c.m_p.Set(static_cast<float>(o.cx), static_cast<float>(o.cy));
             c.m_radius = static_cast<float>(o.radius);
-            obstacle_fixtures.push_back(walls->CreateFixture(&c, 0.0f));
+            walls->CreateFixture(&c, 0.0f);
         }
     }
 }
@@ -223,7 +225,7 @@ void World::Impl::ranges(float out[]) const
                                               static_cast<float>(std::sin(ray.angle))));
         const b2Vec2 p2 = p1 + max_range * dir;
         ClosestHit hit(robot_fixture);
-        world.RayCast(&hit, p1, p2);
+        world->RayCast(&hit, p1, p2);
         if (!hit.hit) {
             out[i] = max_range;
         } else {
@@ -287,10 +289,11 @@ void World::reset(const Pose &pose)
 void World::set_obstacles(const std::vector<Obstacle> &obstacles)
 {
     Impl &m = *impl_;
-    for (b2Fixture *f : m.obstacle_fixtures) m.walls->DestroyFixture(f);
-    m.obstacle_fixtures.clear();
     m.sc.obstacles = obstacles;
-    m.build_obstacles();
+    m.world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));  // the old bodies go with the old world
+    m.bump.bumped = false;
+    m.target_l = m.target_r = 0.0;
+    m.build();
 }
 
 void World::set_wheel_targets(double left, double right)
@@ -306,7 +309,7 @@ void World::step()
 {
     Impl &m = *impl_;
     m.drive();
-    m.world.Step(static_cast<float>(m.sc.timing.physics_dt), m.sc.solver.velocity_iterations,
+    m.world->Step(static_cast<float>(m.sc.timing.physics_dt), m.sc.solver.velocity_iterations,
                  m.sc.solver.position_iterations);
     ++m.steps;
     m.time = static_cast<double>(m.steps) * m.sc.timing.physics_dt;

@@ -51,9 +51,11 @@ public:
     void reset(const Pose &pose);
 
     /// Replaces the arena's obstacles with `obstacles` (a room that changes during a run: a box
-    /// appears, a door closes or opens). The walls, the robot and every random stream stay as
-    /// they are; start poses and in_goal() follow the new obstacles. Call it between episodes,
-    /// before reset(): the robot is not moved out of a new obstacle. The caller checks the change
+    /// appears, a door closes or opens). The physics is rebuilt as the constructor builds it (the
+    /// robot at rest at the arena's centre until the next reset()); time and every random stream
+    /// go on as they were, so a change before the first episode gives the same run as a World
+    /// made from the changed scenario. Start poses and in_goal() follow the new obstacles. Call
+    /// it between episodes, before reset(). The caller checks the change
     /// (layout_change_problem()); at most kMaxObstacles.
     void set_obstacles(const std::vector<Obstacle> &obstacles);
 
