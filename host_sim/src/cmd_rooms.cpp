@@ -92,9 +92,11 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
-        auto check_one = [](const std::string &file, world::Scenario &s) {
+        auto load = [](const std::string &file, world::Scenario &s) {
             std::string error;
             if (!world::load_scenario(file, &s, &error)) throw UsageError(error);
+        };
+        auto check_one = [](const world::Scenario &s) {
             const world::PassageReport r = world::check_passages(s);
             if (!r.ok) throw UsageError(s.path + ": " + r.problem);
             std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
@@ -112,13 +114,17 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
             }
         };
         world::Scenario before, after;
-        check_one(check, before);
-        if (o.seen("--changed")) {
-            check_one(changed, after);
+        load(check, before);
+        if (o.seen("--changed")) {  // the pair first: a refusal prints nothing else
+            load(changed, after);
             const std::string problem = world::layout_change_problem(before, after);
             if (!problem.empty()) {
                 throw UsageError("--changed: " + after.path + " is not a change of " + before.path + ": " + problem);
             }
+        }
+        check_one(before);
+        if (o.seen("--changed")) {
+            check_one(after);
             std::printf("%s: a change of %s: only the obstacles differ (%zu -> %zu)\n", after.path.c_str(),
                         before.path.c_str(), before.obstacles.size(), after.obstacles.size());
         }
