@@ -24,9 +24,6 @@ string(REGEX MATCH "^[^\n]*\n[^\n]*\n[^\n]*\n[^\n]*\n" changed_head "${changed}"
 if(NOT plain_head STREQUAL changed_head OR plain_head STREQUAL "")
     message(FATAL_ERROR "episodes 1-3 differ with --change-at 4:\n${plain}\n---\n${changed}")
 endif()
-if(plain STREQUAL changed)
-    message(FATAL_ERROR "episodes 4-5 are the same with and without the change:\n${plain}")
-endif()
 
 # 2. From K on the room is the changed file's.
 sim(train --scenario "${box}" --agent dyna-qpc --sets 1 --episodes 4 --seed 4 --no-wall-time --quiet --csv -)
