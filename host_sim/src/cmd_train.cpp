@@ -43,6 +43,9 @@ struct TrainSettings {
     std::string gamma, ablate;
     std::string csv;
     std::string save;
+    std::uint32_t change_at = 0;
+    std::string changed;
+    const world::Scenario *changed_world = nullptr;  // loaded from `changed`
     bool no_wall_time = false;
     bool quiet = false;
     bool counters = false;
@@ -93,6 +96,14 @@ void declare(Options &o, TrainSettings &s)
                  "each episode end "
                  "(dynaqpc-sim run --load FILE replays it)",
                  &s.save);
+    o.add_uint("--change-at", "K",
+               "the room changes: from episode K of every set on, the obstacles are --changed's "
+               "(the firmware is not told and keeps learning; default: never)",
+               &s.change_at, 1, 10000000);
+    o.add_string("--changed", "FILE",
+                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
+                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
+                 &s.changed);
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
                &s.no_wall_time);
     o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
@@ -159,6 +170,9 @@ void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSe
         }
         Lockstep sim(*sb.world, cfg, lo);
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
+            if (e == s.change_at && s.changed_world != nullptr) {
+                sim.change_layout(*s.changed_world);
+            }
             EpisodeRow row = sim.run_episode();
             row.episode = e;  // of this set; the firmware's own count is what it has ever run
             emit(set, row);
@@ -226,6 +240,19 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;
 
+    if (o.seen("--change-at") != o.seen("--changed")) {
+        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
+                                               : "--changed: needs --change-at K (the first episode in it)");
+    }
+    ScenarioBundle changed;
+    if (o.seen("--changed")) {
+        changed = load_changed_scenario(sb, s.changed);
+        if (s.change_at > s.episodes) {
+            throw UsageError("--change-at: episode " + std::to_string(s.change_at) + " is past the last (" +
+                             std::to_string(s.episodes) + ")");
+        }
+        s.changed_world = changed.world.get();
+    }
     if (!s.save.empty()) {
         check_save_target(s.save);
     }
@@ -335,8 +362,12 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
                                      : "planning " + std::to_string(cfg.planning) + " per real step";
         std::fprintf(sum, "%s on %s, %u sets, %s: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(),
                      s.sets, plan.c_str());
+        if (s.changed_world != nullptr) {
+            std::fprintf(sum, "  the room is %s from episode %u on\n", changed.name.c_str(), s.change_at);
+        }
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
-            if (e <= 10 || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
+            const bool near_change = s.changed_world != nullptr && e + 1 >= s.change_at && e <= s.change_at + 9;
+            if (e <= 10 || near_change || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
                 std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, steps_sum[e] / s.sets,
                              time_sum[e] / s.sets);
             }

@@ -76,6 +76,11 @@ public:
     /// Places the robot at a random start pose and runs one episode to the goal or the step cap.
     EpisodeRow run_episode();
 
+    /// The room changes (train/run --change-at K --changed FILE): from the next episode on, the
+    /// world's obstacles are `changed`'s. The firmware is not told. `changed` must be a change of
+    /// the scenario this runner was built with (world::layout_change_problem() says "").
+    void change_layout(const world::Scenario &changed);
+
     /// Called every control period while set.
     void set_trajectory_sink(std::function<void(const TrajectoryPoint &)> sink);
 

@@ -136,6 +136,22 @@ ScenarioBundle load_scenario(const std::string &arg)
     return b;
 }
 
+ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg)
+{
+    ScenarioBundle b;
+    try {
+        b = load_scenario(arg);
+    } catch (const UsageError &e) {
+        throw UsageError(std::string("--changed: ") + e.what());
+    }
+    const std::string problem = world::layout_change_problem(*base.world, *b.world);
+    if (!problem.empty()) {
+        throw UsageError("--changed: " + (b.path.empty() ? arg : b.path) + " is not a change of " +
+                         (base.path.empty() ? base.name : base.path) + ": " + problem);
+    }
+    return b;
+}
+
 agent_kind_t agent_kind_of(const std::string &name)
 {
     agent_kind_t kind;

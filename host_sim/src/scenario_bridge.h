@@ -31,6 +31,12 @@ struct ScenarioBundle {
 /// Loads `--scenario NAME|FILE`. A bad file throws UsageError "FILE:LINE: problem".
 ScenarioBundle load_scenario(const std::string &arg);
 
+/// Loads `--changed FILE`, the room `base` becomes during a run (`--change-at K`): a scenario
+/// whose obstacles alone differ from base's (world::layout_change_problem()). Anything else
+/// throws UsageError "--changed: FILE is not a change of BASE: the goal ... differs (only
+/// obstacles may change)".
+ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg);
+
 /// The agent an `--agent` option names (agent/algorithms.h: q, dyna-q, dyna-qpc, ...); another
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);

@@ -173,6 +173,14 @@ struct Scenario {
 bool parse_scenario(std::string_view text, const std::string &file, Scenario *out,
                     std::string *error);
 
+/// Whether `changed` is a change of `base`'s room that a robot can meet during a run (`train
+/// --change-at K --changed FILE`, docs/scenarios.md "Rooms that change"): only the obstacles may
+/// differ. The floor, the goal (the firmware is given it), the robot, its sensors and pose
+/// source, timing, solver, start margin, encoding, actions, rewards and learning (except the
+/// protocol's sets and episodes) must be the same. Returns "" if so, else what differs, e.g.
+/// "the goal differs (only obstacles may change)".
+std::string layout_change_problem(const Scenario &base, const Scenario &changed);
+
 /// The path a scenario argument names: a bare name without '/' and without ".scn" that matches a
 /// shipped scenario ("paper-sim", "paper-lab", "paper-sim-motion", "paper-lab-motion") gives host_sim/scenarios/<name>.scn of this
 /// source tree; anything else is returned unchanged as a path.
