@@ -92,6 +92,19 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
     (void)dynaqpc_can_fw_status_pack(out->data, &m, sizeof out->data);
 }
 
+void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tool_ack_t m;
+    m.command = ack->command;
+    m.counter = (uint8_t)(ack->counter & 0x0Fu);
+    m.result = (uint8_t)min_u32(ack->result, TLM_ACK_FAILED);
+    m.reason = (uint8_t)min_u32(ack->reason, TLM_WHY_RECORD_DAMAGED);
+    m.sequence = min_u32(ack->sequence, 0xFFFFFFu);
+    m.episodes = (uint16_t)min_u32(ack->episodes, 0xFFFFu);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TOOL_ACK_FRAME_ID, DYNAQPC_CAN_TOOL_ACK_LENGTH);
+    (void)dynaqpc_can_tool_ack_pack(out->data, &m, sizeof out->data);
+}
+
 int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *out)
 {
     struct dynaqpc_can_tool_cmd_t m;
@@ -208,5 +221,23 @@ int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
                             (m.err_flash ? TLM_ERR_FLASH : 0u) |
                             (m.err_deadline_miss ? TLM_ERR_DEADLINE_MISS : 0u));
     out->uptime_s = m.uptime;
+    return FW_OK;
+}
+
+int tlm_decode_ack(const hal_can_frame_t *frame, tlm_ack_t *out)
+{
+    struct dynaqpc_can_tool_ack_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TOOL_ACK_FRAME_ID, DYNAQPC_CAN_TOOL_ACK_LENGTH) ||
+        dynaqpc_can_tool_ack_unpack(&m, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_tool_ack_result_is_in_range(m.result) ||
+        !dynaqpc_can_tool_ack_reason_is_in_range(m.reason)) {
+        return FW_ERR_INVAL;
+    }
+    out->command = m.command;
+    out->counter = m.counter;
+    out->result = m.result;
+    out->reason = m.reason;
+    out->sequence = m.sequence;
+    out->episodes = m.episodes;
     return FW_OK;
 }
