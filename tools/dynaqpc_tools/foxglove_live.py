@@ -67,12 +67,81 @@ def _signal_schema(message) -> dict:
     return {"type": "object", "title": f"dynaqpc.{message.name}", "properties": props}
 
 
-class LiveFoxglove:
+class Build:
+    """Foxglove's message types (foxglove-sdk, protobuf) for what the bus says: poses, transforms,
+    the arena. Shared by the live server and the MCAP recording (canlog.McapLog)."""
+
+    def __init__(self):
+        self.fg, self.fc, self.m = _import_sdk()
+        self.arena = None
+
+    def pose_in_frame(self, x: float, y: float, heading: float, t: float):
+        return self.m.PoseInFrame(timestamp=self._ts(t), frame_id=FRAME, pose=self._pose(x, y, 0.0, heading))
+
+    def transforms(self, child: str, x: float, y: float, heading: float, t: float):
+        m = self.m
+        return m.FrameTransforms(transforms=[m.FrameTransform(
+            timestamp=self._ts(t), parent_frame_id=FRAME, child_frame_id=child,
+            translation=m.Vector3(x=x, y=y, z=0.0), rotation=self._quat(heading))])
+
+    # ---- helpers ---------------------------------------------------------------------------------
+
+    def _ts(self, t: float):
+        return self.m.Timestamp.from_epoch_secs(t)
+
+    def _quat(self, yaw: float):
+        return self.m.Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
+
+    def _pose(self, x, y, z=0.0, yaw=0.0):
+        return self.m.Pose(position=self.m.Vector3(x=x, y=y, z=z), orientation=self._quat(yaw))
+
+    def _color(self, r, g, b, a=1.0):
+        return self.m.Color(r=r, g=g, b=b, a=a)
+
+    # ---- what is published -----------------------------------------------------------------------
+
+    def arena_scene(self, t: float, arena: Optional[dict] = None):
+        m, a = self.m, arena if arena is not None else self.arena
+        w, h = a["width"], a["height"]
+        wall, height = 0.02, 0.3
+        dark, grey = self._color(0.2, 0.2, 0.2), self._color(0.5, 0.5, 0.5)
+        green, purple = self._color(0.1, 0.7, 0.2, 0.4), self._color(0.5, 0.2, 0.7)
+        cube = lambda x, y, z, sx, sy, sz, c, yaw=0.0: m.CubePrimitive(  # noqa: E731
+            pose=self._pose(x, y, z, yaw), size=m.Vector3(x=sx, y=sy, z=sz), color=c)
+        cyl = lambda x, y, z, d, sz, c: m.CylinderPrimitive(  # noqa: E731
+            pose=self._pose(x, y, z), size=m.Vector3(x=d, y=d, z=sz), bottom_scale=1.0, top_scale=1.0, color=c)
+        cubes = [cube(w / 2, 0, height / 2, w, wall, height, dark), cube(w / 2, h, height / 2, w, wall, height, dark),
+                 cube(0, h / 2, height / 2, wall, h, height, dark), cube(w, h / 2, height / 2, wall, h, height, dark)]
+        cylinders, spheres, texts = [], [], []
+        for ob in a.get("obstacles", []):
+            if ob["kind"] == "box":
+                cubes.append(cube(ob["cx"], ob["cy"], height / 2, ob["w"], ob["h"], height, grey,
+                                  math.radians(ob.get("angle_deg", 0.0))))
+            else:
+                cylinders.append(cyl(ob["cx"], ob["cy"], height / 2, 2 * ob["r"], height, grey))
+        goal = a.get("goal")
+        if goal and goal.get("cells"):
+            for x0, y0, x1, y1 in goal["cells"]:
+                cubes.append(cube((x0 + x1) / 2, (y0 + y1) / 2, 0.005, x1 - x0, y1 - y0, 0.01, green))
+        elif goal:
+            cylinders.append(cyl(goal["cx"], goal["cy"], 0.005, 2 * goal["r"], 0.01, green))
+        for b in a.get("beacons", []):
+            spheres.append(m.SpherePrimitive(pose=self._pose(b["x"], b["y"], b["z"]),
+                                             size=m.Vector3(x=0.08, y=0.08, z=0.08), color=purple))
+            texts.append(m.TextPrimitive(pose=self._pose(b["x"], b["y"], b["z"] + 0.1), billboard=True,
+                                         font_size=12.0, scale_invariant=True, color=purple,
+                                         text=str(b.get("id", ""))))
+        entity = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="arena", cubes=cubes,
+                               cylinders=cylinders, spheres=spheres, texts=texts)
+        return m.SceneUpdate(entities=[entity])
+
+class LiveFoxglove(Build):
     """Feeds python-can messages into Foxglove channels on a WebSocket server."""
 
     def __init__(self, db, port: int = 8765, host: str = "127.0.0.1", arena: Optional[dict] = None,
                  ray_angles=None, name: str = "dynaqpc"):
-        self.fg, fc, self.m = _import_sdk()
+        Build.__init__(self)
+        fc = self.fc
         self.db = db
         self.arena = arena
         try:
@@ -112,60 +181,9 @@ class LiveFoxglove:
         self.counts: Dict[str, int] = {}
         self.tick()  # the arena at once
 
-    # ---- helpers ---------------------------------------------------------------------------------
-
-    def _ts(self, t: float):
-        return self.m.Timestamp.from_epoch_secs(t)
-
-    def _quat(self, yaw: float):
-        return self.m.Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
-
-    def _pose(self, x, y, z=0.0, yaw=0.0):
-        return self.m.Pose(position=self.m.Vector3(x=x, y=y, z=z), orientation=self._quat(yaw))
-
-    def _color(self, r, g, b, a=1.0):
-        return self.m.Color(r=r, g=g, b=b, a=a)
-
     def _log(self, ch, topic: str, msg) -> None:
         ch.log(msg)
         self.counts[topic] = self.counts.get(topic, 0) + 1
-
-    # ---- what is published -----------------------------------------------------------------------
-
-    def arena_scene(self, t: float):
-        m, a = self.m, self.arena
-        w, h = a["width"], a["height"]
-        wall, height = 0.02, 0.3
-        dark, grey = self._color(0.2, 0.2, 0.2), self._color(0.5, 0.5, 0.5)
-        green, purple = self._color(0.1, 0.7, 0.2, 0.4), self._color(0.5, 0.2, 0.7)
-        cube = lambda x, y, z, sx, sy, sz, c, yaw=0.0: m.CubePrimitive(  # noqa: E731
-            pose=self._pose(x, y, z, yaw), size=m.Vector3(x=sx, y=sy, z=sz), color=c)
-        cyl = lambda x, y, z, d, sz, c: m.CylinderPrimitive(  # noqa: E731
-            pose=self._pose(x, y, z), size=m.Vector3(x=d, y=d, z=sz), bottom_scale=1.0, top_scale=1.0, color=c)
-        cubes = [cube(w / 2, 0, height / 2, w, wall, height, dark), cube(w / 2, h, height / 2, w, wall, height, dark),
-                 cube(0, h / 2, height / 2, wall, h, height, dark), cube(w, h / 2, height / 2, wall, h, height, dark)]
-        cylinders, spheres, texts = [], [], []
-        for ob in a.get("obstacles", []):
-            if ob["kind"] == "box":
-                cubes.append(cube(ob["cx"], ob["cy"], height / 2, ob["w"], ob["h"], height, grey,
-                                  math.radians(ob.get("angle_deg", 0.0))))
-            else:
-                cylinders.append(cyl(ob["cx"], ob["cy"], height / 2, 2 * ob["r"], height, grey))
-        goal = a.get("goal")
-        if goal and goal.get("cells"):
-            for x0, y0, x1, y1 in goal["cells"]:
-                cubes.append(cube((x0 + x1) / 2, (y0 + y1) / 2, 0.005, x1 - x0, y1 - y0, 0.01, green))
-        elif goal:
-            cylinders.append(cyl(goal["cx"], goal["cy"], 0.005, 2 * goal["r"], 0.01, green))
-        for b in a.get("beacons", []):
-            spheres.append(m.SpherePrimitive(pose=self._pose(b["x"], b["y"], b["z"]),
-                                             size=m.Vector3(x=0.08, y=0.08, z=0.08), color=purple))
-            texts.append(m.TextPrimitive(pose=self._pose(b["x"], b["y"], b["z"] + 0.1), billboard=True,
-                                         font_size=12.0, scale_invariant=True, color=purple,
-                                         text=str(b.get("id", ""))))
-        entity = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="arena", cubes=cubes,
-                               cylinders=cylinders, spheres=spheres, texts=texts)
-        return m.SceneUpdate(entities=[entity])
 
     def label(self) -> str:
         b = self.bus
@@ -253,11 +271,8 @@ class LiveFoxglove:
         if pose is not None:
             self.last_pose = pose
             if pose.usable:
-                q = self._pose(pose.x, pose.y, 0.0, pose.heading)
-                self._log(self.pose, "/robot/pose", m.PoseInFrame(timestamp=self._ts(t), frame_id=FRAME, pose=q))
-                self._log(self.tf, "/tf", m.FrameTransforms(transforms=[m.FrameTransform(
-                    timestamp=self._ts(t), parent_frame_id=FRAME, child_frame_id=BASE,
-                    translation=m.Vector3(x=pose.x, y=pose.y, z=0.0), rotation=self._quat(pose.heading))]))
+                self._log(self.pose, "/robot/pose", self.pose_in_frame(pose.x, pose.y, pose.heading, t))
+                self._log(self.tf, "/tf", self.transforms(BASE, pose.x, pose.y, pose.heading, t))
                 self.trail.append((pose.x, pose.y))
                 del self.trail[:-TRAIL_POINTS]
                 self._log(self.trail_ch, "/robot/trail", self._points_scene(t, "trail", self.trail, True))
@@ -266,11 +281,8 @@ class LiveFoxglove:
             self._log(self.state_ch, "/robot/state", self.state())
         gps = self.gps_dec.decode(msg) if self.gps_dec is not None else None
         if gps is not None and gps.fix_name not in NO_POSE:
-            q = self._pose(gps.x, gps.y, 0.0, gps.heading)
-            self._log(self.true_pose, "/robot/true_pose", m.PoseInFrame(timestamp=self._ts(t), frame_id=FRAME, pose=q))
-            self._log(self.tf, "/tf", m.FrameTransforms(transforms=[m.FrameTransform(
-                timestamp=self._ts(t), parent_frame_id=FRAME, child_frame_id=TRUE_BASE,
-                translation=m.Vector3(x=gps.x, y=gps.y, z=0.0), rotation=self._quat(gps.heading))]))
+            self._log(self.true_pose, "/robot/true_pose", self.pose_in_frame(gps.x, gps.y, gps.heading, t))
+            self._log(self.tf, "/tf", self.transforms(TRUE_BASE, gps.x, gps.y, gps.heading, t))
         if event == "bump" and self.last_pose is not None and self.last_pose.usable:
             self.bump_points.append((self.last_pose.x, self.last_pose.y))
             self._log(self.bumps_ch, "/robot/bumps", self._points_scene(t, "bumps", self.bump_points, False))
