@@ -5,7 +5,7 @@ its recordings), with foxglove-sdk's layout types (foxglove.layouts).
 
     .venv/bin/python tools/gen_foxglove_layout.py [-o FILE]
 
-Left: a 3D panel fixed on the arena frame, following base_link, with the arena, the pose, the
+Left: a 3D panel fixed on the arena frame with the arena, the value map, the pose, the
 rays and the robot's label, the trail and the bumps. Right: plots of the learning (TLM_LEARN
 Step and Reward, TLM_EPISODE Steps) and of the scheduler (TLM_SCHED QueueLength, PlanUpdates,
 IdlePercent), the mode's transitions (FW_STATUS Mode_name, /robot/state), and the operator's
@@ -23,7 +23,7 @@ OUT = ROOT / "docs" / "foxglove-layout.json"
 
 def layout() -> fl.Layout:
     topics = {t: fl.BaseRendererSceneUpdateTopicSettings(visible=True)
-              for t in ("/arena", "/robot/rays", "/robot/trail", "/robot/bumps")}
+              for t in ("/arena", "/robot/values", "/robot/rays", "/robot/trail", "/robot/bumps")}
     topics["/robot/pose"] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color="#1f77b4")
     topics["/robot/true_pose"] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color="#2ca02c")
     three_d = fl.ThreeDeePanel(title="robot in its arena", config=fl.ThreeDeeConfig(

@@ -120,7 +120,7 @@ def test_dbc_rules(db):
     assert cycles == {
         "TOOL_CMD": None, "TOOL_ACK": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
         "SONAR_RANGES_A": 96, "SONAR_RANGES_B": 96, "GPS_POSE": 96, "FW_STATUS": 1000,
-        "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None}
+        "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None, "TLM_VALUE": None}
     # TLM_LEARN goes once per real learning step (several control periods), not every 192 ms.
     assert db.get_message_by_name("TLM_LEARN").dbc.attributes["GenMsgSendType"].value == 1  # Event
     assert db.get_message_by_name("TOOL_ACK").dbc.attributes["GenMsgSendType"].value == 1  # Event
@@ -141,7 +141,7 @@ def expected_decoded(msg, data):
 
 @pytest.mark.parametrize("name", [
     "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE"])
+    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_c_decodes_what_cantools_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random(name)
@@ -161,7 +161,7 @@ def test_c_decodes_what_cantools_encodes(db, vectors, name):
 
 @pytest.mark.parametrize("name", [
     "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE"])
+    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_cantools_decodes_what_c_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random("enc" + name)

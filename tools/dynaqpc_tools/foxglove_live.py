@@ -18,6 +18,11 @@ protobuf, the schemas Foxglove publishes) and served by the sdk's WebSocket serv
   /robot/trail           foxglove.SceneUpdate in frame arena: the episode's path so far
   /arena                 foxglove.SceneUpdate: walls, obstacles, goal cells and beacons, from
                          --arena FILE.json (the simulator's `run --arena`), every 2 s
+  /robot/values          foxglove.SceneUpdate in frame arena: the value map as it changes (TLM_VALUE:
+                         V of the state each real step updated), one flat tile per cell coloured
+                         from blue (lowest V seen) to red (highest), the cell's largest V over
+                         headings and range codes; needs --scenario FILE (its arena and encode
+                         lines place a state's cell)
   /robot/state           JSON: episode, step, mode, fix, episodes ended (Plot, State Transitions)
   /can/<MESSAGE>         JSON: every DBC message's signals decoded, numbers (Plot panel:
                          /can/TLM_SCHED.QueueLength), a value table's name as <signal>_name
@@ -34,7 +39,7 @@ from .viewer import NO_POSE, BusState, PoseDecoder
 
 #: The fixed topics (besides /can/<MESSAGE>, one per DBC message).
 TOPICS = ("/tf", "/robot/pose", "/robot/true_pose", "/robot/rays", "/robot/bumps", "/robot/trail", "/arena",
-          "/robot/state")
+          "/robot/state", "/robot/values")
 FRAME = "arena"
 BASE = "base_link"
 TRUE_BASE = "true_base_link"
@@ -56,6 +61,43 @@ def _import_sdk():
     from foxglove import channels as fc
     from foxglove import messages as fm
     return foxglove, fc, fm
+
+
+def scenario_grid(path: str) -> dict:
+    """The state grid of a scenario file: arena size (m) and the `encode` line's bits (x, y,
+    heading, sensor; the firmware packs them in that order from bit 0, space_pack)."""
+    grid = {"width": None, "height": None, "x": 5, "y": 5, "heading": 4, "sensor": None}
+    code_bits = 0
+    try:
+        with open(path, encoding="utf-8") as f:
+            for line in f:
+                w = line.split("#", 1)[0].split()
+                if not w:
+                    continue
+                if w[0] == "arena" and len(w) >= 3:
+                    grid["width"], grid["height"] = float(w[1]), float(w[2])
+                elif w[0] == "encode":
+                    for k, v in zip(w[1::2], w[2::2]):
+                        grid[k] = int(v)
+                elif w[0] == "code_bit":
+                    code_bits += 1
+    except (OSError, ValueError) as e:
+        raise ToolError(f"--scenario: cannot read {path}: {e}") from None
+    if grid["width"] is None:
+        raise ToolError(f"--scenario: {path} has no `arena W H` line")
+    if grid["sensor"] is None:
+        grid["sensor"] = code_bits
+    return grid
+
+
+def state_cell(grid: dict, state: int):
+    """(x cell, y cell, heading sector, range code) of an encoded state."""
+    out = []
+    for k in ("x", "y", "heading", "sensor"):
+        bits = grid[k]
+        out.append(state & ((1 << bits) - 1))
+        state >>= bits
+    return tuple(out)
 
 
 def _signal_schema(message) -> dict:
@@ -139,7 +181,7 @@ class LiveFoxglove(Build):
     """Feeds python-can messages into Foxglove channels on a WebSocket server."""
 
     def __init__(self, db, port: int = 8765, host: str = "127.0.0.1", arena: Optional[dict] = None,
-                 ray_angles=None, name: str = "dynaqpc"):
+                 ray_angles=None, name: str = "dynaqpc", grid: Optional[dict] = None):
         Build.__init__(self)
         fc = self.fc
         self.db = db
@@ -157,6 +199,13 @@ class LiveFoxglove(Build):
         self.bumps_ch = fc.SceneUpdateChannel("/robot/bumps")
         self.trail_ch = fc.SceneUpdateChannel("/robot/trail")
         self.arena_ch = fc.SceneUpdateChannel("/arena")
+        self.values_ch = fc.SceneUpdateChannel("/robot/values")
+        self.grid = grid
+        self.values: Dict[tuple, Dict[tuple, float]] = {}  # (x, y) cell -> (heading, code) -> V
+        try:
+            self.value_msg = db.get_message_by_name("TLM_VALUE")
+        except KeyError:
+            self.value_msg = None
         self.state_ch = self.fg.Channel("/robot/state", schema={
             "type": "object", "title": "dynaqpc.RobotState",
             "properties": {k: {"type": "number"} for k in ("episode", "step", "episodes_ended", "bumps")}
@@ -226,6 +275,38 @@ class LiveFoxglove(Build):
                                   color=self._color(0.9, 0.1, 0.1, 0.9)) for x, y in pts])
         return m.SceneUpdate(entities=[ent])
 
+    def values_scene(self, t: float):
+        m, g = self.m, self.grid
+        cw, ch = g["width"] / (1 << g["x"]), g["height"] / (1 << g["y"])
+        best = {cell: max(vs.values()) for cell, vs in self.values.items()}
+        lo, hi = min(best.values()), max(best.values())
+        span = hi - lo if hi > lo else 1.0
+        cubes, texts = [], []
+        for (x, y), v in sorted(best.items()):
+            f = (v - lo) / span
+            cubes.append(m.CubePrimitive(pose=self._pose((x + 0.5) * cw, (y + 0.5) * ch, 0.002),
+                                         size=m.Vector3(x=cw * 0.95, y=ch * 0.95, z=0.004),
+                                         color=self._color(f, 0.2, 1.0 - f, 0.55)))
+        texts.append(m.TextPrimitive(pose=self._pose(0.0, -0.3, 0.0), billboard=True, font_size=12.0,
+                                     scale_invariant=True, color=self._color(0, 0, 0),
+                                     text=f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells"))
+        ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="values", cubes=cubes, texts=texts)
+        return m.SceneUpdate(entities=[ent])
+
+    def _value(self, msg, t: float) -> None:
+        vm = self.value_msg
+        if vm is None or self.grid is None or msg.arbitration_id != vm.frame_id or msg.is_extended_id:
+            return
+        try:
+            v = vm.decode(bytes(msg.data), decode_choices=False)
+        except Exception:
+            return
+        x, y, h, code = state_cell(self.grid, int(v["State"]))
+        if x >= (1 << self.grid["x"]) or y >= (1 << self.grid["y"]):
+            return
+        self.values.setdefault((x, y), {})[(h, code)] = float(v["Value"])
+        self._log(self.values_ch, "/robot/values", self.values_scene(t))
+
     def state(self) -> dict:
         b = self.bus
         return {"episode": b.episode if b.episode is not None else -1,
@@ -265,6 +346,7 @@ class LiveFoxglove(Build):
             return
         t = time.time()
         self._signals(msg, t)
+        self._value(msg, t)
         event = self.bus.feed(msg)
         m = self.m
         pose = self.pose_dec.decode(msg)

@@ -262,7 +262,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--foxglove-host", default="127.0.0.1", metavar="ADDR",
                    help="address to serve on (default %(default)s: this machine only)")
     p.add_argument("--scenario", metavar="FILE",
-                   help="with --foxglove: a scenario file whose `ray` lines give the rays' angles")
+                   help="with --foxglove: a scenario file: its `ray` lines give the rays' angles, its `arena` "
+                        "and `encode` lines place the value map's cells (/robot/values)")
     return p
 
 
@@ -291,10 +292,12 @@ def run(args, out=None) -> Monitor:
     arena = load_arena(args.arena) if args.arena else None
     if args.log and args.replay and os.path.abspath(args.log) == os.path.abspath(args.replay):
         raise ToolError(f"--log {args.log}: that is the file being replayed")
-    ray_angles = None
+    ray_angles, grid = None, None
     if args.scenario:
+        from .foxglove_live import scenario_grid
         from .viewer import scenario_ray_angles
 
+        grid = scenario_grid(args.scenario)
         ray_angles = scenario_ray_angles(args.scenario)
     logger = open_log(args.log, db, arena, args.speed) if args.log else None
     live_fg = None
@@ -302,7 +305,7 @@ def run(args, out=None) -> Monitor:
         if args.foxglove is not None:
             from .foxglove_live import LiveFoxglove
 
-            live_fg = LiveFoxglove(db, args.foxglove, args.foxglove_host, arena, ray_angles)
+            live_fg = LiveFoxglove(db, args.foxglove, args.foxglove_host, arena, ray_angles, grid=grid)
             print(f"dynaqpc-monitor: Foxglove on ws://{args.foxglove_host}:{live_fg.port}", file=sys.stderr,
                   flush=True)
         bus = None if args.replay else bus_from_args(args)

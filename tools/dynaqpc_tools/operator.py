@@ -119,8 +119,8 @@ def ack_text(ack: Dict[str, object]) -> str:
             detail = f", record {ack['sequence']} restored ({ack['episodes']} episodes)"
         elif cmd == "RESET_LEARNING":
             newest = ack["sequence"]
-            detail = (f"; the flash keeps record {newest} (restore-previous after the next save brings it back)"
-                      if newest else "")
+            detail = (f"; what it wiped is record {newest} in flash (`dynaqpc-operator restore-previous` "
+                      "brings it back)" if newest else "")
         elif cmd == "NOP":
             detail = f", newest record in flash {ack['sequence'] or 'none'}, {ack['episodes']} episodes learned"
         else:

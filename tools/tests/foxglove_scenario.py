@@ -11,6 +11,7 @@ FAIL: <why> (exit 1).
 
 import asyncio
 import json
+import os
 import re
 import struct
 import subprocess
@@ -29,7 +30,8 @@ procs = []
 ARENA = {"width": 8.0, "height": 8.0, "obstacles": [{"kind": "circle", "cx": 2.0, "cy": 2.0, "r": 0.3}],
          "goal": {"cx": 7.0, "cy": 7.0, "r": 0.5, "cells": [[6.5, 6.5, 7.5, 7.5]]}}
 REQUIRED = ["/robot/pose", "/tf", "/robot/rays", "/robot/state", "/arena", "/can/TLM_POSE", "/can/TLM_SCHED",
-            "/can/FW_STATUS", "/can/MOTOR_STATUS", "/can/SONAR_RANGES_A", "/robot/true_pose"]
+            "/can/FW_STATUS", "/can/MOTOR_STATUS", "/can/SONAR_RANGES_A", "/robot/true_pose", "/robot/values",
+            "/can/TLM_VALUE"]
 
 
 def fail(msg):
@@ -60,8 +62,10 @@ def wait_for(log, pattern, seconds):
 
 with open(f"{work}/arena.json", "w") as f:
     json.dump(ARENA, f)
+SCENARIO = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "host_sim", "scenarios",
+                        "paper-sim.scn")
 mon = start("monitor", [sys.executable, "-m", "dynaqpc_tools.monitor", "--foxglove", "0", "--arena",
-                        f"{work}/arena.json", "--refresh", "0", "--duration", "40"])
+                        f"{work}/arena.json", "--scenario", SCENARIO, "--refresh", "0", "--duration", "40"])
 m = wait_for(mon, r"Foxglove on ws://127\.0\.0\.1:(\d+)", 30)
 if not m:
     fail("dynaqpc-monitor --foxglove did not say where it serves")
@@ -138,7 +142,8 @@ if late:
     fail(f"not within {WITHIN_S:g} s of the firmware starting: {late}")
 schemas = {c["topic"]: c["schemaName"] for c in channels.values()}
 want = {"/robot/pose": "foxglove.PoseInFrame", "/tf": "foxglove.FrameTransforms", "/robot/rays": "foxglove.SceneUpdate",
-        "/arena": "foxglove.SceneUpdate", "/robot/bumps": "foxglove.SceneUpdate"}
+        "/arena": "foxglove.SceneUpdate", "/robot/bumps": "foxglove.SceneUpdate",
+        "/robot/values": "foxglove.SceneUpdate"}
 for topic, name in want.items():
     if schemas.get(topic) != name:
         fail(f"{topic} has schema {schemas.get(topic)}, not {name}")
@@ -165,6 +170,13 @@ if status.get("Mode_name") not in ("RUNNING", "IDLE", "SAFE_STOP"):
 arena = decode("/arena")
 if len(arena.entities[0].cubes) != 5 or len(arena.entities[0].cylinders) != 1:  # 4 walls + a goal cell; the post
     fail("/arena does not hold the walls, the goal cell and the obstacle")
+values = decode("/robot/values").entities[0]
+if values.frame_id != "arena" or not values.cubes or "cells" not in values.texts[0].text:
+    fail(f"/robot/values: {len(values.cubes)} tiles, {values.texts[0].text if values.texts else ''!r}")
+for c in values.cubes:  # paper-sim's 32 x 32 cells of 0.25 m
+    if abs(c.size.x - 0.25 * 0.95) > 1e-6 or not (0 < c.pose.position.x < 8 and 0 < c.pose.position.y < 8):
+        fail(f"/robot/values: a tile of {c.size.x} m at ({c.pose.position.x}, {c.pose.position.y})")
+print(f"values: {values.texts[0].text}")
 print(f"pose ({pose.pose.position.x:.2f}, {pose.pose.position.y:.2f}), tf {sorted(frames)}, "
       f"rays {len(ent.lines)}: {ent.texts[0].text!r}, state {state}")
 for name, p, log in procs:

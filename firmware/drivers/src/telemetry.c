@@ -6,6 +6,7 @@
 // number overflowed. The saturation limits come from the DBC (documented there per signal).
 #include "drivers/telemetry.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "dynaqpc_can.h"
@@ -59,6 +60,26 @@ void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out
     m.counter = can_link_tx_counter_next(&tlm->sched_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_TLM_SCHED_FRAME_ID, DYNAQPC_CAN_TLM_SCHED_LENGTH);
     (void)dynaqpc_can_tlm_sched_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_value_t m;
+    const float v = value->value * 10.0f;
+    int32_t raw = 0;
+    if (v >= 32767.0f) {
+        raw = 32767;
+    } else if (v <= -32768.0f) {
+        raw = -32768;
+    } else if (v == v) {  // NaN as 0
+        raw = (int32_t)lrintf(v);
+    }
+    m.state = min_u32(value->state, 0xFFFFFFu);
+    m.action = (uint8_t)min_u32(value->action, 15u);
+    m.value = (int16_t)raw;
+    m.counter = can_link_tx_counter_next(&tlm->value_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_VALUE_FRAME_ID, DYNAQPC_CAN_TLM_VALUE_LENGTH);
+    (void)dynaqpc_can_tlm_value_pack(out->data, &m, sizeof out->data);
 }
 
 void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
@@ -239,5 +260,18 @@ int tlm_decode_ack(const hal_can_frame_t *frame, tlm_ack_t *out)
     out->reason = m.reason;
     out->sequence = m.sequence;
     out->episodes = m.episodes;
+    return FW_OK;
+}
+
+int tlm_decode_value(const hal_can_frame_t *frame, tlm_value_t *out)
+{
+    struct dynaqpc_can_tlm_value_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_VALUE_FRAME_ID, DYNAQPC_CAN_TLM_VALUE_LENGTH) ||
+        dynaqpc_can_tlm_value_unpack(&m, frame->data, frame->dlc) != 0) {
+        return FW_ERR_INVAL;
+    }
+    out->state = m.state;
+    out->action = m.action;
+    out->value = (float)m.value * 0.1f;
     return FW_OK;
 }

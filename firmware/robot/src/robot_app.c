@@ -50,7 +50,9 @@ typedef struct robot_app {
     uint8_t status_counter;
     hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
     bool have_ack;
-    bool wiped_unsaved;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
+    bool wiped_unsaved;
+    agent_state_t prev_state; // the last TLM_LEARN's state: the next real step updates its Q row
+    bool have_prev_state;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
     robot_app_stats_t stats;
     uint64_t boot_us;
     uint64_t period_start_idle_us;
@@ -389,6 +391,16 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
         const tlm_learn_t learn = {st->state, st->action, (int32_t)lrintf(st->reward), app_.ctrl.episode, st->step};
         tlm_encode_learn(&app_.dev.tlm, &learn, &f);
         send_(&f);
+        // The value map as it changes: the state this real step's update changed (the previous
+        // step's), its greedy action and V. A start state (step 0) changed nothing.
+        if (st->step >= 1u && app_.have_prev_state && app_.ctrl.learning) {
+            const uint8_t g = agent_greedy(app_.opt.agent, app_.prev_state);
+            const tlm_value_t tv = {app_.prev_state, g, agent_q(app_.opt.agent, app_.prev_state, g)};
+            tlm_encode_value(&app_.dev.tlm, &tv, &f);
+            send_(&f);
+        }
+        app_.prev_state = st->state;
+        app_.have_prev_state = true;
     }
     sched_stats_t ss;
     sched_get_stats(&app_.sched, &ss);

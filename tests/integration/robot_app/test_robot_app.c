@@ -132,6 +132,9 @@ static uint8_t seen_errors_;  // every flag any FW_STATUS showed since it was la
 static tlm_ack_t acks_[32];   // TOOL_ACKs sent, in order
 static hal_can_frame_t ack_frames_[32];
 static uint32_t n_acks_;
+// TLM_LEARN and TLM_VALUE in the order sent: kind 'L' or 'V'.
+static struct { char kind; tlm_learn_t learn; tlm_value_t value; } tlm_seen_[512];
+static uint32_t n_tlm_;
 
 static void devices_talk_(void)
 {
@@ -182,6 +185,12 @@ static void live_for_(uint32_t ms)
                     assert_int_equal(tlm_decode_status(&f, &last_status_), FW_OK);
                     seen_errors_ |= last_status_.errors;
                     statuses_++;
+                } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && n_tlm_ < 512u) {
+                    tlm_seen_[n_tlm_].kind = 'L';
+                    assert_int_equal(tlm_decode_learn(&f, &tlm_seen_[n_tlm_++].learn), FW_OK);
+                } else if (f.id == DYNAQPC_CAN_TLM_VALUE_FRAME_ID && n_tlm_ < 512u) {
+                    tlm_seen_[n_tlm_].kind = 'V';
+                    assert_int_equal(tlm_decode_value(&f, &tlm_seen_[n_tlm_++].value), FW_OK);
                 } else if (f.id == DYNAQPC_CAN_TOOL_ACK_FRAME_ID && n_acks_ < 32u) {
                     assert_int_equal(tlm_decode_ack(&f, &acks_[n_acks_]), FW_OK);
                     ack_frames_[n_acks_++] = f;
@@ -218,6 +227,7 @@ static void boot_opt_(const robot_config_t *cfg, agent_t *ag, const agent_storag
     assert_int_equal(robot_app_init(&opt), FW_OK);
     memset(ctr_, 0, sizeof ctr_);
     n_acks_ = 0;
+    n_tlm_ = 0;
     motor_on_ = gyro_on_ = ranges_on_ = gps_on_ = cricket_on_ = true;
 }
 
@@ -473,6 +483,46 @@ static void test_every_command_is_answered(void **state)
     ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_REFUSED, TLM_WHY_NO_PREVIOUS);
 }
 
+// TLM_VALUE: each real step (TLM_LEARN Step >= 1) is followed by the value of the state the step
+// before it reported, the state whose Q row the step updated; none while evaluating.
+static void test_value_frames_follow_the_steps(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(8000);
+    uint32_t learns = 0, values = 0;
+    const tlm_learn_t *prev = NULL;
+    for (uint32_t i = 0; i < n_tlm_; i++) {
+        if (tlm_seen_[i].kind == 'L') {
+            const tlm_learn_t *l = &tlm_seen_[i].learn;
+            if (l->step >= 1u) {
+                assert_true(prev != NULL);
+                assert_true(i + 1u < n_tlm_);
+                assert_int_equal(tlm_seen_[i + 1u].kind, 'V');
+                assert_int_equal(tlm_seen_[i + 1u].value.state, prev->state);
+                assert_true(tlm_seen_[i + 1u].value.action < 4u);  // paper-sim's four actions
+                values++;
+            }
+            prev = l;
+            learns++;
+        }
+    }
+    assert_true(learns >= 5u);
+    assert_true(values >= 4u);
+    // Evaluating: nothing is updated, nothing is sent.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, true, true, true);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(4000);
+    for (uint32_t i = 0; i < n_tlm_; i++) {
+        assert_int_not_equal(tlm_seen_[i].kind, 'V');
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -482,6 +532,7 @@ int main(void)
         cmocka_unit_test(test_counting_faults_raise_for_a_period),
         cmocka_unit_test(test_tool_cmd_authority),
         cmocka_unit_test(test_every_command_is_answered),
+        cmocka_unit_test(test_value_frames_follow_the_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc drivers: the firmware's own frames — telemetry (TLM_POSE, TLM_LEARN, TLM_SCHED every
-// control period; TLM_EPISODE at each episode end), the FW_STATUS heartbeat (1 s), the
+// dynaqpc drivers: the firmware's own frames — telemetry (TLM_POSE, TLM_SCHED every control
+// period; TLM_LEARN and TLM_VALUE with each real step; TLM_EPISODE at each episode end), the FW_STATUS heartbeat (1 s), the
 // operator's TOOL_CMD (received) and its answer, TOOL_ACK.
 //
 // Encoders saturate every value to its signal's range as docs/dynaqpc.dbc documents (telemetry
@@ -77,6 +77,12 @@ typedef struct tlm_learn {
     uint32_t step;          ///< saturated to 8191
 } tlm_learn_t;
 
+typedef struct tlm_value {
+    uint32_t state;         ///< saturated to 24 bits
+    uint8_t action;         ///< the greedy action, saturated to 15
+    float value;            ///< V; sent in 0.1 steps, saturated to -3276.8..3276.7 (NaN as 0)
+} tlm_value_t;
+
 typedef struct tlm_sched {
     uint32_t plan_updates;     ///< in the last period, saturated to 65535
     uint32_t deadline_misses;  ///< since boot, sent modulo 65536
@@ -115,7 +121,7 @@ typedef struct tlm_ack {
 
 /// The firmware's transmit counters and the TOOL_CMD receive state.
 typedef struct tlm {
-    uint8_t pose_counter, learn_counter, sched_counter, status_counter;
+    uint8_t pose_counter, learn_counter, sched_counter, status_counter, value_counter;
     can_link_rx_t tool_rx;  ///< TOOL_CMD bookkeeping
 } tlm_t;
 
@@ -124,6 +130,7 @@ void tlm_init(tlm_t *tlm);
 void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out);
 void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out);
 void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out);
+void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out);
 void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out);
 void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *out);
 
@@ -146,6 +153,7 @@ int tlm_decode_sched(const hal_can_frame_t *frame, tlm_sched_t *out);
 int tlm_decode_episode(const hal_can_frame_t *frame, tlm_episode_t *out);
 int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out);
 int tlm_decode_ack(const hal_can_frame_t *frame, tlm_ack_t *out);
+int tlm_decode_value(const hal_can_frame_t *frame, tlm_value_t *out);
 
 #ifdef __cplusplus
 }

@@ -58,6 +58,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_FRAME_ID (0x180u)
 #define DYNAQPC_CAN_TLM_LEARN_FRAME_ID (0x181u)
 #define DYNAQPC_CAN_TLM_SCHED_FRAME_ID (0x182u)
+#define DYNAQPC_CAN_TLM_VALUE_FRAME_ID (0x184u)
 #define DYNAQPC_CAN_TLM_EPISODE_FRAME_ID (0x183u)
 
 /* Frame lengths in bytes. */
@@ -74,6 +75,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_LEARN_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_SCHED_LENGTH (8u)
+#define DYNAQPC_CAN_TLM_VALUE_LENGTH (6u)
 #define DYNAQPC_CAN_TLM_EPISODE_LENGTH (8u)
 
 /* Extended or standard frame types. */
@@ -90,6 +92,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_LEARN_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_SCHED_IS_EXTENDED (0)
+#define DYNAQPC_CAN_TLM_VALUE_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_EPISODE_IS_EXTENDED (0)
 
 /* Frame cycle times in milliseconds. */
@@ -202,6 +205,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_NAME "TLM_POSE"
 #define DYNAQPC_CAN_TLM_LEARN_NAME "TLM_LEARN"
 #define DYNAQPC_CAN_TLM_SCHED_NAME "TLM_SCHED"
+#define DYNAQPC_CAN_TLM_VALUE_NAME "TLM_VALUE"
 #define DYNAQPC_CAN_TLM_EPISODE_NAME "TLM_EPISODE"
 
 /* Signal Names. */
@@ -291,6 +295,10 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_SCHED_IDLE_PERCENT_NAME "IdlePercent"
 #define DYNAQPC_CAN_TLM_SCHED_QUEUE_LENGTH_NAME "QueueLength"
 #define DYNAQPC_CAN_TLM_SCHED_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TLM_VALUE_STATE_NAME "State"
+#define DYNAQPC_CAN_TLM_VALUE_ACTION_NAME "Action"
+#define DYNAQPC_CAN_TLM_VALUE_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TLM_VALUE_VALUE_NAME "Value"
 #define DYNAQPC_CAN_TLM_EPISODE_EPISODE_NAME "Episode"
 #define DYNAQPC_CAN_TLM_EPISODE_STEPS_NAME "Steps"
 #define DYNAQPC_CAN_TLM_EPISODE_TOTAL_REWARD_NAME "TotalReward"
@@ -1068,6 +1076,49 @@ struct dynaqpc_can_tlm_sched_t {
      * Offset: 0
      */
     uint8_t counter;
+};
+
+/**
+ * Signals in message TLM_VALUE.
+ *
+ * The value map as it changes: with each real step's TLM_LEARN (event frame, learning only), the state that step's update changed (the previous step's state), its greedy action and V = max_a Q after the update. Counter +1 per frame.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct dynaqpc_can_tlm_value_t {
+    /**
+     * Encoded state id whose Q row the real step updated.
+     *
+     * Range: 0..16777215 (0..16777215 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t state;
+
+    /**
+     * The greedy action in State after the update (ties to the lowest).
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t action;
+
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * V(State) = Q(State, Action), saturated.
+     *
+     * Range: -32768..32767 (-3276.8..3276.7 -)
+     * Scale: 0.1
+     * Offset: 0
+     */
+    int16_t value;
 };
 
 /**
@@ -3490,6 +3541,131 @@ bool dynaqpc_can_tlm_sched_counter_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_tlm_sched_counter_is_in_phys_range(double value);
+
+/**
+ * Pack message TLM_VALUE.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int dynaqpc_can_tlm_value_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_tlm_value_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TLM_VALUE.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int dynaqpc_can_tlm_value_unpack(
+    struct dynaqpc_can_tlm_value_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TLM_VALUE.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int dynaqpc_can_tlm_value_init(struct dynaqpc_can_tlm_value_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_state_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_state_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_action_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_action_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_value_is_in_range(int16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_value_is_in_phys_range(double value);
 
 /**
  * Pack message TLM_EPISODE.
