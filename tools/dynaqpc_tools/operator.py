@@ -254,7 +254,8 @@ def command(bus, db, args, out) -> int:
         busy, ack = ack, None
     if ack is None and retries:
         ack = busy  # still busy when --timeout passed
-    rep.obj.update(answer=ack, retries=retries, resent=resent)
+    rep.obj.update(answer=ack, retries=retries, resent=resent,
+                   answer_ms=round((time.monotonic() - sent) * 1000.0, 1) if ack is not None else None)
     if ack is None:
         rep.obj["text"] = (f"no answer (TOOL_ACK) within {args.timeout:g} s: the firmware is silent "
                            "(is dynaqpc-fw running on this bus?) or predates answers")
