@@ -50,9 +50,9 @@ typedef struct robot_app {
     uint8_t status_counter;
     hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
     bool have_ack;
-    bool wiped_unsaved;
+    bool wiped_unsaved;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
     agent_state_t prev_state; // the last TLM_LEARN's state: the next real step updates its Q row
-    bool have_prev_state;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
+    bool have_prev_state;
     robot_app_stats_t stats;
     uint64_t boot_us;
     uint64_t period_start_idle_us;
