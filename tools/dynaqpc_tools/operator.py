@@ -13,6 +13,8 @@
   restore-previous        RESTORE_PREVIOUS: the record before the newest back into the agent
                           (undoes a reset and the saves after it; a stopped robot only)
   status                  FW_STATUS decoded by name: mode, every error flag, uptime
+  ping                    NOP: the firmware answers with the newest record in flash and the
+                          episodes learned so far
   watch                   every command on the bus, its answer and each change of mode, as
                           they happen (until Ctrl-C or --duration)
 
@@ -48,10 +50,10 @@ from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_
                      default_dbc_path, float_in, load_dbc, run_main)
 
 COMMANDS = {"start": "START_EPISODE", "stop": "STOP", "safe-stop": "SAFE_STOP", "save": "SAVE_LEARNED",
-            "reset": "RESET_LEARNING", "restore-previous": "RESTORE_PREVIOUS"}
+            "reset": "RESET_LEARNING", "restore-previous": "RESTORE_PREVIOUS", "ping": "NOP"}
 #: The mode a command leaves the firmware in, as FW_STATUS names it (None: any).
 EXPECT = {"start": "RUNNING", "stop": "IDLE", "safe-stop": "SAFE_STOP", "save": None, "reset": "IDLE",
-          "restore-previous": None}
+          "restore-previous": None, "ping": None}
 KEEP_HEADING = 0xFFFFFFFF
 RESET_CONFIRM = 1  # RESET_LEARNING's Argument: wipe even learning saved since boot
 RESEND_S = 1.0     # no answer for this long: the command frame again (same counter)
@@ -363,7 +365,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="wipe even learning saved since boot (restore-previous brings the saved record back)")
     for name, text in (("stop", "end the episode, wheels off"), ("safe-stop", "wheels off until the next start"),
                        ("save", "save what was learned to flash"),
-                       ("restore-previous", "bring back the record before the newest (undo a reset)")):
+                       ("restore-previous", "bring back the record before the newest (undo a reset)"),
+                       ("ping", "NOP: answered with the newest record in flash and the episodes learned")):
         sub.add_parser(name, help=text, parents=[common, timed, cmd])
     sub.add_parser("status", help="print FW_STATUS by name", parents=[common, timed])
     w = sub.add_parser("watch", help="print commands, answers and mode changes as they pass", parents=[common])

@@ -117,6 +117,9 @@ if rc != 0 or restored["answer"]["result"] != "DONE" or restored["answer"]["epis
 rc, out = operator("save")
 if rc != 0 or f"({learned_episodes} episodes)" not in out:
     fail("the restored learning must save again")
+rc, out = operator("ping")
+if rc != 0 or "NOP: done, newest record in flash" not in out or f"{learned_episodes} episodes learned" not in out:
+    fail("ping must be answered with the newest record and the episodes learned")
 time.sleep(0.5)
 
 for name, p, log in procs:
