@@ -55,8 +55,8 @@ def _import_sdk():
     try:
         import foxglove  # noqa: F401
     except ImportError as e:  # pragma: no cover - the venv has it
-        raise ToolError(f"--foxglove needs foxglove-sdk (pip install foxglove-sdk; tools/requirements.txt): {e}") \
-            from None
+        raise ToolError("Foxglove's message types (--foxglove, --log x.mcap) need foxglove-sdk: "
+                        f"pip install -r tools/requirements.txt ({e})") from None
     import foxglove
     from foxglove import channels as fc
     from foxglove import messages as fm
