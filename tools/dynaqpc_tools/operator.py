@@ -8,10 +8,11 @@
   save                    SAVE_LEARNED: what the agent learned into flash (the answer names the
                           record written: its sequence number and episodes)
   reset [--yes]           RESET_LEARNING: the agent starts from scratch (a stopped robot only).
-                          Learning saved since boot is wiped only with --yes; the flash keeps
-                          the saved record, and restore-previous brings it back
-  restore-previous        RESTORE_PREVIOUS: the record before the newest back into the agent
-                          (undoes a reset and the saves after it; a stopped robot only)
+                          Learning saved since boot is wiped only with --yes; the firmware saves
+                          what it wipes first, and restore-previous brings it back
+  restore-previous        RESTORE_PREVIOUS: undoes a reset (a stopped robot only): the learning
+                          it wiped back into the agent, also after saves of the new learning;
+                          without a reset, the record before the newest
   status                  FW_STATUS decoded by name: mode, every error flag, uptime
   ping                    NOP: the firmware answers with the newest record in flash and the
                           episodes learned so far
@@ -365,7 +366,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="wipe even learning saved since boot (restore-previous brings the saved record back)")
     for name, text in (("stop", "end the episode, wheels off"), ("safe-stop", "wheels off until the next start"),
                        ("save", "save what was learned to flash"),
-                       ("restore-previous", "bring back the record before the newest (undo a reset)"),
+                       ("restore-previous", "undo a reset: the learning it wiped back (else the record before the newest)"),
                        ("ping", "NOP: answered with the newest record in flash and the episodes learned")):
         sub.add_parser(name, help=text, parents=[common, timed, cmd])
     sub.add_parser("status", help="print FW_STATUS by name", parents=[common, timed])
