@@ -8,8 +8,9 @@
   save                    SAVE_LEARNED: what the agent learned into flash (the answer names the
                           record written: its sequence number and episodes)
   reset [--yes]           RESET_LEARNING: the agent starts from scratch (a stopped robot only).
-                          Learning saved since boot is wiped only with --yes; the firmware saves
-                          what it wipes first, and restore-previous brings it back
+                          Learning saved since boot or restored at boot is wiped only with
+                          --yes; the firmware saves what it wipes first, and restore-previous
+                          brings it back
   restore-previous        RESTORE_PREVIOUS: undoes a reset (a stopped robot only): the learning
                           it wiped back into the agent, also after saves of the new learning;
                           without a reset, the record before the newest
@@ -56,7 +57,7 @@ COMMANDS = {"start": "START_EPISODE", "stop": "STOP", "safe-stop": "SAFE_STOP", 
 EXPECT = {"start": "RUNNING", "stop": "IDLE", "safe-stop": "SAFE_STOP", "save": None, "reset": "IDLE",
           "restore-previous": None, "ping": None}
 KEEP_HEADING = 0xFFFFFFFF
-RESET_CONFIRM = 1  # RESET_LEARNING's Argument: wipe even learning saved since boot
+RESET_CONFIRM = 1  # RESET_LEARNING's Argument: wipe even learning saved since boot or restored at boot
 RESEND_S = 1.0     # no answer for this long: the command frame again (same counter)
 
 #: What each TOOL_ACK Reason means to the operator.
@@ -65,8 +66,8 @@ REASONS = {
     "EVALUATE_MODE": "the firmware runs in evaluate mode, which locks what was learned",
     "NOT_IDLE": "the robot is not stopped: `dynaqpc-operator stop` first",
     "BUSY": "the robot is driving an action (it writes flash only while standing still)",
-    "CONFIRM": ("learning was saved since boot: `dynaqpc-operator reset --yes` wipes it "
-                "(the flash keeps the saved record: `dynaqpc-operator restore-previous` brings it back)"),
+    "CONFIRM": ("learning was saved since boot or restored at boot: `dynaqpc-operator reset --yes` wipes it "
+                "(saving it first: `dynaqpc-operator restore-previous` brings it back)"),
     "NO_STORE": "the firmware has no flash store",
     "FLASH_ERROR": "erasing or programming the flash failed (FW_STATUS raises Flash)",
     "NO_ROOM": "the record does not fit a flash slot",
@@ -119,7 +120,7 @@ def ack_text(ack: Dict[str, object]) -> str:
         if cmd == "SAVE_LEARNED":
             detail = f", record {ack['sequence']} written ({ack['episodes']} episodes)"
         elif cmd == "RESTORE_PREVIOUS":
-            detail = f", record {ack['sequence']} restored ({ack['episodes']} episodes)"
+            detail = f", record {ack['sequence']} restored ({ack['episodes']} episodes) and saved as the newest"
         elif cmd == "RESET_LEARNING":
             newest = ack["sequence"]
             detail = (f"; what it wiped is record {newest} in flash (`dynaqpc-operator restore-previous` "
@@ -363,7 +364,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the robot's heading at the start, 0 <= DEG < 360 (default: keep the firmware's)")
     r = sub.add_parser("reset", help="forget what was learned (a stopped robot)", parents=[common, timed, cmd])
     r.add_argument("--yes", action="store_true",
-                   help="wipe even learning saved since boot (restore-previous brings the saved record back)")
+                   help="wipe even learning saved since boot or restored at boot (restore-previous brings it back)")
     for name, text in (("stop", "end the episode, wheels off"), ("safe-stop", "wheels off until the next start"),
                        ("save", "save what was learned to flash"),
                        ("restore-previous", "undo a reset: the learning it wiped back (else the record before the newest)"),

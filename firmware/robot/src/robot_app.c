@@ -185,8 +185,9 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
             REFUSE(TLM_WHY_EVALUATE_MODE);
         } else if (app_.ctrl.mode != ROBOT_MODE_IDLE) {
             REFUSE(TLM_WHY_NOT_IDLE);
-        } else if (app_.stats.saves > 0u && cmd->argument != TLM_RESET_CONFIRM) {
-            REFUSE(TLM_WHY_CONFIRM);  // learning saved since boot: the operator must say so
+        } else if ((app_.stats.saves > 0u || app_.stats.restore_result == FW_OK) &&
+                   cmd->argument != TLM_RESET_CONFIRM) {
+            REFUSE(TLM_WHY_CONFIRM);  // learning saved since boot, or restored at it: the operator must say so
         } else {
             // What is wiped is saved first (the robot stands: the time to write flash), so the
             // newest record is that learning and RESTORE_PREVIOUS undoes the wipe. The saves of
@@ -241,6 +242,14 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
                 app_.ctrl.episode = episodes;
                 ack.episodes = episodes;
                 app_.stats.restores++;
+                // Saved at once as the newest record, so a reboot boots what was restored (the
+                // store keeps the other record: the one with more episodes, or the older).
+                const int serr = learned_store_save(&app_.store, app_.opt.agent, episodes);
+                note_save_(serr);
+                if (serr != FW_OK) {
+                    ack.result = TLM_ACK_FAILED;
+                    ack.reason = save_reason_(serr);
+                }
             } else if (err == FW_ERR_NOENT) {
                 REFUSE(TLM_WHY_NO_PREVIOUS);
             } else {

@@ -410,24 +410,25 @@ static void test_every_command_is_answered(void **state)
     a = command_(TLM_CMD_SAVE_LEARNED, 0);  // the issue's `reset` then `save`
     ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
     assert_int_equal(a.sequence, copy + 1u);
-    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // the wiped learning back
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // the wiped learning back, saved as copy + 2
     ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
     assert_int_equal(a.sequence, copy);
     assert_int_equal(a.episodes, episodes);
     assert_int_equal(learned_digest(&agent_paper_sim), learned);
-    // A wipe undone before any save: the copy the reset wrote is the newest record.
+    assert_int_equal(command_(TLM_CMD_NOP, 0).sequence, copy + 2u);
+    // A wipe undone before any save: the copy the reset wrote (copy + 3) is the newest record.
     ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM), TLM_ACK_DONE, TLM_WHY_NONE);
-    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // saved again as copy + 4
     ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
-    assert_int_equal(a.sequence, copy + 2u);
+    assert_int_equal(a.sequence, copy + 3u);
     assert_int_equal(learned_digest(&agent_paper_sim), learned);
     // Two wipes in a row: the second does not save the wiped agent over the undo.
     ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM), TLM_ACK_DONE, TLM_WHY_NONE);
     a = command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM);
     ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
-    assert_int_equal(a.sequence, copy + 3u);  // the newest record: the first wipe's copy
-    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);
-    assert_int_equal(a.sequence, copy + 3u);
+    assert_int_equal(a.sequence, copy + 5u);  // the newest record: the first wipe's copy
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // saved again as copy + 6
+    assert_int_equal(a.sequence, copy + 5u);
     assert_int_equal(learned_digest(&agent_paper_sim), learned);
     // A repeated frame (the same Counter) is not acted on and gets the same answer again.
     hal_can_frame_t f;
@@ -456,13 +457,19 @@ static void test_every_command_is_answered(void **state)
     assert_int_equal(acks_[before].counter, 9);
     ASSERT_ANSWER(acks_[before], TLM_ACK_REFUSED, TLM_WHY_MALFORMED);
     robot_app_get_stats(&st);
-    assert_int_equal(st.saves, saves + 4u);  // not acted on
+    assert_int_equal(st.saves, saves + 7u);  // not acted on
+    // A reboot restores the learning: a wipe of it must be confirmed, though nothing was saved since.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 0), TLM_ACK_REFUSED, TLM_WHY_CONFIRM);
     // Evaluate mode: the learned store is locked.
     boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, true, true, true);
     cmd_counter_ = 0;
     live_for_(300);
     a = command_(TLM_CMD_NOP, 0);
-    assert_int_equal(a.sequence, copy + 3u);  // the newest record in flash
+    assert_int_equal(a.sequence, copy + 6u);  // the newest record in flash
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);  // a reboot boots what was restored
     ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);
     ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 1), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);
     ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);

@@ -42,7 +42,7 @@ enum tlm_tool_command { TLM_CMD_NOP = 0, TLM_CMD_START_EPISODE = 1, TLM_CMD_STOP
                         TLM_CMD_SAFE_STOP = 3, TLM_CMD_SAVE_LEARNED = 4, TLM_CMD_RESET_LEARNING = 5,
                         TLM_CMD_RESTORE_PREVIOUS = 6 };
 
-/// RESET_LEARNING's Argument that confirms wiping learning saved since boot.
+/// RESET_LEARNING's Argument that confirms wiping learning saved since boot or restored at boot.
 #define TLM_RESET_CONFIRM 1u
 
 /// TOOL_ACK Result.
@@ -54,7 +54,7 @@ enum tlm_ack_reason {
     TLM_WHY_EVALUATE_MODE = 1,   ///< refused: evaluate mode locks what was learned
     TLM_WHY_NOT_IDLE = 2,        ///< refused: needs a stopped robot (send STOP first)
     TLM_WHY_BUSY = 3,            ///< refused: the wheels are driving an action; try again
-    TLM_WHY_CONFIRM = 4,         ///< refused: learning was saved since boot; Argument 1 confirms
+    TLM_WHY_CONFIRM = 4,         ///< refused: learning was saved since boot or restored at boot; Argument 1 confirms
     TLM_WHY_NO_STORE = 5,        ///< failed: no flash store (persistence off or no region)
     TLM_WHY_FLASH_ERROR = 6,     ///< failed: erasing or programming the flash failed
     TLM_WHY_NO_ROOM = 7,         ///< failed: the record does not fit a slot

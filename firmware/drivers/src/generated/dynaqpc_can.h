@@ -323,7 +323,7 @@ struct dynaqpc_can_tool_cmd_t {
     uint8_t command;
 
     /**
-     * START_EPISODE: the robot's heading in 0.01 deg (0..35999), 0xFFFFFFFF keeps the firmware's; RESET_LEARNING: 1 confirms a wipe of learning saved since boot (else refused, Reason CONFIRM); otherwise 0.
+     * START_EPISODE: the robot's heading in 0.01 deg (0..35999), 0xFFFFFFFF keeps the firmware's; RESET_LEARNING: 1 confirms a wipe of learning saved since boot or restored at boot (else refused, Reason CONFIRM); otherwise 0.
      *
      * Range: 0..4294967295 (0..4294967295 -)
      * Scale: 1
