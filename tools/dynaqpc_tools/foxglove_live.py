@@ -348,7 +348,6 @@ class LiveFoxglove(Build):
         self._signals(msg, t)
         self._value(msg, t)
         event = self.bus.feed(msg)
-        m = self.m
         pose = self.pose_dec.decode(msg)
         if pose is not None:
             self.last_pose = pose
