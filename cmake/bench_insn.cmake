@@ -24,11 +24,12 @@ message("${out}")
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "the emulator image exited with ${rc}")
 endif()
-if(NOT err MATCHES "insn_count=([0-9]+) windows=([0-9]+)")
+if(NOT err MATCHES "insn_count=([0-9]+) windows=([0-9]+) max_window=([0-9]+)")
     message(FATAL_ERROR "the plugin printed no count")
 endif()
 set(insns ${CMAKE_MATCH_1})
 set(windows ${CMAKE_MATCH_2})
+set(max_window ${CMAKE_MATCH_3})
 if(NOT out MATCHES "planning_updates=([0-9]+)")
     message(FATAL_ERROR "the image printed no planning_updates")
 endif()
@@ -39,7 +40,7 @@ endif()
 math(EXPR per_update "(${insns} + ${updates} / 2) / ${updates}")
 math(EXPR per_call "(${insns} + ${windows} / 2) / ${windows}")
 message("instructions_per_update=${per_update} profile=${PROFILE} cpu=cortex-m4 "
-        "instructions_per_plan_call=${per_call} (QEMU TCG plugin: ${insns} instructions in "
+        "instructions_per_plan_call=${per_call} worst_plan_call=${max_window} (QEMU TCG plugin: ${insns} instructions in "
         "${windows} agent_plan calls, which made ${updates} planning updates; calls that found "
         "nothing to plan on are counted too, as in tests/bench)")
 

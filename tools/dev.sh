@@ -68,8 +68,10 @@ demo() {
     local long=$out/demo
     mkdir -p "$long"
     log "paper-lab, the paper's lab robot simulated: the firmware learns with Q-learning, Dyna-Q and Dyna-QPC (5 sets x 20 episodes each); Table 1 at the end"
+    # The paper's protocol, N = 5 planning updates after each step (the firmware ships idle-time
+    # planning; `--planning 5,0` would compare both).
     .venv/bin/dynaqpc-experiment run --scenario paper-lab --sim "$bin/dynaqpc-sim" --results results --jobs 2 \
-        --learned-steps 50
+        --planning 5 --learned-steps 50
     log "Dyna-QPC, 150 episodes; what it learned is saved in its flash image $long/dyna-qpc.flash"
     "$bin/dynaqpc-sim" train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 150 --seed 7 \
         --save "$long/dyna-qpc.flash" --csv "$long/dyna-qpc-150.csv" --counters

@@ -45,6 +45,9 @@
 #ifndef FW_CFG_MAZE_TABLE_STATES
 #define FW_CFG_MAZE_TABLE_STATES 32768
 #endif
+#ifndef FW_CFG_MAZE_MAJORITY_STATES
+#define FW_CFG_MAZE_MAJORITY_STATES 32768
+#endif
 // Gridworlds have no percept or situation components (the relocatable model is off); the room
 // is for the benchmark's grid robot, shaped like paper-lab's state.
 #ifndef FW_CFG_MAZE_PLACES
@@ -73,6 +76,9 @@
 #ifndef FW_CFG_LAB_TABLE_STATES
 #define FW_CFG_LAB_TABLE_STATES 512
 #endif
+#ifndef FW_CFG_LAB_MAJORITY_STATES
+#define FW_CFG_LAB_MAJORITY_STATES 512
+#endif
 // The relocatable model (model.h): places = x, y, heading (3 + 3 + 4 bits); situations = heading
 // and range code (4 + 3 bits) times 4 actions; positions = x, y.
 #ifndef FW_CFG_LAB_PLACES
@@ -100,6 +106,9 @@
 #endif
 #ifndef FW_CFG_SIM_TABLE_STATES
 #define FW_CFG_SIM_TABLE_STATES 1024
+#endif
+#ifndef FW_CFG_SIM_MAJORITY_STATES
+#define FW_CFG_SIM_MAJORITY_STATES 1024
 #endif
 // places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
 // times 4 actions; positions = x, y.

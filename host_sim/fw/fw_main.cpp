@@ -318,6 +318,16 @@ int run(const std::vector<std::string> &args)
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
                 q_rows.value, q_rows.capacity, us.rx_bytes, us.rx_overruns,
                 uart_discarded, uart_stall_lost, uart_stalls);
+    // Planning: all of it (after each step, N or the first updates before acting) and the idle
+    // loop's share (the scheduler's idle steps).
+    {
+        const agent_stats_t &as = agent->stats;
+        const double steps = as.real_steps != 0 ? static_cast<double>(as.real_steps) : 1.0;
+        std::printf("planning: real_steps=%u planning_updates=%u idle_loop_updates=%llu per_real_step=%.1f "
+                    "idle_loop_per_real_step=%.1f\n",
+                    as.real_steps, as.planning_updates, static_cast<unsigned long long>(ss.idle_steps),
+                    as.planning_updates / steps, static_cast<double>(ss.idle_steps) / steps);
+    }
     // Faults and how the firmware met them (docs/realtime.md "Faults").
     std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
                 "tool_refused=%u tool_answers=%u tool_malformed=%u resets=%u restores=%u uart_errors=%u "

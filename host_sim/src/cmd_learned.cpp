@@ -36,10 +36,17 @@ namespace {
 
 const char *kind_name(agent_kind_t k)
 {
-    switch (k) {
-    case AGENT_Q_LEARNING: return "q";
-    case AGENT_DYNA_Q: return "dyna-q";
-    default: return "dyna-qpc";
+    const char *name = agent_kind_name(k);
+    return name != nullptr ? name : "?";
+}
+
+// The transition table of a Dyna-Q agent (either rule), or null.
+const dynaq_table_t *table_of(const agent_t *ag)
+{
+    switch (ag->kind) {
+    case AGENT_DYNA_Q: return &ag->alg.dyna_q.table;
+    case AGENT_DYNA_Q_MAJORITY: return &ag->alg.dyna_q_majority.table;
+    default: return nullptr;
     }
 }
 
@@ -148,17 +155,17 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
           << ",\"percepts\":{\"places\":" << places << ",\"capacity\":" << m.places << "}"
           << ",\"situations\":{\"used\":" << classes << ",\"capacity\":" << m.n_classes << "}"
           << ",\"arrivals\":{\"used\":" << arrivals << ",\"capacity\":" << m.positions << "}";
-    } else if (ag->kind == AGENT_DYNA_Q) {
-        o << ",\"table\":{\"records\":" << ag->alg.dyna_q.table.count << ",\"capacity\":" << ag->alg.dyna_q.table.capacity << "}";
+    } else if (const dynaq_table_t *t = table_of(ag)) {
+        o << ",\"table\":{\"records\":" << t->count << ",\"capacity\":" << t->capacity << "}";
     }
     o << "},\n";
 
     // Per state: whether it has a Q row, was visited (perceived on a real step), is modelled (the
     // model predicts an action there, tried or generalised); its Q values and real experience.
     std::vector<std::uint8_t> visited(n_states, 0), tried(n_states * na, 0);
-    if (ag->kind == AGENT_DYNA_Q) {
-        for (std::uint32_t i = 0; i < ag->alg.dyna_q.table.count; i++) {
-            const dynaq_record_t &r = ag->alg.dyna_q.table.records[i];
+    if (const dynaq_table_t *t = table_of(ag)) {
+        for (std::uint32_t i = 0; i < t->count; i++) {
+            const dynaq_record_t &r = t->records[i];
             if (r.state >= n_states) continue;
             visited[r.state] = 1;
             for (std::uint32_t a = 0; a < na; a++) {
@@ -194,7 +201,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
                 model_step_t step;
                 modelled = model_query_predict(&ag->alg.dyna_qpc.model, &mq, static_cast<std::uint8_t>(a), &step) || modelled;
             }
-        } else if (ag->kind == AGENT_DYNA_Q) {
+        } else if (table_of(ag) != nullptr) {
             vis = visited[s] != 0;
             for (std::uint32_t a = 0; a < na; a++) {
                 n[a] = tried[s * na + a];
@@ -227,8 +234,8 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
     Options o("learned", "what a flash image holds, decoded by the firmware's own restore code, as JSON on stdout");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (the one it learned on)", &scenario);
     o.add_string("--load", "FILE", "a flash image (`train --save FILE`, a board's backup)", &load);
-    o.add_choice("--agent", "NAME", "the algorithm that learned it: q, dyna-q or dyna-qpc (default: whichever the image holds)",
-                 &agent, {"q", "dyna-q", "dyna-qpc"});
+    o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default: whichever the image holds)",
+                 &agent, agent_kind_names());
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
@@ -245,7 +252,7 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
     if (o.seen("--agent")) {
         kinds.push_back(agent);
     } else {
-        kinds = {"dyna-qpc", "dyna-q", "q"};
+        kinds = agent_kind_names();
     }
     LockstepOptions lo;
     lo.flash_file = load;
@@ -281,7 +288,7 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
             if (si.state == LEARNED_SLOT_FOREIGN) any_foreign = true;
         }
     }
-    const std::string what = o.seen("--agent") ? agent : std::string("q, dyna-q or dyna-qpc");
+    const std::string what = o.seen("--agent") ? agent : agent_kind_list();
     if (all_empty) throw UsageError("--load: '" + load + "' is erased: it holds no learned record");
     if (any_refused) {
         throw UsageError("--load: '" + load + "' is corrupted: its record's CRCs hold but its tables fail the firmware's checks");

@@ -125,7 +125,7 @@ void check_combinations(const Options &o)
         throw UsageError("--map: required");
     }
     if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (q, dyna-q or dyna-qpc)");
+        throw UsageError("--agent: required (" + agent_kind_list() + ")");
     }
     if (o.seen("--episodes") && o.seen("--until-optimal")) {
         throw UsageError("--until-optimal: cannot be combined with --episodes");

@@ -46,7 +46,7 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, base, out, check, far, floor;
+    std::string robot, base, out, check, far, floor, changed;
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
@@ -71,6 +71,10 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                  "instead: check one scenario file as the rooms are checked (it parses; every start "
                  "reaches the goal through passages at least the robot's diagonal wide)",
                  &check);
+    o.add_string("--changed", "FILE",
+                 "with --check: also check FILE, a room that --check's becomes during a run (train "
+                 "--change-at K --changed FILE), and that only its obstacles differ",
+                 &changed);
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
@@ -88,23 +92,41 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
-        world::Scenario s;
-        std::string error;
-        if (!world::load_scenario(check, &s, &error)) throw UsageError(error);
-        const world::PassageReport r = world::check_passages(s);
-        if (!r.ok) throw UsageError(s.path + ": " + r.problem);
-        std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
-                    "passages at least the robot's diagonal (%.3f m) wide\n",
-                    s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
-        const world::PathReport p = world::longest_path(s);
-        if (p.longest >= 0) {
-            std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "
-                        "cells, forward/backward one cell, 90-degree turns)\n",
-                        s.path.c_str(), p.longest, p.nx, p.ny);
-        } else {
-            std::printf("%s: longest path: none: %ld of %ld start (place, heading) pairs cannot reach the goal "
-                        "one state cell at a time (%dx%d cells)\n",
-                        s.path.c_str(), p.stranded, p.start_states, p.nx, p.ny);
+        auto load = [](const std::string &file, world::Scenario &s) {
+            std::string error;
+            if (!world::load_scenario(file, &s, &error)) throw UsageError(error);
+        };
+        auto check_one = [](const world::Scenario &s) {
+            const world::PassageReport r = world::check_passages(s);
+            if (!r.ok) throw UsageError(s.path + ": " + r.problem);
+            std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
+                        "passages at least the robot's diagonal (%.3f m) wide\n",
+                        s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
+            const world::PathReport p = world::longest_path(s);
+            if (p.longest >= 0) {
+                std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "
+                            "cells, forward/backward one cell, 90-degree turns)\n",
+                            s.path.c_str(), p.longest, p.nx, p.ny);
+            } else {
+                std::printf("%s: longest path: none: %ld of %ld start (place, heading) pairs cannot reach the goal "
+                            "one state cell at a time (%dx%d cells)\n",
+                            s.path.c_str(), p.stranded, p.start_states, p.nx, p.ny);
+            }
+        };
+        world::Scenario before, after;
+        load(check, before);
+        if (o.seen("--changed")) {  // the pair first: a refusal prints nothing else
+            load(changed, after);
+            const std::string problem = world::layout_change_problem(before, after);
+            if (!problem.empty()) {
+                throw UsageError("--changed: " + after.path + " is not a change of " + before.path + ": " + problem);
+            }
+        }
+        check_one(before);
+        if (o.seen("--changed")) {
+            check_one(after);
+            std::printf("%s: a change of %s: only the obstacles differ (%zu -> %zu)\n", after.path.c_str(),
+                        before.path.c_str(), before.obstacles.size(), after.obstacles.size());
         }
         return kExitOk;
     }
@@ -114,6 +136,7 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     }
     if (!o.seen("--out") || out.empty()) throw UsageError("--out: required (a directory)");
     if (o.seen("--floor") && !o.seen("--far")) throw UsageError("--floor: needs --far");
+    if (o.seen("--changed")) throw UsageError("--changed: only with --check");
 
     const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(robot) : base;
     std::string base_text;

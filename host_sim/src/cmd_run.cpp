@@ -23,8 +23,8 @@ namespace dynaqpc {
 
 int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string scenario, load, trajectory, arena, agent = "dyna-qpc";
-    std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0;
+    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg;
+    std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0, change_at = 0;
     bool learn = false;
     Options o("run", "replay a learned policy greedily from random start poses");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
@@ -44,6 +44,14 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
                "with --learn: planning updates after each real step, 0 = as many as the MCU's idle "
                "time allows (default: the scenario's)",
                &planning, 0, 1000000);
+    o.add_uint("--change-at", "K",
+               "the room changes: from start K on, the obstacles are --changed's (the firmware is not "
+               "told; default: never). To start in the changed room, give it as --scenario",
+               &change_at, 1, 1000000);
+    o.add_string("--changed", "FILE",
+                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
+                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
+                 &changed_arg);
     o.add_string("--trajectory", "OUT",
                  "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &trajectory);
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &arena);
@@ -62,6 +70,18 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         throw UsageError("--load: cannot open '" + load + "': " + std::strerror(errno));
     }
     const ScenarioBundle sb = load_scenario(scenario);
+    if (o.seen("--change-at") != o.seen("--changed")) {
+        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
+                                               : "--changed: needs --change-at K (the first start in it)");
+    }
+    ScenarioBundle changed;
+    if (o.seen("--changed")) {
+        changed = load_changed_scenario(sb, changed_arg);
+        if (change_at > starts) {
+            throw UsageError("--change-at: start " + std::to_string(change_at) + " is past the last (" +
+                             std::to_string(starts) + ")");
+        }
+    }
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr}, &cfg);
     if (learn) cfg.params.epsilon = 0.0f;
@@ -106,6 +126,9 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     std::uint64_t updates = 0;
     std::printf("start,steps,reached_goal,bumps,robot_time_s\n");
     for (current = 1; current <= starts; current++) {
+        if (changed.world && current == change_at) {
+            sim.change_layout(*changed.world);
+        }
         const EpisodeRow r = sim.run_episode();
         std::printf("%u,%u,%d,%u,%.1f\n", current, r.steps, r.reached_goal ? 1 : 0, r.bumps, r.robot_time_s);
         updates += r.updates;
@@ -116,7 +139,9 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     }
     if (traj != nullptr && traj != stdout) std::fclose(traj);
     std::sort(steps.begin(), steps.end());
-    std::fprintf(stderr, "%s on %s (%s): reached the goal from %u of %u starts", agent.c_str(), sb.name.c_str(),
+    std::string room = sb.name;
+    if (changed.world) room += ", " + changed.name + " from start " + std::to_string(change_at);
+    std::fprintf(stderr, "%s on %s (%s): reached the goal from %u of %u starts", agent.c_str(), room.c_str(),
                  learn ? "learning" : "frozen", reached, starts);
     if (!steps.empty()) {
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());

@@ -39,9 +39,13 @@ struct TrainSettings {
     std::uint32_t jobs = 1;
     std::uint32_t step_cap = 0;
     std::uint32_t plan_cycles = 0;
-    double epsilon = 0, alpha = 0, gamma = 0;
+    double epsilon = 0, alpha = 0;
+    std::string gamma, ablate;
     std::string csv;
     std::string save;
+    std::uint32_t change_at = 0;
+    std::string changed;
+    const world::Scenario *changed_world = nullptr;  // loaded from `changed`
     bool no_wall_time = false;
     bool quiet = false;
     bool counters = false;
@@ -65,7 +69,8 @@ void declare(Options &o, TrainSettings &s)
                "the MCU's idle time allows, modelled with --plan-cycles",
                &s.planning, 0, 1000000);
     o.add_uint("--plan-cycles", "C",
-               "with --planning 0: MCU cycles per planning update at 168 MHz (default: the "
+               "with idle-time planning (--planning 0, the default of the shipped scenarios): MCU "
+               "cycles per planning update at 168 MHz (default: the "
                "Cortex-M4 measurement, docs/results.md)",
                &s.plan_cycles, 1, 100000000);
     o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
@@ -77,13 +82,28 @@ void declare(Options &o, TrainSettings &s)
                  0.0, 1.0);
     o.add_double("--alpha", "B", "learning rate, the paper's beta (default: the scenario's)",
                  &s.alpha, 0.0, 1.0, true, false);
-    o.add_double("--gamma", "G", "discount (default: the scenario's)", &s.gamma, 0.0, 1.0);
+    o.add_string("--gamma", "G|auto",
+                 "discount: a number in [0, 1] (and theta 1e-3: the paper's mode, gamma 0.9), or auto (from the "
+                 "room's size: docs/agent.md); default: the scenario's",
+                 &s.gamma);
+    o.add_string("--ablate", "PARTS",
+                 "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
+                 "list of generalise, majority, new-states, expected (docs/results.md)",
+                 &s.ablate);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
                  "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "
                  "each episode end "
                  "(dynaqpc-sim run --load FILE replays it)",
                  &s.save);
+    o.add_uint("--change-at", "K",
+               "the room changes: from episode K of every set on, the obstacles are --changed's "
+               "(the firmware is not told and keeps learning; default: never)",
+               &s.change_at, 1, 10000000);
+    o.add_string("--changed", "FILE",
+                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
+                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
+                 &s.changed);
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
                &s.no_wall_time);
     o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
@@ -150,6 +170,9 @@ void run_sets(const ScenarioBundle &sb, const robot_config_t &cfg, const TrainSe
         }
         Lockstep sim(*sb.world, cfg, lo);
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
+            if (e == s.change_at && s.changed_world != nullptr) {
+                sim.change_layout(*s.changed_world);
+            }
             EpisodeRow row = sim.run_episode();
             row.episode = e;  // of this set; the firmware's own count is what it has ever run
             emit(set, row);
@@ -203,18 +226,33 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
         throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
     }
     if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (q, dyna-q or dyna-qpc)");
-    }
-    if (o.seen("--plan-cycles") && !(o.seen("--planning") && s.planning == 0)) {
-        throw UsageError("--plan-cycles: only with --planning 0");
+        throw UsageError("--agent: required (" + agent_kind_list() + ")");
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma}, &cfg);
+    if (o.seen("--ablate")) cfg.params.ablate = ablate_mask(s.ablate);
+    // Idle-time planning (planning 0) is the shipped scenarios' default, or --planning 0.
+    if (o.seen("--plan-cycles") && cfg.planning != 0) {
+        throw UsageError("--plan-cycles: only with idle-time planning (--planning 0, the shipped scenarios' default)");
+    }
     if (!o.seen("--episodes")) s.episodes = sb.episodes;
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = kDefaultPlanCycles;
 
+    if (o.seen("--change-at") != o.seen("--changed")) {
+        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
+                                               : "--changed: needs --change-at K (the first episode in it)");
+    }
+    ScenarioBundle changed;
+    if (o.seen("--changed")) {
+        changed = load_changed_scenario(sb, s.changed);
+        if (s.change_at > s.episodes) {
+            throw UsageError("--change-at: episode " + std::to_string(s.change_at) + " is past the last (" +
+                             std::to_string(s.episodes) + ")");
+        }
+        s.changed_world = changed.world.get();
+    }
     if (!s.save.empty()) {
         check_save_target(s.save);
     }
@@ -319,9 +357,17 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     }
     if (!s.quiet) {
         std::FILE *sum = s.csv == "-" ? stderr : stdout;
-        std::fprintf(sum, "%s on %s, %u sets: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(), s.sets);
+        const std::string plan = cfg.planning == 0
+                                     ? "planning in idle time (" + std::to_string(s.plan_cycles) + " cycles per update)"
+                                     : "planning " + std::to_string(cfg.planning) + " per real step";
+        std::fprintf(sum, "%s on %s, %u sets, %s: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(),
+                     s.sets, plan.c_str());
+        if (s.changed_world != nullptr) {
+            std::fprintf(sum, "  the room is %s from episode %u on\n", changed.name.c_str(), s.change_at);
+        }
         for (std::uint32_t e = 1; e <= s.episodes; e++) {
-            if (e <= 10 || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
+            const bool near_change = s.changed_world != nullptr && e + 1 >= s.change_at && e <= s.change_at + 9;
+            if (e <= 10 || near_change || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
                 std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, steps_sum[e] / s.sets,
                              time_sum[e] / s.sets);
             }

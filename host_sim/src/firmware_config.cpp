@@ -96,6 +96,7 @@ std::string robot_config_c(const robot_config_t &c, const std::string &var)
       << ", .epsilon = " << f(p.epsilon) << ",\n"
       << "               .theta = " << f(p.theta) << ", .model_rate = " << f(p.model_rate)
       << ", .tilings = " << unsigned(p.tilings) << ", .min_count = " << unsigned(p.min_count) << "},\n";
+    o << "    .values = " << (c.values == ROBOT_VALUES_ROOM ? "ROBOT_VALUES_ROOM" : "ROBOT_VALUES_PAPER") << ",\n";
     o << "    .planning = " << u(c.planning) << ", .step_cap = " << u(c.step_cap) << ",\n";
     o << "    .pose_source = " << (c.pose_source == ROBOT_POSE_GPS ? "ROBOT_POSE_GPS" : "ROBOT_POSE_CRICKET") << ",\n";
     o << "    .n_beacons = " << unsigned(c.n_beacons) << ",\n";

@@ -250,6 +250,13 @@ EpisodeRow Lockstep::run_episode()
     return impl_->run_episode();
 }
 
+void Lockstep::change_layout(const world::Scenario &changed)
+{
+    const std::string problem = world::layout_change_problem(impl_->world.scenario(), changed);
+    if (!problem.empty()) throw std::invalid_argument("change_layout: " + problem);
+    impl_->world.set_obstacles(changed.obstacles);
+}
+
 void Lockstep::set_trajectory_sink(std::function<void(const TrajectoryPoint &)> sink)
 {
     impl_->sink = std::move(sink);

@@ -58,8 +58,9 @@ struct LockstepOptions {
     bool flash_read_only = false;
     /// Replay greedily without learning (dynaqpc-sim run without --learn).
     bool evaluate = false;
-    /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0).
-    std::uint32_t plan_update_cycles = 0;
+    /// Modelled MCU cycles per planning update, for idle-time planning (robot_config planning 0,
+    /// the shipped scenarios' default).
+    std::uint32_t plan_update_cycles = kDefaultPlanCycles;
 };
 
 /// The simulated robot, its devices on an in-process bus, the firmware application on the host
@@ -74,6 +75,11 @@ public:
 
     /// Places the robot at a random start pose and runs one episode to the goal or the step cap.
     EpisodeRow run_episode();
+
+    /// The room changes (train/run --change-at K --changed FILE): from the next episode on, the
+    /// world's obstacles are `changed`'s. The firmware is not told. `changed` must be a change of
+    /// the scenario this runner was built with (world::layout_change_problem() says "").
+    void change_layout(const world::Scenario &changed);
 
     /// Called every control period while set.
     void set_trajectory_sink(std::function<void(const TrajectoryPoint &)> sink);

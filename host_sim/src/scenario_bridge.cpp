@@ -97,7 +97,12 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.reward_bump = static_cast<float>(sc->rewards.bump);
     r.reward_step = static_cast<float>(sc->rewards.step);
     r.params.alpha = r.params.plan_alpha = static_cast<float>(sc->learning.alpha);
-    r.params.gamma = static_cast<float>(sc->learning.gamma);
+    if (sc->learning.gamma == world::Learning::kGammaFromRoom) {
+        r.values = ROBOT_VALUES_ROOM;  // gamma and theta from the room: robot_config_agent_params()
+    } else {
+        r.values = ROBOT_VALUES_PAPER;
+        r.params.gamma = static_cast<float>(sc->learning.gamma);
+    }
     r.params.epsilon = static_cast<float>(sc->learning.epsilon);
     r.planning = static_cast<uint32_t>(sc->learning.planning);
     r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
@@ -123,9 +128,26 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.listener_z = static_cast<float>(sc->cricket.listener_height);
     b.world = sc;
     r.name = b.world->name.c_str();
+    r.params = robot_config_agent_params(&r);  // what the firmware will use, for all to read
     if (robot_config_check(&r) != 0) {
         throw UsageError((b.path.empty() ? arg : b.path) +
                          ": the firmware cannot run this scenario (state encoding, sensors or actions out of range)");
+    }
+    return b;
+}
+
+ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg)
+{
+    ScenarioBundle b;
+    try {
+        b = load_scenario(arg);
+    } catch (const UsageError &e) {
+        throw UsageError(std::string("--changed: ") + e.what());
+    }
+    const std::string problem = world::layout_change_problem(*base.world, *b.world);
+    if (!problem.empty()) {
+        throw UsageError("--changed: " + (b.path.empty() ? arg : b.path) + " is not a change of " +
+                         (base.path.empty() ? base.name : base.path) + ": " + problem);
     }
     return b;
 }
@@ -137,6 +159,34 @@ agent_kind_t agent_kind_of(const std::string &name)
         throw UsageError("unknown agent '" + name + "' (" + agent_kind_list() + ")");
     }
     return kind;
+}
+
+uint8_t ablate_mask(const std::string &list)
+{
+    static const struct {
+        const char *name;
+        uint8_t bit;
+    } parts[] = {{"generalise", AGENT_ABLATE_GENERALISE},
+                 {"majority", AGENT_ABLATE_MAJORITY},
+                 {"new-states", AGENT_ABLATE_NEW_STATES},
+                 {"expected", AGENT_ABLATE_EXPECTED}};
+    uint8_t mask = 0;
+    std::stringstream in(list);
+    std::string word;
+    while (std::getline(in, word, ',')) {
+        if (word == "none" || (word.empty() && list.empty())) continue;
+        bool known = false;
+        for (const auto &p : parts) {
+            if (word == p.name) {
+                mask = static_cast<uint8_t>(mask | p.bit);
+                known = true;
+            }
+        }
+        if (!known) {
+            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected)");
+        }
+    }
+    return mask;
 }
 
 std::vector<std::string> agent_kind_names()
@@ -166,7 +216,19 @@ void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t 
     if (v.alpha != nullptr && o.seen("--alpha")) {
         cfg->params.alpha = cfg->params.plan_alpha = static_cast<float>(*v.alpha);
     }
-    if (v.gamma != nullptr && o.seen("--gamma")) cfg->params.gamma = static_cast<float>(*v.gamma);
+    if (v.gamma != nullptr && o.seen("--gamma")) {
+        if (*v.gamma == "auto") {
+            cfg->values = ROBOT_VALUES_ROOM;
+        } else {
+            char *end = nullptr;
+            const double g = std::strtod(v.gamma->c_str(), &end);
+            if (v.gamma->empty() || *end != '\0' || !(g >= 0.0 && g <= 1.0)) {
+                throw UsageError("--gamma: '" + *v.gamma + "' is neither a discount in [0, 1] nor auto");
+            }
+            cfg->values = ROBOT_VALUES_PAPER;
+            cfg->params.gamma = static_cast<float>(g);
+        }
+    }
 }
 
 std::string arena_json(const world::Scenario &sc)

@@ -31,9 +31,19 @@ struct ScenarioBundle {
 /// Loads `--scenario NAME|FILE`. A bad file throws UsageError "FILE:LINE: problem".
 ScenarioBundle load_scenario(const std::string &arg);
 
+/// Loads `--changed FILE`, the room `base` becomes during a run (`--change-at K`): a scenario
+/// whose obstacles alone differ from base's (world::layout_change_problem()). Anything else
+/// throws UsageError "--changed: FILE is not a change of BASE: the goal ... differs (only
+/// obstacles may change)".
+ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg);
+
 /// The agent an `--agent` option names (agent/algorithms.h: q, dyna-q, dyna-qpc, ...); another
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
+
+/// `--ablate generalise,majority,new-states,expected` as an AGENT_ABLATE_* mask ("" or "none": 0);
+/// another word throws UsageError.
+uint8_t ablate_mask(const std::string &list);
 
 /// Every algorithm's name, in agent_kind_t order: the choices of an `--agent` option.
 std::vector<std::string> agent_kind_names();
@@ -50,7 +60,7 @@ struct ConfigOverrides {
     const std::uint32_t *step_cap = nullptr;   ///< --step-cap
     const double *epsilon = nullptr;           ///< --epsilon
     const double *alpha = nullptr;             ///< --alpha: the Q learning rate, real and planning
-    const double *gamma = nullptr;             ///< --gamma
+    const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
 };
 
 /// Applies `v` to `cfg` as the options `o` were given (one place for train, run and dynaqpc-fw).

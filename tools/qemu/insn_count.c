@@ -5,7 +5,7 @@
 //   -plugin libinsn_count.so,begin=0x...,end=0x...,report=0x...
 // Counting switches on when the block at `begin` runs (the marker's own return instruction is
 // counted) and off when the block at `end` runs; at `report` the plugin prints
-//   insn_count=<instructions counted> windows=<begin marks seen>
+//   insn_count=<instructions counted> windows=<begin marks seen> max_window=<the most in one window>
 // on stderr and starts again from zero. With top=<n> it also prints the n blocks that executed
 // the most counted instructions, as `hot pc=0x<block start> insns=<n>` (a profile: the
 // benchmark script maps the addresses to functions). A marker is a whole function entered by a call, so its
@@ -49,6 +49,8 @@ static uint64_t begin_addr_, end_addr_, report_addr_;
 static bool counting_;
 static uint64_t count_;
 static uint64_t windows_;
+static uint64_t window_start_;  // count_ when the current window began
+static uint64_t max_window_;    // the most instructions one window counted
 
 // Per-block profile (top=<n>): open addressing on the block's start address.
 #define PROFILE_SLOTS 16384u
@@ -104,17 +106,23 @@ static void block_exec_(unsigned int vcpu, void *udata)
     case KIND_BEGIN:
         counting_ = true;
         windows_++;
+        window_start_ = count_;
         count_ += n;
         break;
     case KIND_END:
+        if (counting_ && count_ - window_start_ > max_window_) {
+            max_window_ = count_ - window_start_;
+        }
         counting_ = false;
         break;
     case KIND_REPORT:
-        fprintf(stderr, "insn_count=%" PRIu64 " windows=%" PRIu64 "\n", count_, windows_);
+        fprintf(stderr, "insn_count=%" PRIu64 " windows=%" PRIu64 " max_window=%" PRIu64 "\n", count_, windows_,
+                max_window_);
         profile_print_();
         fflush(stderr);
         count_ = 0;
         windows_ = 0;
+        max_window_ = 0;
         counting_ = false;
         break;
     default:

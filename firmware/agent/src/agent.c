@@ -52,6 +52,7 @@ agent_params_t agent_default_params(void)
     p.model_rate = 0.999f;
     p.tilings = 16;
     p.min_count = 1;
+    p.ablate = 0;
     return p;
 }
 
@@ -63,7 +64,8 @@ static bool params_valid_(const agent_params_t *p)
            p->epsilon >= 0.0f && p->epsilon <= 1.0f && //
            p->theta >= 0.0f &&                         //
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
-           p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u;
+           p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
+           (p->ablate & ~AGENT_ABLATE_ALL) == 0u;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)

@@ -23,6 +23,7 @@ static int init_(agent_t *ag, const agent_storage_t *st)
         return FW_ERR_INVAL;
     }
     me->carry = mine->carry;
+    me->model.ablate = (uint8_t)(ag->params.ablate & (AGENT_ABLATE_GENERALISE | AGENT_ABLATE_MAJORITY));
     return pq_init(&me->pq, mine->pq_heap, mine->pq_index_keys, mine->pq_index_pos,
                    mine->pq_capacity);
 }
@@ -37,7 +38,7 @@ static void clear_(agent_t *ag)
 // the mean of their values, each equally likely.
 static float step_target_(const agent_t *ag, const model_step_t *step)
 {
-    if (step->terminal || step->others == 0u) {
+    if (step->terminal || step->others == 0u || (ag->params.ablate & AGENT_ABLATE_EXPECTED) != 0u) {
         return agent_target_(ag, step->reward, step->next, step->terminal);
     }
     agent_state_t next[MODEL_MAX_PERCEPTS];
@@ -111,7 +112,7 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     if (priority > ag->params.theta) {
         (void)pq_push(&me->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT), priority);
     }
-    if (new_state && !terminal) {
+    if (new_state && !terminal && (ag->params.ablate & AGENT_ABLATE_NEW_STATES) == 0u) {
         queue_new_state_(ag, s_next);
     }
 }

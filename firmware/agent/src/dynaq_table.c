@@ -13,7 +13,7 @@ int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
                uint32_t *index_rec, uint32_t capacity, uint8_t n_actions)
 {
     if (t == NULL || records == NULL || index_keys == NULL || index_rec == NULL ||
-        !FW_IS_POW2(capacity) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS) {
+        capacity < 1u || capacity > (1u << 30) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS) {
         return FW_ERR_INVAL;
     }
     // The index: half empty (twice as many slots as records), so a search always ends at the key
@@ -46,18 +46,18 @@ static void index_moved_(void *ctx, uint32_t from, uint32_t to)
     t->index_rec[to] = t->index_rec[from];
 }
 
-void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
-                  bool terminal)
+uint32_t dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r,
+                        agent_state_t s_next, bool terminal)
 {
     uint32_t slot = oa_find(&t->index, s);
     if (slot == OA_NONE) {
-        return;  // cannot happen: at most half the index's slots hold a state
+        return DYNAQ_NO_RECORD;  // cannot happen: at most half the index's slots hold a state
     }
     if (t->index.keys[slot] == DYNAQ_EMPTY) {
         uint32_t rec_no = t->count;
         if (t->count == t->capacity) {  // the oldest state makes room
             rec_no = t->oldest;
-            t->oldest = (t->oldest + 1u) & (t->capacity - 1u);
+            t->oldest = t->oldest + 1u == t->capacity ? 0u : t->oldest + 1u;
             oa_remove(&t->index, oa_find(&t->index, t->records[rec_no].state), index_moved_, t);
             t->evicted++;
             slot = oa_find(&t->index, s);  // the shift may have emptied a slot before this one
@@ -71,13 +71,21 @@ void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent
         oa_put(&t->index, slot, s);
         t->index_rec[slot] = rec_no;
     }
-    dynaq_record_t *rec = &t->records[t->index_rec[slot]];
+    const uint32_t rec_no = t->index_rec[slot];
+    dynaq_record_t *rec = &t->records[rec_no];
     const uint8_t bit = (uint8_t)(1u << (a & 7u));
     rec->tried[a >> 3] |= bit;
     rec->terminal[a >> 3] =
         (uint8_t)(terminal ? (rec->terminal[a >> 3] | bit) : (rec->terminal[a >> 3] & ~bit));
     rec->next[a] = s_next;
     rec->reward[a] = r;
+    return rec_no;
+}
+
+const dynaq_record_t *dynaq_find(const dynaq_table_t *t, agent_state_t s)
+{
+    const uint32_t slot = oa_lookup(&t->index, s, false);
+    return slot == OA_NONE ? NULL : &t->records[t->index_rec[slot]];
 }
 
 bool dynaq_sample(const dynaq_table_t *t, prng_t *rng, agent_state_t *s, uint8_t *a, float *r,

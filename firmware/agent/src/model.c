@@ -191,6 +191,7 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     }
     m->space = space;
     m->min_count = min_count;
+    m->ablate = 0;
     for (uint32_t k = 0; k < space->n_components; k++) {
         // A change wraps around a circular component; a value predicted as such does not.
         const bool absolute = (space->absolute_mask >> k) & 1u;
@@ -448,7 +449,7 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     // alone (rate 0.999) would predict whatever happened last.
     model_step_t kept;
     const bool contradicts =
-        predict_exact_(m, from, &tiles, a, &kept) &&
+        (m->ablate & MODEL_ABLATE_MAJORITY) == 0u && predict_exact_(m, from, &tiles, a, &kept) &&
         (kept.next != s_next || kept.terminal != (uint8_t)terminal ||
          kept.reward - r > 0.5f || r - kept.reward > 0.5f);
     const bool stored =
@@ -531,7 +532,7 @@ static bool moves_(const int8_t *delta)
 static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
                              model_step_t *out)
 {
-    if (m->classes == NULL) {
+    if (m->classes == NULL || (m->ablate & MODEL_ABLATE_GENERALISE) != 0u) {
         return false;
     }
     const model_class_t *c = class_of_(m, s, from, a);

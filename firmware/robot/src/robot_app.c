@@ -56,6 +56,7 @@ typedef struct robot_app {
     robot_app_stats_t stats;
     uint64_t boot_us;
     uint64_t period_start_idle_us;
+    uint32_t tlm_planning_updates;  ///< the agent's planning updates at the last TLM_SCHED
 } robot_app_t;
 
 static robot_app_t app_;
@@ -420,7 +421,15 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
     const uint64_t idle = ss.idle_us - app_.period_start_idle_us;
     app_.period_start_idle_us = ss.idle_us;
     const uint32_t period = app_.opt.cfg->period_us;
-    const tlm_sched_t sch = {ss.idle_steps_last_period, misses,
+    // PlanUpdates: every planning update since the last TLM_SCHED, the control task's (N after
+    // a step, or the first ROBOT_PLAN_BEFORE_ACT with idle-time planning) and the idle loop's.
+    // Dyna-QPC's queue is often empty before the idle loop runs (its share is in sched's
+    // idle_steps), so counting the idle loop's alone would read 0 while the robot plans.
+    const uint32_t planned = app_.opt.agent->stats.planning_updates;
+    // (A reset of the agent by the operator restarts its count from 0.)
+    const uint32_t plan_updates = planned >= app_.tlm_planning_updates ? planned - app_.tlm_planning_updates : planned;
+    app_.tlm_planning_updates = planned;
+    const tlm_sched_t sch = {plan_updates, misses,
                              (uint32_t)(idle >= period ? 1000u : idle * 1000u / period),
                              agent_backlog(app_.opt.agent)};
     tlm_encode_sched(&app_.dev.tlm, &sch, &f);
@@ -561,7 +570,8 @@ int robot_app_init(const robot_app_options_t *opt)
 
     static agent_space_t space;
     robot_config_space(cfg, &space);
-    const agent_config_t ac = {cfg->agent, &space, cfg->params, opt->storage, opt->seed};
+    const agent_config_t ac = {cfg->agent, &space, robot_config_agent_params(cfg), opt->storage,
+                               opt->seed};
     err = agent_init(opt->agent, &ac);
     if (err) {
         return err;
@@ -580,6 +590,7 @@ int robot_app_init(const robot_app_options_t *opt)
         }
     }
     robot_ctrl_init(&app_.ctrl, cfg, opt->agent);
+    app_.tlm_planning_updates = opt->agent->stats.planning_updates;
     app_.ctrl.learning = !opt->evaluate;
     app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
 

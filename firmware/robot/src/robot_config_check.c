@@ -66,5 +66,8 @@ int robot_config_check(const robot_config_t *c)
     if (c->pose_source != ROBOT_POSE_GPS && c->pose_source != ROBOT_POSE_CRICKET) {
         return FW_ERR_INVAL;
     }
+    if (c->values != ROBOT_VALUES_ROOM && c->values != ROBOT_VALUES_PAPER) {
+        return FW_ERR_INVAL;
+    }
     return FW_OK;
 }

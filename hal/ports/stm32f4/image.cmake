@@ -4,7 +4,8 @@
 #
 # dynaqpc_image(<name> SCRIPT <ld> RAM <bytes> FLASH <bytes> STACK <bytes>
 #               SOURCES ... LIBS ... [DEFINES ...])
-# Links <name>.elf with the port's startup and linker script (ld/<SCRIPT>), prints its size
+# Links <name>.elf with the port's startup and linker script (ld/<SCRIPT>, or a board's own
+# script given as an absolute path; either may INCLUDE the port's sections.ld), prints its size
 # against the budgets after each build and registers the test cortex-m4.size.<name>.
 # A second port provides a function of the same name and signature in its own folder.
 function(dynaqpc_image name)
@@ -13,15 +14,20 @@ function(dynaqpc_image name)
     target_link_libraries(${name}.elf PRIVATE ${ARG_LIBS} dynaqpc_c_flags)
     target_compile_definitions(${name}.elf PRIVATE ${ARG_DEFINES})
     set(ld_dir ${DYNAQPC_STM32F4_DIR}/ld)
+    if(IS_ABSOLUTE "${ARG_SCRIPT}")
+        set(script ${ARG_SCRIPT})
+    else()
+        set(script ${ld_dir}/${ARG_SCRIPT})
+    endif()
     target_link_options(${name}.elf PRIVATE
         -nostartfiles --specs=nano.specs
-        -L${ld_dir} -T${ld_dir}/${ARG_SCRIPT}
+        -L${ld_dir} -T${script}
         -Wl,--defsym=DYNAQPC_STACK_BYTES=${ARG_STACK}
         -Wl,--defsym=DYNAQPC_RAM_BUDGET=${ARG_RAM}
         -Wl,--defsym=DYNAQPC_FLASH_BUDGET=${ARG_FLASH}
         -Wl,-Map=${CMAKE_CURRENT_BINARY_DIR}/${name}.map)
     set_target_properties(${name}.elf PROPERTIES
-        LINK_DEPENDS "${ld_dir}/${ARG_SCRIPT};${ld_dir}/sections.ld;${ld_dir}/store.ld")
+        LINK_DEPENDS "${script};${ld_dir}/sections.ld;${ld_dir}/store.ld")
     set(size_report ${PROJECT_SOURCE_DIR}/cmake/size_report.cmake)
     add_custom_command(TARGET ${name}.elf POST_BUILD
         COMMAND ${CMAKE_COMMAND} -DSIZE=${CMAKE_SIZE} -DELF=$<TARGET_FILE:${name}.elf>

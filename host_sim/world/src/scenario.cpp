@@ -587,16 +587,24 @@ bool Parser::key_learning(const Tokens &t, Scenario *s)
 {
     using T = Field::Type;
     Learning &l = s->learning;
+    std::string gamma = "auto";
     std::vector<Field> f = {
         {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
         {"alpha", T::Real, &l.alpha, 0.0, 1.0},
-        {"gamma", T::Real, &l.gamma, 0.0, 1.0},
+        {"gamma", T::Text, &gamma, 0.0, 1.0},
         {"planning", T::Int, &l.planning, 0, 1000000},
         {"step_cap", T::Int, &l.step_cap, 1, 100000000},
         {"sets", T::Int, &l.sets, 1, 1000000},
         {"episodes", T::Int, &l.episodes, 1, 1000000},
     };
-    return fields(t, f);
+    if (!fields(t, f)) {
+        return false;
+    }
+    if (gamma == "auto") {
+        l.gamma = Learning::kGammaFromRoom;
+        return true;
+    }
+    return number(gamma, "learning gamma", 0.0, 1.0, &l.gamma);
 }
 
 // Where a ray from the body's centre at `angle` leaves the rectangle: the default mount point.
@@ -815,9 +823,85 @@ bool parse_scenario(std::string_view text, const std::string &file, Scenario *ou
     return true;
 }
 
+std::string layout_change_problem(const Scenario &a, const Scenario &b)
+{
+    // Doubles are compared exactly: both files are parsed by this parser, so the same text
+    // gives the same value, and a different value is a different robot or task.
+    auto rays_same = [](const std::vector<Ray> &x, const std::vector<Ray> &y) {
+        if (x.size() != y.size()) return false;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            if (x[i].angle != y[i].angle || x[i].x != y[i].x || x[i].y != y[i].y) return false;
+        }
+        return true;
+    };
+    auto bits_same = [](const std::vector<CodeBit> &x, const std::vector<CodeBit> &y) {
+        if (x.size() != y.size()) return false;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            if (x[i].threshold != y[i].threshold || x[i].rays != y[i].rays) return false;
+        }
+        return true;
+    };
+    auto beacons_same = [](const std::vector<Beacon> &x, const std::vector<Beacon> &y) {
+        if (x.size() != y.size()) return false;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            if (x[i].id != y[i].id || x[i].x != y[i].x || x[i].y != y[i].y || x[i].z != y[i].z) return false;
+        }
+        return true;
+    };
+    const struct {
+        bool same;
+        const char *what;
+    } checks[] = {
+        {a.arena_w == b.arena_w && a.arena_h == b.arena_h, "the arena"},
+        {a.goal.cx == b.goal.cx && a.goal.cy == b.goal.cy && a.goal.radius == b.goal.radius &&
+             a.goal.cells == b.goal.cells,
+         "the goal (the firmware is given it)"},
+        {a.robot.length == b.robot.length && a.robot.width == b.robot.width && a.robot.mass == b.robot.mass &&
+             a.robot.track == b.robot.track && a.robot.max_speed == b.robot.max_speed &&
+             a.robot.max_accel == b.robot.max_accel && a.robot.friction == b.robot.friction,
+         "the robot"},
+        {a.ranger.kind == b.ranger.kind && a.ranger.min_range == b.ranger.min_range &&
+             a.ranger.max_range == b.ranger.max_range && a.ranger.noise_prop == b.ranger.noise_prop &&
+             a.ranger.noise_sd == b.ranger.noise_sd && rays_same(a.ranger.rays, b.ranger.rays),
+         "the ranger or its rays"},
+        {bits_same(a.code_bits, b.code_bits), "the code bits"},
+        {a.gyro.bias == b.gyro.bias && a.gyro.noise_sd == b.gyro.noise_sd, "the gyro"},
+        {a.gps.enabled == b.gps.enabled && a.gps.xy_sd == b.gps.xy_sd && a.gps.heading_sd == b.gps.heading_sd,
+         "the gps"},
+        {beacons_same(a.cricket.beacons, b.cricket.beacons) && a.cricket.space == b.cricket.space &&
+             a.cricket.min_interval == b.cricket.min_interval && a.cricket.max_interval == b.cricket.max_interval &&
+             a.cricket.noise_sd == b.cricket.noise_sd && a.cricket.listener_height == b.cricket.listener_height &&
+             a.cricket.speed_of_sound == b.cricket.speed_of_sound,
+         "the Cricket system or its beacons"},
+        {a.timing.control_period == b.timing.control_period && a.timing.physics_dt == b.timing.physics_dt,
+         "the timing"},
+        {a.solver.velocity_iterations == b.solver.velocity_iterations &&
+             a.solver.position_iterations == b.solver.position_iterations,
+         "the solver"},
+        {a.start.margin == b.start.margin, "the start margin"},
+        {a.encoding.x_bits == b.encoding.x_bits && a.encoding.y_bits == b.encoding.y_bits &&
+             a.encoding.heading_bits == b.encoding.heading_bits && a.encoding.sensor_bits == b.encoding.sensor_bits,
+         "the encoding"},
+        {a.actions.step == b.actions.step && a.actions.turn == b.actions.turn && a.actions.aligned == b.actions.aligned &&
+             a.actions.past == b.actions.past,
+         "the actions"},
+        {a.rewards.bump == b.rewards.bump && a.rewards.goal == b.rewards.goal && a.rewards.step == b.rewards.step,
+         "the rewards"},
+        {a.learning.epsilon == b.learning.epsilon && a.learning.alpha == b.learning.alpha &&
+             a.learning.gamma == b.learning.gamma && a.learning.planning == b.learning.planning &&
+             a.learning.step_cap == b.learning.step_cap,
+         "the learning line (epsilon, alpha, gamma, planning or step_cap)"},
+    };
+    for (const auto &c : checks) {
+        if (!c.same) return std::string(c.what) + " differs (only obstacles may change)";
+    }
+    return "";
+}
+
 std::string resolve_scenario_path(const std::string &name_or_path)
 {
-    if (name_or_path == "paper-sim" || name_or_path == "paper-lab") {
+    if (name_or_path == "paper-sim" || name_or_path == "paper-lab" || name_or_path == "paper-sim-motion" ||
+        name_or_path == "paper-lab-motion") {
         return std::string(DYNAQPC_SCENARIOS_DIR) + "/" + name_or_path + ".scn";
     }
     return name_or_path;

@@ -86,8 +86,12 @@ double wrap_angle(double a)
 
 struct World::Impl {
     Scenario sc;
-    b2World world{b2Vec2(0.0f, 0.0f)};
+    // A pointer so that a changed room (set_obstacles) is a fresh Box2D world, built as the
+    // constructor builds one: the same contacts in the same order as a World made from the
+    // changed scenario.
+    std::unique_ptr<b2World> world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
     b2Body *robot = nullptr;
+    b2Body *walls = nullptr;
     b2Fixture *robot_fixture = nullptr;
     BumpListener bump;
     RandomStream start_rng, range_rng, gyro_rng, gps_rng;
@@ -105,20 +109,21 @@ struct World::Impl {
     }
 
     void build();
+    void build_obstacles();
     void drive();
     void ranges(float out[]) const;
 };
 
 void World::Impl::build()
 {
-    world.SetAllowSleeping(false);
-    world.SetContactListener(&bump);
+    world->SetAllowSleeping(false);
+    world->SetContactListener(&bump);
 
     // Walls: four boxes outside the arena, their inner faces on its edges.
     const float w = static_cast<float>(sc.arena_w), h = static_cast<float>(sc.arena_h);
     const float t = 1.0f;  // thickness
     b2BodyDef static_def;
-    b2Body *walls = world.CreateBody(&static_def);
+    walls = world->CreateBody(&static_def);
     b2PolygonShape box;
     box.SetAsBox(t / 2, h / 2 + t, b2Vec2(-t / 2, h / 2), 0.0f);
     walls->CreateFixture(&box, 0.0f);
@@ -129,27 +134,14 @@ void World::Impl::build()
     box.SetAsBox(w / 2 + t, t / 2, b2Vec2(w / 2, h + t / 2), 0.0f);
     walls->CreateFixture(&box, 0.0f);
 
-    for (const Obstacle &o : sc.obstacles) {
-        if (o.shape == Obstacle::Shape::Box) {
-            b2PolygonShape p;
-            p.SetAsBox(static_cast<float>(o.w / 2), static_cast<float>(o.h / 2),
-                       b2Vec2(static_cast<float>(o.cx), static_cast<float>(o.cy)),
-                       static_cast<float>(o.angle));
-            walls->CreateFixture(&p, 0.0f);
-        } else {
-            b2CircleShape c;
-            c.m_p.Set(static_cast<float>(o.cx), static_cast<float>(o.cy));
-            c.m_radius = static_cast<float>(o.radius);
-            walls->CreateFixture(&c, 0.0f);
-        }
-    }
+    build_obstacles();
 
     const RobotSpec &r = sc.robot;
     b2BodyDef def;
     def.type = b2_dynamicBody;
     def.position.Set(w / 2, h / 2);
     def.allowSleep = false;
-    robot = world.CreateBody(&def);
+    robot = world->CreateBody(&def);
     b2PolygonShape body;
     body.SetAsBox(static_cast<float>(r.length / 2), static_cast<float>(r.width / 2));
     b2FixtureDef fd;
@@ -167,6 +159,24 @@ void World::Impl::build()
     // (m a / 2 per wheel) or turning on the spot (I a / (2 h^2) per wheel).
     max_force = 2.0 * r.max_accel *
                 std::max(mass / 2.0, inertia / (2.0 * half_track * half_track));
+}
+
+void World::Impl::build_obstacles()
+{
+    for (const Obstacle &o : sc.obstacles) {
+        if (o.shape == Obstacle::Shape::Box) {
+            b2PolygonShape p;
+            p.SetAsBox(static_cast<float>(o.w / 2), static_cast<float>(o.h / 2),
+                       b2Vec2(static_cast<float>(o.cx), static_cast<float>(o.cy)),
+                       static_cast<float>(o.angle));
+            walls->CreateFixture(&p, 0.0f);
+        } else {
+            b2CircleShape c;
+            c.m_p.Set(static_cast<float>(o.cx), static_cast<float>(o.cy));
+            c.m_radius = static_cast<float>(o.radius);
+            walls->CreateFixture(&c, 0.0f);
+        }
+    }
 }
 
 void World::Impl::drive()
@@ -215,7 +225,7 @@ void World::Impl::ranges(float out[]) const
                                               static_cast<float>(std::sin(ray.angle))));
         const b2Vec2 p2 = p1 + max_range * dir;
         ClosestHit hit(robot_fixture);
-        world.RayCast(&hit, p1, p2);
+        world->RayCast(&hit, p1, p2);
         if (!hit.hit) {
             out[i] = max_range;
         } else {
@@ -276,6 +286,16 @@ void World::reset(const Pose &pose)
     m.bump.bumped = false;
 }
 
+void World::set_obstacles(const std::vector<Obstacle> &obstacles)
+{
+    Impl &m = *impl_;
+    m.sc.obstacles = obstacles;
+    m.world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));  // the old bodies go with the old world
+    m.bump.bumped = false;
+    m.target_l = m.target_r = 0.0;
+    m.build();
+}
+
 void World::set_wheel_targets(double left, double right)
 {
     const double vmax = impl_->sc.robot.max_speed;
@@ -289,7 +309,7 @@ void World::step()
 {
     Impl &m = *impl_;
     m.drive();
-    m.world.Step(static_cast<float>(m.sc.timing.physics_dt), m.sc.solver.velocity_iterations,
+    m.world->Step(static_cast<float>(m.sc.timing.physics_dt), m.sc.solver.velocity_iterations,
                  m.sc.solver.position_iterations);
     ++m.steps;
     m.time = static_cast<double>(m.steps) * m.sc.timing.physics_dt;

@@ -2,7 +2,8 @@
 """The tool's end of the end-to-end test: listens on the virtual CAN bus with python-can, decodes
 the firmware's telemetry with docs/dynaqpc.dbc (cantools), and checks that the robot completed
 episodes, that each TLM_EPISODE agrees with the TLM_LEARN frames of its steps, and that every
-TOOL_CMD on the bus (the supervisor's START_EPISODE) was answered by a TOOL_ACK.
+TOOL_CMD on the bus (the supervisor's START_EPISODE) was answered by a TOOL_ACK; with
+--idle-planning, that TLM_SCHED reports planning updates (PlanUpdates > 0 in some frame). Deadline misses are reported, not failed: on a shared host they are the host's.
 
 Prints "ready" once it has joined the bus. Exit 0: --episodes episodes seen and consistent;
 1: an inconsistency or too few episodes before --timeout (each problem on its own line).
@@ -23,6 +24,9 @@ def main() -> int:
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--arena", type=float, nargs=2, default=(8.0, 8.0), help="width height, m")
     ap.add_argument("--rewards", type=int, nargs=3, default=(-100, 100, -1), help="bump goal step")
+    ap.add_argument("--idle-planning", action="store_true",
+                    help="the firmware plans in idle time (the shipped scenarios' planning 0): TLM_SCHED "
+                         "must report PlanUpdates > 0")
     args = ap.parse_args()
 
     db = cantools.database.load_file(args.dbc)
@@ -33,6 +37,7 @@ def main() -> int:
     ack_id = db.get_message_by_name("TOOL_ACK").frame_id
     pending = {}       # (Command, Counter) of a TOOL_CMD not answered yet -> when seen
     answered = 0
+    sched_id = db.get_message_by_name("TLM_SCHED").frame_id
     bump_r, goal_r, step_r = args.rewards
 
     bus = can.Bus(interface="udp_multicast", channel="239.74.163.2",
@@ -42,6 +47,10 @@ def main() -> int:
     episodes = []
     poses = 0
     poses_outside = 0
+    scheds = 0
+    sched_planning = 0      # TLM_SCHED frames with PlanUpdates > 0
+    plan_updates = 0        # summed over all TLM_SCHED frames
+    max_misses = 0
     problems = []
     deadline = time.monotonic() + args.timeout
     try:
@@ -54,6 +63,12 @@ def main() -> int:
                 poses += 1
                 if p["FixState"] == 0 and not (0 <= p["X"] <= args.arena[0] * 1000 and 0 <= p["Y"] <= args.arena[1] * 1000):
                     poses_outside += 1
+            elif msg.arbitration_id == sched_id:
+                sc = db.decode_message(sched_id, msg.data, decode_choices=False)
+                scheds += 1
+                plan_updates += int(sc["PlanUpdates"])
+                sched_planning += int(sc["PlanUpdates"]) > 0
+                max_misses = max(max_misses, int(sc["DeadlineMisses"]))
             elif msg.arbitration_id == learn_id:
                 m = db.decode_message(learn_id, msg.data, decode_choices=False)
                 learns.setdefault(int(m["Episode"]), []).append(m)
@@ -82,6 +97,11 @@ def main() -> int:
         problems.append(f"TOOL_CMDs (command, counter) never answered: {stale}")
     if poses_outside:
         problems.append(f"{poses_outside} fresh TLM_POSE frames outside the arena")
+    if args.idle_planning:
+        if scheds == 0:
+            problems.append("no TLM_SCHED frame seen")
+        elif sched_planning == 0:
+            problems.append(f"TLM_SCHED: PlanUpdates 0 in all {scheds} frames: the firmware does not plan")
     for e in episodes:
         n = int(e["Episode"])
         steps = learns.get(n % 2048, [])
@@ -129,7 +149,9 @@ def main() -> int:
         print("FAIL:", p, flush=True)
     if not problems:
         print(f"ok: {len(episodes)} episodes consistent with {sum(len(v) for v in learns.values())} TLM_LEARN frames, "
-              f"{poses} TLM_POSE frames, {answered} TOOL_CMDs answered", flush=True)
+              f"{poses} TLM_POSE frames, {answered} TOOL_CMDs answered; TLM_SCHED: {scheds} frames, "
+              f"{sched_planning} with planning updates, {plan_updates} planning updates, {max_misses} deadline misses",
+              flush=True)
     return 1 if problems else 0
 
 

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # e2e.vcan_episode: the firmware (dynaqpc-fw) and the simulated robot (dynaqpc-sim devices
 # --supervise) as two processes on the virtual CAN bus, and a python-can listener decoding the
-# telemetry with docs/dynaqpc.dbc, all inside a private network namespace.
+# telemetry with docs/dynaqpc.dbc, all inside a private network namespace. The scenario's own
+# planning (paper-sim: planning 0, in the idle loop, as shipped): TLM_SCHED must show it.
 #   run_e2e.sh <bin dir> <repo> [--inside]
 # Exit 0 pass, 1 fail, 77 skipped (the project venv is missing). A namespace that cannot be
 # created is a failure: this test must not run on the host's shared bus.
@@ -40,7 +41,7 @@ wait_for() {
 }
 
 timeout 60 "$PY" "$REPO/tests/integration/e2e_vcan/e2e_listener.py" --dbc "$REPO/docs/dynaqpc.dbc" \
-    --episodes $EPISODES --step-cap $STEP_CAP --timeout 45 > "$TMP/listener.out" 2>&1 &
+    --episodes $EPISODES --step-cap $STEP_CAP --timeout 45 --idle-planning > "$TMP/listener.out" 2>&1 &
 LISTENER=$!
 PIDS="$LISTENER"
 wait_for "$TMP/listener.out" 30 '^ready' || fail "the listener did not join the bus"
@@ -71,5 +72,6 @@ for f in listener devices fw; do echo "--- $f"; cat "$TMP/$f.out"; done
 n=$(grep -c '^episode=' "$TMP/devices.out")
 [ "$n" -eq $EPISODES ] || fail "the supervisor printed $n episode lines, expected $EPISODES"
 grep -q "saves=$EPISODES save_errors=0" "$TMP/fw.out" || fail "the firmware did not save once per episode"
+grep -q "planning idle time" "$TMP/fw.out" || fail "the shipped scenario does not plan in idle time"
 echo "PASS"
 exit 0

@@ -29,6 +29,7 @@ std::vector<std::vector<EpisodeRow>> train(const char *scenario, agent_kind_t ki
     const dynaqpc::ScenarioBundle sb = dynaqpc::load_scenario(scenario);
     robot_config_t cfg = sb.robot;
     cfg.agent = kind;
+    cfg.planning = 5;  // the paper's protocol, N = 5 after each step (the scenarios ship idle-time planning)
     std::vector<std::vector<EpisodeRow>> rows(sets);
     for (std::uint32_t set = 0; set < sets; set++) {
         dynaqpc::LockstepOptions opt;

@@ -40,6 +40,9 @@ static void init_rejects_bad_configurations(void **state)
     c = config(AGENT_DYNA_QPC);
     c.storage = NULL;
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
+    c = config(AGENT_DYNA_QPC);
+    c.params.ablate = 0x10;  // not a part the ablation knows
+    assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config((agent_kind_t)7);
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config(AGENT_Q_LEARNING);
@@ -187,7 +190,7 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
 // which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
 // grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
 // alike at every step and end with the same bytes learned and the same counters.
-typedef AGENT_MEMORY_STRUCT(64, 64, 4, 16, 1, 1, 1) small_memory_t;
+typedef AGENT_MEMORY_STRUCT(64, 64, 4, 16, 16, 1, 1, 1) small_memory_t;
 static small_memory_t memory_a_;
 static small_memory_t memory_b_;
 static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);
@@ -310,12 +313,61 @@ static void dyna_qpc_backs_up_the_mean_of_a_places_codes(void **state)
     assert_true(agent_.alg.dyna_qpc.model.generalised > 0u);
 }
 
+
+// A first visit to a state makes new predictions: its own untried pairs that the relocatable
+// model now predicts, and untried pairs elsewhere now predicted to lead into it. The values
+// they lead to may never change again, so nothing else would queue them: the real step that
+// arrives there does (dyna_qpc.c, queue_new_state_). A state seen before queues nothing more.
+static uint32_t pq_key_(agent_state_t s, uint8_t a)
+{
+    return s * robot_.n_actions + a;
+}
+
+static void a_first_visit_queues_what_it_makes_predictable(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_QPC);
+    c.space = &robot_;
+    c.storage = &agent_storage_paper_lab;
+    c.params.alpha = 1.0f;
+    c.params.gamma = 0.9f;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    // Action 0 at heading 4 and code 0 moves +1 (3 times: trusted); the map sees (10, 4) and
+    // (12, 4) with code 0, turning there.
+    for (uint32_t x = 1; x <= 3; x++) {
+        agent_observe(&agent_, robot_state_(x, 4, 0), 0, -1.0f, robot_state_(x + 1, 4, 0), false);
+    }
+    agent_observe(&agent_, robot_state_(10, 4, 0), 2, -1.0f, robot_state_(10, 5, 0), false);
+    agent_observe(&agent_, robot_state_(12, 4, 0), 2, -1.0f, robot_state_(12, 5, 0), false);
+    (void)agent_plan(&agent_, 10000);
+    assert_int_equal(agent_backlog(&agent_), 0);
+    const pqueue_t *pq = &agent_.alg.dyna_qpc.pq;
+    const agent_state_t here = robot_state_(11, 4, 0);
+    const agent_state_t before = robot_state_(10, 4, 0);
+    assert_false(model_has_seen(&agent_.alg.dyna_qpc.model, here));
+    assert_true(agent_q(&agent_, before, 0) == 0.0f);  // (11, 4) unseen: not predictable yet
+
+    // The first visit to (11, 4, 0), turning into it.
+    agent_observe(&agent_, robot_state_(11, 3, 0), 2, -1.0f, here, false);
+    assert_true(pq_priority_of(pq, pq_key_(robot_state_(11, 3, 0), 2)) > 0.0f);  // the real pair
+    assert_true(pq_priority_of(pq, pq_key_(here, 0)) > 0.0f);    // its own: it leads to (12, 4)
+    assert_true(pq_priority_of(pq, pq_key_(before, 0)) > 0.0f);  // (10, 4, 0) now leads here
+    assert_int_equal(agent_backlog(&agent_), 3);
+    (void)agent_plan(&agent_, 10000);
+    assert_float_equal(agent_q(&agent_, before, 0), -1.0f, 1e-4f);  // here is worth 0: untried
+    assert_float_equal(agent_q(&agent_, here, 0), -1.0f, 1e-4f);
+
+    // Arriving again queues the real pair only if it still has something to learn, nothing else.
+    agent_observe(&agent_, robot_state_(11, 3, 0), 2, -1.0f, here, false);
+    assert_int_equal(agent_backlog(&agent_), 0);
+}
+
 // The registry (agent/algorithms.h): every kind has a name, every name its kind, and anything
 // else is an error rather than some default algorithm.
 static void kinds_and_names_round_trip(void **state)
 {
     (void)state;
-    assert_int_equal(AGENT_KINDS, 3);
+    assert_int_equal(AGENT_KINDS, 4);
     for (uint32_t k = 0; k < AGENT_KINDS; k++) {
         agent_kind_t back = (agent_kind_t)99;
         const char *name = agent_kind_name((agent_kind_t)k);
@@ -324,6 +376,7 @@ static void kinds_and_names_round_trip(void **state)
         assert_int_equal(back, k);
     }
     assert_string_equal(agent_kind_name(AGENT_DYNA_QPC), "dyna-qpc");
+    assert_string_equal(agent_kind_name(AGENT_DYNA_Q_MAJORITY), "dyna-q-majority");
     assert_null(agent_kind_name((agent_kind_t)AGENT_KINDS));
     agent_kind_t kind = AGENT_DYNA_Q;
     assert_int_equal(agent_kind_from_name("dyna-qpcx", &kind), FW_ERR_INVAL);
@@ -372,6 +425,140 @@ static void counters_list_the_q_store_then_the_algorithm(void **state)
     assert_int_equal(agent_init(&agent_, &cfg), FW_OK);
     assert_int_equal(agent_counters(&agent_, c), 3);
     assert_int_equal(agent_stats(&agent_)->real_steps, 0);
+}
+
+
+// ---- Dyna-Q with the majority rule (dyna_q_majority.c) ---------------------------------------
+
+// The kept outcome of (s, a) in a majority agent's table.
+static const dynaq_record_t *majority_record_(agent_state_t s)
+{
+    return dynaq_find(&agent_.alg.dyna_q_majority.table, s);
+}
+
+// A minority slip does not replace the outcome most observations agreed on (Dyna-Q would keep
+// the slip); as many slips as agreements do, as in CMAC-Model.
+static void dyna_q_majority_keeps_the_majority_outcome(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_Q_MAJORITY);
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    for (int i = 0; i < 3; i++) {  // 3 agree: 5 -> 6
+        agent_observe(&agent_, 5, 1, 0.0f, 6, false);
+    }
+    for (int i = 0; i < 2; i++) {  // 2 slip: still 6
+        agent_observe(&agent_, 5, 1, -1.0f, 5, false);
+        assert_int_equal(majority_record_(5)->next[1], 6);
+        assert_true(majority_record_(5)->reward[1] == 0.0f);
+    }
+    agent_counter_t cnt[AGENT_MAX_COUNTERS];
+    uint32_t n = agent_counters(&agent_, cnt);
+    assert_int_equal(counter_(cnt, n, "table_kept")->value, 2);
+    assert_int_equal(counter_(cnt, n, "table_replaced")->value, 0);
+    // Planning replays the kept outcome only: Q(5, 1) learns the move (0 + gamma * Q(6) = 0),
+    // never the slip's -1.
+    assert_int_equal(agent_plan(&agent_, 200), 200);
+    assert_float_equal(agent_q(&agent_, 5, 1), 0.0f, 0.0f);
+    // The third slip: as many disagreed (3) as agreed (3): the slip is the outcome now.
+    agent_observe(&agent_, 5, 1, -1.0f, 5, false);
+    assert_int_equal(majority_record_(5)->next[1], 5);
+    assert_true(majority_record_(5)->reward[1] == -1.0f);
+    n = agent_counters(&agent_, cnt);
+    assert_int_equal(counter_(cnt, n, "table_replaced")->value, 1);
+    // A different end of episode, or a reward more than 0.5 away, is a disagreement too.
+    for (int i = 0; i < 3; i++) {
+        agent_observe(&agent_, 9, 1, 0.0f, 10, false);
+    }
+    agent_observe(&agent_, 9, 1, 0.0f, 10, true);
+    agent_observe(&agent_, 9, 1, 0.9f, 10, false);
+    assert_false(dynaq_bit(majority_record_(9)->terminal, 1));
+    assert_true(majority_record_(9)->reward[1] == 0.0f);
+    agent_observe(&agent_, 9, 1, 0.4f, 10, false);  // agrees: its reward is the latest
+    assert_true(majority_record_(9)->reward[1] == 0.4f);
+
+    // Dyna-Q keeps the last outcome.
+    c = config(AGENT_DYNA_Q);
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    for (int i = 0; i < 3; i++) {
+        agent_observe(&agent_, 5, 1, 0.0f, 6, false);
+    }
+    agent_observe(&agent_, 5, 1, -1.0f, 5, false);
+    assert_int_equal(dynaq_find(&agent_.alg.dyna_q.table, 5)->next[1], 5);
+}
+
+// The rule is Dyna-QPC's: fed the same observations of one pair (three outcomes, at random), the
+// majority table keeps what CMAC-Model predicts after every one.
+static void dyna_q_majority_keeps_what_cmac_model_keeps(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_Q_MAJORITY);
+    c.storage = &storage_a_;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    c = config(AGENT_DYNA_QPC);
+    c.storage = &storage_b_;
+    assert_int_equal(agent_init(&agent_b_, &c), FW_OK);
+    prng_t rng;
+    prng_seed(&rng, 7);
+    uint32_t replaced = 0;
+    agent_state_t last = 0;
+    for (int i = 0; i < 300; i++) {
+        const uint32_t pick = prng_below(&rng, 10);
+        const agent_state_t next = pick < 5u ? 6u : pick < 8u ? 4u : 9u;
+        const float r = pick < 5u ? -1.0f : pick < 8u ? -3.0f : 10.0f;
+        const bool terminal = pick >= 8u;
+        agent_observe(&agent_, 5, 1, r, next, terminal);
+        agent_observe(&agent_b_, 5, 1, r, next, terminal);
+        model_step_t kept;
+        assert_true(model_predict(&agent_b_.alg.dyna_qpc.model, 5, 1, &kept));
+        const dynaq_record_t *rec = majority_record_(5);
+        assert_int_equal(rec->next[1], kept.next);
+        assert_int_equal(dynaq_bit(rec->terminal, 1), kept.terminal);
+        assert_float_equal(rec->reward[1], kept.reward, 0.05f);
+        replaced += rec->next[1] != last;
+        last = rec->next[1];
+    }
+    assert_true(replaced > 5u);  // the kept outcome changed hands, more than once
+}
+
+// Where no observation ever disagrees, Dyna-Q with the majority rule is Dyna-Q: with the same
+// seed on a deterministic grid (tables too small, so states are forgotten too), both act alike
+// at every step and learn the same Q values.
+static void dyna_q_majority_replays_as_dyna_q(void **state)
+{
+    (void)state;
+    agent_config_t c = config(AGENT_DYNA_Q_MAJORITY);
+    c.space = &grid_;
+    c.params.epsilon = 0.2f;
+    c.params.gamma = 0.9f;
+    c.storage = &storage_a_;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    c.kind = AGENT_DYNA_Q;
+    c.storage = &storage_b_;
+    assert_int_equal(agent_init(&agent_b_, &c), FW_OK);
+    agent_state_t s = 0;
+    for (int i = 0; i < 3000; i++) {
+        const uint8_t a = agent_act(&agent_, s);
+        assert_int_equal(agent_act(&agent_b_, s), a);
+        float r;
+        const agent_state_t next = grid_step_(s, a, &r);
+        const bool goal = r > 0.0f;
+        agent_observe(&agent_, s, a, r, next, goal);
+        agent_observe(&agent_b_, s, a, r, next, goal);
+        assert_int_equal(agent_plan(&agent_, 5), agent_plan(&agent_b_, 5));
+        s = goal ? 0 : next;
+    }
+    agent_region_t ra[AGENT_MAX_REGIONS];
+    agent_region_t rb[AGENT_MAX_REGIONS];
+    assert_int_equal(agent_learned_regions(&agent_, ra), 2u + DYNAQ_REGIONS + 1u);
+    assert_int_equal(agent_learned_regions(&agent_b_, rb), 2u + DYNAQ_REGIONS);
+    for (uint32_t i = 0; i < 2u + DYNAQ_REGIONS; i++) {  // Q store and table, byte for byte
+        assert_int_equal(ra[i].size, rb[i].size);
+        assert_memory_equal(ra[i].data, rb[i].data, ra[i].size);
+    }
+    assert_memory_equal(&agent_.stats, &agent_b_.stats, sizeof agent_.stats);
+    assert_true(agent_.alg.dyna_q_majority.table.evicted > 0u);
+    assert_int_equal(agent_.alg.dyna_q_majority.kept + agent_.alg.dyna_q_majority.replaced, 0);
+    assert_true(agent_.stats.planning_updates > 1000u);
 }
 
 static jmp_buf assert_jump_;
@@ -430,6 +617,10 @@ int main(void)
         cmocka_unit_test(kinds_and_names_round_trip),
         cmocka_unit_test(counters_list_the_q_store_then_the_algorithm),
         cmocka_unit_test(preconditions_are_asserted),
+        cmocka_unit_test(a_first_visit_queues_what_it_makes_predictable),
+        cmocka_unit_test(dyna_q_majority_keeps_the_majority_outcome),
+        cmocka_unit_test(dyna_q_majority_keeps_what_cmac_model_keeps),
+        cmocka_unit_test(dyna_q_majority_replays_as_dyna_q),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -518,6 +518,302 @@ static void clear_empties_every_table(void **state)
     }
 }
 
+
+// ---- Pins (issue 25, deliverable 6): what a mutation of model.c changed without a test failing
+
+// The percept map answers whether a state was seen: both ends of every learned step, each with
+// the percept seen there; not the same place with another percept, not a place never visited.
+// A space without absolute components has no map and has seen nothing.
+static void the_map_knows_which_states_were_seen(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    assert_false(model_has_seen(&m, rel_state(3, 4, 1)));
+    model_learn(&m, rel_state(3, 4, 1), 0, -1.0f, rel_state(4, 4, 2), false);
+    assert_true(model_has_seen(&m, rel_state(3, 4, 1)));
+    assert_true(model_has_seen(&m, rel_state(4, 4, 2)));
+    assert_false(model_has_seen(&m, rel_state(3, 4, 2)));  // the place, another percept
+    assert_false(model_has_seen(&m, rel_state(4, 4, 1)));
+    assert_false(model_has_seen(&m, rel_state(5, 4, 1)));  // another x
+    assert_false(model_has_seen(&m, rel_state(3, 5, 1)));  // another heading
+    model_learn(&m, rel_state(4, 4, 2), 2, -1.0f, rel_state(4, 5, 2), true);  // terminal too
+    assert_true(model_has_seen(&m, rel_state(4, 5, 2)));
+    model_clear(&m);
+    assert_false(model_has_seen(&m, rel_state(3, 4, 1)));
+
+    const model_reloc_storage_t none = {NULL, 0, NULL, 0, NULL, 0};
+    assert_int_equal(model_init(&m, &line_, 16, 1.0f, 1, &fwd_, &none), FW_OK);
+    model_learn(&m, 3, 1, 0.0f, 4, false);
+    assert_false(model_has_seen(&m, 3));
+    assert_false(model_has_seen(&m, 4));
+}
+
+// Whether a step ended the episode is learned as such, never read from its reward: a terminal
+// bump worth -100, a terminal step worth 0 and a +100 step that goes on are each predicted as
+// they happened, by CMAC-Model for the pairs tried and through the arrivals for the pairs the
+// relocatable model predicts; a step that goes on is a predecessor, one that ends is not.
+static void the_end_of_an_episode_is_not_read_from_its_reward(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    const agent_state_t bump = rel_state(3, 4, 0);
+    model_learn(&m, bump, 0, -100.0f, bump, true);
+    model_learn(&m, rel_state(5, 4, 0), 0, 0.0f, rel_state(6, 4, 0), true);
+    model_learn(&m, rel_state(8, 4, 0), 0, 100.0f, rel_state(9, 4, 0), false);
+    model_step_t out;
+    assert_true(model_predict(&m, bump, 0, &out));
+    assert_int_equal(out.next, bump);
+    assert_int_equal(out.terminal, 1);
+    assert_true(out.reward == -100.0f);
+    assert_true(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(6, 4, 0));
+    assert_int_equal(out.terminal, 1);
+    assert_true(out.reward == 0.0f);
+    assert_true(model_predict(&m, rel_state(8, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(9, 4, 0));
+    assert_int_equal(out.terminal, 0);
+    assert_true(out.reward == 100.0f);
+    // Seen again the same way, each keeps its outcome (an observation agrees with it).
+    for (uint32_t i = 0; i < 2; i++) {
+        model_learn(&m, rel_state(5, 4, 0), 0, 0.0f, rel_state(6, 4, 0), true);
+        model_learn(&m, rel_state(8, 4, 0), 0, 100.0f, rel_state(9, 4, 0), false);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 0);
+    assert_true(model_predict(&m, rel_state(5, 4, 0), 0, &out));
+    assert_int_equal(out.terminal, 1);
+    assert_true(model_predict(&m, rel_state(8, 4, 0), 0, &out));
+    assert_int_equal(out.terminal, 0);
+    // The +100 step that goes on leads to 9 and is its predecessor; the 0 that ended is not 6's.
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    uint32_t n = model_predecessors(&m, rel_state(9, 4, 0), preds);
+    bool found = false;
+    for (uint32_t i = 0; i < n; i++) {
+        found = found || (preds[i].state == rel_state(8, 4, 0) && preds[i].action == 0u &&
+                          preds[i].reward == 100.0f);
+    }
+    assert_true(found);
+    n = model_predecessors(&m, rel_state(6, 4, 0), preds);
+    for (uint32_t i = 0; i < n; i++) {
+        assert_false(preds[i].state == rel_state(5, 4, 0) && preds[i].action == 0u);
+    }
+    // Untried pairs: backward at heading 4 moves -1 (3 times: trusted). Arriving at x 6 ended an
+    // episode with 0: terminal, worth 0. Arriving at x 9 did not end one, though worth +100 once:
+    // not terminal, the situation's reward.
+    for (uint32_t x = 20; x <= 22; x++) {
+        model_learn(&m, rel_state(x, 4, 0), 1, -1.0f, rel_state(x - 1, 4, 0), false);
+    }
+    assert_true(model_predict(&m, rel_state(7, 4, 0), 1, &out));
+    assert_int_equal(out.next, rel_state(6, 4, 0));
+    assert_int_equal(out.terminal, 1);
+    assert_true(out.reward == 0.0f);
+    assert_true(model_predict(&m, rel_state(10, 4, 0), 1, &out));
+    assert_int_equal(out.next, rel_state(9, 4, 0));
+    assert_int_equal(out.terminal, 0);
+    assert_true(out.reward == -1.0f);
+}
+
+// A circular component's change is learned the short way round across its whole range (an
+// 8-bit heading: 255 -> 0 is +1, which fits a change and a CMAC weight; -255 fits neither), and
+// a component that is not circular never wraps: a jump of +11 in 4 bits stays +11.
+static const agent_space_t wrap_ = {3, {4, 8, 4}, {0, 0, 0}, 0x2, 0, 4, 0};
+
+static agent_state_t wrap_state(uint32_t x, uint32_t h, uint32_t y)
+{
+    const uint32_t c[3] = {x, h, y};
+    return space_pack(&wrap_, c);
+}
+
+static void only_circular_components_wrap(void **state)
+{
+    (void)state;
+    world_model_t m;
+    const model_reloc_storage_t none = {NULL, 0, NULL, 0, NULL, 0};
+    assert_int_equal(model_init(&m, &wrap_, 16, 1.0f, 1, &fwd_, &none), FW_OK);
+    const struct {
+        agent_state_t from;
+        uint8_t a;
+        agent_state_t to;
+    } steps[] = {
+        {wrap_state(3, 255, 5), 2, wrap_state(3, 0, 5)},   // turning right past 255
+        {wrap_state(6, 0, 5), 3, wrap_state(6, 255, 5)},   // turning left past 0
+        {wrap_state(1, 7, 2), 0, wrap_state(12, 7, 2)},    // x +11
+        {wrap_state(14, 7, 2), 1, wrap_state(2, 7, 2)},    // x -12
+        {wrap_state(1, 9, 2), 0, wrap_state(1, 9, 13)},    // y +11
+        {wrap_state(1, 9, 15), 1, wrap_state(1, 9, 3)},    // y -12
+    };
+    const uint32_t n_steps = (uint32_t)(sizeof steps / sizeof steps[0]);
+    for (uint32_t i = 0; i < n_steps; i++) {
+        model_learn(&m, steps[i].from, steps[i].a, -1.0f, steps[i].to, false);
+    }
+    for (uint32_t i = 0; i < n_steps; i++) {
+        model_step_t out;
+        assert_true(model_predict(&m, steps[i].from, steps[i].a, &out));
+        assert_int_equal(out.next, steps[i].to);
+        assert_true(out.reward == -1.0f);
+        model_pred_t preds[MODEL_MAX_PREDECESSORS];
+        const uint32_t n = model_predecessors(&m, steps[i].to, preds);
+        bool found = false;
+        for (uint32_t j = 0; j < n; j++) {
+            found = found || (preds[j].state == steps[i].from && preds[j].action == steps[i].a);
+        }
+        assert_true(found);
+    }
+}
+
+// Components need not be adjacent: the code split in two, with x between its halves and the
+// heading last, makes the places (x, heading), the situations (code, heading) and the percepts
+// (the two halves) each a selection of components that are not next to each other, packed
+// component by component (select_() and the model_select_t packing in model.c). The same walk
+// learned in this layout and in rel_ (where every selection is one run of bits) must predict
+// the same for every state and action, name the same predecessors, and see the same states.
+static const agent_space_t split_ = {4, {2, 5, 1, 4}, {0, 0, 0, 0}, 0x8, 0x5, 4, 0xD};
+// rel_ with a 3-bit code, its twin.
+static const agent_space_t rel3_ = {3, {5, 4, 3}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+
+static agent_state_t split_of_(agent_state_t rel3)
+{
+    uint32_t c[3];
+    space_unpack(&rel3_, rel3, c);
+    const uint32_t s[4] = {c[2] & 3u, c[0], c[2] >> 2, c[1]};
+    return space_pack(&split_, s);
+}
+
+static uint16_t rel3_percepts_[512];
+static model_class_t rel3_classes_[128 * 4];
+static int16_t rel3_arrivals_[32];
+static const model_reloc_storage_t rel3_inv_ = {rel3_percepts_, 512, rel3_classes_, 512,
+                                                rel3_arrivals_, 32};
+static uint16_t split_percepts_[512];
+static model_class_t split_classes_[128 * 4];
+static int16_t split_arrivals_[32];
+static const model_reloc_storage_t split_inv_ = {split_percepts_, 512, split_classes_, 512,
+                                                 split_arrivals_, 32};
+#define SPLIT_CELLS 4096u
+static uint32_t sk_[SPLIT_CELLS];
+static uint8_t sc_[SPLIT_CELLS];
+static int16_t sw_[SPLIT_CELLS * (FW_CFG_MAX_COMPONENTS + 2)];
+static const model_cmac_storage_t split_fwd_ = {sk_, sc_, sw_, SPLIT_CELLS};
+
+// The walk: x 0..31 along the heading's sign, turns of one heading, a code that depends on the
+// place (two codes at every seventh x), a slip now and then, the goal at x 25.
+static uint32_t walk_code_(uint32_t x, uint32_t h, uint32_t t)
+{
+    const uint32_t code = ((x / 4u) + 3u * (h / 4u)) & 7u;
+    return x % 7u == 3u && (t & 1u) ? (code ^ 5u) : code;
+}
+
+static void walk_(world_model_t *rel, world_model_t *split)
+{
+    uint32_t rng = 12345u;
+    uint32_t x = 2, h = 0, code = walk_code_(2, 0, 0);
+    for (uint32_t t = 0; t < 1500u; t++) {
+        rng = rng * 1103515245u + 12345u;
+        const uint32_t pick = (rng >> 16) % 10u;
+        const uint8_t a = (uint8_t)(pick < 5u ? 0u : pick < 7u ? 1u : pick < 9u ? 2u : 3u);
+        const bool slip = (rng >> 8) % 11u == 0u;
+        uint32_t nx = x, nh = h;
+        float r = -1.0f;
+        if (a >= 2u) {
+            nh = (h + (a == 2u ? 1u : 15u)) & 15u;
+        } else if (!slip) {
+            const int32_t step = (a == 0u) == (h < 8u) ? 1 : -1;
+            const int32_t to = (int32_t)x + step;
+            if (to < 0 || to > 31) {
+                r = -100.0f;  // a bump
+            } else {
+                nx = (uint32_t)to;
+            }
+        }
+        const uint32_t ncode = walk_code_(nx, nh, t);
+        const bool goal = nx == 25u && nx != x;
+        if (goal) {
+            r = 100.0f;
+        }
+        const uint32_t c[3] = {x, h, code};
+        const uint32_t nc[3] = {nx, nh, ncode};
+        const agent_state_t s = space_pack(&rel3_, c);
+        const agent_state_t sn = space_pack(&rel3_, nc);
+        const bool a1 = model_learn(rel, s, a, r, sn, goal);
+        const bool a2 = model_learn(split, split_of_(s), a, r, split_of_(sn), goal);
+        assert_int_equal(a1, a2);
+        if (goal) {
+            x = (rng >> 4) % 20u;
+            h = (rng >> 12) & 15u;
+            code = walk_code_(x, h, t);
+        } else {
+            x = nx;
+            h = nh;
+            code = ncode;
+        }
+    }
+}
+
+static void components_need_not_be_adjacent(void **state)
+{
+    (void)state;
+    static world_model_t rel;
+    static world_model_t split;
+    assert_int_equal(model_init(&rel, &rel3_, 1, 1.0f, 1, &fwd_, &rel3_inv_), FW_OK);
+    assert_int_equal(model_init(&split, &split_, 1, 1.0f, 1, &split_fwd_, &split_inv_), FW_OK);
+    assert_false(split.place_of.adjacent);
+    assert_false(split.situation_of.adjacent);
+    assert_false(split.percept_of.adjacent);
+    walk_(&rel, &split);
+    assert_int_equal(rel.forward.stats.evicted, 0);
+    assert_int_equal(split.forward.stats.evicted, 0);
+    uint32_t predicted = 0, several = 0, with_preds = 0, seen = 0;
+    for (agent_state_t s = 0; s < (1u << 12); s++) {
+        const agent_state_t t = split_of_(s);
+        assert_int_equal(model_has_seen(&rel, s), model_has_seen(&split, t));
+        seen += model_has_seen(&rel, s);
+        for (uint8_t a = 0; a < 4u; a++) {
+            model_step_t p;
+            model_step_t q;
+            const bool ok = model_predict(&rel, s, a, &p);
+            assert_int_equal(model_predict(&split, t, a, &q), ok);
+            if (!ok) {
+                continue;
+            }
+            predicted++;
+            assert_int_equal(q.next, split_of_(p.next));
+            assert_true(q.reward == p.reward);
+            assert_int_equal(q.terminal, p.terminal);
+            assert_int_equal(q.others, p.others);  // percept values: the same index in both
+            agent_state_t op[MODEL_MAX_PERCEPTS];
+            agent_state_t oq[MODEL_MAX_PERCEPTS];
+            const uint32_t n = model_step_outcomes(&rel, &p, op);
+            assert_int_equal(model_step_outcomes(&split, &q, oq), n);
+            for (uint32_t i = 0; i < n; i++) {
+                assert_int_equal(oq[i], split_of_(op[i]));
+            }
+            several += n > 1u;
+        }
+        model_pred_t pp[MODEL_MAX_PREDECESSORS];
+        model_pred_t pq[MODEL_MAX_PREDECESSORS];
+        const uint32_t n = model_predecessors(&rel, s, pp);
+        assert_int_equal(model_predecessors(&split, t, pq), n);
+        for (uint32_t i = 0; i < n; i++) {
+            assert_int_equal(pq[i].state, split_of_(pp[i].state));
+            assert_int_equal(pq[i].action, pp[i].action);
+            assert_int_equal(pq[i].others, pp[i].others);
+            assert_true(pq[i].reward == pp[i].reward);
+            with_preds += pp[i].others != 0u;
+        }
+    }
+    assert_int_equal(rel.generalised, split.generalised);
+    assert_int_equal(rel.rejected, split.rejected);
+    assert_int_equal(rel.untrusted, split.untrusted);
+    // The walk covered what it is meant to: many predictions, generalised ones, places with
+    // several codes as outcomes and as predecessors.
+    assert_true(seen > 100u);
+    assert_true(predicted > 500u);
+    assert_true(rel.generalised > 100u);
+    assert_true(several > 10u);
+    assert_true(with_preds > 10u);
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -553,6 +849,10 @@ int main(void)
         cmocka_unit_test(min_count_requires_repeated_training),
         cmocka_unit_test(clear_empties_every_table),
         cmocka_unit_test(init_rejects_bad_arguments),
+        cmocka_unit_test(the_map_knows_which_states_were_seen),
+        cmocka_unit_test(the_end_of_an_episode_is_not_read_from_its_reward),
+        cmocka_unit_test(only_circular_components_wrap),
+        cmocka_unit_test(components_need_not_be_adjacent),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -45,6 +45,36 @@ static void test_shipped_configs_are_valid(void **state)
     assert_int_equal(robot_config_check(&bad), FW_OK);
 }
 
+// ROBOT_VALUES_ROOM: gamma from the floor's size in cells, theta from the rewards' scale; the
+// paper's mode keeps what the configuration says.
+static void test_values_from_the_room(void **state)
+{
+    (void)state;
+    robot_config_t c = *sim_;
+    c.values = ROBOT_VALUES_PAPER;
+    c.params.gamma = 0.9f;
+    c.params.theta = 1e-3f;
+    agent_params_t p = robot_config_agent_params(&c);
+    assert_true(p.gamma == 0.9f && p.theta == 1e-3f);
+    c.values = ROBOT_VALUES_ROOM;  // 32 + 32 cells along the sides: H = 0.625 x 64 = 40
+    p = robot_config_agent_params(&c);
+    assert_float_equal(p.gamma, 0.975f, 1e-7f);
+    assert_float_equal(p.theta, 1e-3f, 1e-9f);
+    assert_true(p.alpha == c.params.alpha && p.epsilon == c.params.epsilon);
+    c.bits_x = 6;  // a floor twice as wide: a longer horizon
+    c.arena_w *= 2.0f;
+    assert_true(robot_config_agent_params(&c).gamma > p.gamma);
+    c.reward_goal = 1.0f, c.reward_bump = -0.5f, c.reward_step = -0.01f;  // rewards 100 x smaller
+    assert_float_equal(robot_config_agent_params(&c).theta, 1e-5f, 1e-11f);
+    c.values = 7;
+    assert_int_equal(robot_config_check(&c), FW_ERR_INVAL);
+    // paper-lab's 8 + 8 cells give the paper's own 0.9 and 1e-3.
+    c = *lab_;
+    c.values = ROBOT_VALUES_ROOM;
+    assert_true(robot_config_agent_params(&c).gamma == 0.9f);
+    assert_true(robot_config_agent_params(&c).theta == 1e-3f);
+}
+
 static void test_defaults_need_a_scenario(void **state)
 {
     (void)state;
@@ -473,6 +503,7 @@ static void test_fixed_planning_runs_after_each_step(void **state)
 {
     (void)state;
     bench_init_(sim_, AGENT_DYNA_QPC);
+    bench_.cfg.planning = 5;  // the paper's N (the shipped scenarios plan in idle time)
     bench_.sense.pose = (robot_pose_t){1.0f, 1.0f, 0.0f};
     robot_ctrl_start_episode(&bench_.ctrl);
     for (int i = 0; i < 30; i++) {
@@ -538,6 +569,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_configs_are_valid),
         cmocka_unit_test(test_defaults_need_a_scenario),
+        cmocka_unit_test(test_values_from_the_room),
         cmocka_unit_test(test_position_cells_and_clamping),
         cmocka_unit_test(test_goal_as_cells),
         cmocka_unit_test(test_heading_sectors_wrap),

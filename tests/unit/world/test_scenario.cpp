@@ -53,8 +53,9 @@ void test_paper_sim_parses(void **state)
     assert_true(s.gps.enabled);
     assert_true(s.cricket.beacons.empty());
     assert_int_equal(s.timing.substeps, 12);
-    assert_true(s.learning.epsilon == 0.01 && s.learning.alpha == 0.9 && s.learning.gamma == 0.9);
-    assert_int_equal(s.learning.planning, 5);
+    assert_true(s.learning.epsilon == 0.01 && s.learning.alpha == 0.9 &&
+                s.learning.gamma == world::Learning::kGammaFromRoom);
+    assert_int_equal(s.learning.planning, 0);  // idle-time planning, as shipped
     assert_int_equal(s.learning.step_cap, 5000);
     assert_int_equal(s.learning.sets, 40);
     assert_int_equal(s.learning.episodes, 200);
@@ -98,6 +99,27 @@ void test_paper_lab_parses(void **state)
 
 // `goal ... cells`: the goal is the cells of the state grid whose centres are in the circle. In
 // a 4 x 4 m arena with 2 x 2 bits (1 m cells), a 0.6 m circle at (2.5, 2.5) holds one centre.
+// `learning gamma auto` (and no gamma at all) leave the discount to the firmware; a number is
+// the paper's mode; anything else is refused with the line.
+void test_gamma_auto(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode x 2 y 2 heading 2\ngoal 2.5 2.5 0.6\n";
+    world::Scenario s;
+    std::string err;
+    assert_true(world::parse_scenario(head, "g.scn", &s, &err));
+    assert_true(s.learning.gamma == world::Learning::kGammaFromRoom);
+    assert_true(world::parse_scenario(head + "learning gamma auto\n", "g.scn", &s, &err));
+    assert_true(s.learning.gamma == world::Learning::kGammaFromRoom);
+    assert_true(world::parse_scenario(head + "learning gamma 0.95 epsilon 0.2\n", "g.scn", &s, &err));
+    assert_true(s.learning.gamma == 0.95 && s.learning.epsilon == 0.2);
+    assert_false(world::parse_scenario(head + "learning gamma 1.5\n", "g.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "g.scn:7"));
+    assert_false(world::parse_scenario(head + "learning gamma autoo\n", "g.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "gamma"));
+}
+
 void test_goal_cells(void **state)
 {
     (void)state;
@@ -335,6 +357,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_paper_sim_parses),
         cmocka_unit_test(test_paper_lab_parses),
         cmocka_unit_test(test_goal_cells),
+        cmocka_unit_test(test_gamma_auto),
         cmocka_unit_test(test_name_resolution),
         cmocka_unit_test(test_doc_example),
         cmocka_unit_test(test_bad_files),

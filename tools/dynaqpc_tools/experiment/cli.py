@@ -12,7 +12,7 @@ from typing import List, Optional
 
 from ..common import ToolArgumentParser, ToolError, float_in, int_in, run_main
 from . import orchestrate, plots, stats
-from .runs import AGENTS, TRAJECTORY_COLUMNS, read_csv_dir, read_csvs
+from .runs import AGENTS, DEFAULT_AGENTS, TRAJECTORY_COLUMNS, read_csv_dir, read_csvs
 from .stats import LearnSettings
 
 DOC = """dynaqpc-experiment: the paper's protocol, end to end, measured at matched compute.
@@ -234,7 +234,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     r = sub.add_parser("run", help="train every agent (at every budget), then plot and tabulate")
     sim_opts(r)
-    r.add_argument("--agents", type=agent_list, default=list(AGENTS), help="comma-separated (default q,dyna-q,dyna-qpc)")
+    r.add_argument("--agents", type=agent_list, default=list(DEFAULT_AGENTS),
+                   help=f"comma-separated, out of {','.join(AGENTS)} (default {','.join(DEFAULT_AGENTS)})")
     r.add_argument("--planning", type=planning_list, default=None, metavar="N[,N...]",
                    help="planning updates per real step for the Dyna agents, e.g. 5,1000,0 (0: the MCU's "
                         "idle time, its cost modelled); default: the scenario's")

@@ -19,8 +19,12 @@ from ..common import ToolError
 COLUMNS = ["agent", "set", "episode", "steps", "reward", "reached_goal", "bumps", "robot_time_s",
            "updates", "wall_s"]
 TRAJECTORY_COLUMNS = ["start", "step", "time_s", "x", "y", "heading", "action", "reward", "bump", "in_goal"]
-AGENTS = ["q", "dyna-q", "dyna-qpc"]
-AGENT_LABELS = {"q": "Q-learning", "dyna-q": "Dyna-Q", "dyna-qpc": "Dyna-QPC"}
+#: The algorithms the simulator knows (firmware/agent/include/agent/algorithms.h), in table order.
+AGENTS = ["q", "dyna-q", "dyna-q-majority", "dyna-qpc"]
+#: What `run` and a sweep compare unless told otherwise.
+DEFAULT_AGENTS = ["q", "dyna-q", "dyna-qpc"]
+AGENT_LABELS = {"q": "Q-learning", "dyna-q": "Dyna-Q", "dyna-qpc": "Dyna-QPC",
+                "dyna-q-majority": "Dyna-Q (majority)"}
 #: A CSV named <agent>-p<N>.csv holds runs at N planning updates per real step (p0: idle time).
 BUDGET_IN_NAME = re.compile(r"-p(\d+)$")
 

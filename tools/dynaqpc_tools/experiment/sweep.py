@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
 from ..common import ToolError
-from .runs import AGENTS, COLUMNS, read_runs
+from .runs import AGENTS, COLUMNS, DEFAULT_AGENTS, read_runs
 from .stats import LearnSettings, summarise_all, table_markdown
 
 #: Options the sweep sets itself; a grid may not list them.
@@ -93,7 +93,7 @@ def load_grid(path: str) -> Grid:
     scenario = d.get("scenario")
     if not isinstance(scenario, str) or not scenario:
         raise ToolError(f"{path}: 'scenario' must name a scenario (paper-lab, paper-sim or a .scn file)")
-    agents = d.get("agents", list(AGENTS))
+    agents = d.get("agents", list(DEFAULT_AGENTS))
     if not isinstance(agents, list) or not agents or any(a not in AGENTS for a in agents) or len(set(agents)) != len(agents):
         raise ToolError(f"{path}: 'agents' = {agents!r}: a list of distinct agents out of {', '.join(AGENTS)}")
     sets = _int(d, "sets", 1, 100000, path=path)

@@ -34,7 +34,22 @@ typedef struct agent_params {
     float model_rate;  ///< CMAC learning rate (the gamma of the paper's Fig. 7), (0, 1]
     uint8_t tilings;   ///< CMAC tilings, a power of two up to FW_CFG_MAX_TILINGS
     uint8_t min_count; ///< plan only on predictions whose every cell was trained this often
+    /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results.md): a
+    /// mask of AGENT_ABLATE_*; 0 (the default) keeps them all.
+    uint8_t ablate;
 } agent_params_t;
+
+/// No predictions for untried pairs (the relocatable action model): the planner knows only the
+/// pairs the robot tried, and confirms predecessors against them only.
+#define AGENT_ABLATE_GENERALISE MODEL_ABLATE_GENERALISE
+/// A tried pair's model keeps its last outcome (the paper's CMAC rule), not the majority's.
+#define AGENT_ABLATE_MAJORITY MODEL_ABLATE_MAJORITY
+/// A state seen for the first time does not queue its predicted pairs and those leading into it.
+#define AGENT_ABLATE_NEW_STATES 0x04u
+/// A move into a place seen with several range codes backs up the first code's value only.
+#define AGENT_ABLATE_EXPECTED 0x08u
+/// Every AGENT_ABLATE_* bit.
+#define AGENT_ABLATE_ALL 0x0Fu
 
 /// Caller-owned static storage for an agent: the Q store every algorithm has, and each
 /// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile

@@ -9,6 +9,7 @@
 #define AGENT_ALGORITHMS_H
 
 #include "agent/dyna_q.h"
+#include "agent/dyna_q_majority.h"
 #include "agent/dyna_qpc.h"
 #include "agent/q_learning.h"
 
@@ -19,6 +20,7 @@
 #define AGENT_ALGORITHMS(X)                                                                    \
     X(AGENT_Q_LEARNING, 0, "q", q_learning)   /* the paper's Fig. 1: no model, no planning */  \
     X(AGENT_DYNA_Q, 1, "dyna-q", dyna_q)      /* Fig. 5: transition table, random replay */    \
-    X(AGENT_DYNA_QPC, 2, "dyna-qpc", dyna_qpc) /* Figs. 3, 7, 10: model, prioritized sweeping */
+    X(AGENT_DYNA_QPC, 2, "dyna-qpc", dyna_qpc) /* Figs. 3, 7, 10: model, prioritized sweeping */ \
+    X(AGENT_DYNA_Q_MAJORITY, 3, "dyna-q-majority", dyna_q_majority) /* Dyna-Q, majority outcome */
 
 #endif // AGENT_ALGORITHMS_H

@@ -53,21 +53,32 @@ typedef struct dynaq_table {
 } dynaq_table_t;
 
 #define DYNAQ_EMPTY OA_EMPTY
+#define DYNAQ_NO_RECORD UINT32_MAX
 /// The largest |reward| a restored record may hold: beyond any robot's settings, and small
 /// enough that the values learned from it stay within QSTORE_VALUE_LIMIT (for gamma < 0.999).
 #define DYNAQ_REWARD_LIMIT 1e6f
-#define DYNAQ_INDEX_SLOTS(cap) (2u * (cap))
+/// The index's slots for `cap` records: the power of two at least twice as many (2 * cap for a
+/// power of two), so that the index is at most half full. A constant expression for cap up to
+/// 2^30.
+#define DYNAQ_POW2_SMEAR_(x) ((x) | ((x) >> 1) | ((x) >> 2) | ((x) >> 4) | ((x) >> 8) | ((x) >> 16))
+#define DYNAQ_INDEX_SLOTS(cap) (DYNAQ_POW2_SMEAR_(2u * (uint32_t)(cap) - 1u) + 1u)
 
-/// Prepares an empty table; `capacity` must be a power of two. Returns FW_OK or FW_ERR_INVAL.
+/// Prepares an empty table of `capacity` records (any number from 1; a profile gives the table
+/// the bytes it has). Returns FW_OK or FW_ERR_INVAL.
 int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,
                uint32_t *index_rec, uint32_t capacity, uint8_t n_actions);
 
 /// Forgets everything.
 void dynaq_clear(dynaq_table_t *t);
 
-/// Model(s, a) <- s', r (Fig. 5 step e).
-void dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
-                  bool terminal);
+/// Model(s, a) <- s', r (Fig. 5 step e). Returns the number of the record that holds s now (a
+/// state new to the table takes a fresh record: no action tried but a), or DYNAQ_NO_RECORD if
+/// the index had no slot for it (cannot happen: it is at most half full).
+uint32_t dynaq_remember(dynaq_table_t *t, agent_state_t s, uint8_t a, float r,
+                        agent_state_t s_next, bool terminal);
+
+/// The record of state s, or NULL if the table holds none.
+const dynaq_record_t *dynaq_find(const dynaq_table_t *t, agent_state_t s);
 
 /// Fig. 5 step f: a random previously observed state, then a random action previously taken in
 /// it, and its recorded outcome. Returns false if nothing has been observed.

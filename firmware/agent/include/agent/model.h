@@ -64,6 +64,11 @@ extern "C" {
 #define MODEL_PERCEPT_MIN_COUNT 1u
 #endif
 
+/// world_model_t.ablate: no predictions for untried pairs (agent.h: AGENT_ABLATE_GENERALISE).
+#define MODEL_ABLATE_GENERALISE 0x01u
+/// world_model_t.ablate: tried pairs keep their last outcome (agent.h: AGENT_ABLATE_MAJORITY).
+#define MODEL_ABLATE_MAJORITY 0x02u
+
 /// How a predicted change applies to one component (see decode_() in model.c).
 typedef struct model_field {
     uint32_t keep_from;  // all ones: the models predict the change (else the value itself)
@@ -127,6 +132,9 @@ typedef struct world_model {
     uint32_t untrusted;    ///< predictions refused for low confidence or an out-of-range result
     uint32_t rejected;     ///< predecessor candidates the forward prediction did not confirm
     uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model
+    /// AGENT_ABLATE_GENERALISE and AGENT_ABLATE_MAJORITY (agent.h), for the ablation; 0 after
+    /// model_init()
+    uint8_t ablate;
 } world_model_t;
 
 /// One predicted transition. A move into a place the map has seen with several percepts has as

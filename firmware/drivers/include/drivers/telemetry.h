@@ -84,7 +84,7 @@ typedef struct tlm_value {
 } tlm_value_t;
 
 typedef struct tlm_sched {
-    uint32_t plan_updates;     ///< in the last period, saturated to 65535
+    uint32_t plan_updates;     ///< planning updates since the last TLM_SCHED, saturated to 65535
     uint32_t deadline_misses;  ///< since boot, sent modulo 65536
     uint32_t idle_permille;    ///< idle share of the last period, 0..1000 (sent in 0.5 % steps)
     uint32_t queue_length;     ///< saturated to 65535

@@ -13,8 +13,10 @@ extern "C" {
 #endif
 
 /// The storage of one agent: the Q store, and an overlay of Dyna-QPC's models and queue with
-/// Dyna-Q's table (an agent runs one algorithm, so both get the same memory).
-#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES, PLACES, CLASSES, POSITIONS)     \
+/// Dyna-Q's table and Dyna-Q-majority's (an agent runs one algorithm, so all get the same
+/// memory: fw_config.h sizes the tables to fill the same bytes).
+#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, CLASSES, \
+                            POSITIONS)                                                         \
     struct {                                                                                   \
         float q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                                \
         uint32_t q_keys[Q_STATES];                                                             \
@@ -36,6 +38,12 @@ extern "C" {
                 uint32_t index_keys[DYNAQ_INDEX_SLOTS(TABLE_STATES)];                          \
                 uint32_t index_rec[DYNAQ_INDEX_SLOTS(TABLE_STATES)];                           \
             } dynaq;                                                                           \
+            struct {                                                                           \
+                dynaq_record_t records[MAJORITY_STATES];                                       \
+                uint32_t index_keys[DYNAQ_INDEX_SLOTS(MAJORITY_STATES)];                       \
+                uint32_t index_rec[DYNAQ_INDEX_SLOTS(MAJORITY_STATES)];                        \
+                uint8_t counts[(MAJORITY_STATES)*FW_CFG_MAX_ACTIONS];                          \
+            } majority;                                                                        \
         } model;                                                                               \
     }
 
@@ -55,16 +63,19 @@ extern "C" {
                      (mem).model.qpc.pq_heap, (mem).model.qpc.pq_index_keys,                   \
                      (mem).model.qpc.pq_index_pos, AGENT_COUNT_OF((mem).model.qpc.pq_heap),    \
                      &(mem).model.qpc.carry},                                                  \
+        .dyna_q_majority = {(mem).model.majority.records, (mem).model.majority.index_keys,     \
+                            (mem).model.majority.index_rec, (mem).model.majority.counts,       \
+                            AGENT_COUNT_OF((mem).model.majority.records)},                     \
     }
 
 typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
-                            FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_PLACES,
+                            FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_MAJORITY_STATES, FW_CFG_MAZE_PLACES,
                             FW_CFG_MAZE_CLASSES, FW_CFG_MAZE_POSITIONS) agent_memory_maze_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
-                            FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_PLACES,
+                            FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_MAJORITY_STATES, FW_CFG_LAB_PLACES,
                             FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS) agent_memory_paper_lab_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
-                            FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_PLACES,
+                            FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_MAJORITY_STATES, FW_CFG_SIM_PLACES,
                             FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS) agent_memory_paper_sim_t;
 
 // Each profile's agent (its storage plus the agent_t that manages it) must fit its budget.
@@ -75,15 +86,16 @@ FW_STATIC_ASSERT(sizeof(agent_memory_paper_lab_t) + sizeof(agent_t) <= FW_CFG_LA
 FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SIM_BUDGET_BYTES,
                  paper_sim_agent_fits_budget);
 
-// Every table is a power of two (hashing masks the index).
+// Every hashed table is a power of two (hashing masks the index); the Dyna-Q tables' records
+// need not be (their index is: DYNAQ_INDEX_SLOTS).
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_LAB_TABLE_STATES),
+                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY),
                  paper_lab_tables_pow2);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_TABLE_STATES),
+                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY),
                  paper_sim_tables_pow2);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TABLE_STATES),
+                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY),
                  maze_tables_pow2);
 
 /// The storage of each profile and an agent to run on it, one static instance each, defined in

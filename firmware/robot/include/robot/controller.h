@@ -18,8 +18,10 @@
 
 /// With idle-time planning (config planning 0), the planning updates made when a step is
 /// observed, before the next action is chosen; the idle time plans on after it. Each costs
-/// ~23-25 µs on the MCU (3,923-4,213 instructions at 168 MHz), so the control task runs at
-/// most ~1.6 ms longer, well inside the scheduler's tolerance (docs/realtime.md).
+/// ~23-25 µs on the MCU on average (3,886-4,171 instructions at 168 MHz) and at worst 51 µs
+/// (8,556 instructions, measured): the control task runs at most ~3.3 ms longer, inside the
+/// scheduler's 19.2 ms tolerance; measured on the emulated M4 over a learning run, the whole
+/// task's worst run was 2.15 ms at 168 MHz (robot_app.h, docs/realtime.md).
 #ifndef ROBOT_PLAN_BEFORE_ACT
 #define ROBOT_PLAN_BEFORE_ACT 64u
 #endif

@@ -33,6 +33,24 @@ typedef enum robot_action {
     ROBOT_N_ACTIONS = 4,
 } robot_action_t;
 
+/// Where the agent's discount and sweep threshold come from (robot_config_t.values).
+typedef enum robot_values {
+    /// From the room: robot_config_agent_params() sets gamma from the floor's size in cells and
+    /// theta from the rewards' scale, so values reach the far end of any room (the default).
+    ROBOT_VALUES_ROOM = 0,
+    /// params.gamma and params.theta as given: the paper's 0.9 and 1e-3, a mode to ask for.
+    ROBOT_VALUES_PAPER = 1,
+} robot_values_t;
+
+/// With ROBOT_VALUES_ROOM, gamma = 1 - 1 / H with H this many times the cells along the floor's
+/// two sides: a state H steps from the goal keeps e^-1 of the goal's reward, and neighbours
+/// that far still differ by about 0.37 (reward_goal / H + 1) in value, well above a slip's
+/// noise (docs/agent.md, "Values that reach the far end").
+#define ROBOT_HORIZON_PER_SIDE_CELL 0.625f
+/// With ROBOT_VALUES_ROOM, theta is the largest reward's magnitude over this (1e-3 for the
+/// paper's +-100).
+#define ROBOT_REWARD_PER_THETA 1e5f
+
 /// Where the pose comes from.
 typedef enum robot_pose_source {
     ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle
@@ -94,7 +112,10 @@ typedef struct robot_config {
 
     // Learning.
     agent_kind_t agent;
+    /// The agent's settings; with values ROBOT_VALUES_ROOM its gamma and theta are replaced by
+    /// what the room gives (robot_config_agent_params()).
     agent_params_t params;
+    uint8_t values;  ///< robot_values_t
     /// Planning updates per real step; 0 = as many as the idle time allows (the firmware default).
     uint32_t planning;
     uint32_t step_cap;     ///< real steps after which an episode ends without the goal
@@ -120,6 +141,10 @@ extern const robot_config_t robot_config_paper_lab;
 /// goal, the state encoding, the sensors and the actions stay zero: robot_config_check()
 /// refuses the result until a scenario fills them in.
 void robot_config_defaults(robot_config_t *cfg);
+
+/// The agent's learning settings for `cfg`: its params, with gamma and theta from the room when
+/// cfg->values is ROBOT_VALUES_ROOM (ROBOT_HORIZON_PER_SIDE_CELL, ROBOT_REWARD_PER_THETA).
+agent_params_t robot_config_agent_params(const robot_config_t *cfg);
 
 /// Checks a configuration's ranges and relations. Returns FW_OK or FW_ERR_INVAL.
 int robot_config_check(const robot_config_t *cfg);

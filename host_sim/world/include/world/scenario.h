@@ -133,8 +133,12 @@ struct Rewards {
 };
 
 struct Learning {
-    double epsilon = 0.1, alpha = 0.9, gamma = 0.9;
-    int planning = 5;
+    /// `gamma auto` (kGammaFromRoom, the default): the firmware sets the discount and the sweep
+    /// threshold from the room (robot_config_agent_params()); a number: that discount and the
+    /// paper's threshold (the paper's mode: gamma 0.9).
+    static constexpr double kGammaFromRoom = -1.0;
+    double epsilon = 0.1, alpha = 0.9, gamma = kGammaFromRoom;
+    int planning = 0;  ///< 0: as many as the MCU's idle time allows (the firmware's default)
     int step_cap = 200;
     int sets = 5;
     int episodes = 20;
@@ -169,8 +173,16 @@ struct Scenario {
 bool parse_scenario(std::string_view text, const std::string &file, Scenario *out,
                     std::string *error);
 
+/// Whether `changed` is a change of `base`'s room that a robot can meet during a run (`train
+/// --change-at K --changed FILE`, docs/scenarios.md "Rooms that change"): only the obstacles may
+/// differ. The floor, the goal (the firmware is given it), the robot, its sensors and pose
+/// source, timing, solver, start margin, encoding, actions, rewards and learning (except the
+/// protocol's sets and episodes) must be the same. Returns "" if so, else what differs, e.g.
+/// "the goal differs (only obstacles may change)".
+std::string layout_change_problem(const Scenario &base, const Scenario &changed);
+
 /// The path a scenario argument names: a bare name without '/' and without ".scn" that matches a
-/// shipped scenario ("paper-sim", "paper-lab") gives host_sim/scenarios/<name>.scn of this
+/// shipped scenario ("paper-sim", "paper-lab", "paper-sim-motion", "paper-lab-motion") gives host_sim/scenarios/<name>.scn of this
 /// source tree; anything else is returned unchanged as a path.
 std::string resolve_scenario_path(const std::string &name_or_path);
 

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "world/scenario.h"
 
@@ -48,6 +49,15 @@ public:
     /// Puts the robot at `pose`, at rest, wheel targets 0, bump flag cleared. Time keeps running
     /// (time_s() is not reset). The pose is not checked: use start_position_ok() for that.
     void reset(const Pose &pose);
+
+    /// Replaces the arena's obstacles with `obstacles` (a room that changes during a run: a box
+    /// appears, a door closes or opens). The physics is rebuilt as the constructor builds it (the
+    /// robot at rest at the arena's centre until the next reset()); time and every random stream
+    /// go on as they were, so a change before the first episode gives the same run as a World
+    /// made from the changed scenario. Start poses and in_goal() follow the new obstacles. Call
+    /// it between episodes, before reset(). The caller checks the change
+    /// (layout_change_problem()); at most kMaxObstacles.
+    void set_obstacles(const std::vector<Obstacle> &obstacles);
 
     /// Wheel speed targets, m/s, each clamped to +-robot.max_speed. The wheel controller slews
     /// its command toward them at robot.max_accel and drives each wheel with a force (limited to

@@ -1,0 +1,373 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc netduinoplus2 board: the hal_* contract on what QEMU's netduinoplus2 models (board.h).
+//
+// Time, interrupts and the Cricket USART are the STM32F4 port's drivers on the same registers
+// (stm32f4_time.c, stm32f4_usart.c). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
+// stm32f2xx-usart shape the serial code: its interrupt is raised for RXNE only (TXE never
+// interrupts), and a write to DR is sent at once (TXE always reads 1). So received bytes come by
+// interrupt, one per interrupt, through the driver's ring; transmitted bytes are written to DR
+// directly, with interrupts masked, each after a bounded wait for TXE.
+#include <string.h>
+
+#include "hal/hal_can.h"
+#include "hal/hal_cpu.h"
+#include "hal/hal_flash.h"
+#include "hal/hal_time.h"
+#include "hal/hal_uart.h"
+#include "netduinoplus2/board.h"
+#include "netduinoplus2/slcan.h"
+#include "stm32f4/stm32f4_drivers.h"
+
+#define USART1 ((stm32f4_usart_t *)0x40011000u)
+#define USART2 ((stm32f4_usart_t *)STM32F4_USART2_BASE)
+#define USART1_IRQ 37u
+#define SYSTICK ((stm32f4_systick_t *)STM32F4_SYSTICK_BASE)
+#define SCB_ICSR (*(volatile uint32_t *)STM32F4_SCB_ICSR)
+#define SCB_SHPR3 (*(volatile uint32_t *)0xE000ED20u)
+#define NVIC_ISER ((volatile uint32_t *)STM32F4_NVIC_ISER_BASE)
+#define NVIC_IPR ((volatile uint8_t *)STM32F4_NVIC_IPR_BASE)
+
+/// Polls of TXE before a byte is given up (QEMU sets it at once; a real USART at 115200 baud
+/// would need ~87 us a byte, which this board does not pretend to be).
+#define TXE_POLLS 1000u
+
+void SysTick_Handler(void);
+void USART1_IRQHandler(void);
+void USART2_IRQHandler(void);
+
+static void nvic_enable_(uint32_t irq, uint32_t prio)
+{
+    NVIC_IPR[irq] = (uint8_t)(prio << 4);
+    NVIC_ISER[irq / 32u] = 1u << (irq % 32u);
+}
+
+// Writes bytes to a USART's DR; returns how many went out. Caller masks interrupts.
+static size_t usart_put_(stm32f4_usart_t *u, const uint8_t *data, size_t len)
+{
+    size_t n = 0;
+    for (; n < len; n++) {
+        uint32_t polls = 0;
+        while ((u->SR & USART_SR_TXE) == 0u) {
+            if (++polls >= TXE_POLLS) {
+                return n;
+            }
+        }
+        u->DR = data[n];
+    }
+    return n;
+}
+
+// ---- Board ------------------------------------------------------------------------------------
+// The hal_flash region: SRAM the linker script reserves (ld/netduinoplus2.ld).
+extern uint8_t _dynaqpc_store_start[];
+extern const uint8_t _dynaqpc_store_sectors[];
+extern const uint8_t _dynaqpc_store_sector_bytes[];
+#define LD_VALUE(sym) ((uint32_t)(uintptr_t)(sym))
+
+int nd2_board_init(void)
+{
+    // Power-on: the region is erased (QEMU's RAM starts zeroed, flash starts erased).
+    memset(_dynaqpc_store_start, 0xFF, (size_t)LD_VALUE(_dynaqpc_store_sectors) * LD_VALUE(_dynaqpc_store_sector_bytes));
+    return 0;
+}
+
+// ---- Time (SysTick at the core clock, 1 kHz interrupt: as the STM32F4 port) -------------------------
+static volatile uint64_t ms_;
+static uint32_t ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u;  // core cycles per firmware microsecond
+
+int nd2_set_time_speed(uint32_t speed)
+{
+    if (speed == 0u || (STM32F4_SYSCLK_HZ / 1000000u) % speed != 0u) {
+        return -1;
+    }
+    ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u / speed;
+    return 0;
+}
+
+int hal_time_init(void)
+{
+    ms_ = 0u;
+    SYSTICK->CTRL = 0u;
+    SYSTICK->LOAD = ticks_per_us_ * 1000u - 1u;
+    SYSTICK->VAL = 0u;
+    SCB_SHPR3 = (SCB_SHPR3 & 0x00FFFFFFu) | ((uint32_t)STM32F4_CFG_IRQ_PRIO_SYSTICK << 28);
+    SYSTICK->CTRL = SYSTICK_CTRL_CLKSOURCE | SYSTICK_CTRL_TICKINT | SYSTICK_CTRL_ENABLE;
+    return (SYSTICK->CTRL & SYSTICK_CTRL_ENABLE) ? FW_OK : FW_ERR_IO;
+}
+
+void SysTick_Handler(void)
+{
+    ms_ = ms_ + 1u;
+}
+
+uint64_t hal_time_us(void)
+{
+    const hal_irq_state_t s = hal_irq_save();
+    uint64_t ms = ms_;
+    uint32_t val = SYSTICK->VAL;
+    if (SCB_ICSR & SCB_ICSR_PENDSTSET) {
+        ms += 1u;
+        val = SYSTICK->VAL;
+    }
+    hal_irq_restore(s);
+    return stm32f4_time_us(ms, SYSTICK->LOAD, val, ticks_per_us_);
+}
+
+// ---- CPU ------------------------------------------------------------------------------------------
+hal_irq_state_t hal_irq_save(void)
+{
+    uint32_t primask;
+    __asm__ volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
+    return primask;
+}
+
+void hal_irq_restore(hal_irq_state_t state)
+{
+    __asm__ volatile("msr primask, %0" ::"r"(state) : "memory");
+}
+
+void hal_cpu_wait_until(uint64_t deadline_us)
+{
+    // As on the STM32F4 (hal_stm32f4.c): WFI with PRIMASK set still wakes on a pending
+    // interrupt; SysTick bounds the sleep to 1 ms. QEMU halts the vCPU until then.
+    if (hal_time_us() < deadline_us) {
+        __asm__ volatile("dsb\n\twfi\n\tisb" ::: "memory");
+    }
+}
+
+int hal_cpu_watchdog_start(uint32_t timeout_ms)
+{
+    (void)timeout_ms;
+    return FW_ERR_NOSYS;  // QEMU models no IWDG
+}
+
+void hal_cpu_watchdog_kick(void)
+{
+}
+
+hal_reset_cause_t hal_cpu_reset_cause(void)
+{
+    return HAL_RESET_POWER_ON;  // QEMU models no RCC_CSR: every start is a power-on
+}
+
+void hal_cpu_account(uint32_t cycles)
+{
+    (void)cycles;  // real (emulated) time passes by itself
+}
+
+// ---- CAN: SLCAN lines on USART1 -----------------------------------------------------------------------
+static uint8_t can_rx_buf_[256];
+static stm32f4_usart_port_t can_uart_;
+static slcan_parser_t slcan_;
+static hal_can_rx_fn can_on_rx_;
+static void *can_ctx_;
+static hal_can_stats_t can_stats_;
+static uint32_t slcan_errors_;
+static uint32_t accept_[32];
+static uint32_t n_accept_;
+
+static bool accepted_(const hal_can_frame_t *f)
+{
+    if (n_accept_ == 0u) {
+        return true;
+    }
+    if (f->flags & HAL_CAN_FLAG_EXTENDED) {
+        return false;  // the list is of standard ids (as the bxCAN filters are set up)
+    }
+    for (uint32_t i = 0; i < n_accept_; i++) {
+        if (accept_[i] == f->id) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// USART1's receive notification, in its interrupt: the bytes become frames (the "controller"'s
+// work), each accepted frame goes to the handler, a command is answered.
+static void can_uart_rx_(void *ctx)
+{
+    (void)ctx;
+    uint8_t b;
+    while (stm32f4_ring_get(&can_uart_.rx, &b)) {
+        hal_can_frame_t f;
+        const slcan_result_t r = slcan_feed(&slcan_, b, &f);
+        if (r == SLCAN_FRAME) {
+            if (accepted_(&f) && can_on_rx_ != NULL) {
+                can_stats_.rx_frames++;
+                can_on_rx_(&f, can_ctx_);
+            }
+        } else if (r == SLCAN_COMMAND || r == SLCAN_ERROR) {
+            const uint8_t answer = r == SLCAN_COMMAND ? (uint8_t)SLCAN_OK : (uint8_t)SLCAN_ERR;
+            slcan_errors_ += r == SLCAN_ERROR ? 1u : 0u;
+            (void)usart_put_(USART1, &answer, 1u);
+        }
+    }
+}
+
+int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, hal_can_rx_fn on_rx,
+                 void *ctx)
+{
+    if (bitrate == 0u || n_ids > sizeof accept_ / sizeof accept_[0] || (n_ids > 0u && accept_ids == NULL)) {
+        return FW_ERR_INVAL;
+    }
+    for (uint32_t i = 0; i < n_ids; i++) {
+        accept_[i] = accept_ids[i];
+    }
+    n_accept_ = n_ids;
+    can_on_rx_ = on_rx;
+    can_ctx_ = ctx;
+    memset(&can_stats_, 0, sizeof can_stats_);
+    slcan_parser_init(&slcan_);
+    can_uart_.regs = USART1;
+    stm32f4_ring_init(&can_uart_.rx, can_rx_buf_, sizeof can_rx_buf_);
+    stm32f4_ring_init(&can_uart_.tx, NULL, 0u);  // transmit goes straight to DR
+    can_uart_.on_rx = can_uart_rx_;
+    can_uart_.ctx = NULL;
+    const int rc = stm32f4_usart_setup(&can_uart_, STM32F4_APB2_HZ, 115200u);
+    if (rc == FW_OK) {
+        nvic_enable_(USART1_IRQ, STM32F4_CFG_IRQ_PRIO_CAN);
+    }
+    return rc;
+}
+
+int hal_can_send(const hal_can_frame_t *frame)
+{
+    uint8_t line[SLCAN_MAX_LINE];
+    const size_t n = slcan_encode(frame, line);
+    if (n == 0u) {
+        return FW_ERR_INVAL;
+    }
+    const hal_irq_state_t s = hal_irq_save();  // one line at a time on the wire
+    const size_t sent = usart_put_(USART1, line, n);
+    if (sent == n) {
+        can_stats_.tx_frames++;
+    } else {
+        can_stats_.tx_dropped++;
+    }
+    hal_irq_restore(s);
+    return sent == n ? FW_OK : FW_ERR_FULL;
+}
+
+void hal_can_get_stats(hal_can_stats_t *out)
+{
+    const hal_irq_state_t s = hal_irq_save();
+    *out = can_stats_;
+    out->rx_overruns = can_uart_.stats.rx_overruns;
+    out->bus_errors = can_uart_.stats.rx_errors;
+    hal_irq_restore(s);
+}
+
+uint32_t nd2_slcan_errors(void)
+{
+    return slcan_errors_;
+}
+
+void USART1_IRQHandler(void)
+{
+    (void)stm32f4_usart_irq(&can_uart_);
+}
+
+// ---- UART: the Cricket listener on USART2 ---------------------------------------------------------------
+static uint8_t uart_rx_buf_[STM32F4_CFG_UART_RX_BYTES];
+static stm32f4_usart_port_t uart_;
+
+int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
+{
+    uart_.regs = USART2;
+    stm32f4_ring_init(&uart_.rx, uart_rx_buf_, sizeof uart_rx_buf_);
+    stm32f4_ring_init(&uart_.tx, NULL, 0u);
+    uart_.on_rx = on_rx;
+    uart_.ctx = ctx;
+    const int rc = stm32f4_usart_setup(&uart_, STM32F4_APB1_HZ, baud);
+    if (rc == FW_OK) {
+        nvic_enable_(STM32F4_IRQ_USART2, STM32F4_CFG_IRQ_PRIO_UART);
+    }
+    return rc;
+}
+
+void USART2_IRQHandler(void)
+{
+    (void)stm32f4_usart_irq(&uart_);
+}
+
+size_t hal_uart_read(uint8_t *buf, size_t cap)
+{
+    return stm32f4_usart_read(&uart_, buf, cap);
+}
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    if (uart_.regs == NULL) {
+        return 0u;
+    }
+    const hal_irq_state_t s = hal_irq_save();
+    const size_t n = usart_put_(USART2, data, len);
+    hal_irq_restore(s);
+    return n;
+}
+
+void hal_uart_get_stats(hal_uart_stats_t *out)
+{
+    const hal_irq_state_t s = hal_irq_save();
+    *out = uart_.stats;
+    hal_irq_restore(s);
+}
+
+// ---- Flash: the region in SRAM, NOR semantics --------------------------------------------------------
+static uint32_t region_bytes_(void)
+{
+    return LD_VALUE(_dynaqpc_store_sectors) * LD_VALUE(_dynaqpc_store_sector_bytes);
+}
+
+int hal_flash_get_geometry(hal_flash_geometry_t *out)
+{
+    out->sector_size = LD_VALUE(_dynaqpc_store_sector_bytes);
+    out->sector_count = LD_VALUE(_dynaqpc_store_sectors);
+    out->write_align = 4u;
+    return FW_OK;
+}
+
+static bool in_region_(uint32_t offset, size_t len)
+{
+    return offset <= region_bytes_() && len <= region_bytes_() - offset;
+}
+
+int hal_flash_read(uint32_t offset, void *buf, size_t len)
+{
+    if (!in_region_(offset, len)) {
+        return FW_ERR_INVAL;
+    }
+    memcpy(buf, &_dynaqpc_store_start[offset], len);
+    return FW_OK;
+}
+
+const void *hal_flash_map(uint32_t offset, size_t len)
+{
+    return in_region_(offset, len) ? &_dynaqpc_store_start[offset] : NULL;
+}
+
+int hal_flash_erase(uint32_t sector)
+{
+    if (sector >= LD_VALUE(_dynaqpc_store_sectors)) {
+        return FW_ERR_INVAL;
+    }
+    const uint32_t size = LD_VALUE(_dynaqpc_store_sector_bytes);
+    memset(&_dynaqpc_store_start[sector * size], 0xFF, size);
+    return FW_OK;
+}
+
+int hal_flash_write(uint32_t offset, const void *data, size_t len)
+{
+    if (!in_region_(offset, len) || offset % 4u != 0u || len % 4u != 0u) {
+        return FW_ERR_INVAL;
+    }
+    const uint8_t *src = (const uint8_t *)data;
+    uint8_t *dst = &_dynaqpc_store_start[offset];
+    for (size_t i = 0; i < len; i++) {
+        dst[i] &= src[i];  // programming only clears bits
+        if (dst[i] != src[i]) {
+            return FW_ERR_IO;  // verify: the bytes were not erased
+        }
+    }
+    return FW_OK;
+}

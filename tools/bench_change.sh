@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Rooms that change (docs/results.md, "Rooms that change"): the robot learns one room, the room
+# changes at episode K (`train --change-at K --changed FILE`), and the robot keeps learning.
+#
+#   tools/bench_change.sh block    [options]   a change that blocks the learned path
+#   tools/bench_change.sh shortcut [options]   a shortcut opens
+#
+# block: for each training seed k, train one set of K-1 episodes in the first room and E more in
+# the changed one (episodes K..K+E-1; the file saved), then drive from 50 random starts of the
+# changed room (`dynaqpc-sim run --learn`, seed 7, the scenario's 200-step cap) still learning,
+# and frozen. E = 0 (--after 0) is the robot that meets the change during the replay itself.
+# Prints, over all starts, how many reached the goal; and, from the training CSVs, how many of the
+# episodes K..K+E-1 (exploring, epsilon as the scenario's) reached it.
+#
+# shortcut: S sets of K-1+M episodes, the room changing at K, against S sets of the changed room
+# from scratch (the shortcut's level: its mean steps over episodes K..K-1+M, the same episodes of
+# a robot that always had the shortcut) and S sets of the first room all along. Prints the mean
+# steps per block of 5 episodes of each, and the episodes after the change until the changed
+# run's 5-episode mean (over sets) is within 10 % of the shortcut's level.
+#
+# Options: --robot paper-lab|paper-sim (which shipped change, default paper-lab), --agent A
+# (default dyna-qpc), --planning N (default: the scenario's, idle-time planning), --change-at K
+# (default 20), --after E (block: episodes in the changed room before the replay, default 8),
+# --episodes M (shortcut: episodes from K on, default 40), --seeds FIRST COUNT (block: training
+# seeds, default 9101 20; shortcut: the experiment seed and the sets, default 9101 20), --jobs J
+# (default 2). Needs the host-release build.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+sim=$root/build/host-release/bin/dynaqpc-sim
+changes=$root/host_sim/rooms/changes
+mode=${1:-}
+[[ $mode == block || $mode == shortcut ]] || { echo "bench_change.sh: block or shortcut first (see the header)" >&2; exit 2; }
+shift
+robot=paper-lab agent=dyna-qpc planning= K=20 after=8 episodes=40 first=9101 count=20 jobs=2
+while (($#)); do
+    case $1 in
+        --robot) robot=$2; shift 2 ;;
+        --agent) agent=$2; shift 2 ;;
+        --planning) planning=$2; shift 2 ;;
+        --change-at) K=$2; shift 2 ;;
+        --after) after=$2; shift 2 ;;
+        --episodes) episodes=$2; shift 2 ;;
+        --seeds) first=$2 count=$3; shift 3 ;;
+        --jobs) jobs=$2; shift 2 ;;
+        *) echo "bench_change.sh: unknown option '$1'" >&2; exit 2 ;;
+    esac
+done
+[ -x "$sim" ] || { echo "bench_change.sh: build host-release first ($sim missing)" >&2; exit 2; }
+case $robot in
+    paper-lab) blocked=$changes/paper-lab-box.scn ;;
+    paper-sim) blocked=$changes/paper-sim-blocked.scn ;;
+    *) echo "bench_change.sh: --robot paper-lab or paper-sim" >&2; exit 2 ;;
+esac
+plan=()
+[ -z "$planning" ] || plan=(--planning "$planning")
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+label="$agent, ${planning:+N = $planning}${planning:-idle-time planning}"
+
+if [[ $mode == block ]]; then
+    one() {  # one <seed>
+        local k=$1 n=$((K - 1 + after))
+        if ((after > 0)); then
+            "$sim" train --scenario "$robot" --changed "$blocked" --change-at "$K" --agent "$agent" "${plan[@]}" \
+                --sets 1 --episodes "$n" --seed "$k" --quiet --save "$out/l-$k.flash" --csv "$out/t-$k.csv"
+        else
+            "$sim" train --scenario "$robot" --agent "$agent" "${plan[@]}" --sets 1 --episodes "$n" --seed "$k" \
+                --quiet --save "$out/l-$k.flash"
+        fi
+        "$sim" run --scenario "$blocked" --agent "$agent" --load "$out/l-$k.flash" --starts 50 --seed 7 --learn \
+            "${plan[@]}" > "$out/learn-$k.csv" 2>/dev/null
+        "$sim" run --scenario "$blocked" --agent "$agent" --load "$out/l-$k.flash" --starts 50 --seed 7 \
+            > "$out/frozen-$k.csv" 2>/dev/null
+    }
+    export -f one
+    export sim robot blocked agent K after out
+    export plan_s="${plan[*]}"
+    # arrays do not cross bash -c: rebuild plan from plan_s
+    seq "$first" $((first + count - 1)) | xargs -P "$jobs" -I{} bash -c 'plan=($plan_s); one {}'
+    what="$label on $robot -> $(basename "$blocked" .scn) at episode $K, $after episodes after it, seeds $first..$((first + count - 1))"
+    for kind in learn frozen; do
+        cat "$out"/$kind-*.csv | awk -F, -v what="$what" -v kind=$kind '
+            $1 == "start" { next }
+            { n++; if ($3 == 1) { reached++; if ($2 <= 50) within++ } }
+            END { printf "%s: %s replay from %d starts of the changed room: reached the goal %d (%.1f %%), within 50 steps %d (%.1f %%)\n",
+                  what, (kind == "learn" ? "learning (run --learn)" : "frozen"), n, reached, 100 * reached / n, within, 100 * within / n }'
+    done
+    if ((after > 0)); then
+        cat "$out"/t-*.csv | awk -F, -v K="$K" -v what="$what" '
+            $1 == "agent" || $3 < K { next }
+            { n++; reached += $6; steps += $4 }
+            END { printf "%s: training episodes %d.. in the changed room (exploring): %d of %d reached the goal (%.1f %%), mean %.1f steps\n",
+                  what, K, reached, n, 100 * reached / n, steps / n }'
+    fi
+    exit 0
+fi
+
+# shortcut
+closed=$changes/$robot-door-closed.scn open=$changes/$robot-door-open.scn
+n=$((K - 1 + episodes))
+common=(--agent "$agent" "${plan[@]}" --sets "$count" --episodes "$n" --seed "$first" --jobs "$jobs" --quiet)
+"$sim" train --scenario "$closed" --changed "$open" --change-at "$K" "${common[@]}" --csv "$out/change.csv"
+"$sim" train --scenario "$open" "${common[@]}" --csv "$out/open.csv"
+"$sim" train --scenario "$closed" "${common[@]}" --csv "$out/closed.csv"
+awk -F, -v K="$K" -v n="$n" -v what="$label on $robot-door-closed -> door-open at episode $K, $count sets (seed $first)" '
+    FNR == 1 { f++; next }
+    { s[f, $3] += $4; c[f, $3]++ }
+    END {
+        for (e = 1; e <= n; e++) for (g = 1; g <= 3; g++) m[g, e] = s[g, e] / c[g, e]
+        level = 0; for (e = K; e <= n; e++) level += m[2, e]; level /= (n - K + 1)
+        before = 0; for (e = K - 5; e < K; e++) before += m[1, e]; before /= 5
+        printf "%s\n", what
+        printf "  mean steps per episode: before the change (episodes %d-%d) %.1f; the shortcut from scratch, episodes %d-%d (its level) %.1f\n",
+            K - 5, K - 1, before, K, n, level
+        printf "  %-14s %10s %10s %10s\n", "episodes", "changed", "open", "closed"
+        for (e = K; e + 4 <= n; e += 5) {
+            for (g = 1; g <= 3; g++) { b[g] = 0; for (i = e; i < e + 5; i++) b[g] += m[g, i]; b[g] /= 5 }
+            printf "  %4d-%-9d %10.1f %10.1f %10.1f\n", e, e + 4, b[1], b[2], b[3]
+        }
+        found = -1
+        for (e = K + 4; e <= n; e++) {
+            w = 0; for (i = e - 4; i <= e; i++) w += m[1, i]; w /= 5
+            if (w <= 1.1 * level) { found = e; break }
+        }
+        if (found < 0) printf "  the 5-episode mean never came within 10 %% of the shortcut level in %d episodes after the change\n", n - K + 1
+        else printf "  the 5-episode mean (episodes %d-%d) is within 10 %% of the shortcut level: %d episodes after the change\n", found - 4, found, found - K + 1
+    }' "$out/change.csv" "$out/open.csv" "$out/closed.csv"
