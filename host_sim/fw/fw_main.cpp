@@ -330,10 +330,11 @@ int run(const std::vector<std::string> &args)
     }
     // Faults and how the firmware met them (docs/realtime.md "Faults").
     std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
-                "tool_refused=%u uart_errors=%u uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u "
-                "can_bus_errors=%u can_stall_lost=%u\n",
+                "tool_refused=%u tool_answers=%u tool_malformed=%u resets=%u restores=%u uart_errors=%u "
+                "uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u can_bus_errors=%u can_stall_lost=%u\n",
                 st.safe_stops, st.status_errors, static_cast<int>(st.restore_result), st.records_refused,
-                st.restore_fell_back ? 1 : 0, st.tool_refused, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
+                st.restore_fell_back ? 1 : 0, st.tool_refused, st.tool_answers, st.tool_malformed, st.resets,
+                st.restores, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
                 cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
     std::printf("cricket: lines=%u ranges=%u overlong=%u garbage=%u malformed=%u no_range=%u unknown_beacon=%u "
                 "bad_range=%u bad_geometry=%u inconsistent=%u\n",

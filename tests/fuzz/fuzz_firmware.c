@@ -4,8 +4,9 @@
 // line and an operator could. The first byte picks paper-lab (Cricket pose, Dyna-QPC) or
 // paper-sim (GPS pose), and evaluate mode. Ops, each a byte then its arguments:
 //   0 a frame: id (an index into the ids the firmware listens to, or raw), dlc, data
-//   1 a TOOL_CMD: command, argument (encoded as the operator's tool would); a fourth
-//     SAVE_LEARNED and later ones are sent as NOP (the slot orders are all reached by three)
+//   1 a TOOL_CMD: command (any of the seven, RESTORE_PREVIOUS too), argument (encoded as the
+//     operator's tool would); a fourth SAVE_LEARNED or RESET_LEARNING and later ones are sent as
+//     NOP (the slot orders are all reached by three)
 //   2 Cricket bytes: length, bytes
 //   3 time: the firmware runs for (byte + 1) ms
 // Oracles: no sanitizer report, no hang; the event queue never grows past its capacity; in
@@ -94,10 +95,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             (void)hal_host_can_deliver(&f);
         } else if (op == 1u) {
-            tlm_tool_cmd_t cmd = {(uint8_t)(fuzz_u8(&in) % 6u), fuzz_u32(&in)};
-            // Three saves reach every slot order (the first slot, the other, then over the older
-            // of two good records); more only repeat them, at the cost of a whole save each.
-            if (cmd.command == TLM_CMD_SAVE_LEARNED && ++saves > 3u) {
+            tlm_tool_cmd_t cmd = {(uint8_t)(fuzz_u8(&in) % 7u), fuzz_u32(&in)};
+            // Three saves reach every slot order (the first slot, the other, then over the record
+            // with fewer episodes of two good ones); more only repeat them, at the cost of a whole
+            // save each. A RESET_LEARNING that acts saves what it wipes first: it counts too.
+            if ((cmd.command == TLM_CMD_SAVE_LEARNED || cmd.command == TLM_CMD_RESET_LEARNING) && ++saves > 3u) {
                 cmd.command = TLM_CMD_NOP;
             }
             hal_can_frame_t f;

@@ -93,6 +93,23 @@ static void decode(const hal_can_frame_t *f)
         }
         break;
     }
+    case DYNAQPC_CAN_TLM_VALUE_FRAME_ID: {
+        tlm_value_t v;
+        if ((rc = tlm_decode_value(f, &v)) == FW_OK) {
+            printf("OK TLM_VALUE State=%lu Action=%u Value=%.1f\n", (unsigned long)v.state, v.action, v.value);
+            return;
+        }
+        break;
+    }
+    case DYNAQPC_CAN_TOOL_ACK_FRAME_ID: {
+        tlm_ack_t a;
+        if ((rc = tlm_decode_ack(f, &a)) == FW_OK) {
+            printf("OK TOOL_ACK Command=%u Counter=%u Result=%u Reason=%u Sequence=%lu Episodes=%lu\n", a.command,
+                   a.counter, a.result, a.reason, (unsigned long)a.sequence, (unsigned long)a.episodes);
+            return;
+        }
+        break;
+    }
     case DYNAQPC_CAN_FW_STATUS_FRAME_ID: {
         tlm_status_t s;
         if ((rc = tlm_decode_status(f, &s)) == FW_OK) {
@@ -179,7 +196,7 @@ static void encode(const char *name, int argc, char **argv)
     uint8_t counter = (uint8_t)arg(argc, argv, "Counter", 0);
     tlm_t tlm;
     tlm_init(&tlm);
-    tlm.pose_counter = tlm.learn_counter = tlm.sched_counter = tlm.status_counter = counter;
+    tlm.pose_counter = tlm.learn_counter = tlm.sched_counter = tlm.status_counter = tlm.value_counter = counter;
 #define A(k) arg(argc, argv, k, 0)
     if (strcmp(name, "MOTOR_CMD") == 0) {
         motor_t m;
@@ -220,6 +237,15 @@ static void encode(const char *name, int argc, char **argv)
     } else if (strcmp(name, "TOOL_CMD") == 0) {
         tlm_tool_cmd_t c = {(uint8_t)A("Command"), (uint32_t)A("Argument")};
         rc = tlm_encode_tool_cmd(&counter, &c, &f);
+    } else if (strcmp(name, "TLM_VALUE") == 0) {
+        tlm_value_t v = {(uint32_t)A("State"), (uint8_t)A("Action"), (float)A("Value")};
+        tlm_encode_value(&tlm, &v, &f);
+        rc = FW_OK;
+    } else if (strcmp(name, "TOOL_ACK") == 0) {
+        tlm_ack_t a = {(uint8_t)A("Command"), counter, (uint8_t)A("Result"), (uint8_t)A("Reason"),
+                       (uint32_t)A("Sequence"), (uint32_t)A("Episodes")};
+        tlm_encode_ack(&a, &f);
+        rc = FW_OK;
     } else if (strcmp(name, "TLM_POSE") == 0) {
         tlm_pose_t p = {(int32_t)A("X"), (int32_t)A("Y"), (int32_t)(A("Heading") * 100.0 + 0.5),
                         (uint8_t)A("FixState")};

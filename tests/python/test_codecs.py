@@ -118,11 +118,16 @@ def test_dbc_rules(db):
             assert crc.length == 8 and crc.start == 8 * msg.length - 8, msg.name
     cycles = {m.name: m.cycle_time for m in db.messages}
     assert cycles == {
-        "TOOL_CMD": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
+        "TOOL_CMD": None, "TOOL_ACK": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
         "SONAR_RANGES_A": 96, "SONAR_RANGES_B": 96, "GPS_POSE": 96, "FW_STATUS": 1000,
-        "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None}
+        "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None, "TLM_VALUE": None}
     # TLM_LEARN goes once per real learning step (several control periods), not every 192 ms.
     assert db.get_message_by_name("TLM_LEARN").dbc.attributes["GenMsgSendType"].value == 1  # Event
+    assert db.get_message_by_name("TOOL_ACK").dbc.attributes["GenMsgSendType"].value == 1  # Event
+    # An answer names every command TOOL_CMD can carry.
+    cmd, ack = db.get_message_by_name("TOOL_CMD"), db.get_message_by_name("TOOL_ACK")
+    assert (dict(cmd.get_signal_by_name("Command").choices)
+            == dict(ack.get_signal_by_name("Command").choices))
     assert db.get_message_by_name("MOTOR_CMD").dbc.attributes["GenMsgTimeoutTime"].value == 500
 
 
@@ -135,8 +140,8 @@ def expected_decoded(msg, data):
 
 
 @pytest.mark.parametrize("name", [
-    "TOOL_CMD", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE"])
+    "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
+    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_c_decodes_what_cantools_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random(name)
@@ -155,8 +160,8 @@ def test_c_decodes_what_cantools_encodes(db, vectors, name):
 
 
 @pytest.mark.parametrize("name", [
-    "TOOL_CMD", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE"])
+    "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
+    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_cantools_decodes_what_c_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random("enc" + name)
@@ -185,7 +190,8 @@ OUT_OF_RANGE = [
     ("MOTOR_CMD", "SpeedLeft", 1501), ("MOTOR_CMD", "SpeedRight", -1501),
     ("MOTOR_STATUS", "SpeedLeft", 2001), ("GYRO_RATE", "YawRate", -30001),
     ("GYRO_RATE", "Status", 3), ("IR_RANGES", "RangeFront", 2001),
-    ("GPS_POSE", "Heading", 36000), ("GPS_POSE", "Fix", 3), ("TOOL_CMD", "Command", 6),
+    ("GPS_POSE", "Heading", 36000), ("GPS_POSE", "Fix", 3), ("TOOL_CMD", "Command", 7),
+    ("TOOL_ACK", "Result", 3), ("TOOL_ACK", "Reason", 11),
     ("TLM_POSE", "Heading", 36000), ("TLM_SCHED", "IdlePercent", 201), ("FW_STATUS", "Mode", 5),
 ]
 

@@ -1,18 +1,25 @@
 # SPDX-License-Identifier: MIT
-"""Recordings of the bus: MCAP (ROS 2, Foxglove) and python-can's ASC/BLF, written and read back.
+"""Recordings of the bus: MCAP (Foxglove) and python-can's ASC/BLF, written and read back.
 
-An MCAP recording holds, as JSON messages with a JSON schema each:
+An MCAP recording holds:
 
-  /can/raw               every frame as received (dynaqpc.CanFrame: id, extended, dlc, data_hex)
-  /can/<MESSAGE>         one channel per DBC message, its signals decoded (numbers, and for a
-                         signal with a value table also <signal>_name, e.g. Mode_name SAFE_STOP)
+  /can/raw               every frame as received (JSON, dynaqpc.CanFrame: id, extended, dlc,
+                         data_hex)
+  /can/<MESSAGE>         one channel per DBC message, its signals decoded (JSON with a JSON
+                         schema: numbers, and for a signal with a value table also <signal>_name,
+                         e.g. Mode_name SAFE_STOP)
   /robot/pose            TLM_POSE, the firmware's estimate, as foxglove.PoseInFrame (frame "arena";
                          poses whose FixState is LOST are left out)
   /robot/true_pose       GPS_POSE, the simulator's true pose, when it is on the bus (Fix NONE left out)
+  /tf                    foxglove.FrameTransforms: arena → base_link (TLM_POSE), arena →
+                         true_base_link (GPS_POSE), so Foxglove's 3D panel can follow the robot
   /arena                 given an arena JSON: walls, obstacles, goal and beacons as
                          foxglove.SceneUpdate, once at the start
 
-so a run opens in Foxglove with the robot drawn in its room. `--replay run.mcap` reads /can/raw.
+The foxglove.* topics are protobuf with the schemas Foxglove publishes, as foxglove-sdk encodes
+them (the same messages `dynaqpc-monitor --foxglove` serves live); every channel's messages carry
+a sequence number counted from 1. It is MCAP as Foxglove reads it, not a ROS 2 bag: `ros2 bag
+play` reads only ROS 2 (CDR) messages. `--replay run.mcap` reads /can/raw.
 
 Time: a recording of a simulation run X times faster than real time (`--speed X`) is stamped
 in robot time, t0 + (t - t0) * X, so its rates are the DBC's; the same holds for ASC and BLF.
@@ -21,7 +28,6 @@ in robot time, t0 + (t - t0) * X, so its rates are the DBC's; the same holds for
 from __future__ import annotations
 
 import json
-import math
 import os
 from typing import Iterator, Optional
 
@@ -30,104 +36,15 @@ from .common import ToolError
 RAW_TOPIC = "/can/raw"
 POSE_TOPIC = "/robot/pose"
 TRUE_POSE_TOPIC = "/robot/true_pose"
+TF_TOPIC = "/tf"
 ARENA_TOPIC = "/arena"
 FRAME_ID = "arena"
 
-_TIME = {"type": "object", "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}}}
-_VEC3 = {"type": "object", "properties": {k: {"type": "number"} for k in "xyz"}}
-_QUAT = {"type": "object", "properties": {k: {"type": "number"} for k in "xyzw"}}
-_POSE = {"type": "object", "properties": {"position": _VEC3, "orientation": _QUAT}}
-_COLOR = {"type": "object", "properties": {k: {"type": "number"} for k in "rgba"}}
-POSE_IN_FRAME_SCHEMA = {
-    "title": "foxglove.PoseInFrame", "type": "object",
-    "properties": {"timestamp": _TIME, "frame_id": {"type": "string"}, "pose": _POSE},
-}
-_PRIMITIVE = {"type": "object", "properties": {"pose": _POSE, "size": _VEC3, "color": _COLOR}}
-SCENE_UPDATE_SCHEMA = {
-    "title": "foxglove.SceneUpdate", "type": "object",
-    "properties": {
-        "deletions": {"type": "array", "items": {"type": "object"}},
-        "entities": {"type": "array", "items": {"type": "object", "properties": {
-            "timestamp": _TIME, "frame_id": {"type": "string"}, "id": {"type": "string"},
-            "lifetime": _TIME, "frame_locked": {"type": "boolean"},
-            "metadata": {"type": "array", "items": {"type": "object"}},
-            "arrows": {"type": "array", "items": _PRIMITIVE},
-            "cubes": {"type": "array", "items": _PRIMITIVE},
-            "spheres": {"type": "array", "items": _PRIMITIVE},
-            "cylinders": {"type": "array", "items": {"type": "object", "properties": {
-                "pose": _POSE, "size": _VEC3, "bottom_scale": {"type": "number"},
-                "top_scale": {"type": "number"}, "color": _COLOR}}},
-            "lines": {"type": "array", "items": {"type": "object"}},
-            "triangles": {"type": "array", "items": {"type": "object"}},
-            "texts": {"type": "array", "items": {"type": "object", "properties": {
-                "pose": _POSE, "billboard": {"type": "boolean"}, "font_size": {"type": "number"},
-                "scale_invariant": {"type": "boolean"}, "color": _COLOR, "text": {"type": "string"}}}},
-            "models": {"type": "array", "items": {"type": "object"}},
-        }}},
-    },
-}
 CAN_FRAME_SCHEMA = {
     "title": "dynaqpc.CanFrame", "type": "object",
     "properties": {"id": {"type": "integer"}, "extended": {"type": "boolean"}, "remote": {"type": "boolean"},
                    "error": {"type": "boolean"}, "dlc": {"type": "integer"}, "data_hex": {"type": "string"}},
 }
-
-
-def _stamp(t: float) -> dict:
-    sec = math.floor(t)
-    return {"sec": int(sec), "nsec": int(round((t - sec) * 1e9)) % 1000000000}
-
-
-def _quat_z(yaw: float) -> dict:
-    return {"x": 0.0, "y": 0.0, "z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}
-
-
-def _pose(x: float, y: float, z: float = 0.0, yaw: float = 0.0) -> dict:
-    return {"position": {"x": x, "y": y, "z": z}, "orientation": _quat_z(yaw)}
-
-
-def _color(r, g, b, a=1.0) -> dict:
-    return {"r": r, "g": g, "b": b, "a": a}
-
-
-def arena_scene(arena: dict, t: float) -> dict:
-    """The arena (simulator JSON, metres) as a foxglove.SceneUpdate."""
-    w, h = arena["width"], arena["height"]
-    wall, height = 0.02, 0.3
-    grey, green, purple = _color(0.5, 0.5, 0.5), _color(0.1, 0.7, 0.2, 0.4), _color(0.5, 0.2, 0.7)
-    cubes = [  # the four walls
-        {"pose": _pose(w / 2, 0, height / 2), "size": {"x": w, "y": wall, "z": height}, "color": _color(0.2, 0.2, 0.2)},
-        {"pose": _pose(w / 2, h, height / 2), "size": {"x": w, "y": wall, "z": height}, "color": _color(0.2, 0.2, 0.2)},
-        {"pose": _pose(0, h / 2, height / 2), "size": {"x": wall, "y": h, "z": height}, "color": _color(0.2, 0.2, 0.2)},
-        {"pose": _pose(w, h / 2, height / 2), "size": {"x": wall, "y": h, "z": height}, "color": _color(0.2, 0.2, 0.2)},
-    ]
-    cylinders, spheres, texts = [], [], []
-    for ob in arena.get("obstacles", []):
-        if ob["kind"] == "box":
-            cubes.append({"pose": _pose(ob["cx"], ob["cy"], height / 2, math.radians(ob.get("angle_deg", 0.0))),
-                          "size": {"x": ob["w"], "y": ob["h"], "z": height}, "color": grey})
-        else:
-            cylinders.append({"pose": _pose(ob["cx"], ob["cy"], height / 2),
-                              "size": {"x": 2 * ob["r"], "y": 2 * ob["r"], "z": height},
-                              "bottom_scale": 1.0, "top_scale": 1.0, "color": grey})
-    goal = arena.get("goal")
-    if goal and goal.get("cells"):
-        for x0, y0, x1, y1 in goal["cells"]:
-            cubes.append({"pose": _pose((x0 + x1) / 2, (y0 + y1) / 2, 0.005),
-                          "size": {"x": x1 - x0, "y": y1 - y0, "z": 0.01}, "color": green})
-    elif goal:
-        cylinders.append({"pose": _pose(goal["cx"], goal["cy"], 0.005),
-                          "size": {"x": 2 * goal["r"], "y": 2 * goal["r"], "z": 0.01},
-                          "bottom_scale": 1.0, "top_scale": 1.0, "color": green})
-    for b in arena.get("beacons", []):
-        spheres.append({"pose": _pose(b["x"], b["y"], b["z"]), "size": {"x": 0.08, "y": 0.08, "z": 0.08},
-                        "color": purple})
-        texts.append({"pose": _pose(b["x"], b["y"], b["z"] + 0.1), "billboard": True, "font_size": 12.0,
-                      "scale_invariant": True, "color": purple, "text": str(b.get("id", ""))})
-    entity = {"timestamp": _stamp(t), "frame_id": FRAME_ID, "id": "arena", "lifetime": {"sec": 0, "nsec": 0},
-              "frame_locked": False, "metadata": [], "arrows": [], "cubes": cubes, "spheres": spheres,
-              "cylinders": cylinders, "lines": [], "triangles": [], "texts": texts, "models": []}
-    return {"deletions": [], "entities": [entity]}
 
 
 def _signal_schema(message) -> dict:
@@ -165,37 +82,57 @@ class McapLog:
             self._file = open(path, "wb")
         except OSError as e:
             raise ToolError(f"cannot write {path}: {e.strerror or e}") from None
+        from .foxglove_live import BASE, TRUE_BASE, Build
+
         self.db, self.arena, self.scale = db, arena, TimeScale(speed)
+        self.fox = Build()
+        m = self.fox.m
         self.w = Writer(self._file)
         self.w.start(profile="", library="dynaqpc-monitor")
         self.messages = 0
+        self._sequence = {}  # channel -> the last sequence number written
+        self._schema_ids = {}
         self._raw = self._channel(RAW_TOPIC, CAN_FRAME_SCHEMA)
         self._by_id = {}
-        for m in db.messages:
-            self._by_id[(m.frame_id, bool(m.is_extended_frame))] = (m, self._channel(f"/can/{m.name}", _signal_schema(m)))
+        for msg in db.messages:
+            self._by_id[(msg.frame_id, bool(msg.is_extended_frame))] = (
+                msg, self._channel(f"/can/{msg.name}", _signal_schema(msg)))
         self._poses = []
-        for name, topic in (("TLM_POSE", POSE_TOPIC), ("GPS_POSE", TRUE_POSE_TOPIC)):
+        self._tf = self._proto_channel(TF_TOPIC, m.FrameTransforms)
+        for name, topic, child in (("TLM_POSE", POSE_TOPIC, BASE), ("GPS_POSE", TRUE_POSE_TOPIC, TRUE_BASE)):
             try:
                 dec = PoseDecoder(db, name)
             except ToolError:
                 continue  # a DBC without this frame (another robot's)
-            self._poses.append((dec, self._channel(topic, POSE_IN_FRAME_SCHEMA)))
-        self._scene = self._channel(ARENA_TOPIC, SCENE_UPDATE_SCHEMA) if arena is not None else None
+            self._poses.append((dec, self._proto_channel(topic, m.PoseInFrame), child))
+        self._scene = self._proto_channel(ARENA_TOPIC, m.SceneUpdate) if arena is not None else None
 
     def _channel(self, topic: str, schema: dict) -> int:
         sid = self.w.register_schema(name=schema["title"], encoding="jsonschema",
                                      data=json.dumps(schema).encode())
         return self.w.register_channel(topic=topic, message_encoding="json", schema_id=sid)
 
-    def _add(self, channel: int, t: float, obj: dict) -> None:
+    def _proto_channel(self, topic: str, kind) -> int:
+        """A channel of a Foxglove type: the sdk's protobuf schema (a FileDescriptorSet)."""
+        schema = kind.get_schema()
+        sid = self._schema_ids.get(schema.name)
+        if sid is None:
+            sid = self._schema_ids[schema.name] = self.w.register_schema(
+                name=schema.name, encoding=schema.encoding, data=bytes(schema.data))
+        return self.w.register_channel(topic=topic, message_encoding="protobuf", schema_id=sid)
+
+    def _add(self, channel: int, t: float, obj) -> None:
         ns = int(round(t * 1e9))
-        self.w.add_message(channel_id=channel, log_time=ns, publish_time=ns, data=json.dumps(obj).encode())
+        seq = self._sequence.get(channel, 0) + 1
+        self._sequence[channel] = seq
+        data = obj.encode() if hasattr(obj, "encode") else json.dumps(obj).encode()
+        self.w.add_message(channel_id=channel, log_time=ns, publish_time=ns, data=data, sequence=seq)
         self.messages += 1
 
     def __call__(self, msg) -> None:
         t = self.scale(float(msg.timestamp))
         if self._scene is not None:
-            self._add(self._scene, t, arena_scene(self.arena, t))
+            self._add(self._scene, t, self.fox.arena_scene(t, self.arena))
             self._scene = None
         data = bytes(msg.data)
         self._add(self._raw, t, {"id": msg.arbitration_id, "extended": bool(msg.is_extended_id),
@@ -214,14 +151,14 @@ class McapLog:
             if s.choices and s.name in values:
                 out[s.name + "_name"] = str(s.choices.get(int(values[s.name]), int(values[s.name])))
         self._add(channel, t, out)
-        for dec, pchannel in self._poses:
+        for dec, pchannel, child in self._poses:
             if dec.message is not m:
                 continue
             pose = dec.decode(msg)
             if pose is None or not dec.usable(values):
                 continue
-            self._add(pchannel, t, {"timestamp": _stamp(t), "frame_id": FRAME_ID,
-                                    "pose": _pose(pose.x, pose.y, 0.0, pose.heading)})
+            self._add(pchannel, t, self.fox.pose_in_frame(pose.x, pose.y, pose.heading, t))
+            self._add(self._tf, t, self.fox.transforms(child, pose.x, pose.y, pose.heading, t))
 
     def stop(self) -> None:
         self.w.finish()

@@ -6,6 +6,8 @@ per-frame rates, counts gaps in the rolling counters (signals named ``Counter`` 
 ``*_COUNTER``), shows the last decoded values, optionally records (MCAP for Foxglove, with
 decoded signals and the pose; or python-can's ASC/BLF), and prints a summary at the end.
 ``--speed X`` stamps a recording of a simulation run X times faster in robot time.
+``--foxglove [PORT]`` serves the bus live to Foxglove over WebSocket (foxglove-sdk, loopback by
+default; dynaqpc_tools/foxglove_live.py lists the topics; docs/foxglove-layout.json lays them out).
 """
 
 from __future__ import annotations
@@ -254,6 +256,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fail-on-gap", action="store_true", help="exit 1 when a counter gap was seen")
     p.add_argument("--fail-on-status", action="store_true",
                    help="exit 1 when FW_STATUS showed SAFE_STOP, FAULT or an error flag, or went silent")
+    p.add_argument("--foxglove", nargs="?", const=8765, default=None, type=int_in(0, 65535), metavar="PORT",
+                   help="serve the bus live to Foxglove over WebSocket (foxglove-sdk) on PORT (default 8765; "
+                        "0: any free port): pose, /tf, rays, bumps, arena, state, every signal for Plot")
+    p.add_argument("--foxglove-host", default="127.0.0.1", metavar="ADDR",
+                   help="address to serve on (default %(default)s: this machine only)")
+    p.add_argument("--scenario", metavar="FILE",
+                   help="with --foxglove: a scenario file: its `ray` lines give the rays' angles, its `arena` "
+                        "and `encode` lines place the value map's cells (/robot/values)")
     return p
 
 
@@ -275,17 +285,35 @@ def run(args, out=None) -> Monitor:
 
     db = load_dbc(args.dbc)
     mon = Monitor(db)
-    if args.arena and not (args.log or "").lower().endswith(".mcap"):
-        raise ToolError("--arena: only with --log FILE.mcap")
+    if args.arena and not (args.log or "").lower().endswith(".mcap") and args.foxglove is None:
+        raise ToolError("--arena: only with --log FILE.mcap or --foxglove")
+    if args.scenario and args.foxglove is None:
+        raise ToolError("--scenario: only with --foxglove")
     arena = load_arena(args.arena) if args.arena else None
     if args.log and args.replay and os.path.abspath(args.log) == os.path.abspath(args.replay):
         raise ToolError(f"--log {args.log}: that is the file being replayed")
+    ray_angles, grid = None, None
+    if args.scenario:
+        from .foxglove_live import scenario_grid
+        from .viewer import scenario_ray_angles
+
+        grid = scenario_grid(args.scenario)
+        ray_angles = scenario_ray_angles(args.scenario)
     logger = open_log(args.log, db, arena, args.speed) if args.log else None
+    live_fg = None
     try:
+        if args.foxglove is not None:
+            from .foxglove_live import LiveFoxglove
+
+            live_fg = LiveFoxglove(db, args.foxglove, args.foxglove_host, arena, ray_angles, grid=grid)
+            print(f"dynaqpc-monitor: Foxglove on ws://{args.foxglove_host}:{live_fg.port}", file=sys.stderr,
+                  flush=True)
         bus = None if args.replay else bus_from_args(args)
     except ToolError:
         if logger is not None:
             logger.stop()
+        if live_fg is not None:
+            live_fg.stop()
         raise
     if bus is not None:
         # From here on every frame is heard: a script that sends only after this line (before it
@@ -299,6 +327,8 @@ def run(args, out=None) -> Monitor:
             now = time.monotonic()
             if args.duration is not None and now - start >= args.duration:
                 break
+            if live_fg is not None:
+                live_fg(msg)
             if msg is not None:
                 if logger is not None:
                     logger(msg)
@@ -320,6 +350,8 @@ def run(args, out=None) -> Monitor:
     finally:
         if logger is not None:
             logger.stop()
+        if live_fg is not None:
+            live_fg.stop()
         if bus is not None:
             bus.shutdown()
     print("\n".join(mon.summary_lines()), file=out)

@@ -7,6 +7,8 @@ exits non-zero with a message on the first check that fails.
     python operator_scenario.py BUILD_BIN_DIR WORK_DIR
 """
 
+import json
+import re
 import subprocess
 import sys
 import time
@@ -78,15 +80,47 @@ for _ in range(2):
     rc, out = operator("start")
     if rc != 0 or "mode RUNNING" not in out:
         fail("a second start must be accepted (the counter scheme)")
+watch_log = start("watch", [sys.executable, "-m", "dynaqpc_tools.operator", "watch", "--duration", "40"])
+time.sleep(1.0)
 rc, out = operator("save")
-if rc != 0 or "FW_STATUS" not in out:
-    fail("save must be answered by a FW_STATUS")
-rc, out = operator("stop")
-if rc != 0 or "mode IDLE" not in out:
-    fail("stop must leave the firmware IDLE")
+m = re.search(r"SAVE_LEARNED: done, record (\d+) written \((\d+) episodes\)", out)
+if rc != 0 or not m:
+    fail("save must be answered: done, with the record's sequence number and episodes")
 rc, out = operator("reset")
-if rc != 0 or "mode IDLE" not in out:
-    fail("reset must leave the firmware IDLE")
+if rc != 1 or "refused, NOT_IDLE" not in out:
+    fail("reset of a running robot must be refused (NOT_IDLE), exit 1")
+rc, out = operator("stop")
+if rc != 0 or "STOP: done" not in out or "mode IDLE" not in out:
+    fail("stop must leave the firmware IDLE")
+rc, out = operator("save", "--json")
+try:
+    saved = json.loads(out)
+except ValueError:
+    fail("save --json must print one JSON object")
+if rc != 0 or saved["answer"]["result"] != "DONE" or saved["exit"] != 0 or saved["answer"]["sequence"] < 1:
+    fail("save --json must carry the answer")
+learned_episodes = saved["answer"]["episodes"]
+# The issue's loss: reset then save. Learning was saved since boot, so reset wants --yes.
+rc, out = operator("reset")
+if rc != 1 or "refused, CONFIRM" not in out or "--yes" not in out:
+    fail("reset of learning saved since boot must be refused without --yes, naming it")
+rc, out = operator("reset", "--yes")
+if rc != 0 or "RESET_LEARNING: done" not in out or "mode IDLE" not in out:
+    fail("reset --yes must wipe (FW_STATUS IDLE)")
+rc, out = operator("save")
+if rc != 0 or "(0 episodes)" not in out:
+    fail("save after reset must save the wiped learning (0 episodes)")
+rc, out = operator("restore-previous", "--json")
+restored = json.loads(out)
+if rc != 0 or restored["answer"]["result"] != "DONE" or restored["answer"]["episodes"] != learned_episodes:
+    fail(f"restore-previous must bring back the {learned_episodes} episodes saved before the reset")
+rc, out = operator("save")
+if rc != 0 or f"({learned_episodes} episodes)" not in out:
+    fail("the restored learning must save again")
+rc, out = operator("ping")
+if rc != 0 or "NOP: done, newest record in flash" not in out or f"{learned_episodes} episodes learned" not in out:
+    fail("ping must be answered with the newest record and the episodes learned")
+time.sleep(0.5)
 
 for name, p, log in procs:
     p.terminate()
@@ -95,4 +129,15 @@ fwlog = open(fw, encoding="utf-8", errors="replace").read()
 print("--- fw\n" + fwlog[-1500:])
 if "saves=" not in fwlog or "saves=0 " in fwlog:
     fail("the firmware did not count the save")
+m = re.search(r"q_rows=(\d+)/", fwlog)
+if not m or int(m.group(1)) == 0:
+    fail("after reset, save and restore-previous the firmware must hold what it learned (q_rows > 0)")
+if "resets=1 restores=1" not in fwlog:
+    fail("the firmware must count one reset and one restore")
+watched = open(watch_log, encoding="utf-8", errors="replace").read()
+print("--- watch\n" + watched[-2500:])
+for want in ("TOOL_CMD SAVE_LEARNED", "TOOL_ACK counter", "RESET_LEARNING: refused, CONFIRM",
+             "RESTORE_PREVIOUS: done", "FW_STATUS mode RUNNING -> IDLE"):
+    if want not in watched:
+        fail(f"watch must show {want!r}")
 print("PASS")

@@ -51,8 +51,27 @@ def test_status_is_decoded_by_name():
     assert "mode SAFE_STOP" in text and "errors: PoseLost, Flash" in text and "DeadlineMiss=0" in text
 
 
+def test_answers_are_one_line_by_name():
+    db = cantools.database.load_file(DBC)
+    m = db.get_message_by_name("TOOL_ACK")
+    data = m.encode({"Command": "SAVE_LEARNED", "Counter": 5, "Result": "DONE", "Reason": "NONE",
+                     "Sequence": 7, "Episodes": 157})
+    ack = operator.decode_ack(db, data)
+    assert ack == {"command": "SAVE_LEARNED", "counter": 5, "result": "DONE", "reason": "NONE",
+                   "sequence": 7, "episodes": 157}
+    assert operator.ack_text(ack) == "SAVE_LEARNED: done, record 7 written (157 episodes)"
+    # Every reason the DBC names has words for the operator.
+    for value, name in m.get_signal_by_name("Reason").choices.items():
+        assert str(name) in operator.REASONS, name
+        text = operator.ack_text(dict(ack, result="REFUSED", reason=str(name), command="RESET_LEARNING"))
+        assert "\n" not in text and text.startswith(f"RESET_LEARNING: refused, {name}")
+    confirm = operator.ack_text(dict(ack, command="RESET_LEARNING", result="REFUSED", reason="CONFIRM"))
+    assert "--yes" in confirm and "restore-previous" in confirm
+
+
 @pytest.mark.parametrize("argv", [["start", "--heading", "360"], ["start", "--heading", "-1"],
-                                  ["status", "--timeout", "0"], ["jump"]])
+                                  ["status", "--timeout", "0"], ["jump"], ["watch", "--duration", "0"],
+                                  ["save", "--yes"], ["status", "--no-wait"], ["restore-previous", "x"]])
 def test_bad_arguments_are_one_line_and_status_2(argv, capsys):
     with pytest.raises(SystemExit) as e:
         rc = operator.main(argv)

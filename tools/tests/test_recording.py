@@ -49,13 +49,29 @@ def _write_asc(path, msgs):
             log(m)
 
 
-def read_mcap(path):
+def _decoder(schema):
+    """Decodes a message as Foxglove does: JSON, or protobuf through the schema's FileDescriptorSet."""
+    if schema.encoding != "protobuf":
+        return json.loads
+    from google.protobuf import descriptor_pb2, descriptor_pool, json_format, message_factory
+
+    pool = descriptor_pool.DescriptorPool()
+    for f in descriptor_pb2.FileDescriptorSet.FromString(schema.data).file:
+        pool.Add(f)
+    cls = message_factory.GetMessageClass(pool.FindMessageTypeByName(schema.name))
+    return lambda data: json_format.MessageToDict(cls.FromString(data), preserving_proto_field_name=True,
+                                                  always_print_fields_with_no_presence=True)
+
+
+def read_mcap(path, with_sequence=False):
     with open(path, "rb") as f:
         r = make_reader(f)
         summary = r.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
         schemas = {s.id: s for s in summary.schemas.values()}
-        msgs = [(ch.topic, m.log_time, json.loads(m.data)) for _, ch, m in r.iter_messages()]
+        decoders = {sid: _decoder(s) for sid, s in schemas.items()}
+        msgs = [(ch.topic, m.log_time, decoders[ch.schema_id](m.data)) + ((m.sequence,) if with_sequence else ())
+                for _, ch, m in r.iter_messages()]
     return channels, schemas, msgs
 
 
@@ -71,6 +87,14 @@ def test_mcap_has_decoded_channels_pose_arena_in_robot_time(tmp_path, capsys):
         assert topic in channels, topic
     assert schemas[channels["/robot/pose"].schema_id].name == "foxglove.PoseInFrame"
     assert schemas[channels["/arena"].schema_id].name == "foxglove.SceneUpdate"
+    assert schemas[channels["/tf"].schema_id].name == "foxglove.FrameTransforms"
+    # Foxglove's published schemas, as foxglove-sdk has them, byte for byte.
+    from foxglove.messages import FrameTransforms, PoseInFrame, SceneUpdate
+
+    for topic, kind in (("/robot/pose", PoseInFrame), ("/arena", SceneUpdate), ("/tf", FrameTransforms)):
+        sch = schemas[channels[topic].schema_id]
+        assert (sch.encoding, bytes(sch.data)) == ("protobuf", bytes(kind.get_schema().data)), topic
+        assert channels[topic].message_encoding == "protobuf"
     assert schemas[channels["/can/FW_STATUS"].schema_id].encoding == "jsonschema"
     by = {}
     for topic, t, d in msgs:
@@ -83,6 +107,16 @@ def test_mcap_has_decoded_channels_pose_arena_in_robot_time(tmp_path, capsys):
     assert len(poses) == 16 and all(p["pose"]["position"]["x"] > 0.9 for p in poses)
     assert poses[0]["frame_id"] == "arena" and poses[0]["pose"]["orientation"]["w"] == pytest.approx(0.5 ** 0.5)
     assert len(by["/robot/true_pose"]) == 1
+    # /tf: arena -> base_link for each pose, arena -> true_base_link for the true one.
+    tf = [(x["parent_frame_id"], x["child_frame_id"]) for _, d in by["/tf"] for x in d["transforms"]]
+    assert tf.count(("arena", "base_link")) == 16 and tf.count(("arena", "true_base_link")) == 1
+    # Sequences counted per channel from 1.
+    _, _, seq = read_mcap(rec, with_sequence=True)
+    per = {}
+    for topic, _, _, n in seq:
+        per.setdefault(topic, []).append(n)
+    for topic, ns in per.items():
+        assert ns == list(range(1, len(ns) + 1)), topic
     # Robot time: the 10x run's 0.0192 s between poses becomes the DBC's 192 ms.
     ts = [t for t, _ in by["/can/TLM_POSE"]]
     assert (ts[1] - ts[0]) * 1e-9 == pytest.approx(0.192, abs=1e-6)
@@ -172,7 +206,7 @@ def test_recording_paper_sim_reads_back_with_the_mcap_library(tmp_path):
     channels, _, msgs = read_mcap(rec)
     topics = {t for t, _, _ in msgs}
     assert len(channels) >= 5 and len(msgs) >= 500, (len(channels), len(msgs))
-    assert {"/can/raw", "/can/MOTOR_CMD", "/can/GPS_POSE", "/can/FW_STATUS", "/robot/true_pose"} <= topics
+    assert {"/can/raw", "/can/MOTOR_CMD", "/can/GPS_POSE", "/can/FW_STATUS", "/robot/true_pose", "/tf"} <= topics
     # Robot time: 4 s of wall time at 10x span about 40 s.
     times = [t for _, t, _ in msgs]
     assert 25 < (max(times) - min(times)) * 1e-9 < 45

@@ -6,6 +6,7 @@
 // number overflowed. The saturation limits come from the DBC (documented there per signal).
 #include "drivers/telemetry.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "dynaqpc_can.h"
@@ -61,6 +62,26 @@ void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out
     (void)dynaqpc_can_tlm_sched_pack(out->data, &m, sizeof out->data);
 }
 
+void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tlm_value_t m;
+    const float v = value->value * 10.0f;
+    int32_t raw = 0;
+    if (v >= 32767.0f) {
+        raw = 32767;
+    } else if (v <= -32768.0f) {
+        raw = -32768;
+    } else if (v == v) {  // NaN as 0
+        raw = (int32_t)lrintf(v);
+    }
+    m.state = min_u32(value->state, 0xFFFFFFu);
+    m.action = (uint8_t)min_u32(value->action, 15u);
+    m.value = (int16_t)raw;
+    m.counter = can_link_tx_counter_next(&tlm->value_counter);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TLM_VALUE_FRAME_ID, DYNAQPC_CAN_TLM_VALUE_LENGTH);
+    (void)dynaqpc_can_tlm_value_pack(out->data, &m, sizeof out->data);
+}
+
 void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
 {
     struct dynaqpc_can_tlm_episode_t m;
@@ -90,6 +111,19 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
     m.counter = can_link_tx_counter_next(&tlm->status_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH);
     (void)dynaqpc_can_fw_status_pack(out->data, &m, sizeof out->data);
+}
+
+void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out)
+{
+    struct dynaqpc_can_tool_ack_t m;
+    m.command = ack->command;
+    m.counter = (uint8_t)(ack->counter & 0x0Fu);
+    m.result = (uint8_t)min_u32(ack->result, TLM_ACK_FAILED);
+    m.reason = (uint8_t)min_u32(ack->reason, TLM_WHY_RECORD_DAMAGED);
+    m.sequence = min_u32(ack->sequence, 0xFFFFFFu);
+    m.episodes = (uint16_t)min_u32(ack->episodes, 0xFFFFu);
+    can_link_frame_prepare(out, DYNAQPC_CAN_TOOL_ACK_FRAME_ID, DYNAQPC_CAN_TOOL_ACK_LENGTH);
+    (void)dynaqpc_can_tool_ack_pack(out->data, &m, sizeof out->data);
 }
 
 int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *out)
@@ -208,5 +242,36 @@ int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
                             (m.err_flash ? TLM_ERR_FLASH : 0u) |
                             (m.err_deadline_miss ? TLM_ERR_DEADLINE_MISS : 0u));
     out->uptime_s = m.uptime;
+    return FW_OK;
+}
+
+int tlm_decode_ack(const hal_can_frame_t *frame, tlm_ack_t *out)
+{
+    struct dynaqpc_can_tool_ack_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TOOL_ACK_FRAME_ID, DYNAQPC_CAN_TOOL_ACK_LENGTH) ||
+        dynaqpc_can_tool_ack_unpack(&m, frame->data, frame->dlc) != 0 ||
+        !dynaqpc_can_tool_ack_result_is_in_range(m.result) ||
+        !dynaqpc_can_tool_ack_reason_is_in_range(m.reason)) {
+        return FW_ERR_INVAL;
+    }
+    out->command = m.command;
+    out->counter = m.counter;
+    out->result = m.result;
+    out->reason = m.reason;
+    out->sequence = m.sequence;
+    out->episodes = m.episodes;
+    return FW_OK;
+}
+
+int tlm_decode_value(const hal_can_frame_t *frame, tlm_value_t *out)
+{
+    struct dynaqpc_can_tlm_value_t m;
+    if (!can_link_frame_is(frame, DYNAQPC_CAN_TLM_VALUE_FRAME_ID, DYNAQPC_CAN_TLM_VALUE_LENGTH) ||
+        dynaqpc_can_tlm_value_unpack(&m, frame->data, frame->dlc) != 0) {
+        return FW_ERR_INVAL;
+    }
+    out->state = m.state;
+    out->action = m.action;
+    out->value = (float)m.value * 0.1f;
     return FW_OK;
 }

@@ -54,6 +54,8 @@ static bool header_valid_(const learned_header_t *h)
            h->header_crc == header_crc_(h);
 }
 
+static void load_slot_(learned_store_t *st, agent_t *ag, uint32_t best, uint32_t *episodes);
+
 static bool newer_(uint32_t a, uint32_t b)
 {
     return (int32_t)(a - b) > 0;
@@ -225,8 +227,15 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
     uint32_t slot;
     if (state[0] == LEARNED_SLOT_GOOD || state[1] == LEARNED_SLOT_GOOD) {
         const bool both = state[0] == LEARNED_SLOT_GOOD && state[1] == LEARNED_SLOT_GOOD;
-        const uint32_t keep = both ? (newer_(seq[1], seq[0]) ? 1u : 0u)
-                                   : (state[0] == LEARNED_SLOT_GOOD ? 0u : 1u);
+        uint32_t keep = state[0] == LEARNED_SLOT_GOOD ? 0u : 1u;
+        if (both) {
+            // Of two good records keep the one with more episodes, of equals the newer: learning
+            // only adds episodes, so the one with fewer started over (RESET_LEARNING) and the
+            // record from before the wipe stays until learning passes it or it is restored.
+            const uint32_t e0 = slot_header_(st, 0)->episodes;
+            const uint32_t e1 = slot_header_(st, 1)->episodes;
+            keep = e0 != e1 ? (e1 > e0 ? 1u : 0u) : (newer_(seq[1], seq[0]) ? 1u : 0u);
+        }
         slot = 1u - keep;
     } else {
         static const uint8_t rank[] = {0u, 0u, 2u, 1u, 3u};  // by learned_slot_state_t
@@ -279,9 +288,6 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
 
 int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
 {
-    agent_region_t regions[AGENT_MAX_REGIONS];
-    uint32_t n, payload;
-    (void)layout_of_(ag, regions, &n, &payload);
     learned_slot_state_t state[2];
     uint32_t seq[2] = {0, 0};
     for (uint32_t i = 0; i < 2u; i++) {
@@ -305,8 +311,62 @@ int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
         st->fell_back = true;  // perhaps the newer record; anyway something was lost
         st->fallbacks++;
     }
-    // Checked in place above; the copy is from memory and cannot fail half way.
-    const uint32_t base = (uint32_t)best * st->slot_size;
+    load_slot_(st, ag, (uint32_t)best, episodes);
+    return FW_OK;
+}
+
+int learned_store_restore_previous(learned_store_t *st, agent_t *ag, uint32_t *sequence, uint32_t *episodes)
+{
+    learned_slot_state_t state[2];
+    uint32_t seq[2] = {0, 0};
+    for (uint32_t i = 0; i < 2u; i++) {
+        state[i] = learned_store_slot_state(st, ag, i, &seq[i]);
+    }
+    // The newest whole record of this layout (good or not) is the current one; the other slot
+    // holds the previous.
+    int32_t newest = -1;
+    for (uint32_t i = 0; i < 2u; i++) {
+        if ((state[i] == LEARNED_SLOT_GOOD || state[i] == LEARNED_SLOT_REFUSED) &&
+            (newest < 0 || newer_(seq[i], seq[newest]))) {
+            newest = (int32_t)i;
+        }
+    }
+    if (newest < 0) {
+        return FW_ERR_NOENT;
+    }
+    const uint32_t prev = 1u - (uint32_t)newest;
+    if (state[prev] == LEARNED_SLOT_REFUSED || state[prev] == LEARNED_SLOT_DAMAGED) {
+        return FW_ERR_CORRUPT;
+    }
+    if (state[prev] != LEARNED_SLOT_GOOD) {
+        return FW_ERR_NOENT;
+    }
+    load_slot_(st, ag, prev, episodes);
+    if (sequence != NULL) {
+        *sequence = seq[prev];
+    }
+    return FW_OK;
+}
+
+bool learned_store_newest(const learned_store_t *st, uint32_t *sequence, uint32_t *episodes)
+{
+    const learned_header_t *h = st->newest < 0 ? NULL : slot_header_(st, (uint32_t)st->newest);
+    if (h == NULL) {
+        return false;
+    }
+    *sequence = h->sequence;
+    *episodes = h->episodes;
+    return true;
+}
+
+// Copies a slot that learned_store_slot_state() found GOOD into the agent.
+static void load_slot_(learned_store_t *st, agent_t *ag, uint32_t best, uint32_t *episodes)
+{
+    agent_region_t regions[AGENT_MAX_REGIONS];
+    uint32_t n, payload;
+    (void)layout_of_(ag, regions, &n, &payload);
+    // Checked in place by the caller; the copy is from memory and cannot fail half way.
+    const uint32_t base = best * st->slot_size;
     const learned_header_t *h = (const learned_header_t *)hal_flash_map(base, sizeof *h);
     const uint8_t *bytes = (const uint8_t *)hal_flash_map(base + header_span_(st), payload);
     uint32_t offset = 0;
@@ -316,9 +376,8 @@ int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
     }
     agent_learned_restored(ag);
     st->loads++;
-    st->restored_slot = best;
+    st->restored_slot = (int32_t)best;
     if (episodes != NULL) {
         *episodes = h->episodes;
     }
-    return FW_OK;
 }

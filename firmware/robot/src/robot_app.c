@@ -9,6 +9,7 @@
 
 #include "drivers/candev.h"
 #include "drivers/cricket.h"
+#include "dynaqpc_can.h"
 #include "fw/fw_base.h"
 #include "hal/hal_can.h"
 #include "hal/hal_cpu.h"
@@ -47,6 +48,11 @@ typedef struct robot_app {
     bool moved_last_period;   // the wheels were commanded to move in the last period
     uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
     uint8_t status_counter;
+    hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
+    bool have_ack;
+    bool wiped_unsaved;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
+    agent_state_t prev_state; // the last TLM_LEARN's state: the next real step updates its Q row
+    bool have_prev_state;
     robot_app_stats_t stats;
     uint64_t boot_us;
     uint64_t period_start_idle_us;
@@ -96,6 +102,7 @@ static void on_uart_isr_(void *ctx)
 static void note_save_(int err)
 {
     if (err == FW_OK) {
+        app_.wiped_unsaved = false;
         app_.stats.saves++;
         app_.flash_fault = false;
     } else {
@@ -104,8 +111,38 @@ static void note_save_(int err)
     }
 }
 
-static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
+static void send_(const hal_can_frame_t *f)
 {
+    if (hal_can_send(f) != FW_OK) {
+        app_.stats.frames_tx_dropped++;
+    }
+}
+
+// Sends TOOL_ACK and keeps it: a repeated command frame (the same Counter) gets it again.
+static void answer_(tlm_ack_t *ack)
+{
+    if (ack->result == TLM_ACK_REFUSED) {
+        app_.stats.tool_refused++;
+    }
+    app_.stats.tool_answers++;
+    tlm_encode_ack(ack, &app_.last_ack);
+    app_.have_ack = true;
+    send_(&app_.last_ack);
+}
+
+static uint8_t save_reason_(int err)
+{
+    return err == FW_ERR_NOSYS ? TLM_WHY_NO_STORE : err == FW_ERR_NOMEM ? TLM_WHY_NO_ROOM : TLM_WHY_FLASH_ERROR;
+}
+
+static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
+{
+    tlm_ack_t ack = {cmd->command, counter, TLM_ACK_DONE, TLM_WHY_NONE, 0u, app_.ctrl.episode};
+    if (app_.store_ok) {
+        uint32_t episodes;
+        (void)learned_store_newest(&app_.store, &ack.sequence, &episodes);
+    }
+#define REFUSE(why) (ack.result = TLM_ACK_REFUSED, ack.reason = (why))
     switch (cmd->command) {
     case TLM_CMD_START_EPISODE:
         // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
@@ -126,21 +163,128 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd)
     // operator has stopped first, so no single stray frame erases it mid-run.
     case TLM_CMD_SAVE_LEARNED:
         if (app_.opt.evaluate) {
-            app_.stats.tool_refused++;
+            REFUSE(TLM_WHY_EVALUATE_MODE);
+        } else if (app_.ctrl.mode == ROBOT_MODE_ACTING && app_.opt.cfg->wait_for_fix) {
+            // A robot that stands still between actions saves while it stands, as at an episode's
+            // end: erasing flash stalls the MCU for longer than the motor timeout. (One that never
+            // stands mid-episode, the simulated robot, saves at once.)
+            REFUSE(TLM_WHY_BUSY);
         } else {
-            note_save_(app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
-                                     : FW_ERR_NOSYS);
+            const int err = app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
+                                          : FW_ERR_NOSYS;
+            note_save_(err);
+            if (err == FW_OK) {
+                ack.sequence = app_.store.newest_sequence;
+            } else {
+                ack.result = TLM_ACK_FAILED;
+                ack.reason = save_reason_(err);
+            }
         }
         break;
     case TLM_CMD_RESET_LEARNING:
-        if (app_.opt.evaluate || app_.ctrl.mode != ROBOT_MODE_IDLE) {
-            app_.stats.tool_refused++;
+        if (app_.opt.evaluate) {
+            REFUSE(TLM_WHY_EVALUATE_MODE);
+        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE) {
+            REFUSE(TLM_WHY_NOT_IDLE);
+        } else if ((app_.stats.saves > 0u || app_.stats.restore_result == FW_OK) &&
+                   cmd->argument != TLM_RESET_CONFIRM) {
+            REFUSE(TLM_WHY_CONFIRM);  // learning saved since boot, or restored at it: the operator must say so
         } else {
-            agent_reset(app_.opt.agent, app_.opt.seed);
+            // What is wiped is saved first (the robot stands: the time to write flash), so the
+            // newest record is that learning and RESTORE_PREVIOUS undoes the wipe. The saves of
+            // the new learning (episodes from 0 again) keep it (learned_store.h). A copy that
+            // cannot be written leaves the learning as it was. A second wipe before any save keeps
+            // the first one's copy as the newest record (the agent holds only the unsaved remains).
+            const bool copy = app_.store_ok && !app_.wiped_unsaved;
+            const int err = copy ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) : FW_OK;
+            if (copy) {
+                note_save_(err);
+            }
+            if (err != FW_OK) {
+                ack.result = TLM_ACK_FAILED;
+                ack.reason = save_reason_(err);
+            } else {
+                if (app_.store_ok) {
+                    ack.sequence = app_.store.newest_sequence;
+                }
+                agent_reset(app_.opt.agent, app_.opt.seed);
+                app_.wiped_unsaved = app_.store_ok;
+                app_.ctrl.episode = 0;
+                app_.stats.resets++;
+                ack.episodes = 0;
+            }
         }
         break;
-    default:
+    case TLM_CMD_RESTORE_PREVIOUS:
+        if (app_.opt.evaluate) {
+            REFUSE(TLM_WHY_EVALUATE_MODE);
+        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE) {
+            REFUSE(TLM_WHY_NOT_IDLE);
+        } else if (!app_.store_ok) {
+            ack.result = TLM_ACK_FAILED;
+            ack.reason = TLM_WHY_NO_STORE;
+        } else {
+            // After a wipe not saved over since, the newest record is the learning it wiped (saved
+            // by RESET_LEARNING); otherwise the record before the newest, which after a wipe and
+            // saves of the new learning is still the wiped learning (learned_store.h).
+            uint32_t episodes = 0;
+            int err;
+            if (app_.wiped_unsaved) {
+                err = learned_store_load(&app_.store, app_.opt.agent, &episodes);
+                if (err == FW_OK) {
+                    (void)learned_store_slot_state(&app_.store, app_.opt.agent, (uint32_t)app_.store.restored_slot,
+                                                   &ack.sequence);
+                }
+            } else {
+                err = learned_store_restore_previous(&app_.store, app_.opt.agent, &ack.sequence, &episodes);
+            }
+            if (err == FW_OK) {
+                app_.wiped_unsaved = false;
+                app_.ctrl.episode = episodes;
+                ack.episodes = episodes;
+                app_.stats.restores++;
+                // Saved at once as the newest record, so a reboot boots what was restored (the
+                // store keeps the other record: the one with more episodes, or the older).
+                const int serr = learned_store_save(&app_.store, app_.opt.agent, episodes);
+                note_save_(serr);
+                if (serr != FW_OK) {
+                    ack.result = TLM_ACK_FAILED;
+                    ack.reason = save_reason_(serr);
+                }
+            } else if (err == FW_ERR_NOENT) {
+                REFUSE(TLM_WHY_NO_PREVIOUS);
+            } else {
+                ack.result = TLM_ACK_FAILED;
+                ack.reason = TLM_WHY_RECORD_DAMAGED;
+            }
+        }
         break;
+    default:  // NOP
+        break;
+    }
+#undef REFUSE
+    answer_(&ack);
+}
+
+// A TOOL_CMD the driver refused: a repeat gets the last answer again; a whole frame whose Crc or
+// Command is wrong gets REFUSED MALFORMED (Command and Counter as read); anything else, nothing.
+static void answer_refused_frame_(const hal_can_frame_t *f, int err)
+{
+    if (f->id != DYNAQPC_CAN_TOOL_CMD_FRAME_ID || (f->flags & (HAL_CAN_FLAG_EXTENDED | HAL_CAN_FLAG_REMOTE)) != 0u) {
+        return;
+    }
+    if (err == FW_ERR_NOENT) {
+        if (app_.have_ack) {
+            send_(&app_.last_ack);
+        }
+    } else if (f->dlc == DYNAQPC_CAN_TOOL_CMD_LENGTH) {
+        struct dynaqpc_can_tool_cmd_t m;
+        (void)dynaqpc_can_tool_cmd_unpack(&m, f->data, f->dlc);
+        const tlm_ack_t ack = {m.command, m.counter, TLM_ACK_REFUSED, TLM_WHY_MALFORMED, 0u, app_.ctrl.episode};
+        hal_can_frame_t out;
+        app_.stats.tool_malformed++;
+        tlm_encode_ack(&ack, &out);  // not kept: a repeat of the last good command gets its answer
+        send_(&out);
     }
 }
 
@@ -151,13 +295,14 @@ static void on_can_event_(const sched_event_t *ev, void *ctx)
     const int r = candev_rx(&app_.dev, &ev->u.can, hal_time_us(), &cmd);
     if (r < 0) {
         app_.stats.frames_bad += r == FW_ERR_INVAL ? 1u : 0u;
+        answer_refused_frame_(&ev->u.can, r);
         return;
     }
     app_.stats.frames_rx++;
     if (r == CANDEV_RX_MOTOR && (app_.dev.motor.status.bump_front || app_.dev.motor.status.bump_rear)) {
         app_.bump_latch = true;
     } else if (r == CANDEV_RX_TOOL_CMD) {
-        handle_tool_cmd_(&cmd);
+        handle_tool_cmd_(&cmd, app_.dev.tlm.tool_rx.counter);
     }
 }
 
@@ -180,13 +325,6 @@ static void on_uart_event_(const sched_event_t *ev, void *ctx)
 }
 
 // ---- The control task ---------------------------------------------------------------------------
-
-static void send_(const hal_can_frame_t *f)
-{
-    if (hal_can_send(f) != FW_OK) {
-        app_.stats.frames_tx_dropped++;
-    }
-}
 
 static uint8_t sense_(robot_sense_t *in, uint64_t now)
 {
@@ -263,6 +401,16 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
         const tlm_learn_t learn = {st->state, st->action, (int32_t)lrintf(st->reward), app_.ctrl.episode, st->step};
         tlm_encode_learn(&app_.dev.tlm, &learn, &f);
         send_(&f);
+        // The value map as it changes: the state this real step's update changed (the previous
+        // step's), its greedy action and V. A start state (step 0) changed nothing.
+        if (st->step >= 1u && app_.have_prev_state && app_.ctrl.learning) {
+            const uint8_t g = agent_greedy(app_.opt.agent, app_.prev_state);
+            const tlm_value_t tv = {app_.prev_state, g, agent_q(app_.opt.agent, app_.prev_state, g)};
+            tlm_encode_value(&app_.dev.tlm, &tv, &f);
+            send_(&f);
+        }
+        app_.prev_state = st->state;
+        app_.have_prev_state = true;
     }
     sched_stats_t ss;
     sched_get_stats(&app_.sched, &ss);

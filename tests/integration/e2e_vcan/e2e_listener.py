@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """The tool's end of the end-to-end test: listens on the virtual CAN bus with python-can, decodes
 the firmware's telemetry with docs/dynaqpc.dbc (cantools), and checks that the robot completed
-episodes and that each TLM_EPISODE agrees with the TLM_LEARN frames of its steps; with
+episodes, that each TLM_EPISODE agrees with the TLM_LEARN frames of its steps, and that every
+TOOL_CMD on the bus (the supervisor's START_EPISODE) was answered by a TOOL_ACK; with
 --idle-planning, that TLM_SCHED reports planning updates (PlanUpdates > 0 in some frame). Deadline misses are reported, not failed: on a shared host they are the host's.
 
 Prints "ready" once it has joined the bus. Exit 0: --episodes episodes seen and consistent;
@@ -32,6 +33,10 @@ def main() -> int:
     pose_id = db.get_message_by_name("TLM_POSE").frame_id
     learn_id = db.get_message_by_name("TLM_LEARN").frame_id
     episode_id = db.get_message_by_name("TLM_EPISODE").frame_id
+    cmd_id = db.get_message_by_name("TOOL_CMD").frame_id
+    ack_id = db.get_message_by_name("TOOL_ACK").frame_id
+    pending = {}       # (Command, Counter) of a TOOL_CMD not answered yet -> when seen
+    answered = 0
     sched_id = db.get_message_by_name("TLM_SCHED").frame_id
     bump_r, goal_r, step_r = args.rewards
 
@@ -67,6 +72,13 @@ def main() -> int:
             elif msg.arbitration_id == learn_id:
                 m = db.decode_message(learn_id, msg.data, decode_choices=False)
                 learns.setdefault(int(m["Episode"]), []).append(m)
+            elif msg.arbitration_id == cmd_id:
+                c = db.decode_message(cmd_id, msg.data, decode_choices=False)
+                pending[(int(c["Command"]), int(c["Counter"]))] = time.monotonic()
+            elif msg.arbitration_id == ack_id:
+                a = db.decode_message(ack_id, msg.data, decode_choices=False)
+                if pending.pop((int(a["Command"]), int(a["Counter"])), None) is not None:
+                    answered += 1
             elif msg.arbitration_id == episode_id:
                 e = db.decode_message(episode_id, msg.data, decode_choices=False)
                 episodes.append(e)
@@ -78,6 +90,11 @@ def main() -> int:
         problems.append(f"only {len(episodes)} of {args.episodes} episodes ended within {args.timeout} s")
     if poses == 0:
         problems.append("no TLM_POSE frame seen")
+    if answered == 0:
+        problems.append("no TOOL_CMD answered by a TOOL_ACK")
+    stale = [k for k, t in pending.items() if time.monotonic() - t > 2.0]
+    if stale:
+        problems.append(f"TOOL_CMDs (command, counter) never answered: {stale}")
     if poses_outside:
         problems.append(f"{poses_outside} fresh TLM_POSE frames outside the arena")
     if args.idle_planning:
@@ -132,8 +149,9 @@ def main() -> int:
         print("FAIL:", p, flush=True)
     if not problems:
         print(f"ok: {len(episodes)} episodes consistent with {sum(len(v) for v in learns.values())} TLM_LEARN frames, "
-              f"{poses} TLM_POSE frames; TLM_SCHED: {scheds} frames, {sched_planning} with planning updates, "
-              f"{plan_updates} planning updates, {max_misses} deadline misses", flush=True)
+              f"{poses} TLM_POSE frames, {answered} TOOL_CMDs answered; TLM_SCHED: {scheds} frames, "
+              f"{sched_planning} with planning updates, {plan_updates} planning updates, {max_misses} deadline misses",
+              flush=True)
     return 1 if problems else 0
 
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "robot/agent_profiles.h"
+#include "robot/learned_digest.h"
 #include "drivers/candev.h"
 #include "drivers/gps.h"
 #include "drivers/gyro.h"
@@ -128,6 +129,12 @@ static uint8_t ctr_[6];
 static tlm_status_t last_status_;
 static uint32_t statuses_;
 static uint8_t seen_errors_;  // every flag any FW_STATUS showed since it was last cleared
+static tlm_ack_t acks_[32];   // TOOL_ACKs sent, in order
+static hal_can_frame_t ack_frames_[32];
+static uint32_t n_acks_;
+// TLM_LEARN and TLM_VALUE in the order sent: kind 'L' or 'V'.
+static struct { char kind; tlm_learn_t learn; tlm_value_t value; } tlm_seen_[512];
+static uint32_t n_tlm_;
 
 static void devices_talk_(void)
 {
@@ -178,6 +185,15 @@ static void live_for_(uint32_t ms)
                     assert_int_equal(tlm_decode_status(&f, &last_status_), FW_OK);
                     seen_errors_ |= last_status_.errors;
                     statuses_++;
+                } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && n_tlm_ < 512u) {
+                    tlm_seen_[n_tlm_].kind = 'L';
+                    assert_int_equal(tlm_decode_learn(&f, &tlm_seen_[n_tlm_++].learn), FW_OK);
+                } else if (f.id == DYNAQPC_CAN_TLM_VALUE_FRAME_ID && n_tlm_ < 512u) {
+                    tlm_seen_[n_tlm_].kind = 'V';
+                    assert_int_equal(tlm_decode_value(&f, &tlm_seen_[n_tlm_++].value), FW_OK);
+                } else if (f.id == DYNAQPC_CAN_TOOL_ACK_FRAME_ID && n_acks_ < 32u) {
+                    assert_int_equal(tlm_decode_ack(&f, &acks_[n_acks_]), FW_OK);
+                    ack_frames_[n_acks_++] = f;
                 }
             }
             const uint64_t wake = hal_host_wait_deadline();
@@ -193,20 +209,31 @@ static void live_for_(uint32_t ms)
     }
 }
 
-static void boot_(const robot_config_t *cfg, agent_t *ag, const agent_storage_t *storage)
+static void boot_opt_(const robot_config_t *cfg, agent_t *ag, const agent_storage_t *storage, bool evaluate,
+                      bool persist, bool keep_flash)
 {
-    hal_host_reset();
-    assert_int_equal(hal_host_flash_configure(128u * 1024u, 4, 4), FW_OK);
+    if (!keep_flash) {
+        hal_host_reset();
+        assert_int_equal(hal_host_flash_configure(128u * 1024u, 4, 4), FW_OK);
+    }
     robot_app_options_t opt = {0};
+    opt.evaluate = evaluate;
     opt.cfg = cfg;
     opt.agent = ag;
     opt.storage = storage;
     opt.seed = 1;
-    opt.persist = true;
+    opt.persist = persist;
     opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
     assert_int_equal(robot_app_init(&opt), FW_OK);
     memset(ctr_, 0, sizeof ctr_);
+    n_acks_ = 0;
+    n_tlm_ = 0;
     motor_on_ = gyro_on_ = ranges_on_ = gps_on_ = cricket_on_ = true;
+}
+
+static void boot_(const robot_config_t *cfg, agent_t *ag, const agent_storage_t *storage)
+{
+    boot_opt_(cfg, ag, storage, false, true, false);
 }
 
 // The flag after 1.5 s with the condition, and after 2.5 s without it.
@@ -305,6 +332,204 @@ static void test_tool_cmd_authority(void **state)
     assert_int_equal(st.tool_refused, 1);  // stopped first: taken
 }
 
+// ---- Answers: every TOOL_CMD gets a TOOL_ACK (can-protocol.md "Answers") ----------------------
+
+static uint8_t cmd_counter_;
+
+// Sends a command, lets the firmware run 100 ms, returns its answer (exactly one).
+static tlm_ack_t command_(uint8_t command, uint32_t argument)
+{
+    hal_can_frame_t f;
+    const tlm_tool_cmd_t c = {command, argument};
+    const uint8_t sent_counter = cmd_counter_;
+    assert_int_equal(tlm_encode_tool_cmd(&cmd_counter_, &c, &f), FW_OK);
+    const uint32_t before = n_acks_;
+    (void)hal_host_can_deliver(&f);
+    live_for_(100);
+    assert_int_equal(n_acks_, before + 1u);
+    const tlm_ack_t a = acks_[before];
+    assert_int_equal(a.command, command);
+    assert_int_equal(a.counter, sent_counter & 0x0Fu);
+    return a;
+}
+
+#define ASSERT_ANSWER(a, res, why) \
+    do { \
+        const tlm_ack_t ack_ = (a); \
+        assert_int_equal(ack_.result, (res)); \
+        assert_int_equal(ack_.reason, (why)); \
+    } while (0)
+
+static void live_until_mode_(robot_mode_t mode, bool equal)
+{
+    for (int i = 0; i < 200 && (robot_app_ctrl()->mode == mode) != equal; i++) {
+        live_for_(20);
+    }
+    assert_true((robot_app_ctrl()->mode == mode) == equal);
+}
+
+static void test_every_command_is_answered(void **state)
+{
+    (void)state;
+    // paper-sim's robot standing still between actions, as the lab robot does (wait_for_fix).
+    static robot_config_t stands;
+    stands = robot_config_paper_sim;
+    stands.wait_for_fix = 1;
+    boot_(&stands, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 3;
+    live_for_(300);
+    tlm_ack_t a = command_(TLM_CMD_NOP, 0);
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, 0);  // nothing in flash yet
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    // A save while the wheels drive an action is refused (busy); between actions it is done.
+    live_until_mode_(ROBOT_MODE_ACTING, true);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_REFUSED, TLM_WHY_BUSY);
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM), TLM_ACK_REFUSED, TLM_WHY_NOT_IDLE);
+    ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_REFUSED, TLM_WHY_NOT_IDLE);
+    live_until_mode_(ROBOT_MODE_ACTING, false);
+    a = command_(TLM_CMD_SAVE_LEARNED, 0);
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, 1);
+    live_for_(4000);  // more learning after the save
+    ASSERT_ANSWER(command_(TLM_CMD_SAFE_STOP, 0), TLM_ACK_DONE, TLM_WHY_NONE);
+    ASSERT_ANSWER(command_(TLM_CMD_STOP, 0), TLM_ACK_DONE, TLM_WHY_NONE);
+    // Learning was saved since boot: a wipe must be confirmed.
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 0), TLM_ACK_REFUSED, TLM_WHY_CONFIRM);
+    const uint32_t learned = learned_digest(&agent_paper_sim);
+    const uint32_t episodes = robot_app_ctrl()->episode;
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    const uint32_t saves = st.saves;  // the episodes' ends saved too
+    a = command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM);  // what it wipes is saved first
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    const uint32_t copy = a.sequence;
+    assert_true(copy >= 2u);
+    assert_int_equal(a.episodes, 0);
+    assert_int_not_equal(learned_digest(&agent_paper_sim), learned);
+    a = command_(TLM_CMD_SAVE_LEARNED, 0);  // the issue's `reset` then `save`
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, copy + 1u);
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // the wiped learning back, saved as copy + 2
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, copy);
+    assert_int_equal(a.episodes, episodes);
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);
+    assert_int_equal(command_(TLM_CMD_NOP, 0).sequence, copy + 2u);
+    // A wipe undone before any save: the copy the reset wrote (copy + 3) is the newest record.
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM), TLM_ACK_DONE, TLM_WHY_NONE);
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // saved again as copy + 4
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, copy + 3u);
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);
+    // Two wipes in a row: the second does not save the wiped agent over the undo.
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM), TLM_ACK_DONE, TLM_WHY_NONE);
+    a = command_(TLM_CMD_RESET_LEARNING, TLM_RESET_CONFIRM);
+    ASSERT_ANSWER(a, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(a.sequence, copy + 5u);  // the newest record: the first wipe's copy
+    a = command_(TLM_CMD_RESTORE_PREVIOUS, 0);  // saved again as copy + 6
+    assert_int_equal(a.sequence, copy + 5u);
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);
+    // A repeated frame (the same Counter) is not acted on and gets the same answer again.
+    hal_can_frame_t f;
+    const tlm_tool_cmd_t again = {TLM_CMD_RESTORE_PREVIOUS, 0};
+    uint8_t same = (uint8_t)(cmd_counter_ - 1u);
+    assert_int_equal(tlm_encode_tool_cmd(&same, &again, &f), FW_OK);
+    uint32_t before = n_acks_;
+    robot_app_get_stats(&st);
+    const uint32_t restores = st.restores;
+    (void)hal_host_can_deliver(&f);
+    live_for_(100);
+    assert_int_equal(n_acks_, before + 1u);
+    assert_memory_equal(ack_frames_[before].data, ack_frames_[before - 1u].data, 8);
+    robot_app_get_stats(&st);
+    assert_int_equal(st.restores, restores);
+    // A whole frame with a bad Crc: refused, MALFORMED, its Command and Counter as read.
+    const tlm_tool_cmd_t save = {TLM_CMD_SAVE_LEARNED, 0};
+    uint8_t c9 = 9;
+    assert_int_equal(tlm_encode_tool_cmd(&c9, &save, &f), FW_OK);
+    f.data[6] ^= 0xFFu;
+    before = n_acks_;
+    (void)hal_host_can_deliver(&f);
+    live_for_(100);
+    assert_int_equal(n_acks_, before + 1u);
+    assert_int_equal(acks_[before].command, TLM_CMD_SAVE_LEARNED);
+    assert_int_equal(acks_[before].counter, 9);
+    ASSERT_ANSWER(acks_[before], TLM_ACK_REFUSED, TLM_WHY_MALFORMED);
+    robot_app_get_stats(&st);
+    assert_int_equal(st.saves, saves + 7u);  // not acted on
+    // A reboot restores the learning: a wipe of it must be confirmed, though nothing was saved since.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 0), TLM_ACK_REFUSED, TLM_WHY_CONFIRM);
+    // Evaluate mode: the learned store is locked.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, true, true, true);
+    cmd_counter_ = 0;
+    live_for_(300);
+    a = command_(TLM_CMD_NOP, 0);
+    assert_int_equal(a.sequence, copy + 6u);  // the newest record in flash
+    assert_int_equal(learned_digest(&agent_paper_sim), learned);  // a reboot boots what was restored
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 1), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);
+    ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_REFUSED, TLM_WHY_EVALUATE_MODE);
+    // No flash store: a save fails, saying so; nothing was saved, so a reset needs no confirmation.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, false, false);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_FAILED, TLM_WHY_NO_STORE);
+    ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_FAILED, TLM_WHY_NO_STORE);
+    ASSERT_ANSWER(command_(TLM_CMD_RESET_LEARNING, 0), TLM_ACK_DONE, TLM_WHY_NONE);
+    // A flash that fails: FAILED FLASH_ERROR.
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 0;
+    live_for_(300);
+    hal_host_flash_cut_power_after(0);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_FAILED, TLM_WHY_FLASH_ERROR);
+    hal_host_flash_restore_power();
+    ASSERT_ANSWER(command_(TLM_CMD_RESTORE_PREVIOUS, 0), TLM_ACK_REFUSED, TLM_WHY_NO_PREVIOUS);
+}
+
+// TLM_VALUE: each real step (TLM_LEARN Step >= 1) is followed by the value of the state the step
+// before it reported, the state whose Q row the step updated; none while evaluating.
+static void test_value_frames_follow_the_steps(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(8000);
+    uint32_t learns = 0, values = 0;
+    const tlm_learn_t *prev = NULL;
+    for (uint32_t i = 0; i < n_tlm_; i++) {
+        if (tlm_seen_[i].kind == 'L') {
+            const tlm_learn_t *l = &tlm_seen_[i].learn;
+            if (l->step >= 1u) {
+                assert_true(prev != NULL);
+                assert_true(i + 1u < n_tlm_);
+                assert_int_equal(tlm_seen_[i + 1u].kind, 'V');
+                assert_int_equal(tlm_seen_[i + 1u].value.state, prev->state);
+                assert_true(tlm_seen_[i + 1u].value.action < 4u);  // paper-sim's four actions
+                values++;
+            }
+            prev = l;
+            learns++;
+        }
+    }
+    assert_true(learns >= 5u);
+    assert_true(values >= 4u);
+    // Evaluating: nothing is updated, nothing is sent.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, true, true, true);
+    cmd_counter_ = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(4000);
+    for (uint32_t i = 0; i < n_tlm_; i++) {
+        assert_int_not_equal(tlm_seen_[i].kind, 'V');
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -313,6 +538,8 @@ int main(void)
         cmocka_unit_test(test_silences_raise_and_clear_their_flags),
         cmocka_unit_test(test_counting_faults_raise_for_a_period),
         cmocka_unit_test(test_tool_cmd_authority),
+        cmocka_unit_test(test_every_command_is_answered),
+        cmocka_unit_test(test_value_frames_follow_the_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -216,10 +216,10 @@ static void test_tool_cmd_crc_and_repeats(void **state)
     assert_int_equal(candev_rx(&bus, &f, 3u, &got), FW_ERR_INVAL);
     assert_int_equal(bus.tlm.tool_rx.malformed, 1);
     // An unknown command is refused on both sides.
-    const tlm_tool_cmd_t unknown = {.command = 6, .argument = 0};
+    const tlm_tool_cmd_t unknown = {.command = 7, .argument = 0};
     assert_int_equal(tlm_encode_tool_cmd(&counter, &unknown, &f), FW_ERR_INVAL);
     assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
-    f.data[0] = 6;
+    f.data[0] = 7;
     f.data[6] = can_link_crc8(f.id, f.data, 6);
     assert_int_equal(candev_rx(&bus, &f, 4u, &got), FW_ERR_INVAL);
 }

@@ -118,6 +118,78 @@ static void test_newest_of_two_wins_and_saves_alternate(void **state)
     assert_int_equal(learned_digest(&agent_), want);
 }
 
+// The data loss (#24): learning saved, then RESET_LEARNING and saves of the new learning
+// (the firmware counts episodes from 0 again). The record from before the wipe stays in flash
+// through any number of such saves, survives a reboot, and restore_previous brings it back; the
+// next save after the restore keeps it too.
+static void test_reset_then_saves_keep_the_previous_record(void **state)
+{
+    (void)state;
+    learned_store_t st;
+    assert_int_equal(learned_store_init(&st), FW_OK);
+    uint32_t seq = 0, episodes = 0;
+    assert_int_equal(learned_store_restore_previous(&st, &agent_, &seq, &episodes), FW_ERR_NOENT);
+    for (uint32_t k = 156; k <= 157; k++) {  // two saves: both slots hold this learning
+        learn_(60, k);
+        assert_int_equal(learned_store_save(&st, &agent_, k), FW_OK);
+    }
+    const uint32_t learned = learned_digest(&agent_);
+    const uint32_t learned_seq = st.newest_sequence;
+    agent_reset(&agent_, 1);  // RESET_LEARNING
+    const uint32_t wiped = learned_digest(&agent_);
+    for (uint32_t k = 0; k <= 5; k++) {  // saves of the new learning, from episode 0
+        learn_(k == 0 ? 0 : 10, k);
+        assert_int_equal(learned_store_save(&st, &agent_, k), FW_OK);
+        assert_true(st.newest_sequence > learned_seq);
+    }
+    const uint32_t relearned = learned_digest(&agent_);
+    // Reboot: the newest record (the new learning) is what boots, the previous is kept.
+    init_agent_(9);
+    learned_store_t st2;
+    assert_int_equal(learned_store_init(&st2), FW_OK);
+    assert_int_equal(learned_store_load(&st2, &agent_, &episodes), FW_OK);
+    assert_int_equal(episodes, 5);
+    assert_int_equal(learned_digest(&agent_), relearned);
+    assert_int_not_equal(relearned, wiped);
+    assert_int_equal(learned_store_restore_previous(&st2, &agent_, &seq, &episodes), FW_OK);
+    assert_int_equal(episodes, 157);
+    assert_int_equal(seq, learned_seq);
+    assert_int_equal(learned_digest(&agent_), learned);
+    // Learning goes on from the restored record; its saves overwrite the wiped learning's.
+    assert_int_equal(learned_store_save(&st2, &agent_, 158), FW_OK);
+    assert_int_equal(learned_store_restore_previous(&st2, &agent_, &seq, &episodes), FW_OK);
+    assert_int_equal(episodes, 157);
+    assert_int_equal(learned_digest(&agent_), learned);
+    // Without a wipe, saves alternate as before: the previous is the save before the last.
+    learn_(20, 3);
+    assert_int_equal(learned_store_save(&st2, &agent_, 159), FW_OK);
+    assert_int_equal(learned_store_restore_previous(&st2, &agent_, &seq, &episodes), FW_OK);
+    assert_int_equal(episodes, 158);
+}
+
+// A previous record that is damaged is refused, and the agent is left as it was.
+static void test_restore_previous_refuses_a_damaged_record(void **state)
+{
+    (void)state;
+    learned_store_t st;
+    assert_int_equal(learned_store_init(&st), FW_OK);
+    learn_(60, 1);
+    assert_int_equal(learned_store_save(&st, &agent_, 1), FW_OK);
+    const int32_t first = st.newest;
+    learn_(60, 2);
+    assert_int_equal(learned_store_save(&st, &agent_, 2), FW_OK);
+    const uint32_t now = learned_digest(&agent_);
+    // The first record's magic cleared (programming can clear bits): no longer a whole record.
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    assert_int_equal(hal_flash_write((uint32_t)first * st.slot_size, zero, 4), FW_OK);
+    uint32_t seq = 0, episodes = 0;
+    assert_int_equal(learned_store_restore_previous(&st, &agent_, &seq, &episodes), FW_ERR_CORRUPT);
+    assert_int_equal(learned_digest(&agent_), now);
+    uint32_t s2 = 0, e2 = 0;
+    assert_true(learned_store_newest(&st, &s2, &e2));
+    assert_int_equal(e2, 2);
+}
+
 static void test_corrupted_record_falls_back_to_the_other(void **state)
 {
     (void)state;
@@ -241,8 +313,10 @@ static void slot_unchanged_(uint32_t slot)
 }
 
 // The flash as a scenario leaves it: the agent's good record (episodes 1) in `good_slot`, the
-// other slot holding `other`: 0 nothing, 1 an older record of the agent's own (episodes 9), 2
-// another agent's record saved after it (what made a save erase the only good copy).
+// other slot holding `other`: 0 nothing, 1 an older record of the agent's own (episodes 0: fewer,
+// as learning goes; an older record with more episodes is one from before a RESET_LEARNING, kept
+// by the next saves instead: test_reset_then_saves_keep_the_previous_record), 2 another agent's
+// record saved after it (what made a save erase the only good copy).
 // Returns the good record's fingerprint; the flash is kept in flash_copy_.
 static uint32_t prepare_(uint32_t good_slot, int other)
 {
@@ -254,7 +328,7 @@ static uint32_t prepare_(uint32_t good_slot, int other)
     learn_(60, 5);
     const uint32_t older = (good_slot == 1u ? 1u : 0u) + (other == 1 && good_slot == 0u ? 2u : 0u);
     for (uint32_t i = 0; i < older; i++) {
-        assert_int_equal(learned_store_save(&st, &agent_, 9), FW_OK);
+        assert_int_equal(learned_store_save(&st, &agent_, 0), FW_OK);
     }
     init_agent_(1);
     learn_(200, 0);
@@ -679,6 +753,8 @@ int main(void)
         cmocka_unit_test_setup(test_bad_cmac_is_refused, setup_),
         cmocka_unit_test_setup(test_bad_dyna_q_table_is_refused, setup_),
         cmocka_unit_test_setup(test_fallback_is_reported, setup_),
+        cmocka_unit_test_setup(test_reset_then_saves_keep_the_previous_record, setup_),
+        cmocka_unit_test_setup(test_restore_previous_refuses_a_damaged_record, setup_),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc drivers: the firmware's own frames — telemetry (TLM_POSE, TLM_LEARN, TLM_SCHED every
-// control period; TLM_EPISODE at each episode end), the FW_STATUS heartbeat (1 s), and the
-// operator's TOOL_CMD (received).
+// dynaqpc drivers: the firmware's own frames — telemetry (TLM_POSE, TLM_SCHED every control
+// period; TLM_LEARN and TLM_VALUE with each real step; TLM_EPISODE at each episode end), the FW_STATUS heartbeat (1 s), the
+// operator's TOOL_CMD (received) and its answer, TOOL_ACK.
 //
 // Encoders saturate every value to its signal's range as docs/dynaqpc.dbc documents (telemetry
 // must never refuse to report), keep one rolling counter per periodic frame, and never fail.
@@ -39,7 +39,29 @@ enum tlm_mode { TLM_MODE_BOOT = 0, TLM_MODE_IDLE = 1, TLM_MODE_RUNNING = 2, TLM_
 
 /// TOOL_CMD Command.
 enum tlm_tool_command { TLM_CMD_NOP = 0, TLM_CMD_START_EPISODE = 1, TLM_CMD_STOP = 2,
-                        TLM_CMD_SAFE_STOP = 3, TLM_CMD_SAVE_LEARNED = 4, TLM_CMD_RESET_LEARNING = 5 };
+                        TLM_CMD_SAFE_STOP = 3, TLM_CMD_SAVE_LEARNED = 4, TLM_CMD_RESET_LEARNING = 5,
+                        TLM_CMD_RESTORE_PREVIOUS = 6 };
+
+/// RESET_LEARNING's Argument that confirms wiping learning saved since boot or restored at boot.
+#define TLM_RESET_CONFIRM 1u
+
+/// TOOL_ACK Result.
+enum tlm_ack_result { TLM_ACK_DONE = 0, TLM_ACK_REFUSED = 1, TLM_ACK_FAILED = 2 };
+
+/// TOOL_ACK Reason (docs/can-protocol.md "Answers").
+enum tlm_ack_reason {
+    TLM_WHY_NONE = 0,
+    TLM_WHY_EVALUATE_MODE = 1,   ///< refused: evaluate mode locks what was learned
+    TLM_WHY_NOT_IDLE = 2,        ///< refused: needs a stopped robot (send STOP first)
+    TLM_WHY_BUSY = 3,            ///< refused: the wheels are driving an action; try again
+    TLM_WHY_CONFIRM = 4,         ///< refused: learning was saved since boot or restored at boot; Argument 1 confirms
+    TLM_WHY_NO_STORE = 5,        ///< failed: no flash store (persistence off or no region)
+    TLM_WHY_FLASH_ERROR = 6,     ///< failed: erasing or programming the flash failed
+    TLM_WHY_NO_ROOM = 7,         ///< failed: the record does not fit a slot
+    TLM_WHY_NO_PREVIOUS = 8,     ///< refused: no previous record of this agent's layout
+    TLM_WHY_MALFORMED = 9,       ///< refused: bad Crc or unknown Command
+    TLM_WHY_RECORD_DAMAGED = 10, ///< failed: the record to restore failed its checks
+};
 
 typedef struct tlm_pose {
     int32_t x_mm, y_mm;     ///< saturated to int16
@@ -54,6 +76,12 @@ typedef struct tlm_learn {
     uint32_t episode;       ///< sent modulo 2048
     uint32_t step;          ///< saturated to 8191
 } tlm_learn_t;
+
+typedef struct tlm_value {
+    uint32_t state;         ///< saturated to 24 bits
+    uint8_t action;         ///< the greedy action, saturated to 15
+    float value;            ///< V; sent in 0.1 steps, saturated to -3276.8..3276.7 (NaN as 0)
+} tlm_value_t;
 
 typedef struct tlm_sched {
     uint32_t plan_updates;     ///< planning updates since the last TLM_SCHED, saturated to 65535
@@ -81,9 +109,19 @@ typedef struct tlm_tool_cmd {
     uint32_t argument;
 } tlm_tool_cmd_t;
 
+/// TOOL_ACK: the answer to one TOOL_CMD.
+typedef struct tlm_ack {
+    uint8_t command;        ///< enum tlm_tool_command (as read, for MALFORMED)
+    uint8_t counter;        ///< the command's Counter
+    uint8_t result;         ///< enum tlm_ack_result
+    uint8_t reason;         ///< enum tlm_ack_reason
+    uint32_t sequence;      ///< record sequence number, saturated to 24 bits
+    uint32_t episodes;      ///< saturated to 65535
+} tlm_ack_t;
+
 /// The firmware's transmit counters and the TOOL_CMD receive state.
 typedef struct tlm {
-    uint8_t pose_counter, learn_counter, sched_counter, status_counter;
+    uint8_t pose_counter, learn_counter, sched_counter, status_counter, value_counter;
     can_link_rx_t tool_rx;  ///< TOOL_CMD bookkeeping
 } tlm_t;
 
@@ -92,6 +130,7 @@ void tlm_init(tlm_t *tlm);
 void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out);
 void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out);
 void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out);
+void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out);
 void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out);
 void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *out);
 
@@ -99,6 +138,9 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
 /// the last accepted command: a repeat, ignore it), or FW_ERR_INVAL (malformed, CRC mismatch or
 /// unknown command; counted in tool_rx.malformed).
 int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *out);
+
+/// Builds TOOL_ACK (saturating Sequence and Episodes).
+void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out);
 
 /// Tool side: builds TOOL_CMD with counter `*counter` (advanced) and its CRC. FW_OK or
 /// FW_ERR_INVAL (unknown command).
@@ -110,6 +152,8 @@ int tlm_decode_learn(const hal_can_frame_t *frame, tlm_learn_t *out);
 int tlm_decode_sched(const hal_can_frame_t *frame, tlm_sched_t *out);
 int tlm_decode_episode(const hal_can_frame_t *frame, tlm_episode_t *out);
 int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out);
+int tlm_decode_ack(const hal_can_frame_t *frame, tlm_ack_t *out);
+int tlm_decode_value(const hal_can_frame_t *frame, tlm_value_t *out);
 
 #ifdef __cplusplus
 }

@@ -182,12 +182,12 @@ int dynaqpc_can_tool_cmd_init(struct dynaqpc_can_tool_cmd_t *msg_p)
 
 bool dynaqpc_can_tool_cmd_command_is_in_range(uint8_t value)
 {
-    return (value <= 5u);
+    return (value <= 6u);
 }
 
 bool dynaqpc_can_tool_cmd_command_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 5.0));
+    return ((value >= 0.0) && (value <= 6.0));
 }
 
 bool dynaqpc_can_tool_cmd_argument_is_in_range(uint32_t value)
@@ -222,6 +222,125 @@ bool dynaqpc_can_tool_cmd_crc_is_in_range(uint8_t value)
 bool dynaqpc_can_tool_cmd_crc_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 255.0));
+}
+
+int dynaqpc_can_tool_ack_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_tool_ack_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->command, 0u, 0xffu);
+    dst_p[1] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->result, 4u, 0xf0u);
+    dst_p[2] |= pack_left_shift_u8(src_p->reason, 0u, 0xffu);
+    dst_p[3] |= pack_left_shift_u32(src_p->sequence, 0u, 0xffu);
+    dst_p[4] |= pack_right_shift_u32(src_p->sequence, 8u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(src_p->sequence, 16u, 0xffu);
+    dst_p[6] |= pack_left_shift_u16(src_p->episodes, 0u, 0xffu);
+    dst_p[7] |= pack_right_shift_u16(src_p->episodes, 8u, 0xffu);
+
+    return (8);
+}
+
+int dynaqpc_can_tool_ack_unpack(
+    struct dynaqpc_can_tool_ack_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->command = unpack_right_shift_u8(src_p[0], 0u, 0xffu);
+    dst_p->counter = unpack_right_shift_u8(src_p[1], 0u, 0x0fu);
+    dst_p->result = unpack_right_shift_u8(src_p[1], 4u, 0xf0u);
+    dst_p->reason = unpack_right_shift_u8(src_p[2], 0u, 0xffu);
+    dst_p->sequence = unpack_right_shift_u32(src_p[3], 0u, 0xffu);
+    dst_p->sequence |= unpack_left_shift_u32(src_p[4], 8u, 0xffu);
+    dst_p->sequence |= unpack_left_shift_u32(src_p[5], 16u, 0xffu);
+    dst_p->episodes = unpack_right_shift_u16(src_p[6], 0u, 0xffu);
+    dst_p->episodes |= unpack_left_shift_u16(src_p[7], 8u, 0xffu);
+
+    return (0);
+}
+
+int dynaqpc_can_tool_ack_init(struct dynaqpc_can_tool_ack_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct dynaqpc_can_tool_ack_t));
+
+    return 0;
+}
+
+bool dynaqpc_can_tool_ack_command_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_tool_ack_command_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool dynaqpc_can_tool_ack_counter_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_tool_ack_counter_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_tool_ack_result_is_in_range(uint8_t value)
+{
+    return (value <= 2u);
+}
+
+bool dynaqpc_can_tool_ack_result_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 2.0));
+}
+
+bool dynaqpc_can_tool_ack_reason_is_in_range(uint8_t value)
+{
+    return (value <= 10u);
+}
+
+bool dynaqpc_can_tool_ack_reason_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 10.0));
+}
+
+bool dynaqpc_can_tool_ack_sequence_is_in_range(uint32_t value)
+{
+    return (value <= 16777215u);
+}
+
+bool dynaqpc_can_tool_ack_sequence_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 16777215.0));
+}
+
+bool dynaqpc_can_tool_ack_episodes_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_tool_ack_episodes_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
 }
 
 int dynaqpc_can_motor_cmd_pack(
@@ -1689,6 +1808,105 @@ bool dynaqpc_can_tlm_sched_counter_is_in_range(uint8_t value)
 bool dynaqpc_can_tlm_sched_counter_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 15.0));
+}
+
+int dynaqpc_can_tlm_value_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_tlm_value_t *src_p,
+    size_t size)
+{
+    uint16_t value;
+
+    if (size < 6u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 6);
+
+    dst_p[0] |= pack_left_shift_u32(src_p->state, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u32(src_p->state, 8u, 0xffu);
+    dst_p[2] |= pack_right_shift_u32(src_p->state, 16u, 0xffu);
+    dst_p[3] |= pack_left_shift_u8(src_p->action, 0u, 0x0fu);
+    dst_p[3] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    value = (uint16_t)src_p->value;
+    dst_p[4] |= pack_left_shift_u16(value, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u16(value, 8u, 0xffu);
+
+    return (6);
+}
+
+int dynaqpc_can_tlm_value_unpack(
+    struct dynaqpc_can_tlm_value_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    uint16_t value;
+
+    if (size < 6u) {
+        return (-EINVAL);
+    }
+
+    dst_p->state = unpack_right_shift_u32(src_p[0], 0u, 0xffu);
+    dst_p->state |= unpack_left_shift_u32(src_p[1], 8u, 0xffu);
+    dst_p->state |= unpack_left_shift_u32(src_p[2], 16u, 0xffu);
+    dst_p->action = unpack_right_shift_u8(src_p[3], 0u, 0x0fu);
+    dst_p->counter = unpack_right_shift_u8(src_p[3], 4u, 0xf0u);
+    value = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
+    value |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
+    dst_p->value = (int16_t)value;
+
+    return (0);
+}
+
+int dynaqpc_can_tlm_value_init(struct dynaqpc_can_tlm_value_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct dynaqpc_can_tlm_value_t));
+
+    return 0;
+}
+
+bool dynaqpc_can_tlm_value_state_is_in_range(uint32_t value)
+{
+    return (value <= 16777215u);
+}
+
+bool dynaqpc_can_tlm_value_state_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 16777215.0));
+}
+
+bool dynaqpc_can_tlm_value_action_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_tlm_value_action_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_tlm_value_counter_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_tlm_value_counter_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_tlm_value_value_is_in_range(int16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_tlm_value_value_is_in_phys_range(double value)
+{
+    return ((value >= -3276.8) && (value <= 3276.7));
 }
 
 int dynaqpc_can_tlm_episode_pack(

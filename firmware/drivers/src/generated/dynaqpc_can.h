@@ -46,6 +46,7 @@ extern "C" {
 
 /* Frame ids. */
 #define DYNAQPC_CAN_TOOL_CMD_FRAME_ID (0x40u)
+#define DYNAQPC_CAN_TOOL_ACK_FRAME_ID (0x41u)
 #define DYNAQPC_CAN_MOTOR_CMD_FRAME_ID (0x80u)
 #define DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID (0x90u)
 #define DYNAQPC_CAN_GYRO_RATE_FRAME_ID (0xa0u)
@@ -57,10 +58,12 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_FRAME_ID (0x180u)
 #define DYNAQPC_CAN_TLM_LEARN_FRAME_ID (0x181u)
 #define DYNAQPC_CAN_TLM_SCHED_FRAME_ID (0x182u)
+#define DYNAQPC_CAN_TLM_VALUE_FRAME_ID (0x184u)
 #define DYNAQPC_CAN_TLM_EPISODE_FRAME_ID (0x183u)
 
 /* Frame lengths in bytes. */
 #define DYNAQPC_CAN_TOOL_CMD_LENGTH (7u)
+#define DYNAQPC_CAN_TOOL_ACK_LENGTH (8u)
 #define DYNAQPC_CAN_MOTOR_CMD_LENGTH (6u)
 #define DYNAQPC_CAN_MOTOR_STATUS_LENGTH (6u)
 #define DYNAQPC_CAN_GYRO_RATE_LENGTH (4u)
@@ -72,10 +75,12 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_LEARN_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_SCHED_LENGTH (8u)
+#define DYNAQPC_CAN_TLM_VALUE_LENGTH (6u)
 #define DYNAQPC_CAN_TLM_EPISODE_LENGTH (8u)
 
 /* Extended or standard frame types. */
 #define DYNAQPC_CAN_TOOL_CMD_IS_EXTENDED (0)
+#define DYNAQPC_CAN_TOOL_ACK_IS_EXTENDED (0)
 #define DYNAQPC_CAN_MOTOR_CMD_IS_EXTENDED (0)
 #define DYNAQPC_CAN_MOTOR_STATUS_IS_EXTENDED (0)
 #define DYNAQPC_CAN_GYRO_RATE_IS_EXTENDED (0)
@@ -87,6 +92,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_LEARN_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_SCHED_IS_EXTENDED (0)
+#define DYNAQPC_CAN_TLM_VALUE_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_EPISODE_IS_EXTENDED (0)
 
 /* Frame cycle times in milliseconds. */
@@ -108,6 +114,31 @@ extern "C" {
 #define DYNAQPC_CAN_TOOL_CMD_COMMAND_SAFE_STOP_CHOICE (3u)
 #define DYNAQPC_CAN_TOOL_CMD_COMMAND_SAVE_LEARNED_CHOICE (4u)
 #define DYNAQPC_CAN_TOOL_CMD_COMMAND_RESET_LEARNING_CHOICE (5u)
+#define DYNAQPC_CAN_TOOL_CMD_COMMAND_RESTORE_PREVIOUS_CHOICE (6u)
+
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_NOP_CHOICE (0u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_START_EPISODE_CHOICE (1u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_STOP_CHOICE (2u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_SAFE_STOP_CHOICE (3u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_SAVE_LEARNED_CHOICE (4u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_RESET_LEARNING_CHOICE (5u)
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_RESTORE_PREVIOUS_CHOICE (6u)
+
+#define DYNAQPC_CAN_TOOL_ACK_RESULT_DONE_CHOICE (0u)
+#define DYNAQPC_CAN_TOOL_ACK_RESULT_REFUSED_CHOICE (1u)
+#define DYNAQPC_CAN_TOOL_ACK_RESULT_FAILED_CHOICE (2u)
+
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NONE_CHOICE (0u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_EVALUATE_MODE_CHOICE (1u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NOT_IDLE_CHOICE (2u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_BUSY_CHOICE (3u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_CONFIRM_CHOICE (4u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NO_STORE_CHOICE (5u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_FLASH_ERROR_CHOICE (6u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NO_ROOM_CHOICE (7u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NO_PREVIOUS_CHOICE (8u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_MALFORMED_CHOICE (9u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_RECORD_DAMAGED_CHOICE (10u)
 
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_OK_CHOICE (0u)
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_INIT_CHOICE (1u)
@@ -162,6 +193,7 @@ extern "C" {
 
 /* Frame Names. */
 #define DYNAQPC_CAN_TOOL_CMD_NAME "TOOL_CMD"
+#define DYNAQPC_CAN_TOOL_ACK_NAME "TOOL_ACK"
 #define DYNAQPC_CAN_MOTOR_CMD_NAME "MOTOR_CMD"
 #define DYNAQPC_CAN_MOTOR_STATUS_NAME "MOTOR_STATUS"
 #define DYNAQPC_CAN_GYRO_RATE_NAME "GYRO_RATE"
@@ -173,6 +205,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_NAME "TLM_POSE"
 #define DYNAQPC_CAN_TLM_LEARN_NAME "TLM_LEARN"
 #define DYNAQPC_CAN_TLM_SCHED_NAME "TLM_SCHED"
+#define DYNAQPC_CAN_TLM_VALUE_NAME "TLM_VALUE"
 #define DYNAQPC_CAN_TLM_EPISODE_NAME "TLM_EPISODE"
 
 /* Signal Names. */
@@ -180,6 +213,12 @@ extern "C" {
 #define DYNAQPC_CAN_TOOL_CMD_ARGUMENT_NAME "Argument"
 #define DYNAQPC_CAN_TOOL_CMD_COUNTER_NAME "Counter"
 #define DYNAQPC_CAN_TOOL_CMD_CRC_NAME "Crc"
+#define DYNAQPC_CAN_TOOL_ACK_COMMAND_NAME "Command"
+#define DYNAQPC_CAN_TOOL_ACK_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TOOL_ACK_RESULT_NAME "Result"
+#define DYNAQPC_CAN_TOOL_ACK_REASON_NAME "Reason"
+#define DYNAQPC_CAN_TOOL_ACK_SEQUENCE_NAME "Sequence"
+#define DYNAQPC_CAN_TOOL_ACK_EPISODES_NAME "Episodes"
 #define DYNAQPC_CAN_MOTOR_CMD_SPEED_LEFT_NAME "SpeedLeft"
 #define DYNAQPC_CAN_MOTOR_CMD_SPEED_RIGHT_NAME "SpeedRight"
 #define DYNAQPC_CAN_MOTOR_CMD_ENABLE_NAME "Enable"
@@ -256,6 +295,10 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_SCHED_IDLE_PERCENT_NAME "IdlePercent"
 #define DYNAQPC_CAN_TLM_SCHED_QUEUE_LENGTH_NAME "QueueLength"
 #define DYNAQPC_CAN_TLM_SCHED_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TLM_VALUE_STATE_NAME "State"
+#define DYNAQPC_CAN_TLM_VALUE_ACTION_NAME "Action"
+#define DYNAQPC_CAN_TLM_VALUE_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TLM_VALUE_VALUE_NAME "Value"
 #define DYNAQPC_CAN_TLM_EPISODE_EPISODE_NAME "Episode"
 #define DYNAQPC_CAN_TLM_EPISODE_STEPS_NAME "Steps"
 #define DYNAQPC_CAN_TLM_EPISODE_TOTAL_REWARD_NAME "TotalReward"
@@ -273,14 +316,14 @@ struct dynaqpc_can_tool_cmd_t {
     /**
      * What to do.
      *
-     * Range: 0..5 (0..5 -)
+     * Range: 0..6 (0..6 -)
      * Scale: 1
      * Offset: 0
      */
     uint8_t command;
 
     /**
-     * START_EPISODE: start cell index or 0xFFFFFFFF for a random start; RESET_LEARNING: new PRNG seed; otherwise 0.
+     * START_EPISODE: the robot's heading in 0.01 deg (0..35999), 0xFFFFFFFF keeps the firmware's; RESET_LEARNING: 1 confirms a wipe of learning saved since boot or restored at boot (else refused, Reason CONFIRM); otherwise 0.
      *
      * Range: 0..4294967295 (0..4294967295 -)
      * Scale: 1
@@ -301,6 +344,69 @@ struct dynaqpc_can_tool_cmd_t {
      * Offset: 0
      */
     uint8_t crc;
+};
+
+/**
+ * Signals in message TOOL_ACK.
+ *
+ * The firmware's answer to a TOOL_CMD: one per command it took (a repeated frame gets the last answer again; a TOOL_CMD of 7 bytes whose Crc or Command is wrong is answered REFUSED MALFORMED with its Command and Counter as read). Event frame, no counter of its own: Counter is the command's.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct dynaqpc_can_tool_ack_t {
+    /**
+     * The command answered (TOOL_CMD Command; as read for MALFORMED).
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t command;
+
+    /**
+     * The answered TOOL_CMD's Counter: matches the answer to the command.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * 0 DONE, 1 REFUSED (nothing changed; Reason says why), 2 FAILED (tried; Reason says what failed).
+     *
+     * Range: 0..2 (0..2 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t result;
+
+    /**
+     * Why a command was refused or failed; NONE when done.
+     *
+     * Range: 0..10 (0..10 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t reason;
+
+    /**
+     * SAVE_LEARNED: the sequence number of the record written; RESTORE_PREVIOUS: of the record restored; otherwise the newest record's in flash (0: none). Saturated.
+     *
+     * Range: 0..16777215 (0..16777215 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t sequence;
+
+    /**
+     * The episodes that record holds (SAVE_LEARNED, RESTORE_PREVIOUS) or the episodes learned so far (otherwise). Saturated.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t episodes;
 };
 
 /**
@@ -973,6 +1079,49 @@ struct dynaqpc_can_tlm_sched_t {
 };
 
 /**
+ * Signals in message TLM_VALUE.
+ *
+ * The value map as it changes: with each real step's TLM_LEARN (event frame, learning only), the state that step's update changed (the previous step's state), its greedy action and V = max_a Q after the update. Counter +1 per frame.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct dynaqpc_can_tlm_value_t {
+    /**
+     * Encoded state id whose Q row the real step updated.
+     *
+     * Range: 0..16777215 (0..16777215 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t state;
+
+    /**
+     * The greedy action in State after the update (ties to the lowest).
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t action;
+
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * V(State) = Q(State, Action), saturated.
+     *
+     * Range: -32768..32767 (-3276.8..3276.7 -)
+     * Scale: 0.1
+     * Offset: 0
+     */
+    int16_t value;
+};
+
+/**
  * Signals in message TLM_EPISODE.
  *
  * Sent once when an episode ends (event frame: no counter; Episode orders them).
@@ -1144,6 +1293,175 @@ bool dynaqpc_can_tool_cmd_crc_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_tool_cmd_crc_is_in_phys_range(double value);
+
+/**
+ * Pack message TOOL_ACK.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int dynaqpc_can_tool_ack_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_tool_ack_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TOOL_ACK.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int dynaqpc_can_tool_ack_unpack(
+    struct dynaqpc_can_tool_ack_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TOOL_ACK.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int dynaqpc_can_tool_ack_init(struct dynaqpc_can_tool_ack_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_command_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_command_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_result_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_result_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_reason_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_reason_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_sequence_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_sequence_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_episodes_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_ack_episodes_is_in_phys_range(double value);
 
 /**
  * Pack message MOTOR_CMD.
@@ -3223,6 +3541,131 @@ bool dynaqpc_can_tlm_sched_counter_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_tlm_sched_counter_is_in_phys_range(double value);
+
+/**
+ * Pack message TLM_VALUE.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int dynaqpc_can_tlm_value_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_tlm_value_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TLM_VALUE.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int dynaqpc_can_tlm_value_unpack(
+    struct dynaqpc_can_tlm_value_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TLM_VALUE.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int dynaqpc_can_tlm_value_init(struct dynaqpc_can_tlm_value_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_state_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_state_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_action_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_action_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_value_is_in_range(int16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_value_is_in_phys_range(double value);
 
 /**
  * Pack message TLM_EPISODE.

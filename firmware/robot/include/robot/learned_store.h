@@ -14,9 +14,16 @@
 // the agent's own checks (agent_learned_check: counts, indices, probe windows, free slots), checked
 // where it lies in flash before anything is copied. A record that fails is refused and counted,
 // and the older slot is tried; a load that had to pass over a damaged record says so (fell_back).
+//
+// An accidental wipe can be undone: of two good records of the layout a save overwrites the one
+// with fewer episodes (of equals, the older). Learning only adds episodes, so after a
+// RESET_LEARNING the saves of the new learning (the firmware counts its episodes from 0 again)
+// overwrite each other and the record from before the wipe stays, until the new learning has as
+// many episodes or learned_store_restore_previous() brings it back.
 #ifndef ROBOT_LEARNED_STORE_H
 #define ROBOT_LEARNED_STORE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "agent/agent.h"
@@ -79,8 +86,9 @@ uint32_t learned_store_record_size(const agent_t *ag);
 learned_slot_state_t learned_store_slot_state(const learned_store_t *st, const agent_t *ag,
                                               uint32_t slot, uint32_t *sequence);
 
-/// Saves what the agent learned, into the slot that does not hold its newest good record (with
-/// none, into an empty or damaged slot first, else the older). Blocks for the erase and
+/// Saves what the agent learned, into the slot that does not hold its good record (of two good
+/// records, over the one with fewer episodes, of equals the older; with none, into an empty or
+/// damaged slot first, else the older). Blocks for the erase and
 /// programming (see hal_flash_erase). Returns FW_OK, FW_ERR_NOMEM (the record does not fit a
 /// slot), or FW_ERR_IO (the flash failed; the agent's previous good record is untouched).
 int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes);
@@ -92,6 +100,17 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
 /// FW_ERR_NOENT (the region is erased), or FW_ERR_CORRUPT (records exist but none is whole, of
 /// this layout and valid; the agent is untouched). `episodes` may be NULL.
 int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes);
+
+/// Restores the previous record: the good record of this layout in the slot that does not hold
+/// the newest one (undoes a RESET_LEARNING and the saves after it; see above). Checked in flash
+/// as learned_store_load() does. Returns FW_OK (sequence and episodes, either may be NULL, receive
+/// the record's), FW_ERR_NOENT (no previous record of this layout), or FW_ERR_CORRUPT (it is
+/// damaged or refused; the agent is untouched).
+int learned_store_restore_previous(learned_store_t *st, agent_t *ag, uint32_t *sequence, uint32_t *episodes);
+
+/// The sequence number and episodes of the newest whole record in flash (any layout); false when
+/// there is none.
+bool learned_store_newest(const learned_store_t *st, uint32_t *sequence, uint32_t *episodes);
 
 #ifdef __cplusplus
 }

@@ -63,7 +63,10 @@ typedef struct robot_app_stats {
     uint32_t frames_rx, frames_bad, frames_tx_dropped;
     uint32_t episodes, saves, save_errors;
     uint32_t uart_posts_failed;  ///< Cricket wake-ups the full event queue refused (retried)
-    uint32_t tool_refused;       ///< TOOL_CMDs refused by the authority rule (can-protocol.md)
+    uint32_t tool_refused;       ///< TOOL_CMDs answered REFUSED (can-protocol.md "Answers")
+    uint32_t tool_answers;       ///< TOOL_ACKs sent (a repeat's resent answer not counted)
+    uint32_t tool_malformed;     ///< TOOL_CMDs answered MALFORMED (bad Crc or Command)
+    uint32_t resets, restores;   ///< RESET_LEARNING and RESTORE_PREVIOUS done
     int32_t restore_result;  ///< learned_store_load() at boot: FW_OK, FW_ERR_NOENT, ...
     uint32_t restored_episodes;
     uint32_t records_refused;   ///< records the boot's restore found damaged or refused
