@@ -34,9 +34,13 @@ static uint32_t pk_[PQ_INDEX_SLOTS(PQ_CAP)], pp_[PQ_INDEX_SLOTS(PQ_CAP)];
 static dynaq_record_t table_[TABLE];
 static uint32_t tk_[DYNAQ_INDEX_SLOTS(TABLE)], tr_[DYNAQ_INDEX_SLOTS(TABLE)];
 static agent_plan_carry_t carry_;
+static dynaq_record_t mtable_[TABLE];
+static uint32_t mk_[DYNAQ_INDEX_SLOTS(TABLE)], mr_[DYNAQ_INDEX_SLOTS(TABLE)];
+static uint8_t mcounts_[TABLE * FW_CFG_MAX_ACTIONS];
 static const agent_storage_t storage_ = {
     .q = q_, .q_keys = q_keys_, .q_states = Q_STATES,
     .dyna_q = {table_, tk_, tr_, TABLE},
+    .dyna_q_majority = {mtable_, mk_, mr_, mcounts_, TABLE},
     .dyna_qpc = {{fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP, &carry_}};
 // 8 x 8 x 4 states (8 bits), two of them tiled: hashed Q rows, generalising CMACs.
 static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4, 0};
@@ -117,9 +121,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fuzz_in_t in = {data, size};
     const uint8_t pick = fuzz_u8(&in);
-    const agent_kind_t kind = (agent_kind_t)(pick % 3u);
-    const bool crafted = (pick / 3u) & 1u;
-    const bool good_beside = (pick / 6u) & 1u;
+    const agent_kind_t kind = (agent_kind_t)(pick % AGENT_KINDS);
+    const bool crafted = (pick / AGENT_KINDS) & 1u;
+    const bool good_beside = (pick / (2u * AGENT_KINDS)) & 1u;
     hal_host_reset();
     if (hal_host_flash_configure(SECTOR, 4, 4) != FW_OK) {
         __builtin_trap();

@@ -561,6 +561,47 @@ static void dyna_q_majority_replays_as_dyna_q(void **state)
     assert_true(agent_.stats.planning_updates > 1000u);
 }
 
+
+// What it learned, counts included, is saved and restored: an agent restored from the bytes
+// keeps the same outcomes with the same margins (a slip that the original would keep out, the
+// restored one keeps out too).
+static void dyna_q_majority_restores_its_counts(void **state)
+{
+    (void)state;
+    static uint8_t saved[AGENT_MAX_REGIONS][32768];
+    agent_config_t c = config(AGENT_DYNA_Q_MAJORITY);
+    c.storage = &storage_a_;
+    assert_int_equal(agent_init(&agent_, &c), FW_OK);
+    for (int i = 0; i < 2; i++) {
+        agent_observe(&agent_, 5, 1, 0.0f, 6, false);
+    }
+    agent_observe(&agent_, 7, 0, -1.0f, 6, true);
+    agent_region_t r[AGENT_MAX_REGIONS];
+    const uint32_t n = agent_learned_regions(&agent_, r);
+    const void *image[AGENT_MAX_REGIONS];
+    for (uint32_t i = 0; i < n; i++) {
+        assert_true(r[i].size <= sizeof saved[i]);
+        memcpy(saved[i], r[i].data, r[i].size);
+        image[i] = saved[i];
+    }
+    memset(&memory_b_, 0, sizeof memory_b_);  // nothing but the image to learn the counts from
+    c.storage = &storage_b_;
+    assert_int_equal(agent_init(&agent_b_, &c), FW_OK);
+    agent_region_t rb[AGENT_MAX_REGIONS];
+    assert_int_equal(agent_learned_regions(&agent_b_, rb), n);
+    assert_int_equal(agent_learned_check(&agent_b_, image), FW_OK);
+    for (uint32_t i = 0; i < n; i++) {
+        assert_int_equal(rb[i].size, r[i].size);
+        memcpy(rb[i].data, saved[i], r[i].size);
+    }
+    agent_learned_restored(&agent_b_);
+    assert_int_equal(agent_b_.alg.dyna_q_majority.table.count, 2);
+    agent_observe(&agent_b_, 5, 1, -1.0f, 5, false);  // a slip against a margin of 2: kept out
+    assert_int_equal(dynaq_find(&agent_b_.alg.dyna_q_majority.table, 5)->next[1], 6);
+    agent_observe(&agent_b_, 5, 1, -1.0f, 5, false);  // now as many disagreed: replaced
+    assert_int_equal(dynaq_find(&agent_b_.alg.dyna_q_majority.table, 5)->next[1], 5);
+}
+
 static jmp_buf assert_jump_;
 static void assert_caught_(const char *file, int line)
 {
@@ -621,6 +662,7 @@ int main(void)
         cmocka_unit_test(dyna_q_majority_keeps_the_majority_outcome),
         cmocka_unit_test(dyna_q_majority_keeps_what_cmac_model_keeps),
         cmocka_unit_test(dyna_q_majority_replays_as_dyna_q),
+        cmocka_unit_test(dyna_q_majority_restores_its_counts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

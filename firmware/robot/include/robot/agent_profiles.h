@@ -86,6 +86,33 @@ FW_STATIC_ASSERT(sizeof(agent_memory_paper_lab_t) + sizeof(agent_t) <= FW_CFG_LA
 FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SIM_BUDGET_BYTES,
                  paper_sim_agent_fits_budget);
 
+// The Dyna-Q tables get the bytes of Dyna-QPC's model and queue, which they overlay, on every
+// profile: they fit, and on the MCU (32-bit pointers) one more record would not (fw_config.h:
+// what to set when the model's tables change size). The host's model area is 80 bytes larger
+// (the planner's carry holds pointers), so the simulator runs the MCU's tables.
+#define AGENT_DYNAQ_BYTES_(n)                                                                  \
+    ((uint32_t)(n) * (uint32_t)sizeof(dynaq_record_t) +                                        \
+     2u * DYNAQ_INDEX_SLOTS(n) * (uint32_t)sizeof(uint32_t))
+#define AGENT_MAJORITY_BYTES_(n) (AGENT_DYNAQ_BYTES_(n) + (uint32_t)(n) * FW_CFG_MAX_ACTIONS)
+#define AGENT_QPC_BYTES_(T) ((uint32_t)sizeof(((T *)0)->model.qpc))
+#define AGENT_FILLS_(bytes_of, n, T)                                                           \
+    (bytes_of(n) <= AGENT_QPC_BYTES_(T) &&                                                     \
+     (sizeof(void *) != 4u || bytes_of((n) + 1u) > AGENT_QPC_BYTES_(T)))
+FW_STATIC_ASSERT(AGENT_FILLS_(AGENT_DYNAQ_BYTES_, FW_CFG_MAZE_TABLE_STATES, agent_memory_maze_t) &&
+                     AGENT_FILLS_(AGENT_MAJORITY_BYTES_, FW_CFG_MAZE_MAJORITY_STATES,
+                                  agent_memory_maze_t),
+                 maze_dyna_q_tables_get_the_model_s_bytes);
+FW_STATIC_ASSERT(AGENT_FILLS_(AGENT_DYNAQ_BYTES_, FW_CFG_LAB_TABLE_STATES,
+                              agent_memory_paper_lab_t) &&
+                     AGENT_FILLS_(AGENT_MAJORITY_BYTES_, FW_CFG_LAB_MAJORITY_STATES,
+                                  agent_memory_paper_lab_t),
+                 paper_lab_dyna_q_tables_get_the_model_s_bytes);
+FW_STATIC_ASSERT(AGENT_FILLS_(AGENT_DYNAQ_BYTES_, FW_CFG_SIM_TABLE_STATES,
+                              agent_memory_paper_sim_t) &&
+                     AGENT_FILLS_(AGENT_MAJORITY_BYTES_, FW_CFG_SIM_MAJORITY_STATES,
+                                  agent_memory_paper_sim_t),
+                 paper_sim_dyna_q_tables_get_the_model_s_bytes);
+
 // Every hashed table is a power of two (hashing masks the index); the Dyna-Q tables' records
 // need not be (their index is: DYNAQ_INDEX_SLOTS).
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_CELLS) &&
