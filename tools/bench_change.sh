@@ -16,8 +16,9 @@
 # shortcut: S sets of K-1+M episodes, the room changing at K, against S sets of the changed room
 # from scratch (the shortcut's level: its mean steps over episodes K..K-1+M, the same episodes of
 # a robot that always had the shortcut) and S sets of the first room all along. Prints the mean
-# steps per block of 5 episodes of each, and the episodes after the change until the changed
-# run's 5-episode mean (over sets) is within 10 % of the shortcut's level.
+# steps per block of 5 episodes of each, and, over 10-episode windows of the same episodes of the
+# three runs, the episodes after the change until the changed run is half-way from the closed
+# room's steps to the shortcut's, and until it is within 10 % of the shortcut's.
 #
 # Options: --robot paper-lab|paper-sim (which shipped change, default paper-lab), --agent A
 # (default dyna-qpc), --planning N (default: the scenario's, idle-time planning), --change-at K
@@ -56,7 +57,7 @@ plan=()
 [ -z "$planning" ] || plan=(--planning "$planning")
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-label="$agent, ${planning:+N = $planning}${planning:-idle-time planning}"
+if [ -n "$planning" ]; then label="$agent, N = $planning"; else label="$agent, idle-time planning"; fi
 
 if [[ $mode == block ]]; then
     one() {  # one <seed>
@@ -118,11 +119,19 @@ awk -F, -v K="$K" -v n="$n" -v what="$label on $robot-door-closed -> door-open a
             for (g = 1; g <= 3; g++) { b[g] = 0; for (i = e; i < e + 5; i++) b[g] += m[g, i]; b[g] /= 5 }
             printf "  %4d-%-9d %10.1f %10.1f %10.1f\n", e, e + 4, b[1], b[2], b[3]
         }
-        found = -1
-        for (e = K + 4; e <= n; e++) {
-            w = 0; for (i = e - 4; i <= e; i++) w += m[1, i]; w /= 5
-            if (w <= 1.1 * level) { found = e; break }
+        # Over 10-episode windows ending at e, the same episodes of the three runs: how much of
+        # the gap between the closed run and the open one that the changed run has closed.
+        half = -1; near = -1
+        for (e = K + 9; e <= n; e++) {
+            cw = ow = dw = 0
+            for (i = e - 9; i <= e; i++) { cw += m[1, i]; ow += m[2, i]; dw += m[3, i] }
+            if (half < 0 && dw > ow && (dw - cw) >= 0.5 * (dw - ow)) half = e
+            if (near < 0 && cw <= 1.1 * ow) near = e
         }
-        if (found < 0) printf "  the 5-episode mean never came within 10 %% of the shortcut level in %d episodes after the change\n", n - K + 1
-        else printf "  the 5-episode mean (episodes %d-%d) is within 10 %% of the shortcut level: %d episodes after the change\n", found - 4, found, found - K + 1
+        h = "  half-way (10-episode mean of the changed run at least half-way from the closed run to the open one): "
+        if (half < 0) printf "%snot within %d episodes after the change\n", h, n - K + 1
+        else printf "%sepisodes %d-%d, %d episodes after the change\n", h, half - 9, half, half - K + 1
+        h = "  at the shortcut level (10-episode mean within 10 %% of the open run): "
+        if (near < 0) printf h "not within %d episodes after the change\n", n - K + 1
+        else printf h "episodes %d-%d, %d episodes after the change\n", near - 9, near, near - K + 1
     }' "$out/change.csv" "$out/open.csv" "$out/closed.csv"

@@ -502,6 +502,58 @@ void test_cricket_lines(void **state)
     assert_int_equal(coarse.size(), before);
 }
 
+// Rooms that change: only obstacles may differ between the two layouts, and a World whose
+// obstacles are replaced is the changed room (its start poses are a World's made from it).
+void test_change_layout(void **state)
+{
+    (void)state;
+    const world::Scenario a = shipped("paper-lab");
+    world::Scenario b = a;
+    world::Obstacle box;
+    box.shape = world::Obstacle::Shape::Box;
+    box.cx = 2.8;
+    box.cy = 2.95;
+    box.w = 0.3;
+    box.h = 0.5;
+    b.obstacles.push_back(box);
+    b.learning.sets = 1;  // the protocol may differ
+    b.learning.episodes = 3;
+    assert_string_equal(world::layout_change_problem(a, b).c_str(), "");
+    world::Scenario c = b;
+    c.goal.cx += 0.1;
+    assert_string_equal(world::layout_change_problem(a, c).c_str(),
+                        "the goal (the firmware is given it) differs (only obstacles may change)");
+    c = b;
+    c.robot.mass = 3.0;
+    assert_true(world::layout_change_problem(a, c).find("the robot differs") == 0);
+    c = b;
+    c.encoding.x_bits = 4;
+    assert_true(world::layout_change_problem(a, c).find("the encoding differs") == 0);
+    c = b;
+    c.learning.gamma = 0.9;
+    assert_true(world::layout_change_problem(a, c).find("the learning line") == 0);
+    c = b;
+    c.ranger.rays[1].angle += 0.01;
+    assert_true(world::layout_change_problem(a, c).find("the ranger") == 0);
+
+    world::World changed(a, 5);
+    changed.set_obstacles(b.obstacles);
+    world::World fresh(b, 5);
+    assert_int_equal(changed.scenario().obstacles.size(), b.obstacles.size());
+    for (int i = 0; i < 300; ++i) {
+        const world::Pose p = changed.sample_start_pose(), q = fresh.sample_start_pose();
+        assert_true(p.x == q.x && p.y == q.y && p.heading == q.heading);
+        assert_true(world::obstacle_distance(box, p.x, p.y) > world::robot_radius(a.robot));
+    }
+    // The box is there: from the west of it, facing east, the front ray reads it at 0.25 m
+    // (the ray starts on the robot's front edge, 0.125 m ahead of its centre).
+    const world::Pose west{2.65 - 0.125 - 0.25, 2.95, 0.0};
+    changed.reset(west);
+    float r[8];
+    changed.true_ranges(r);
+    assert_true(std::fabs(r[0] - 0.25f) < 1e-3f);
+}
+
 }  // namespace
 
 int main(void)
@@ -520,6 +572,7 @@ int main(void)
         cmocka_unit_test(test_gyro_gps_noise),
         cmocka_unit_test(test_sensor_code),
         cmocka_unit_test(test_cricket_lines),
+        cmocka_unit_test(test_change_layout),
     };
     int failed = cmocka_run_group_tests_name("world", tests, nullptr, nullptr);
     failed += run_scenario_tests();
