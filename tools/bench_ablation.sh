@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The ablation (issue 25): where Dyna-QPC's speed comes from. Q-learning, Dyna-Q, and Dyna-QPC
+# The ablation (issue 25): where Dyna-QPC's speed comes from. Q-learning, Dyna-Q (last outcome, as
+# Sutton & Barto), Dyna-Q keeping the majority outcome (the rule Dyna-QPC's model uses), and Dyna-QPC
 # with each of its departures from the paper switched off in turn (`train --ablate`:
 # generalise = the relocatable model's predictions for untried pairs, majority = tried pairs keep
 # the majority outcome, new-states = a new state queues its pairs, expected = backups over a
@@ -33,7 +34,7 @@ lab_sets=20 sim_sets=4 sim_eps=40 room_sets=2 rooms=12
 ((quick)) && lab_sets=2 sim_sets=1 sim_eps=5 room_sets=1 rooms=1
 mkdir -p "$out"
 
-variants=("q-learning:q:" "dyna-q:dyna-q:" "dyna-qpc:dyna-qpc:" "no-generalise:dyna-qpc:generalise"
+variants=("q-learning:q:" "dyna-q:dyna-q:" "dyna-q-majority:dyna-q-majority:" "dyna-qpc:dyna-qpc:" "no-generalise:dyna-qpc:generalise"
           "no-majority:dyna-qpc:majority" "no-new-states:dyna-qpc:new-states"
           "no-expected:dyna-qpc:expected" "exact-model:dyna-qpc:generalise,majority,new-states,expected")
 
