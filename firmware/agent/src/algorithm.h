@@ -83,6 +83,11 @@ AGENT_ALWAYS_INLINE float agent_row_max_(const float *row, uint32_t n)
     return best;
 }
 
+/// Dyna-Q's planning (Fig. 5 (f), dyna_q.c), for the algorithms that replay a transition table:
+/// up to n updates, each a random observed state, a random action tried there and the table's
+/// outcome; returns how many were made (0 before the first real step).
+uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t n);
+
 /// Trivial operations for an algorithm that has nothing to do there.
 int agent_init_nothing_(agent_t *ag, const agent_storage_t *st);
 void agent_nothing_(agent_t *ag);

@@ -30,14 +30,14 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
 }
 
 // Fig. 5 (f): a random observed state, a random action tried there, its recorded outcome.
-static bool plan_one_(agent_t *ag)
+static bool replay_one_(agent_t *ag, const dynaq_table_t *table)
 {
     agent_state_t s;
     agent_state_t s_next;
     uint8_t a;
     float r;
     bool terminal;
-    if (!dynaq_sample(&ag->alg.dyna_q.table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
+    if (!dynaq_sample(table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
         return false;
     }
     if (agent_q_update_(ag, s, a, agent_target_(ag, r, s_next, terminal), ag->params.plan_alpha,
@@ -47,13 +47,18 @@ static bool plan_one_(agent_t *ag)
     return true;
 }
 
-static uint32_t plan_(agent_t *ag, uint32_t n)
+uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t n)
 {
     uint32_t done = 0;
-    while (done < n && plan_one_(ag)) {
+    while (done < n && replay_one_(ag, table)) {
         done++;
     }
     return done;
+}
+
+static uint32_t plan_(agent_t *ag, uint32_t n)
+{
+    return agent_dyna_q_replay_(ag, &ag->alg.dyna_q.table, n);
 }
 
 static uint32_t regions_(const agent_t *ag, agent_region_t *out)

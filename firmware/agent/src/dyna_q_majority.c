@@ -77,30 +77,9 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
 }
 
 // Fig. 5 (f), as Dyna-Q: a random observed state, a random action tried there, its kept outcome.
-static bool plan_one_(agent_t *ag)
-{
-    agent_state_t s;
-    agent_state_t s_next;
-    uint8_t a;
-    float r;
-    bool terminal;
-    if (!dynaq_sample(&ag->alg.dyna_q_majority.table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
-        return false;
-    }
-    if (agent_q_update_(ag, s, a, agent_target_(ag, r, s_next, terminal), ag->params.plan_alpha,
-                        true)) {
-        ag->stats.planning_updates++;
-    }
-    return true;
-}
-
 static uint32_t plan_(agent_t *ag, uint32_t n)
 {
-    uint32_t done = 0;
-    while (done < n && plan_one_(ag)) {
-        done++;
-    }
-    return done;
+    return agent_dyna_q_replay_(ag, &ag->alg.dyna_q_majority.table, n);
 }
 
 // The table's regions, then the counts.
