@@ -253,9 +253,29 @@ static void restored_(agent_t *ag)
     pq_clear(&ag->alg.dyna_qpc.pq);  // work in progress, not knowledge: never saved
 }
 
+// How many of the relocatable model's entries hold something: places with a percept, situations
+// seen, positions where an episode ended. A scan of each table: for `--counters` and telemetry at
+// the end of a run, not for the planner.
+static void reloc_fill_(const world_model_t *m, uint32_t *places, uint32_t *situations,
+                        uint32_t *arrivals)
+{
+    *places = *situations = *arrivals = 0;
+    for (uint32_t i = 0; m->percepts != NULL && i < m->places; i++) {
+        *places += m->percepts[i] != 0u;
+    }
+    for (uint32_t i = 0; m->classes != NULL && i < m->n_classes; i++) {
+        *situations += m->classes[i].count != 0u;
+    }
+    for (uint32_t i = 0; m->arrivals != NULL && i < m->positions; i++) {
+        *arrivals += m->arrivals[i] != MODEL_NO_ARRIVAL;
+    }
+}
+
 static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
 {
     const world_model_t *m = &ag->alg.dyna_qpc.model;
+    uint32_t places, situations, arrivals;
+    reloc_fill_(m, &places, &situations, &arrivals);
     out[0] = (agent_counter_t){"cmac_fwd", m->forward.stats.cells_used, m->forward.capacity};
     out[1] = (agent_counter_t){"cmac_evicted", m->forward.stats.evicted, 0u};
     out[2] = (agent_counter_t){"cmac_dropped", m->forward.stats.dropped, 0u};
@@ -264,7 +284,10 @@ static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
     out[5] = (agent_counter_t){"model_generalised", m->generalised, 0u};
     out[6] = (agent_counter_t){"queue", ag->alg.dyna_qpc.pq.size, ag->alg.dyna_qpc.pq.capacity};
     out[7] = (agent_counter_t){"queue_dropped", ag->alg.dyna_qpc.pq.stats.dropped, 0u};
-    return 8u;
+    out[8] = (agent_counter_t){"percept_places", places, m->places};
+    out[9] = (agent_counter_t){"situations", situations, m->n_classes};
+    out[10] = (agent_counter_t){"arrivals", arrivals, m->positions};
+    return 11u;
 }
 
 static uint32_t backlog_(const agent_t *ag)

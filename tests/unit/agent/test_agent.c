@@ -409,6 +409,8 @@ static void counters_list_the_q_store_then_the_algorithm(void **state)
     assert_int_equal(c[0].value, agent_.q.rows_used);
     assert_int_equal(c[0].capacity, agent_.q.capacity);
     assert_non_null(counter_(c, n, "cmac_fwd"));
+    assert_non_null(counter_(c, n, "percept_places"));
+    assert_non_null(counter_(c, n, "arrivals"));
     assert_int_equal(counter_(c, n, "queue")->value, agent_backlog(&agent_));
     assert_true(agent_backlog(&agent_) > 0u);
     assert_null(counter_(c, n, "table"));
