@@ -326,7 +326,7 @@ def cmd_backup(args, board: Board, target: str) -> int:
         return 0
     newest = max(recs, key=lambda r: r[1])
     print(f"wrote {args.file} ({len(image)} bytes): {len(recs)} record(s), newest sequence {newest[1]}, "
-          f"{newest[2]} episodes (dynaqpc-learned {args.file} --scenario {board.image})")
+          f"{newest[2]} episodes (draw it: dynaqpc-learned {args.file} --scenario {board.image})")
     return 0
 
 
