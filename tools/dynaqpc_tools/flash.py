@@ -222,7 +222,7 @@ class Probe:
             options["frequency"] = self.frequency
         try:
             self.session = ConnectHelper.session_with_chosen_probe(
-                blocking=False, unique_id=probes[0].unique_id, options=options)
+                blocking=False, return_first=True, unique_id=probes[0].unique_id, options=options)
             if self.session is None:
                 raise ToolError("the debug probe went away")
             self.session.open()

@@ -103,6 +103,20 @@ def test_no_board_behind_the_probe_is_one_line(tmp_path, capsys, monkeypatch):
     assert "no board on probe 0670FF3837" in line and "no ACK" in line
 
 
+def test_a_target_pyocd_lacks_names_the_pack(tmp_path, capsys, monkeypatch):
+    from pyocd.core.helpers import ConnectHelper
+
+    def unknown(**kw):
+        raise pyocd.core.exceptions.TargetSupportError(
+            "Target type stm32f407vg not recognized. Use 'pyocd list --targets' to see ...")
+
+    probe = type("P", (), {"unique_id": "FAKE1"})()
+    monkeypatch.setattr(ConnectHelper, "get_all_connected_probes", staticmethod(lambda **kw: [probe]))
+    monkeypatch.setattr(ConnectHelper, "session_with_chosen_probe", staticmethod(unknown))
+    assert flash.main(["backup", str(tmp_path / "out.bin")]) == 2
+    assert "pyocd pack install stm32f407vg" in _one_line(capsys)
+
+
 @pytest.mark.parametrize("content,why", [
     (b"", "0 bytes"),
     (b"\xff" * 1000, "1000 bytes"),
