@@ -16,6 +16,14 @@ stderr: when every line is skipped (not a listener, or the wrong baud rate), whe
 beacons heard is in the beacons file, and when every fix is refused because the ranges disagree
 (most often the listener's height: --listener-z, or a `listener_height H` line in the file).
 --raw echoes every line as it arrives.
+
+The console takes the line for itself: it refuses (one line, exit status 2) a device another
+process holds — one that holds an exclusive lock on it (flock, as pyserial's ``exclusive=True``
+takes; TIOCEXCL) or, on Linux, simply has it open (the firmware's host build reading its
+Cricket pty, a terminal program): two readers of one tty each get some of its bytes, so the
+console would read garbage and the other reader would lose lines. Once open it holds both
+locks (flock and TIOCEXCL) so that a later opener is refused in turn. ``--share`` skips the
+check of other openers (the locks are still taken).
 """
 
 from __future__ import annotations
@@ -23,6 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -410,6 +419,70 @@ def read_lines(port) -> Iterable[Optional[bytes]]:
             yield None
 
 
+def holders(device: str) -> List[Tuple[int, str]]:
+    """Other processes that have `device` open, as (pid, command name): Linux's /proc, best effort
+    (processes whose fds cannot be read are not seen; elsewhere the list is empty)."""
+    try:
+        rdev = os.stat(device).st_rdev
+    except OSError:
+        return []
+    if not rdev or not os.path.isdir("/proc/self/fd"):
+        return []
+    me = os.getpid()
+    found = []
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit() or int(pid) == me:
+            continue
+        fd_dir = f"/proc/{pid}/fd"
+        try:
+            fds = os.listdir(fd_dir)
+        except OSError:
+            continue
+        for fd in fds:
+            try:
+                st = os.stat(f"{fd_dir}/{fd}")
+            except OSError:
+                continue
+            if st.st_rdev == rdev and (st.st_mode & 0o170000) == 0o020000:  # the same char device
+                try:
+                    with open(f"/proc/{pid}/comm", encoding="utf-8", errors="replace") as f:
+                        comm = f.read().strip()
+                except OSError:
+                    comm = "?"
+                found.append((int(pid), comm))
+                break
+    return found
+
+
+def open_exclusive(device: str, **kwargs):
+    """The device opened through pyserial for this console alone (see the module's doc): a
+    ToolError of one line when it cannot be opened or another process holds it."""
+    import errno
+    import serial
+
+    if not kwargs.pop("share", False):
+        held = holders(device)
+        if held:
+            who = ", ".join(f"pid {pid} ({comm})" for pid, comm in held)
+            raise ToolError(f"{device} is held by another process ({who}): not reading it, "
+                            f"both readers would lose bytes (stop it, or pass --share)")
+    try:
+        port = serial.Serial(device, exclusive=True, **kwargs)
+    except (serial.SerialException, OSError) as e:
+        text = str(e)
+        if "exclusively lock" in text or getattr(e, "errno", None) == errno.EBUSY or "Device or resource busy" in text:
+            raise ToolError(f"{device} is held by another process (it holds a lock on the line): "
+                            f"not reading it, both readers would lose bytes") from None
+        raise ToolError(f"cannot open {device}: {e}") from None
+    try:
+        import fcntl
+        import termios
+        fcntl.ioctl(port.fileno(), termios.TIOCEXCL)
+    except (ImportError, AttributeError, OSError):
+        pass  # not a tty that knows TIOCEXCL: the flock still stands
+    return port
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = ToolArgumentParser(prog="dynaqpc-cricket", description=__doc__,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -425,6 +498,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="ranges older than this (s) are not used for a fix (default 3, the firmware's)")
     p.add_argument("--raw", action="store_true",
                    help="echo every line as it arrives ('<' and the line, unprintable bytes escaped)")
+    p.add_argument("--share", action="store_true",
+                   help="read the device even if another process has it open (not if it holds a lock)")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N lines")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     return p
@@ -437,11 +512,9 @@ def run(args, out=None, err=None) -> Console:
     beacons, z = load_beacons(args.beacons) if args.beacons else (None, None)
     listener_z = args.listener_z if args.listener_z is not None else (z or 0.0)
     console = Console(beacons, listener_z, args.max_age)
-    try:
-        port = serial.Serial(args.device, args.baud, bytesize=serial.EIGHTBITS, parity=serial.PARITY_NONE,
-                             stopbits=serial.STOPBITS_ONE, xonxoff=not args.no_xonxoff, timeout=0.2)
-    except (serial.SerialException, OSError) as e:
-        raise ToolError(f"cannot open {args.device}: {e}") from None
+    port = open_exclusive(args.device, baudrate=args.baud, bytesize=serial.EIGHTBITS,
+                          parity=serial.PARITY_NONE, stopbits=serial.STOPBITS_ONE,
+                          xonxoff=not args.no_xonxoff, timeout=0.2, share=args.share)
     print(f"listening on {args.device}", file=err, flush=True)
     start = time.monotonic()
     try:

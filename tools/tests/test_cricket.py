@@ -314,3 +314,57 @@ def test_raw_echoes_every_line(tmp_path):
     c, out, err = _run_on_pty(lines, ["--raw"], until=lambda t: "skipped line" in t)
     raw = [ln.split(" < ", 1)[1] for ln in out.splitlines() if " < " in ln]
     assert raw == [lines[0].strip(), "junk\\x07line"]
+
+
+def _holder(path, how):
+    """A child process holding the pty's slave `path`: plainly open, or flock'ed as pyserial's
+    exclusive=True does. Returns the process once it holds it."""
+    import subprocess
+    import sys
+    code = ("import fcntl, os, sys, time\n"
+            "fd = os.open(sys.argv[1], os.O_RDWR | os.O_NOCTTY)\n"
+            "if sys.argv[2] == 'flock': fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\n"
+            "print('held', flush=True)\n"
+            "time.sleep(60)\n")
+    p = subprocess.Popen([sys.executable, "-c", code, path, how], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "held"
+    return p
+
+
+@pytest.mark.parametrize("how", ["open", "flock"])
+def test_refuses_a_line_another_process_holds(how, capsys):
+    master, slave = os.openpty()
+    path = os.ttyname(slave)
+    os.close(slave)
+    holder = _holder(path, how)
+    try:
+        argv = [path, "--duration", "1"] + (["--share"] if how == "flock" else [])
+        assert cricket.main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"{path} is held by another process" in err[0], err
+        if how == "open":
+            assert f"pid {holder.pid}" in err[0]
+    finally:
+        holder.kill()
+        holder.wait()
+        os.close(master)
+
+
+def test_holds_the_line_against_a_second_console(capsys):
+    master, slave = os.openpty()
+    path = os.ttyname(slave)
+    os.close(slave)
+    out, err = io.StringIO(), _Signal()
+    args = cricket.build_parser().parse_args([path])
+    t = threading.Thread(target=lambda: cricket.run(args, out, err))
+    t.start()
+    try:
+        assert err.opened.wait(10), "console did not open the pty"
+        # A second console in this process (so /proc shows no other holder): the lock refuses it.
+        assert cricket.main([path, "--share", "--duration", "1"]) == 2
+        line = capsys.readouterr().err.strip().splitlines()
+        assert len(line) == 1 and "held by another process" in line[0], line
+    finally:
+        os.close(master)
+        t.join(10)
+    assert not t.is_alive()
