@@ -14,7 +14,8 @@ Beacon IDs are compared as the eight bytes they name, however a beacons file spe
 (`1:5e:3c:3c:a:0:0:b1`, `01:5E:3C:3C:0A:00:00:B1`, `01-5e-...`, `015e3c3c0a0000b1`). Hints on
 stderr: when every line is skipped (not a listener, or the wrong baud rate), when none of the
 beacons heard is in the beacons file, and when every fix is refused because the ranges disagree
-(most often the listener's height: --listener-z, or a `listener_height H` line in the file).
+(most often a wrong listener height: --listener-z, or a `listener_height H` line in the file;
+unsaid, it is estimated from the ranges of beacons at one height).
 --raw echoes every line as it arrives.
 
 The console takes the line for itself: it refuses (one line, exit status 2) a device another
@@ -316,6 +317,34 @@ def trilat_solve(anchors, listener_z: float, min_spread: float = MIN_SPREAD_M,
     return x, y, resid
 
 
+def estimate_listener_z(anchors, max_tilt: float = 0.01) -> Optional[float]:
+    """The listener's height from the ranges alone, when nobody said it: with beacons at one
+    height zc (on a ceiling), d_i^2 - (x_i^2 + y_i^2) = -2 x x_i - 2 y y_i + K, linear in x, y and
+    K = x^2 + y^2 + (z - zc)^2, so 3 or more beacons give (z - zc)^2, and the listener is below
+    them. None: fewer than 3 beacons, beacons not at one height (within max_tilt), beacons on a
+    line, or ranges that give no real height."""
+    import numpy as np
+
+    if len(anchors) < 3:
+        return None
+    zs = [a[2] for a in anchors]
+    if max(zs) - min(zs) > max_tilt:
+        return None
+    a = np.array([[-2 * x, -2 * y, 1.0] for x, y, _, _ in anchors])
+    b = np.array([r * r - x * x - y * y for x, y, _, r in anchors])
+    try:
+        sol, _, rank, _ = np.linalg.lstsq(a, b, rcond=None)
+    except np.linalg.LinAlgError:
+        return None
+    if rank < 3:
+        return None
+    x, y, k = sol
+    h2 = k - x * x - y * y
+    if not h2 > 0:
+        return None
+    return float(sum(zs) / len(zs) - math.sqrt(h2))
+
+
 def trilaterate(ranges: Dict[object, float], beacons: Dict[object, Tuple[float, float, float]],
                 listener_z: float = 0.0) -> Optional[Tuple[float, float, float]]:
     """The fix from the latest slant range to each known beacon (metres), as the firmware finds
@@ -332,7 +361,8 @@ class Console:
     """The console's state: latest range per beacon, counters. Feed it lines; no I/O."""
 
     beacons: Optional[Dict[int, Tuple[float, float, float]]] = None
-    listener_z: float = 0.0
+    #: None: nobody said it; each fix estimates it from the ranges (estimate_listener_z)
+    listener_z: Optional[float] = 0.0
     max_age_s: float = 3.0
     ranges: Dict[int, Tuple[float, float]] = field(default_factory=dict)  # beacon -> (range, t)
     lines: int = 0
@@ -343,6 +373,7 @@ class Console:
     heard: set = field(default_factory=set)
     refused: Dict[str, int] = field(default_factory=dict)
     last_residual: Optional[float] = None
+    estimated_z: Optional[float] = None
 
     def hints(self, device: str = "the device", beacons_file: str = "the beacons file") -> List[str]:
         """What probably went wrong, when something did: every line skipped; none of the beacons
@@ -360,7 +391,9 @@ class Console:
         elif self.beacons and not self.fixes and self.refused.get("inconsistent"):
             out.append(f"all {self.refused['inconsistent']} fixes were refused because the ranges disagree (rms "
                        f"residual above {MAX_RESIDUAL_M * 100:g} cm): is the listener's height right? It is "
-                       f"{self.listener_z:g} m (--listener-z, or a `listener_height H` line in the beacons file; a "
+                       + (f"{self.listener_z:g} m" if self.listener_z is not None else
+                          f"estimated from the ranges ({self.estimated_z if self.estimated_z is not None else 0:g} m)")
+                       + " (--listener-z, or a `listener_height H` line in the beacons file; a "
                        f"scenario file gives its own)")
         return out
 
@@ -386,15 +419,20 @@ class Console:
             fresh = {b: rng for b, (rng, t) in self.ranges.items() if now - t <= self.max_age_s}
             anchors = [(*self.beacons[b], rng) for b, rng in fresh.items() if b in self.beacons]
             fix = None
+            z = self.listener_z
+            if len(anchors) >= 3 and z is None:
+                self.estimated_z = estimate_listener_z(anchors)
+                z = self.estimated_z if self.estimated_z is not None else 0.0
             if len(anchors) >= 3:
                 try:
-                    fix = trilat_solve(anchors, self.listener_z)
+                    fix = trilat_solve(anchors, z)
                 except TrilatRefused as e:
                     self.refused[e.kind] = self.refused.get(e.kind, 0) + 1
             if fix is not None:
                 self.fixes += 1
+                height = "" if self.listener_z is not None else f", listener height estimated {z:.3f} m"
                 out.append(f"fix x={fix[0]:.3f} m y={fix[1]:.3f} m  (rms residual {fix[2]:.3f} m, "
-                           f"{len([b for b in fresh if b in self.beacons])} beacons)")
+                           f"{len([b for b in fresh if b in self.beacons])} beacons{height})")
         return out
 
 
@@ -493,7 +531,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--beacons", metavar="FILE",
                    help="beacon positions: a scenario (.scn), an arena JSON, or 'ID x y z' lines (m)")
     p.add_argument("--listener-z", type=float_in(-100, 100), default=None,
-                   help="listener height (m; default: the scenario's, else 0)")
+                   help="listener height (m; default: the scenario's or the file's, else estimated from the "
+                        "ranges of beacons at one height)")
     p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=3.0,
                    help="ranges older than this (s) are not used for a fix (default 3, the firmware's)")
     p.add_argument("--raw", action="store_true",
@@ -510,7 +549,8 @@ def run(args, out=None, err=None) -> Console:
     import serial
 
     beacons, z = load_beacons(args.beacons) if args.beacons else (None, None)
-    listener_z = args.listener_z if args.listener_z is not None else (z or 0.0)
+    # Unsaid (neither --listener-z nor the file): estimated from the ranges at each fix.
+    listener_z = args.listener_z if args.listener_z is not None else z
     console = Console(beacons, listener_z, args.max_age)
     port = open_exclusive(args.device, baudrate=args.baud, bytesize=serial.EIGHTBITS,
                           parity=serial.PARITY_NONE, stopbits=serial.STOPBITS_ONE,

@@ -277,12 +277,25 @@ def test_beacon_ids_are_compared_as_bytes_however_spelt(tmp_path):
     assert float(fix.split("x=")[1].split()[0]) == pytest.approx(1.2, abs=0.01)
 
 
-def test_a_wrong_listener_height_is_hinted(tmp_path):
-    # The 0 fixes: a file of `ID x y z` lines (no height) leaves the listener at 0 m, 15 cm
-    # below where it is, and every fix is refused as inconsistent; the console says why.
+def test_a_file_without_the_listeners_height_still_fixes(tmp_path):
+    # The 0 fixes: a file of `ID x y z` lines spelt as the listener prints them, no height.
+    # With the beacons at one height the ranges give the listener's height too: it fixes.
     f = tmp_path / "beacons.txt"
     f.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
     c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)],
+                              until=lambda t: t.count("fix x=") >= 5)
+    assert c.fixes >= 5 and "hint" not in err
+    fix = [ln for ln in out.splitlines() if "fix x=" in ln][-1]
+    assert float(fix.split("x=")[1].split()[0]) == pytest.approx(1.2, abs=0.02)
+    assert "listener height estimated" in fix and c.estimated_z == pytest.approx(0.15, abs=0.05)
+
+
+def test_a_wrong_listener_height_is_hinted(tmp_path):
+    # A height given, and wrong (0 m, 15 cm below the listener): every fix is refused as
+    # inconsistent, and the console says why.
+    f = tmp_path / "beacons.txt"
+    f.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
+    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0"],
                               until=lambda t: t.count("beacon 01:") >= 8)
     assert c.readings == 8 and c.fixes == 0
     hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
@@ -290,6 +303,18 @@ def test_a_wrong_listener_height_is_hinted(tmp_path):
     c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0.15"],
                               until=lambda t: t.count("fix x=") >= 5)
     assert c.fixes >= 5 and "hint" not in err
+
+
+def test_the_height_estimate(tmp_path):
+    at = (1.2, 1.0, 0.15)
+    anchors = [(x, y, z, math.dist(at, (x, y, z))) for x, y, z in LAB.values()]
+    assert cricket.estimate_listener_z(anchors) == pytest.approx(0.15, abs=1e-6)
+    assert cricket.estimate_listener_z(anchors[:3]) == pytest.approx(0.15, abs=1e-6)
+    assert cricket.estimate_listener_z(anchors[:2]) is None  # too few
+    tilted = [(x, y, z + 0.1 * i, r) for i, (x, y, z, r) in enumerate(anchors)]
+    assert cricket.estimate_listener_z(tilted) is None  # not at one height
+    line = [(float(i), 0.0, 2.5, 3.0) for i in range(4)]
+    assert cricket.estimate_listener_z(line) is None  # on a line
 
 
 def test_hints_when_every_line_is_skipped_and_when_no_beacon_matches(tmp_path):
