@@ -259,6 +259,10 @@ class PoseView:
         self._break = True  # the next pose starts a trail
         self.ray_lines = []
         (self.bump_marks,) = self.ax.plot([], [], "x", color="tab:red", markersize=8, mew=2, linestyle="none")
+        #: With keep_history (a replay), what the view showed after each pose, for show_upto():
+        #: (pose, a trail starts here, bumps so far, episode, step, mode, rays)
+        self.keep_history = False
+        self.history = []
 
     def new_episode(self, late: bool = False) -> None:
         """The next pose starts a trail. `late`: known only from TLM_LEARN's episode number, which
@@ -280,12 +284,40 @@ class PoseView:
         if self._break or not self.segments:
             self.segments.append([])
             self._break = False
+        if self.keep_history:
+            st = self.state
+            self.history.append((pose, not self.segments[-1], len(self.bumps),
+                                 st.episode if st else None, st.step if st else None, st.mode if st else None,
+                                 dict(st.rays) if st else {}))
         self.segments[-1].append((pose.x, pose.y))
         self.points += 1
         while self.points > self.max_points and len(self.segments) > 1:
             self.points -= len(self.segments.popleft())
         self.poses += 1
         self.last = pose
+
+    def show_upto(self, k: int) -> None:
+        """A replay scrubbed back: the view as it was after pose k (0-based; clamped), trails,
+        bumps, rays and readout included. Needs keep_history; redraws."""
+        if not self.history:
+            return
+        k = max(0, min(k, len(self.history) - 1))
+        self.segments = collections.deque()
+        bumps_all = self.bumps_all if hasattr(self, "bumps_all") else list(self.bumps)
+        self.bumps_all = bumps_all
+        for pose, starts, _, _, _, _, _ in self.history[:k + 1]:
+            if starts or not self.segments:
+                self.segments.append([])
+            self.segments[-1].append((pose.x, pose.y))
+        pose, _, bumps, episode, step, mode, rays = self.history[k]
+        self.last = pose
+        self.poses = k + 1
+        self.bumps = bumps_all[:bumps]
+        if self.state is not None:
+            self.state.episode, self.state.step, self.state.mode, self.state.rays = episode, step, mode, rays
+        if not self.bumps:
+            self.bump_marks.set_data([], [])
+        self.redraw()
 
     def readout(self) -> str:
         p = self.last
@@ -371,6 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a pose this far (m) from the last starts a new trail (default %(default)s)")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N pose frames")
+    p.add_argument("--at", type=int_in(1), default=None, metavar="K",
+                   help="with --replay: show the run as it was at its K-th pose (a window scrubs with its slider)")
     return p
 
 
@@ -392,8 +426,11 @@ def run(args) -> PoseView:
     angles = None
     if args.scenario:
         angles = scenario_ray_angles(args.scenario)
+    if args.at is not None and not args.replay:
+        raise ToolError("--at: only with --replay (a live bus has no past to scrub)")
     view = PoseView(load_arena(args.arena) if args.arena else None, jump=args.jump)
     view.state = BusState(db, angles)
+    view.keep_history = bool(args.replay)
 
     def feed(msg) -> None:
         seen.add(msg.arbitration_id)
@@ -408,7 +445,7 @@ def run(args) -> PoseView:
         if pose is not None:
             view.add(pose)
 
-    if not args.headless_png:
+    if not args.headless_png and not args.replay:
         plt.ion()
         plt.show(block=False)
     start = time.monotonic()
@@ -447,6 +484,8 @@ def run(args) -> PoseView:
         if bus is not None:
             bus.shutdown()
     view.redraw()
+    if args.at is not None:
+        view.show_upto(args.at - 1)
     skipped = f", {view.skipped} without a fix not drawn" if view.skipped else ""
     if len(view.segments) > 1:
         skipped += f", {len(view.segments)} trails (one per episode)"
@@ -468,7 +507,23 @@ def run(args) -> PoseView:
         print(f"{view.poses} poses{skipped}; wrote {args.headless_png}")
     else:
         print(f"{view.poses} poses{skipped}")
+        if args.replay and view.history:
+            _replay_window(view, plt, args.at)
     return view
+
+
+def _replay_window(view: PoseView, plt, at: Optional[int]) -> None:
+    """A replay stays open with a slider under the arena: dragging it shows the run as it was at
+    that pose (trails, bumps, rays, readout); closing the window ends the viewer."""
+    from matplotlib.widgets import Slider
+
+    view.fig.subplots_adjust(bottom=0.14)
+    axis = view.fig.add_axes([0.15, 0.03, 0.7, 0.03])
+    n = len(view.history)
+    slider = Slider(axis, "pose", 1, n, valinit=at if at is not None else n, valstep=1)
+    slider.on_changed(lambda v: (view.show_upto(int(v) - 1), view.fig.canvas.draw_idle()))
+    view.slider = slider  # kept alive with the figure
+    plt.show(block=True)
 
 
 def _by_id(db, frame_id: int):

@@ -116,6 +116,27 @@ def test_one_trail_per_episode_with_readout_rays_and_bumps(tmp_path):
     assert [len(s) for s in view.segments] == [10, 10]
 
 
+def test_a_replay_scrubs_back(tmp_path):
+    # --at K (and the window's slider, which calls the same show_upto): the run as it was at pose
+    # K: the first episode's trail only, no bump yet, its readout.
+    db = cantools.database.load_file(DBC)
+    log = tmp_path / "run.asc"
+    with can.Logger(str(log)) as w:
+        for m in _two_episodes(db):
+            w(m)
+    png = tmp_path / "v.png"
+    args = ["--replay", str(log), "--png", str(png), "--jump", "5"]
+    view = viewer.run(viewer.build_parser().parse_args(args + ["--at", "5"]))
+    assert [len(s) for s in view.segments] == [5] and view.poses == 5
+    assert "episode 1" in view.title.get_text() and view.bumps == []
+    view.show_upto(19)  # and forward again: as the whole run
+    assert [len(s) for s in view.segments] == [10, 10] and "episode 2" in view.title.get_text()
+    assert len(view.bumps) == 1
+    view.show_upto(12)
+    assert [len(s) for s in view.segments] == [10, 3]
+    assert viewer.main(["--png", str(png), "--at", "3", "--interface", "virtual"]) == 2
+
+
 def test_a_jump_starts_a_new_trail_without_episode_frames(tmp_path, test_dbc):
     db = cantools.database.load_file(test_dbc)
     log = tmp_path / "run.asc"
