@@ -263,6 +263,7 @@ class PoseView:
         #: (pose, a trail starts here, bumps so far, episode, step, mode, rays)
         self.keep_history = False
         self.history = []
+        self.bumps_all = None  # a replay's every bump, kept once show_upto() first scrubs back
 
     def new_episode(self, late: bool = False) -> None:
         """The next pose starts a trail. `late`: known only from TLM_LEARN's episode number, which
@@ -303,8 +304,8 @@ class PoseView:
             return
         k = max(0, min(k, len(self.history) - 1))
         self.segments = collections.deque()
-        bumps_all = self.bumps_all if hasattr(self, "bumps_all") else list(self.bumps)
-        self.bumps_all = bumps_all
+        if self.bumps_all is None:
+            self.bumps_all = list(self.bumps)
         for pose, starts, _, _, _, _, _ in self.history[:k + 1]:
             if starts or not self.segments:
                 self.segments.append([])
@@ -312,7 +313,7 @@ class PoseView:
         pose, _, bumps, episode, step, mode, rays = self.history[k]
         self.last = pose
         self.poses = k + 1
-        self.bumps = bumps_all[:bumps]
+        self.bumps = self.bumps_all[:bumps]
         if self.state is not None:
             self.state.episode, self.state.step, self.state.mode, self.state.rays = episode, step, mode, rays
         if not self.bumps:

@@ -88,6 +88,10 @@ AGENT_ALWAYS_INLINE float agent_row_max_(const float *row, uint32_t n)
 /// outcome; returns how many were made (0 before the first real step).
 uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t n);
 
+/// A transition table's counters (dyna_q.c): `table` (records of capacity) and `table_evicted`;
+/// returns how many it wrote (2).
+uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out);
+
 /// Trivial operations for an algorithm that has nothing to do there.
 int agent_init_nothing_(agent_t *ag, const agent_storage_t *st);
 void agent_nothing_(agent_t *ag);

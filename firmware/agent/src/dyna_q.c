@@ -76,12 +76,16 @@ static void restored_(agent_t *ag)
     dynaq_restored(&ag->alg.dyna_q.table);
 }
 
+uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out)
+{
+    out[0] = (agent_counter_t){"table", table->count, table->capacity};
+    out[1] = (agent_counter_t){"table_evicted", table->evicted, 0u};
+    return 2u;
+}
+
 static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
 {
-    const dynaq_table_t *t = &ag->alg.dyna_q.table;
-    out[0] = (agent_counter_t){"table", t->count, t->capacity};
-    out[1] = (agent_counter_t){"table_evicted", t->evicted, 0u};
-    return 2u;
+    return agent_dyna_q_table_counters_(&ag->alg.dyna_q.table, out);
 }
 
 const agent_algorithm_t agent_dyna_q_algorithm = {

@@ -107,11 +107,10 @@ static void restored_(agent_t *ag)
 static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
 {
     const agent_dyna_q_majority_t *me = &ag->alg.dyna_q_majority;
-    out[0] = (agent_counter_t){"table", me->table.count, me->table.capacity};
-    out[1] = (agent_counter_t){"table_evicted", me->table.evicted, 0u};
-    out[2] = (agent_counter_t){"table_kept", me->kept, 0u};
-    out[3] = (agent_counter_t){"table_replaced", me->replaced, 0u};
-    return 4u;
+    const uint32_t n = agent_dyna_q_table_counters_(&me->table, out);
+    out[n] = (agent_counter_t){"table_kept", me->kept, 0u};
+    out[n + 1u] = (agent_counter_t){"table_replaced", me->replaced, 0u};
+    return n + 2u;
 }
 
 const agent_algorithm_t agent_dyna_q_majority_algorithm = {
