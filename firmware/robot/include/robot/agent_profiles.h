@@ -15,10 +15,10 @@ extern "C" {
 /// The storage of one agent: the Q store, and an overlay of Dyna-QPC's models and queue with
 /// Dyna-Q's table and Dyna-Q-majority's (an agent runs one algorithm, so all get the same
 /// memory: fw_config.h sizes the tables to fill the same bytes).
-#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, CLASSES, \
+#define AGENT_MEMORY_STRUCT(Q_TYPE, Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, CLASSES, \
                             POSITIONS)                                                         \
     struct {                                                                                   \
-        float q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                                \
+        Q_TYPE q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                               \
         uint32_t q_keys[Q_STATES];                                                             \
         union {                                                                                \
             struct {                                                                           \
@@ -52,7 +52,8 @@ extern "C" {
 /// An agent_storage_t initializer pointing into a variable of an AGENT_MEMORY_STRUCT type.
 #define AGENT_STORAGE_OF(mem)                                                                  \
     {                                                                                          \
-        .q = (mem).q, .q_keys = (mem).q_keys, .q_states = AGENT_COUNT_OF((mem).q_keys),        \
+        .q = (mem).q, .q_value_bytes = (uint8_t)sizeof((mem).q[0]), .q_keys = (mem).q_keys,    \
+        .q_states = AGENT_COUNT_OF((mem).q_keys),                                              \
         .dyna_q = {(mem).model.dynaq.records, (mem).model.dynaq.index_keys,                    \
                    (mem).model.dynaq.index_rec, AGENT_COUNT_OF((mem).model.dynaq.records)},    \
         .dyna_qpc = {{(mem).model.qpc.fwd_keys, (mem).model.qpc.fwd_counts,                    \
@@ -68,13 +69,13 @@ extern "C" {
                             AGENT_COUNT_OF((mem).model.majority.records)},                     \
     }
 
-typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_TYPE, FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
                             FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_MAJORITY_STATES, FW_CFG_MAZE_PLACES,
                             FW_CFG_MAZE_CLASSES, FW_CFG_MAZE_POSITIONS) agent_memory_maze_t;
-typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_TYPE, FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
                             FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_MAJORITY_STATES, FW_CFG_LAB_PLACES,
                             FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS) agent_memory_paper_lab_t;
-typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_TYPE, FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
                             FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_MAJORITY_STATES, FW_CFG_SIM_PLACES,
                             FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS) agent_memory_paper_sim_t;
 
