@@ -3,6 +3,7 @@
 // outcomes and names predecessors, and prioritized sweeping spends planning on the pairs whose
 // values would change most.
 #include <stddef.h>
+#include <string.h>
 
 #include "algorithm.h"
 #include "fw/fw_base.h"
@@ -10,10 +11,35 @@
 FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS,
                  dyna_qpc_lists_at_most_AGENT_MAX_REGIONS);
 
+// The models by name (agent.h: AGENT_MODEL_*).
+static const char *const model_names_[AGENT_MODELS] = {"relocatable", "paper"};
+
+const char *agent_model_name(uint8_t model)
+{
+    return model < AGENT_MODELS ? model_names_[model] : NULL;
+}
+
+int agent_model_from_name(const char *name, uint8_t *model)
+{
+    for (uint32_t k = 0; name != NULL && k < AGENT_MODELS; k++) {
+        if (strcmp(name, model_names_[k]) == 0) {
+            *model = (uint8_t)k;
+            return FW_OK;
+        }
+    }
+    return FW_ERR_INVAL;
+}
+
 static int init_(agent_t *ag, const agent_storage_t *st)
 {
     const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    // The choice of model: the paper's CMAC-Model and CMAC-R plan through their own operations
+    // (dyna_qpc_paper.c, Fig. 3 as the paper has it); everything below is ours.
+    if (ag->params.model == AGENT_MODEL_PAPER) {
+        ag->algorithm = &agent_dyna_qpc_paper_algorithm;
+        return ag->algorithm->init(ag, st);
+    }
     int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
                          ag->params.min_count, &mine->forward, &mine->reloc);
     if (err) {
