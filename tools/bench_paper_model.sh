@@ -31,13 +31,15 @@ lab_sets=20 lab_eps=20 sim_sets=8 sim_eps=60
 ((quick)) && lab_sets=2 lab_eps=5 sim_sets=1 sim_eps=2
 mkdir -p "$out"
 
-variants=("dyna-q:dyna-q:" "paper:dyna-qpc:paper" "ours:dyna-qpc:relocatable")
+# name:agent:model:tiles ("": the firmware's default, the range code 2 values wide)
+variants=("dyna-q:dyna-q::" "paper:dyna-qpc:paper:" "paper-xy:dyna-qpc:paper:1,1,0,0" "paper-exact:dyna-qpc:paper:0,0,0,0"
+          "ours:dyna-qpc:relocatable:")
 
 run() {  # run <variant> <scenario> <sets> <episodes> <budget> <csv>
-    local name agent model
-    IFS=: read -r name agent model <<<"$1"
+    local name agent model tiles
+    IFS=: read -r name agent model tiles <<<"$1"
     [ -s "$6" ] && return 0
-    nice -n 10 "$sim" train --scenario "$2" --agent "$agent" ${model:+--model "$model"} --planning "$5" \
+    nice -n 10 "$sim" train --scenario "$2" --agent "$agent" ${model:+--model "$model"} ${tiles:+--model-tiles "$tiles"} --planning "$5" \
         --sets "$3" --episodes "$4" --seed "$seed" --jobs "$jobs" --quiet --no-wall-time --csv "$6.tmp" &&
         mv "$6.tmp" "$6"
 }
@@ -76,7 +78,9 @@ for n in budgets:
     print("|---|---|---|")
     base = {}
     for name, label in (("dyna-q", "Dyna-Q (table, random replay)"),
-                        ("paper", "Dyna-QPC, the paper's model (`--model paper`)"),
+                        ("paper", "Dyna-QPC, the paper's model (`--model paper`, range code tiles 2 wide)"),
+                        ("paper-xy", "the same, x and y tiles 2 cells wide (`--model-tiles 1,1,0,0`)"),
+                        ("paper-exact", "the same, exact tiles (`0,0,0,0`: the 16 tilings collapse into one)"),
                         ("ours", "Dyna-QPC, our model (`--model relocatable`)")):
         cells = []
         for scen, thr, hours in (("paper-lab", 50, False), ("paper-sim", 500, True)):

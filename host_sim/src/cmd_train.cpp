@@ -96,7 +96,7 @@ void declare(Options &o, TrainSettings &s)
                  &s.model);
     o.add_string("--model-tiles", "X,Y,H,C",
                  "with --model paper: the CMACs' tile widths of x, y, heading and range code as powers of two "
-                 "(default: the scenario's, else 1,1,0,0)",
+                 "(default: the scenario's, else 0,0,0,1)",
                  &s.model_tiles);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",

@@ -55,7 +55,7 @@ agent_params_t agent_default_params(void)
     p.ablate = 0;
     p.model = AGENT_MODEL_RELOCATABLE;
     for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
-        p.model_tile_shift[k] = k < 2u ? PAPER_DEFAULT_TILE_SHIFT : 0u;
+        p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
     }
     return p;
 }

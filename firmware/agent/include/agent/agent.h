@@ -131,8 +131,8 @@ int agent_kind_from_name(const char *name, agent_kind_t *kind);
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
 /// 16 tilings,
-/// min_count 1; the relocatable model (the paper's model's tiles: x and y
-/// 2^PAPER_DEFAULT_TILE_SHIFT values wide, the other components exact).
+/// min_count 1; the relocatable model (the paper's model's tiles: component
+/// PAPER_DEFAULT_TILED_COMPONENT, the robot's range code, 2 values wide, the others exact).
 agent_params_t agent_default_params(void);
 
 /// Checks the configuration and prepares an agent that knows nothing.

@@ -40,9 +40,11 @@ extern "C" {
 /// Widest tiles a component may have: 2^PAPER_MAX_TILE_SHIFT values (16 tilings displace by
 /// sixteenths of a tile, so wider tiles would only repeat displacements).
 #define PAPER_MAX_TILE_SHIFT 4u
-/// The default tile width of x and y, as a power of two (agent_default_params()): 2 cells,
-/// chosen on tuning seeds (docs/agent.md).
-#define PAPER_DEFAULT_TILE_SHIFT 1u
+/// The component tiled wider than one value by default (agent_default_params()): the robot's
+/// range code (component 3), 2 values wide; the others exact. Chosen on tuning seeds among the
+/// tilings wider than a cell: wide x or y tiles blend a wall's bumps into the free cells beside it
+/// and learned slowest (docs/agent.md, "The paper's model").
+#define PAPER_DEFAULT_TILED_COMPONENT 3u
 /// The most predecessors paper_model_predecessors() names: one per action.
 #define PAPER_MAX_PREDECESSORS FW_CFG_MAX_ACTIONS
 /// The regions paper_model_regions() lists: CMAC-Model's, then CMAC-R's.
