@@ -241,6 +241,7 @@ const BadFile kBadFiles[] = {
     {"missing_field.scn", 3, "missing field 'robot width'"},
     {"missing_ranger_min.scn", 4, "missing field 'ranger min'"},
     {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
+    {"bad_model.scn", 6, "learning model 'cmac': unknown (relocatable, paper)"},
     {"garbage.bin", 3, "not a text file"},
     {"does_not_exist.scn", 0, "cannot open"},
     {"", 0, "cannot read"},  // the directory itself
