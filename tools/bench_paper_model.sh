@@ -8,7 +8,7 @@
 #   tools/bench_paper_model.sh [--seed S] [--budgets 5[,1000]] [--out DIR] [--jobs J] [--quick]
 #
 # Prints one markdown table per budget: sets learned, mean real steps (paper-lab) or robot hours
-# (paper-sim) to learn, a set that never learns counting its whole run (learned: trailing
+# (paper-sim) to learn, mean and median over the sets, a set that never learns counting its whole run (learned: trailing
 # 5-episode mean <= 50 steps, paper-lab, or <= 500, paper-sim), the ratio to Dyna-Q's, and the mean
 # steps per episode over the whole run (the area under the learning curve, no threshold). Needs
 # the host-release build and python3.
@@ -54,7 +54,7 @@ for n in "${budget_list[@]}"; do
 done
 
 PYTHONPATH=$root/tools python3 - "$out" "$seed" "$budgets" "$lab_sets x $lab_eps" "$sim_sets x $sim_eps" <<'EOF'
-import collections, csv, sys
+import collections, csv, statistics, sys
 from dynaqpc_tools.experiment.stats import learned_episode_index
 
 out, seed, budgets, lab, simp = sys.argv[1], sys.argv[2], sys.argv[3].split(","), sys.argv[4], sys.argv[5]
@@ -71,7 +71,7 @@ def measure(path, thr, hours):
         cost.append(sum(e[1] for e in ep[:n]) / 3600 if hours else sum(steps[:n]))
         learned += i is not None
         per_episode.append(sum(steps) / len(steps))
-    return learned, len(cost), sum(cost) / len(cost), sum(per_episode) / len(per_episode)
+    return learned, len(cost), sum(cost) / len(cost), statistics.median(cost), sum(per_episode) / len(per_episode)
 
 for n in budgets:
     print(f"| N = {n}, seed {seed} | paper-lab ({lab}, threshold 50) | paper-sim ({simp}, threshold 500) |")
@@ -84,12 +84,24 @@ for n in budgets:
                         ("ours", "Dyna-QPC, our model (`--model relocatable`)")):
         cells = []
         for scen, thr, hours in (("paper-lab", 50, False), ("paper-sim", 500, True)):
-            learned, sets, cost, mean_steps = measure(f"{out}/{scen}-N{n}-{name}.csv", thr, hours)
+            learned, sets, cost, median, mean_steps = measure(f"{out}/{scen}-N{n}-{name}.csv", thr, hours)
             base.setdefault(scen, cost) if name == "dyna-q" else None
             ratio = cost / base[scen] if base.get(scen) else float("nan")
-            amount = f"{cost:.2f} h" if hours else f"{cost:,.0f} steps"
+            amount = f"{cost:.2f} h (median {median:.2f})" if hours else f"{cost:,.0f} steps (median {median:,.0f})"
             cells.append(f"{learned}/{sets} learned, {amount} to learn ({ratio:.2f} x Dyna-Q), "
                          f"{mean_steps:,.0f} steps/episode")
         print(f"| {label} | " + " | ".join(cells) + " |")
+    print()
+    # The paper's Fig. 13 reads the curves at about 50 episodes: Dyna-QPC within 500 steps,
+    # Dyna-Q about 1,000. The same reading here: mean steps per episode, episodes 46-55.
+    cells = []
+    for name in ("dyna-q", "paper", "paper-xy", "paper-exact", "ours"):
+        by_ep = collections.defaultdict(list)
+        for r in csv.DictReader(open(f"{out}/paper-sim-N{n}-{name}.csv")):
+            by_ep[int(r["episode"])].append(int(r["steps"]))
+        window = [x for e in range(46, 56) for x in by_ep.get(e, [])]
+        cells.append(f"{name} {statistics.mean(window):,.0f}" if window else f"{name} -")
+    print(f"paper-sim, N = {n}, mean steps per episode over episodes 46-55 (the paper's Fig. 13 at ~50 "
+          f"episodes: Dyna-QPC < 500, Dyna-Q ~1,000): " + ", ".join(cells))
     print()
 EOF
