@@ -3,32 +3,12 @@
 // outcomes and names predecessors, and prioritized sweeping spends planning on the pairs whose
 // values would change most.
 #include <stddef.h>
-#include <string.h>
 
 #include "algorithm.h"
 #include "fw/fw_base.h"
 
 FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS,
                  dyna_qpc_lists_at_most_AGENT_MAX_REGIONS);
-
-// The models by name (agent.h: AGENT_MODEL_*).
-static const char *const model_names_[AGENT_MODELS] = {"relocatable", "paper"};
-
-const char *agent_model_name(uint8_t model)
-{
-    return model < AGENT_MODELS ? model_names_[model] : NULL;
-}
-
-int agent_model_from_name(const char *name, uint8_t *model)
-{
-    for (uint32_t k = 0; name != NULL && k < AGENT_MODELS; k++) {
-        if (strcmp(name, model_names_[k]) == 0) {
-            *model = (uint8_t)k;
-            return FW_OK;
-        }
-    }
-    return FW_ERR_INVAL;
-}
 
 static int init_(agent_t *ag, const agent_storage_t *st)
 {
