@@ -67,6 +67,15 @@
 #ifndef FW_CFG_MAZE_POSITIONS
 #define FW_CFG_MAZE_POSITIONS 64
 #endif
+// The paper's CMAC-Model and CMAC-R (`model paper`, paper_model.h) overlay the relocatable
+// model and the planner's carry (agent_profiles.h asserts they fit in its bytes): cells of 17
+// bytes (key, 6 weights, count) and of 15 (key, 5 weights, count).
+#ifndef FW_CFG_MAZE_PAPER_FWD_CELLS
+#define FW_CFG_MAZE_PAPER_FWD_CELLS 65536
+#endif
+#ifndef FW_CFG_MAZE_PAPER_INV_CELLS
+#define FW_CFG_MAZE_PAPER_INV_CELLS 65536
+#endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
 #define FW_CFG_MAZE_BUDGET_BYTES (16u * 1024u * 1024u)
 #endif
@@ -104,6 +113,13 @@
 #endif
 #ifndef FW_CFG_LAB_POSITIONS
 #define FW_CFG_LAB_POSITIONS 64
+#endif
+// The paper's CMACs: 1,024 x 17 + 512 x 15 = 25,088 bytes of our model's 25,456 (with the carry).
+#ifndef FW_CFG_LAB_PAPER_FWD_CELLS
+#define FW_CFG_LAB_PAPER_FWD_CELLS 1024
+#endif
+#ifndef FW_CFG_LAB_PAPER_INV_CELLS
+#define FW_CFG_LAB_PAPER_INV_CELLS 512
 #endif
 #ifndef FW_CFG_LAB_BUDGET_BYTES
 #define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
@@ -143,6 +159,13 @@
 #endif
 #ifndef FW_CFG_SIM_POSITIONS
 #define FW_CFG_SIM_POSITIONS 4096
+#endif
+// The paper's CMACs: 2,048 x 17 + 2,048 x 15 = 65,536 bytes of our model's 79,600.
+#ifndef FW_CFG_SIM_PAPER_FWD_CELLS
+#define FW_CFG_SIM_PAPER_FWD_CELLS 2048
+#endif
+#ifndef FW_CFG_SIM_PAPER_INV_CELLS
+#define FW_CFG_SIM_PAPER_INV_CELLS 2048
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

@@ -61,7 +61,13 @@ struct ConfigOverrides {
     const double *epsilon = nullptr;           ///< --epsilon
     const double *alpha = nullptr;             ///< --alpha: the Q learning rate, real and planning
     const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
+    const std::string *model = nullptr;        ///< --model: Dyna-QPC's model, relocatable or paper
+    const std::string *model_tiles = nullptr;  ///< --model-tiles: the paper's model's tile widths
 };
+
+/// The model a `--model` option or a scenario's `learning model` names (relocatable, paper);
+/// another name throws UsageError.
+std::uint8_t agent_model_of(const std::string &name);
 
 /// Applies `v` to `cfg` as the options `o` were given (one place for train, run and dynaqpc-fw).
 void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg);

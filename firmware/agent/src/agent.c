@@ -53,6 +53,10 @@ agent_params_t agent_default_params(void)
     p.tilings = 16;
     p.min_count = 1;
     p.ablate = 0;
+    p.model = AGENT_MODEL_RELOCATABLE;
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
+    }
     return p;
 }
 
@@ -65,7 +69,7 @@ static bool params_valid_(const agent_params_t *p)
            p->theta >= 0.0f &&                         //
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
            p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
-           (p->ablate & ~AGENT_ABLATE_ALL) == 0u;
+           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)

@@ -14,6 +14,12 @@ static int init_(agent_t *ag, const agent_storage_t *st)
 {
     const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    // The choice of model: the paper's CMAC-Model and CMAC-R plan through their own operations
+    // (dyna_qpc_paper.c, Fig. 3 as the paper has it); everything below is ours.
+    if (ag->params.model == AGENT_MODEL_PAPER) {
+        ag->algorithm = &agent_dyna_qpc_paper_algorithm;
+        return ag->algorithm->init(ag, st);
+    }
     int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
                          ag->params.min_count, &mine->forward, &mine->reloc);
     if (err) {

@@ -37,7 +37,25 @@ typedef struct agent_params {
     /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results.md): a
     /// mask of AGENT_ABLATE_*; 0 (the default) keeps them all.
     uint8_t ablate;
+    /// Dyna-QPC's world model: AGENT_MODEL_RELOCATABLE (ours, the default) or AGENT_MODEL_PAPER
+    /// (the paper's CMAC-Model and CMAC-R, paper_model.h).
+    uint8_t model;
+    /// With AGENT_MODEL_PAPER: the CMACs' tile width of each state component as a power of two
+    /// (0: exact), up to PAPER_MAX_TILE_SHIFT.
+    uint8_t model_tile_shift[FW_CFG_MAX_COMPONENTS];
 } agent_params_t;
+
+/// Dyna-QPC's world models (agent_params_t.model), chosen by one switch in dyna_qpc.c.
+#define AGENT_MODEL_RELOCATABLE 0u  ///< "relocatable": model.h (docs/agent.md)
+#define AGENT_MODEL_PAPER 1u        ///< "paper": the paper's CMAC-Model and CMAC-R, paper_model.h
+#define AGENT_MODELS 2u
+
+/// The name of a model as the tools and scenario files spell it ("relocatable", "paper"), or
+/// NULL for a number that is none.
+const char *agent_model_name(uint8_t model);
+
+/// The model called `name`: FW_OK and *model, or FW_ERR_INVAL for a name that is none.
+int agent_model_from_name(const char *name, uint8_t *model);
 
 /// No predictions for untried pairs (the relocatable action model): the planner knows only the
 /// pairs the robot tried, and confirms predecessors against them only.
@@ -114,7 +132,8 @@ int agent_kind_from_name(const char *name, agent_kind_t *kind);
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
 /// 16 tilings,
-/// min_count 1.
+/// min_count 1; the relocatable model (the paper's model's tiles: component
+/// PAPER_DEFAULT_TILED_COMPONENT, the robot's range code, 2 values wide, the others exact).
 agent_params_t agent_default_params(void);
 
 /// Checks the configuration and prepares an agent that knows nothing.
