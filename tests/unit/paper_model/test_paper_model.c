@@ -218,6 +218,7 @@ static agent_storage_t storage_(int i)
     agent_storage_t st;
     memset(&st, 0, sizeof st);
     st.q = q_[i];
+    st.q_value_bytes = sizeof q_[i][0];
     st.q_keys = qk_[i];
     st.q_states = Q_STATES;
     st.dyna_qpc.pq_heap = heap_[i];
