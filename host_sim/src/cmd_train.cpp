@@ -88,7 +88,7 @@ void declare(Options &o, TrainSettings &s)
                  &s.gamma);
     o.add_string("--ablate", "PARTS",
                  "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
-                 "list of generalise, majority, new-states, expected (docs/results.md)",
+                 "list of generalise, majority, new-states, expected, stay (docs/results.md)",
                  &s.ablate);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",

@@ -53,6 +53,8 @@ agent_params_t agent_default_params(void)
     p.tilings = 16;
     p.min_count = 1;
     p.ablate = 0;
+    p.stays = 0;
+    p.step_reward = 0.0f;
     return p;
 }
 

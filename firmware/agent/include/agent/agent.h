@@ -37,6 +37,10 @@ typedef struct agent_params {
     /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results.md): a
     /// mask of AGENT_ABLATE_*; 0 (the default) keeps them all.
     uint8_t ablate;
+    /// Dyna-QPC: nonzero when step_reward is the reward of an ordinary step, so that a step
+    /// which earns it and changes nothing is known as a stay (model.h); 0 (the default): none is
+    uint8_t stays;
+    float step_reward;  ///< with `stays`: the reward of an ordinary step
 } agent_params_t;
 
 /// No predictions for untried pairs (the relocatable action model): the planner knows only the
@@ -48,8 +52,11 @@ typedef struct agent_params {
 #define AGENT_ABLATE_NEW_STATES 0x04u
 /// A move into a place seen with several range codes backs up the first code's value only.
 #define AGENT_ABLATE_EXPECTED 0x08u
+/// Dyna-QPC: a step that stays in its cell is an outcome like any other, not a share of its move
+/// (model.h, MODEL_ABLATE_STAY).
+#define AGENT_ABLATE_STAY MODEL_ABLATE_STAY
 /// Every AGENT_ABLATE_* bit.
-#define AGENT_ABLATE_ALL 0x0Fu
+#define AGENT_ABLATE_ALL 0x1Fu
 
 /// Caller-owned static storage for an agent: the Q store every algorithm has, and each
 /// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
