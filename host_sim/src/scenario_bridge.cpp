@@ -173,7 +173,8 @@ uint8_t ablate_mask(const std::string &list)
     } parts[] = {{"generalise", AGENT_ABLATE_GENERALISE},
                  {"majority", AGENT_ABLATE_MAJORITY},
                  {"new-states", AGENT_ABLATE_NEW_STATES},
-                 {"expected", AGENT_ABLATE_EXPECTED}};
+                 {"expected", AGENT_ABLATE_EXPECTED},
+                 {"stay", AGENT_ABLATE_STAY}};
     uint8_t mask = 0;
     std::stringstream in(list);
     std::string word;
@@ -187,7 +188,7 @@ uint8_t ablate_mask(const std::string &list)
             }
         }
         if (!known) {
-            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected)");
+            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected, stay)");
         }
     }
     return mask;

@@ -41,7 +41,7 @@ ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::stri
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
 
-/// `--ablate generalise,majority,new-states,expected` as an AGENT_ABLATE_* mask ("" or "none": 0);
+/// `--ablate generalise,majority,new-states,expected,stay` as an AGENT_ABLATE_* mask ("" or "none": 0);
 /// another word throws UsageError.
 uint8_t ablate_mask(const std::string &list);
 

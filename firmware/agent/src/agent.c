@@ -57,6 +57,8 @@ agent_params_t agent_default_params(void)
     for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
         p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
     }
+    p.stays = 0;
+    p.step_reward = 0.0f;
     return p;
 }
 

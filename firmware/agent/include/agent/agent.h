@@ -43,6 +43,10 @@ typedef struct agent_params {
     /// With AGENT_MODEL_PAPER: the CMACs' tile width of each state component as a power of two
     /// (0: exact), up to PAPER_MAX_TILE_SHIFT.
     uint8_t model_tile_shift[FW_CFG_MAX_COMPONENTS];
+    /// Dyna-QPC: nonzero when step_reward is the reward of an ordinary step, so that a step
+    /// which earns it and changes nothing is known as a stay (model.h); 0 (the default): none is
+    uint8_t stays;
+    float step_reward;  ///< with `stays`: the reward of an ordinary step
 } agent_params_t;
 
 /// Dyna-QPC's world models (agent_params_t.model), chosen by one switch in dyna_qpc.c.
@@ -66,8 +70,11 @@ int agent_model_from_name(const char *name, uint8_t *model);
 #define AGENT_ABLATE_NEW_STATES 0x04u
 /// A move into a place seen with several range codes backs up the first code's value only.
 #define AGENT_ABLATE_EXPECTED 0x08u
+/// Dyna-QPC: a step that stays in its cell is an outcome like any other, not a share of its move
+/// (model.h, MODEL_ABLATE_STAY).
+#define AGENT_ABLATE_STAY MODEL_ABLATE_STAY
 /// Every AGENT_ABLATE_* bit.
-#define AGENT_ABLATE_ALL 0x0Fu
+#define AGENT_ABLATE_ALL 0x1Fu
 
 /// Caller-owned static storage for an agent: the Q store every algorithm has, and each
 /// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
