@@ -966,6 +966,48 @@ static void init_rejects_bad_arguments(void **state)
     assert_int_equal(model_init(&m, &rel_, 16, 1.0f, 1, &fwd_, &none), FW_ERR_INVAL);
 }
 
+// Aligned 90-degree turns over 16 headings (turn_step_bits 2). With room for every place the
+// percept map keeps them all, a start's heading between turns too; with a quarter of the room
+// it keeps the headings turns reach, and a place between them is not mapped (not seen, no
+// percept recorded), while moves and predecessors along the turns' headings work as before.
+static uint16_t quarter_[128 + 1];
+static void percept_map_keeps_the_headings_turns_reach(void **state)
+{
+    (void)state;
+    static const agent_space_t turned = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 2};
+    const uint32_t from[3] = {3, 4, 0}, to[3] = {4, 4, 1}, off[3] = {7, 1, 2}, off2[3] = {8, 1, 3};
+    const agent_state_t s = space_pack(&turned, from), s2 = space_pack(&turned, to);
+    const agent_state_t t = space_pack(&turned, off), t2 = space_pack(&turned, off2);
+    world_model_t m;
+
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &inv_), FW_OK);  // 512 places
+    assert_int_equal(m.places, 512);
+    model_learn(&m, t, 0, -1.0f, t2, false);
+    assert_true(model_has_seen(&m, t));  // every heading mapped
+
+    const model_reloc_storage_t quarter = {quarter_, 128, classes_, 256, arrivals_, 32};
+    quarter_[128] = 0xBEEFu;
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &quarter), FW_OK);
+    assert_int_equal(m.places, 128);
+    model_learn(&m, s, 0, -1.0f, s2, false);
+    assert_true(model_has_seen(&m, s));
+    assert_true(model_has_seen(&m, s2));
+    model_learn(&m, t, 0, -1.0f, t2, false);
+    assert_false(model_has_seen(&m, t));  // between turns: not mapped
+    assert_false(model_has_seen(&m, t2));
+    assert_int_equal(quarter_[128], 0xBEEFu);  // nothing written past the map
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    const uint32_t n = model_predecessors(&m, s2, preds);
+    assert_true(n >= 1u);
+    assert_int_equal(preds[0].state, s);
+    assert_int_equal(preds[0].action, 0);
+
+    const model_reloc_storage_t too_small = {quarter_, 64, classes_, 256, arrivals_, 32};
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &too_small), FW_ERR_INVAL);
+    static const agent_space_t unaligned = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
+    assert_int_equal(model_init(&m, &unaligned, 16, 1.0f, 1, &fwd_, &quarter), FW_ERR_INVAL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -994,6 +1036,7 @@ int main(void)
         cmocka_unit_test(a_tried_move_keeps_its_outcome_through_stays),
         cmocka_unit_test(a_bump_is_not_a_stay),
         cmocka_unit_test(a_pair_that_only_stayed_is_its_situations_move),
+        cmocka_unit_test(percept_map_keeps_the_headings_turns_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
