@@ -141,10 +141,10 @@
 #define FW_CFG_SIM_PQ_CAPACITY 512
 #endif
 // The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (84,720 on the MCU), see the maze
-// profile: Dyna-Q 1,311 records, Dyna-Q-majority 1,180, each with 4,096 index slots (the most
-// that fit: agent_profiles.h checks it).
+// profile: Dyna-Q 1,298 records (84,688 bytes), Dyna-Q-majority 1,180 (84,688), each with 4,096
+// index slots (the most that fit: agent_profiles.h checks it).
 #ifndef FW_CFG_SIM_TABLE_STATES
-#define FW_CFG_SIM_TABLE_STATES 1311
+#define FW_CFG_SIM_TABLE_STATES 1298
 #endif
 #ifndef FW_CFG_SIM_MAJORITY_STATES
 #define FW_CFG_SIM_MAJORITY_STATES 1180

@@ -210,6 +210,20 @@ static void saved_regions_check_and_restore_themselves(void **state)
     assert_int_equal(dynaq_check(&t, bad, 18), FW_ERR_CORRUPT);
 }
 
+// The index's slots: the power of two at least twice the records, for every capacity (the
+// smear once left gaps: 1,311 records gave 4,032 slots, which the index refused).
+static void index_slots_are_the_power_of_two_at_least_twice_the_records(void **state)
+{
+    (void)state;
+    assert_int_equal(DYNAQ_INDEX_SLOTS(1311), 4096);
+    assert_int_equal(DYNAQ_INDEX_SLOTS(1024), 2048);
+    assert_int_equal(DYNAQ_INDEX_SLOTS(1025), 4096);
+    for (uint32_t cap = 1; cap <= 70000u; cap++) {
+        const uint32_t slots = DYNAQ_INDEX_SLOTS(cap);
+        assert_true((slots & (slots - 1u)) == 0u && slots >= 2u * cap && slots < 4u * cap);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -218,6 +232,7 @@ int main(void)
         cmocka_unit_test(samples_states_then_actions_uniformly),
         cmocka_unit_test(full_table_forgets_the_oldest_state_and_counts),
         cmocka_unit_test(saved_regions_check_and_restore_themselves),
+        cmocka_unit_test(index_slots_are_the_power_of_two_at_least_twice_the_records),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

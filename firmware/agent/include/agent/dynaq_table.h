@@ -60,7 +60,13 @@ typedef struct dynaq_table {
 /// The index's slots for `cap` records: the power of two at least twice as many (2 * cap for a
 /// power of two), so that the index is at most half full. A constant expression for cap up to
 /// 2^30.
-#define DYNAQ_POW2_SMEAR_(x) ((x) | ((x) >> 1) | ((x) >> 2) | ((x) >> 4) | ((x) >> 8) | ((x) >> 16))
+// Every bit below x's highest set: each step ORs in the previous step's result shifted, so the
+// ones double in length (ORing shifts of x itself leaves gaps: 2,621 gave 4,031, not 4,095).
+#define DYNAQ_SMEAR1_(x) ((x) | ((x) >> 1))
+#define DYNAQ_SMEAR2_(x) (DYNAQ_SMEAR1_(x) | (DYNAQ_SMEAR1_(x) >> 2))
+#define DYNAQ_SMEAR4_(x) (DYNAQ_SMEAR2_(x) | (DYNAQ_SMEAR2_(x) >> 4))
+#define DYNAQ_SMEAR8_(x) (DYNAQ_SMEAR4_(x) | (DYNAQ_SMEAR4_(x) >> 8))
+#define DYNAQ_POW2_SMEAR_(x) (DYNAQ_SMEAR8_(x) | (DYNAQ_SMEAR8_(x) >> 16))
 #define DYNAQ_INDEX_SLOTS(cap) (DYNAQ_POW2_SMEAR_(2u * (uint32_t)(cap) - 1u) + 1u)
 
 /// Prepares an empty table of `capacity` records (any number from 1; a profile gives the table
