@@ -64,6 +64,11 @@
 #ifndef FW_CFG_MAZE_POSITIONS
 #define FW_CFG_MAZE_POSITIONS 64
 #endif
+// The exploration bonus's tried-pairs table (explore.h; 8 bytes a pair, used only by the bonus
+// modes): when each state-action pair was last tried. Full, it forgets the pair tried longest ago.
+#ifndef FW_CFG_MAZE_TRIED_PAIRS
+#define FW_CFG_MAZE_TRIED_PAIRS 4096
+#endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
 #define FW_CFG_MAZE_BUDGET_BYTES (16u * 1024u * 1024u)
 #endif
@@ -98,6 +103,11 @@
 #ifndef FW_CFG_LAB_POSITIONS
 #define FW_CFG_LAB_POSITIONS 64
 #endif
+// Tried pairs (explore.h): 1,024 of the Q store's 4,096 pairs, 8 KB; a lab run tries a few
+// hundred distinct pairs per room.
+#ifndef FW_CFG_LAB_TRIED_PAIRS
+#define FW_CFG_LAB_TRIED_PAIRS 1024
+#endif
 #ifndef FW_CFG_LAB_BUDGET_BYTES
 #define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
 #endif
@@ -131,6 +141,10 @@
 #endif
 #ifndef FW_CFG_SIM_POSITIONS
 #define FW_CFG_SIM_POSITIONS 1024
+#endif
+// Tried pairs (explore.h): 2,048 of the Q store's 16,384 pairs, 16 KB, what the budget leaves.
+#ifndef FW_CFG_SIM_TRIED_PAIRS
+#define FW_CFG_SIM_TRIED_PAIRS 2048
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

@@ -61,7 +61,16 @@ struct ConfigOverrides {
     const double *epsilon = nullptr;           ///< --epsilon
     const double *alpha = nullptr;             ///< --alpha: the Q learning rate, real and planning
     const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
+    const std::string *explore = nullptr;      ///< --explore: egreedy, plan-bonus or act-bonus
+    const double *kappa = nullptr;             ///< --kappa: the bonus's scale
 };
+
+/// An exploration mode's name (egreedy, plan-bonus, act-bonus: the scenario's `learning explore`
+/// and `--explore`) as an agent_explore_t; another name throws UsageError naming `what`.
+uint8_t explore_mode_of(const std::string &name, const std::string &what);
+
+/// The choices of an `--explore` option.
+std::vector<std::string> explore_mode_names();
 
 /// Applies `v` to `cfg` as the options `o` were given (one place for train, run and dynaqpc-fw).
 void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg);

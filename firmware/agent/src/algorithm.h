@@ -71,6 +71,30 @@ AGENT_ALWAYS_INLINE bool agent_q_update_(agent_t *ag, agent_state_t s, uint8_t a
     return true;
 }
 
+/// The pair (s, a) as one number: the tried-pairs table's key (below 2^31: states have at most
+/// 24 bits and FW_CFG_MAX_ACTIONS is small).
+AGENT_ALWAYS_INLINE uint32_t agent_pair_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return s * ag->space->n_actions + a;
+}
+
+/// The exploration bonus kappa * sqrt(tau) of (s, a), tau the real steps since it was last tried
+/// (explore.h); 0 outside the bonus modes.
+AGENT_ALWAYS_INLINE float agent_bonus_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    if (ag->params.explore == AGENT_EXPLORE_EGREEDY) {
+        return 0.0f;
+    }
+    const uint32_t tau = explore_untried_for(&ag->tried, agent_pair_(ag, s, a), ag->stats.real_steps);
+    return explore_bonus(ag->params.kappa, tau);
+}
+
+/// Dyna-Q+'s planning bonus of (s, a): agent_bonus_() with AGENT_EXPLORE_PLAN_BONUS, else 0.
+AGENT_ALWAYS_INLINE float agent_plan_bonus_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return ag->params.explore == AGENT_EXPLORE_PLAN_BONUS ? agent_bonus_(ag, s, a) : 0.0f;
+}
+
 /// The largest of row[0 .. n-1].
 AGENT_ALWAYS_INLINE float agent_row_max_(const float *row, uint32_t n)
 {
