@@ -60,12 +60,19 @@ void explore_tried(explore_table_t *t, uint32_t pair, uint32_t now)
 
 uint32_t explore_untried_for(const explore_table_t *t, uint32_t pair, uint32_t now)
 {
+    uint32_t tau;
+    return explore_last_tried(t, pair, now, &tau) ? tau : now;
+}
+
+bool explore_last_tried(const explore_table_t *t, uint32_t pair, uint32_t now, uint32_t *tau)
+{
     const uint32_t slot = oa_lookup(&t->index, pair, t->used == t->capacity);
     if (slot == OA_NONE) {
-        return now;
+        return false;
     }
     const uint32_t when = t->tried_at[slot];
-    return when <= now ? now - when : 0u;
+    *tau = when <= now ? now - when : 0u;
+    return true;
 }
 
 bool explore_sample(const explore_table_t *t, prng_t *rng, uint32_t *pair)

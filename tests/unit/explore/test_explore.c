@@ -46,6 +46,11 @@ static void untried_for_counts_steps_since_the_last_try(void **state)
     assert_int_equal(explore_untried_for(&table_, 7, 100), 10);
     assert_int_equal(explore_untried_for(&table_, 7, 80), 0);  // a clock behind the stamp
     assert_int_equal(explore_untried_for(&table_, 8, 100), 100);
+    uint32_t tau = 12345;
+    assert_false(explore_last_tried(&table_, 8, 100, &tau));  // never tried: not held
+    assert_int_equal(tau, 12345);
+    assert_true(explore_last_tried(&table_, 7, 100, &tau));
+    assert_int_equal(tau, 10);
     assert_int_equal(table_.used, 1);
     explore_clear(&table_);
     assert_int_equal(explore_untried_for(&table_, 7, 100), 100);

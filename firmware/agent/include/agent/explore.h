@@ -18,9 +18,10 @@ extern "C" {
 typedef enum agent_explore {
     /// epsilon-greedy alone (the paper's; the default). The tried-pairs table is not used.
     AGENT_EXPLORE_EGREEDY = 0,
-    /// Dyna-Q+: a planning update of (s, a) adds kappa * sqrt(tau(s, a)) to the predicted reward,
-    /// so values lead the robot to pairs it has not tried for long, and to pairs never tried that
-    /// the model predicts. Acting stays epsilon-greedy; real updates get no bonus.
+    /// Dyna-Q+: a planning update of (s, a) adds kappa * sqrt(tau(s, a)) to the predicted reward
+    /// of a pair the robot tried tau real steps ago, so values lead it back to pairs it has not
+    /// tried for long (a door that was shut). Never-tried pairs get no bonus (optimism already
+    /// draws the robot to new places). Acting stays epsilon-greedy; real updates get no bonus.
     AGENT_EXPLORE_PLAN_BONUS = 1,
     /// The bonus on acting (Sutton & Barto's Exercise 8.4): agent_act() picks the largest
     /// Q(s, a) + kappa * sqrt(tau(s, a)) (epsilon still applies); values carry no bonus.
@@ -55,6 +56,10 @@ void explore_tried(explore_table_t *t, uint32_t pair, uint32_t now);
 /// Real steps since `pair` was last tried, at step `now`: now - when, or `now` for a pair the
 /// table does not hold. 0 for a pair recorded at a step after `now` (restored or reset clocks).
 uint32_t explore_untried_for(const explore_table_t *t, uint32_t pair, uint32_t now);
+
+/// Whether the table holds `pair` (tried, and not forgotten); if so, *tau = the real steps since
+/// (as explore_untried_for()).
+bool explore_last_tried(const explore_table_t *t, uint32_t pair, uint32_t now, uint32_t *tau);
 
 /// A pair the table holds, drawn uniformly over its slots from `rng` (the first held slot from
 /// a random one on): false if it holds none.
