@@ -33,6 +33,9 @@
 // ---- Profile "maze": host gridworlds (up to 16,384 cells, 15 state bits) --------------------------
 // Q is dense for every map the parser accepts (2^15 rows), and the model, queue and Dyna-Q table
 // are at most half full on the largest (16,384 free cells, 65,536 pairs).
+#ifndef FW_CFG_MAZE_Q_TYPE
+#define FW_CFG_MAZE_Q_TYPE float
+#endif
 #ifndef FW_CFG_MAZE_Q_STATES
 #define FW_CFG_MAZE_Q_STATES 32768
 #endif
@@ -74,6 +77,10 @@
 #endif
 
 // ---- Profile "paper-lab": 8,192 states (x, y, heading, IR in 3, 3, 4, 3 bits) ------------------
+// Q values: float (fits; see FW_CFG_SIM_Q_TYPE).
+#ifndef FW_CFG_LAB_Q_TYPE
+#define FW_CFG_LAB_Q_TYPE float
+#endif
 #ifndef FW_CFG_LAB_Q_STATES
 #define FW_CFG_LAB_Q_STATES 1024
 #endif
@@ -113,23 +120,28 @@
 #endif
 
 // ---- Profile "paper-sim": 262,144 states (x, y, heading, sonar in 5, 5, 4, 4 bits) -------------
+// Q values in 16 bits (value16_t, agent/value16.h): 8,192 rows in the bytes of 4,096 floats,
+// the rows a floor of 64 x 64 cells (four times paper-sim's) visits (docs/agent.md, "Memory").
+#ifndef FW_CFG_SIM_Q_TYPE
+#define FW_CFG_SIM_Q_TYPE value16_t
+#endif
 #ifndef FW_CFG_SIM_Q_STATES
-#define FW_CFG_SIM_Q_STATES 4096
+#define FW_CFG_SIM_Q_STATES 8192
 #endif
 #ifndef FW_CFG_SIM_CMAC_CELLS
-#define FW_CFG_SIM_CMAC_CELLS 2048
+#define FW_CFG_SIM_CMAC_CELLS 1024
 #endif
 #ifndef FW_CFG_SIM_PQ_CAPACITY
 #define FW_CFG_SIM_PQ_CAPACITY 512
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (93,936), see the maze profile.
-// Dyna-Q 1,529 records (93,928 bytes), Dyna-Q-majority 1,390 (93,928), each with 4,096 index
+// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (82,672), see the maze profile.
+// Dyna-Q 1,247 records (82,648 bytes), Dyna-Q-majority 1,134 (82,664), each with 4,096 index
 // slots.
 #ifndef FW_CFG_SIM_TABLE_STATES
-#define FW_CFG_SIM_TABLE_STATES 1529
+#define FW_CFG_SIM_TABLE_STATES 1247
 #endif
 #ifndef FW_CFG_SIM_MAJORITY_STATES
-#define FW_CFG_SIM_MAJORITY_STATES 1390
+#define FW_CFG_SIM_MAJORITY_STATES 1134
 #endif
 // places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
 // times 4 actions; positions = x, y.
@@ -140,11 +152,12 @@
 #define FW_CFG_SIM_CLASSES 1024
 #endif
 #ifndef FW_CFG_SIM_POSITIONS
-#define FW_CFG_SIM_POSITIONS 1024
+#define FW_CFG_SIM_POSITIONS 4096
 #endif
-// Tried pairs (explore.h): 2,048 of the Q store's 16,384 pairs, 16 KB, what the budget leaves.
+// Tried pairs (explore.h): 1,024 pairs, 8 KB, what the budget leaves beside the 8,192 16-bit Q
+// rows (the pair tried longest ago is forgotten first).
 #ifndef FW_CFG_SIM_TRIED_PAIRS
-#define FW_CFG_SIM_TRIED_PAIRS 2048
+#define FW_CFG_SIM_TRIED_PAIRS 1024
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

@@ -180,7 +180,8 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
       << "\"states\":[";
     first = true;
     for (std::uint32_t s = 0; s < n_states; s++) {
-        const float *q = qstore_row(&ag->q, s);
+        float q[FW_CFG_MAX_ACTIONS];
+        qstore_values(&ag->q, s, q);
         bool row = false;
         if (ag->q.dense) {
             for (std::uint32_t a = 0; a < na; a++) row = row || q[a] != 0.0f;

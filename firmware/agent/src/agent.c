@@ -84,7 +84,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     ag->space = sp;
     ag->state_bits = space_state_bits(sp);
     ag->params = cfg->params;
-    int err = qstore_init(&ag->q, st->q, st->q_keys, st->q_states, sp->n_actions, ag->state_bits);
+    int err = qstore_init(&ag->q, st->q, st->q_value_bytes, st->q_keys, st->q_states, sp->n_actions, ag->state_bits);
     if (err) {
         return err;
     }
@@ -127,7 +127,8 @@ void agent_reset(agent_t *ag, uint32_t seed)
 static uint8_t act_bonus_(agent_t *ag, agent_state_t s)
 {
     const uint32_t n = ag->space->n_actions;
-    const float *row = qstore_row(&ag->q, s);
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
     uint32_t best = 0;
     uint32_t ties = 1;
     float best_v = 0.0f;
@@ -165,7 +166,8 @@ uint8_t agent_act_greedy(agent_t *ag, agent_state_t s)
     // Ties broken uniformly: while every value is still 0 the robot must not always pick
     // action 0 (a replayed policy would drive into a wall forever from a state it never saw).
     const uint32_t n = ag->space->n_actions;
-    const float *row = qstore_row(&ag->q, s);
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
     uint32_t best = 0;
     uint32_t ties = 1;
     for (uint32_t a = 1; a < n; a++) {
@@ -185,7 +187,8 @@ uint8_t agent_act_greedy(agent_t *ag, agent_state_t s)
 uint8_t agent_greedy(const agent_t *ag, agent_state_t s)
 {
     ASSERT_STATE_(ag, s);
-    const float *row = qstore_row(&ag->q, s);
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
     uint32_t best = 0;
     for (uint32_t a = 1; a < ag->space->n_actions; a++) {
         if (row[a] > row[best]) {
@@ -199,7 +202,7 @@ float agent_q(const agent_t *ag, agent_state_t s, uint8_t a)
 {
     ASSERT_STATE_(ag, s);
     ASSERT_ACTION_(ag, a);
-    return qstore_row(&ag->q, s)[a];
+    return qstore_get(&ag->q, s, a);
 }
 
 // ---- Learning ---------------------------------------------------------------------------------

@@ -215,21 +215,21 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     const float target = step_target_(ag, &step) + agent_plan_bonus_(ag, s, a);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
     // which then has no row and reads 0.
-    float *row = qstore_row_for_plan(&ag->q, s);
-    if (row == NULL) {
+    const qstore_row_t row = qstore_row_for_plan(&ag->q, s);
+    if (row == QSTORE_NO_ROW) {
         // No row and no room for one: nothing changes, so neither the pair nor its predecessors
         // go back in the queue (requeueing it spun the planner on paper-sim: 10 M refusals in
         // 15 episodes, 2 updates per real step made of a budget of 1,000).
         ag->stats.planning_skipped++;
         return true;
     }
-    row[a] += ag->params.plan_alpha * (target - row[a]);
-    const float q_sa = row[a];
+    float q_sa;
+    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
     ag->stats.planning_updates++;
     // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
     // the queue with what is left, so planning keeps working on it while it is the most urgent.
     const float left = agent_abs_(target - q_sa);
-    if (left > ag->params.theta) {
+    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
         (void)pq_push(&me->pq, key, left);
     }
 
@@ -244,14 +244,15 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     if (c->n == 0u) {
         return true;
     }
-    const float value_here = ag->params.gamma * agent_row_max_(row, n_actions);
+    const float value_here = ag->params.gamma * qstore_row_max(&ag->q, row);
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
         const float target_pred =
             (pred->others == 0u ? pred->reward + value_here : pred_target_(ag, pred, s)) +
             agent_plan_bonus_(ag, pred->state, pred->action);
-        const float p = agent_abs_(target_pred - qstore_row(&ag->q, pred->state)[pred->action]);
-        if (p > ag->params.theta) {
+        const float q_pred = qstore_get(&ag->q, pred->state, pred->action);
+        const float p = agent_abs_(target_pred - q_pred);
+        if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {
             (void)pq_push(&me->pq, pq_key_(ag, pred->state, pred->action), p);
         }
     }

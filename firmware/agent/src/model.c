@@ -150,6 +150,37 @@ static agent_state_t with_percept_(const world_model_t *m, agent_state_t s, uint
     return s;
 }
 
+/// A place the percept map does not keep (its heading lies between the motion's turns).
+#define NO_PLACE_ UINT32_MAX
+
+// The percept map's index of the place of s: the place's components packed, with the low
+// turn_step_bits of the heading (always 0 once the robot has turned) squeezed out. Without a
+// turn step it is the packed place itself.
+AGENT_ALWAYS_INLINE uint32_t place_(const world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t p = select_(m, &m->place_of, s, comp);
+    if ((p & m->place_gap) != 0u) {
+        return NO_PLACE_;
+    }
+    return (p & m->place_low) | ((p >> m->place_gap_bits) & ~m->place_low);
+}
+
+// The percepts seen at the place of s (a mask; 0 for a place the map does not keep).
+AGENT_ALWAYS_INLINE uint32_t seen_at_(const world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t place = place_(m, s, comp);
+    return place == NO_PLACE_ ? 0u : m->percepts[place];
+}
+
+// Notes that the absolute components of s were perceived at its place.
+static void perceive_(world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t place = place_(m, s, comp);
+    if (place != NO_PLACE_) {
+        m->percepts[place] |= (uint16_t)(1u << select_(m, &m->percept_of, s, comp));
+    }
+}
+
 static model_class_t *class_of_(const world_model_t *m, agent_state_t s, const uint32_t *comp,
                                 uint32_t a)
 {
@@ -175,7 +206,13 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
         return FW_ERR_INVAL;
     }
     const uint32_t all = all_mask_(space);
-    const uint32_t place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
+    // The percept map keeps every place when the storage has room for them all (so a start's
+    // heading before its first turn is mapped too), else only the headings turns reach.
+    const uint32_t every_place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
+    const uint32_t gap_bits =
+        every_place_bits <= 24u && reloc->places >= (1u << every_place_bits) ? 0u
+                                                                             : space->turn_step_bits;
+    const uint32_t place_bits = every_place_bits - gap_bits;
     const uint32_t context_bits = masked_bits_(space, space->context_mask);
     const uint32_t position_bits =
         masked_bits_(space, all & ~(uint32_t)(space->absolute_mask | space->context_mask));
@@ -215,6 +252,14 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     }
     m->percepts = space->absolute_mask != 0u ? reloc->percepts : NULL;
     m->places = space->absolute_mask != 0u ? 1u << place_bits : 0u;
+    // The heading's offset in a place index: the bits of the place components below it.
+    const uint32_t below = gap_bits != 0u
+                               ? masked_bits_(space, (space->circular_mask - 1u) &
+                                                         ~(uint32_t)space->absolute_mask)
+                               : 0u;
+    m->place_gap_bits = (uint8_t)gap_bits;
+    m->place_gap = ((1u << gap_bits) - 1u) << below;
+    m->place_low = (1u << below) - 1u;
     m->classes = space->context_mask != 0u ? reloc->classes : NULL;
     m->n_classes = space->context_mask != 0u ? (1u << context_bits) * space->n_actions : 0u;
     m->arrivals = space->context_mask != 0u ? reloc->arrivals : NULL;
@@ -456,10 +501,8 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
         (contradicts && cmac_contradict(&m->forward, &tiles)) || cmac_train(&m->forward, &tiles, desired);
 
     if (m->percepts != NULL) {
-        m->percepts[select_(m, &m->place_of, s, from)] |=
-            (uint16_t)(1u << select_(m, &m->percept_of, s, from));
-        m->percepts[select_(m, &m->place_of, s_next, to)] |=
-            (uint16_t)(1u << select_(m, &m->percept_of, s_next, to));
+        perceive_(m, s, from);
+        perceive_(m, s_next, to);
     }
     int8_t delta[FW_CFG_MAX_COMPONENTS];
     bool fits = delta_of_(sp, from, to, delta);
@@ -556,7 +599,7 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
     const bool moved = moves_(c->delta);
     uint32_t others = 0;
     if (moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
-        const uint32_t seen = m->percepts[select_(m, &m->place_of, next, to)];
+        const uint32_t seen = seen_at_(m, next, to);
         if (seen == 0u) {
             return false;
         }
@@ -605,7 +648,7 @@ bool model_has_seen(const world_model_t *m, agent_state_t s)
     }
     uint32_t comp[FW_CFG_MAX_COMPONENTS];
     space_unpack(m->space, s, comp);
-    return (m->percepts[select_(m, &m->place_of, s, comp)] >> select_(m, &m->percept_of, s, comp)) & 1u;
+    return (seen_at_(m, s, comp) >> select_(m, &m->percept_of, s, comp)) & 1u;
 }
 
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
@@ -683,7 +726,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
             const uint32_t *const back = prev->comp;
             // Each percept seen at that place is a candidate (one, for a space without them).
             uint32_t seen =
-                m->percepts != NULL ? m->percepts[select_(m, &m->place_of, back_state, back)] : 1u;
+                m->percepts != NULL ? seen_at_(m, back_state, back) : 1u;
             for (; seen != 0u && n < MODEL_MAX_PREDECESSORS; seen &= seen - 1u) {
                 model_query_t *const next = queries != NULL ? queries[n] : &scratch;
                 if (next != prev) {  // the last candidate was confirmed: it keeps its query

@@ -20,11 +20,11 @@ static int16_t arrivals_[32];
 static const model_reloc_storage_t inv_ = {percepts_, 512, classes_, 256, arrivals_, 32};
 
 // x (5 bits), heading (4 bits, circular), a range code (2 bits, predicted as a value).
-static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4, 0};
+static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4, 0, 0};
 // The same robot whose action effects generalise over x: keyed on heading and code.
-static const agent_space_t rel_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+static const agent_space_t rel_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
 // A corridor: one component, 4 bits, exact tiles.
-static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2, 0};
+static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2, 0, 0};
 
 static agent_state_t robot_state(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -248,7 +248,7 @@ static void untried_headings_fall_back_on_the_percept(void **state)
 // The same robot with its components in another order: the code first, then x, then the
 // heading. Its situation (code and heading) is no longer one run of adjacent bits, so the model
 // packs it component by component (select_() in model.c) instead of with one shift and mask.
-static const agent_space_t rel_swapped_ = {3, {2, 5, 4}, {0, 0, 0}, 0x4, 0x1, 4, 0x5};
+static const agent_space_t rel_swapped_ = {3, {2, 5, 4}, {0, 0, 0}, 0x4, 0x1, 4, 0x5, 0};
 
 static agent_state_t swapped_state(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -419,7 +419,7 @@ static void terminal_arrivals_are_predicted_by_position(void **state)
 static void out_of_range_predictions_are_untrusted(void **state)
 {
     (void)state;
-    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2, 0};
+    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2, 0, 0};
     world_model_t m;
     assert_int_equal(model_init(&m, &wide, 2, 1.0f, 1, &fwd_, &inv_), FW_OK);
     model_step_t out;
@@ -617,7 +617,7 @@ static void the_end_of_an_episode_is_not_read_from_its_reward(void **state)
 // A circular component's change is learned the short way round across its whole range (an
 // 8-bit heading: 255 -> 0 is +1, which fits a change and a CMAC weight; -255 fits neither), and
 // a component that is not circular never wraps: a jump of +11 in 4 bits stays +11.
-static const agent_space_t wrap_ = {3, {4, 8, 4}, {0, 0, 0}, 0x2, 0, 4, 0};
+static const agent_space_t wrap_ = {3, {4, 8, 4}, {0, 0, 0}, 0x2, 0, 4, 0, 0};
 
 static agent_state_t wrap_state(uint32_t x, uint32_t h, uint32_t y)
 {
@@ -668,9 +668,9 @@ static void only_circular_components_wrap(void **state)
 // component by component (select_() and the model_select_t packing in model.c). The same walk
 // learned in this layout and in rel_ (where every selection is one run of bits) must predict
 // the same for every state and action, name the same predecessors, and see the same states.
-static const agent_space_t split_ = {4, {2, 5, 1, 4}, {0, 0, 0, 0}, 0x8, 0x5, 4, 0xD};
+static const agent_space_t split_ = {4, {2, 5, 1, 4}, {0, 0, 0, 0}, 0x8, 0x5, 4, 0xD, 0};
 // rel_ with a 3-bit code, its twin.
-static const agent_space_t rel3_ = {3, {5, 4, 3}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+static const agent_space_t rel3_ = {3, {5, 4, 3}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
 
 static agent_state_t split_of_(agent_state_t rel3)
 {
@@ -818,7 +818,7 @@ static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
     world_model_t m;
-    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4, 0};
+    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4, 0, 0};
     assert_int_equal(model_init(&m, &bad, 16, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 16, 1.0f, 0, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 3, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);

@@ -67,7 +67,8 @@ typedef struct agent_params {
 /// be left zero (NULL).
 #define AGENT_STORAGE_MEMBER_(kind, number, name, id) agent_##id##_storage_t id;
 typedef struct agent_storage {
-    float *q;             ///< q_states * FW_CFG_MAX_ACTIONS
+    void *q;              ///< q_states * FW_CFG_MAX_ACTIONS values of q_value_bytes each
+    uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
     uint32_t *q_keys;     ///< q_states
     uint32_t q_states;
     /// The tried-pairs table of the bonus modes (explore.h), tried_pairs entries each; NULL and 0

@@ -119,6 +119,9 @@ typedef struct world_model {
     // (outside both), packed as indices into the tables below.
     uint16_t *percepts;   ///< per place: bit v set when the absolute components read v there
     uint32_t places;
+    uint32_t place_gap;   ///< the low bits of the heading in a place index (space->turn_step_bits)
+    uint32_t place_low;   ///< the place index's bits below the heading
+    uint8_t place_gap_bits;
     model_class_t *classes;  ///< per situation and action
     uint32_t n_classes;
     int16_t *arrivals;    ///< per position: reward of an arrival that ended an episode
@@ -165,7 +168,9 @@ typedef struct model_cmac_storage {
 } model_cmac_storage_t;
 
 /// Caller-owned storage of the relocatable model and the percept map. A space with an
-/// absolute component needs `percepts` for 2^(bits outside absolute_mask) places; one with a
+/// absolute component needs `percepts` for 2^(bits outside absolute_mask) places, or, with
+/// fewer, 2^(those bits - turn_step_bits) (the headings between aligned turns left out:
+/// agent_space_t); one with a
 /// context_mask needs `classes` for 2^(context bits) * n_actions situations and `arrivals` for
 /// 2^(bits outside context and absolute masks) positions. Unneeded parts may be NULL.
 typedef struct model_reloc_storage {

@@ -16,10 +16,10 @@ extern "C" {
 /// Dyna-Q's table and Dyna-Q-majority's (an agent runs one algorithm, so all get the same
 /// memory: fw_config.h sizes the tables to fill the same bytes).
 /// TRIED: the tried-pairs table of the exploration bonus (explore.h), shared by the algorithms.
-#define AGENT_MEMORY_STRUCT(Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, CLASSES, \
+#define AGENT_MEMORY_STRUCT(Q_TYPE, Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, CLASSES, \
                             POSITIONS, TRIED)                                                  \
     struct {                                                                                   \
-        float q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                                \
+        Q_TYPE q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                               \
         uint32_t q_keys[Q_STATES];                                                             \
         uint32_t tried_keys[TRIED];                                                            \
         uint32_t tried_at[TRIED];                                                              \
@@ -55,7 +55,8 @@ extern "C" {
 /// An agent_storage_t initializer pointing into a variable of an AGENT_MEMORY_STRUCT type.
 #define AGENT_STORAGE_OF(mem)                                                                  \
     {                                                                                          \
-        .q = (mem).q, .q_keys = (mem).q_keys, .q_states = AGENT_COUNT_OF((mem).q_keys),        \
+        .q = (mem).q, .q_value_bytes = (uint8_t)sizeof((mem).q[0]), .q_keys = (mem).q_keys,    \
+        .q_states = AGENT_COUNT_OF((mem).q_keys),                                              \
         .tried_keys = (mem).tried_keys, .tried_at = (mem).tried_at,                            \
         .tried_pairs = AGENT_COUNT_OF((mem).tried_keys),                                       \
         .dyna_q = {(mem).model.dynaq.records, (mem).model.dynaq.index_keys,                    \
@@ -73,13 +74,13 @@ extern "C" {
                             AGENT_COUNT_OF((mem).model.majority.records)},                     \
     }
 
-typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_TYPE, FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
                             FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_MAJORITY_STATES, FW_CFG_MAZE_PLACES,
                             FW_CFG_MAZE_CLASSES, FW_CFG_MAZE_POSITIONS, FW_CFG_MAZE_TRIED_PAIRS) agent_memory_maze_t;
-typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_TYPE, FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
                             FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_MAJORITY_STATES, FW_CFG_LAB_PLACES,
                             FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS, FW_CFG_LAB_TRIED_PAIRS) agent_memory_paper_lab_t;
-typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
+typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_TYPE, FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
                             FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_MAJORITY_STATES, FW_CFG_SIM_PLACES,
                             FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS, FW_CFG_SIM_TRIED_PAIRS) agent_memory_paper_sim_t;
 
