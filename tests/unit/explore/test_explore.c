@@ -120,7 +120,7 @@ static void bonus_is_kappa_sqrt_tau(void **state)
 // ---- The agent's modes ---------------------------------------------------------------------
 
 // A corridor of 16 cells: action 0 moves left, action 1 right.
-static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2, 0};
+static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2, 0, 0};
 static agent_t agent_;
 
 static agent_config_t config_(agent_kind_t kind, uint8_t explore, float kappa)
