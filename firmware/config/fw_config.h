@@ -49,12 +49,12 @@
 // (agent_profiles.h asserts that they fit and, on the Cortex-M4, that one more record would not;
 // the host's model area is 80 bytes larger: the planner's carry holds pointers): records of 40
 // bytes (Dyna-Q-majority: 44, with its counts) and an index of 8 bytes a slot, its slots the
-// power of two at least twice the records. Maze: 3,153,776 bytes = 52,630 x 40 + 131,072 x 8.
+// power of two at least twice the records. Maze: 3,154,800 bytes >= 52,655 x 40 + 131,072 x 8.
 #ifndef FW_CFG_MAZE_TABLE_STATES
-#define FW_CFG_MAZE_TABLE_STATES 52630
+#define FW_CFG_MAZE_TABLE_STATES 52655
 #endif
 #ifndef FW_CFG_MAZE_MAJORITY_STATES
-#define FW_CFG_MAZE_MAJORITY_STATES 47845
+#define FW_CFG_MAZE_MAJORITY_STATES 47868
 #endif
 // Gridworlds have no percept or situation components (the relocatable model is off); the room
 // is for the benchmark's grid robot, shaped like paper-lab's state.
@@ -71,6 +71,15 @@
 // modes): when each state-action pair was last tried. Full, it forgets the pair tried longest ago.
 #ifndef FW_CFG_MAZE_TRIED_PAIRS
 #define FW_CFG_MAZE_TRIED_PAIRS 4096
+#endif
+// The paper's CMAC-Model and CMAC-R (`model paper`, paper_model.h) overlay the relocatable
+// model and the planner's carry (agent_profiles.h asserts they fit in its bytes): cells of 17
+// bytes (key, 6 weights, count) and of 15 (key, 5 weights, count).
+#ifndef FW_CFG_MAZE_PAPER_FWD_CELLS
+#define FW_CFG_MAZE_PAPER_FWD_CELLS 65536
+#endif
+#ifndef FW_CFG_MAZE_PAPER_INV_CELLS
+#define FW_CFG_MAZE_PAPER_INV_CELLS 65536
 #endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
 #define FW_CFG_MAZE_BUDGET_BYTES (16u * 1024u * 1024u)
@@ -90,14 +99,14 @@
 #ifndef FW_CFG_LAB_PQ_CAPACITY
 #define FW_CFG_LAB_PQ_CAPACITY 128
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (29,040), see the maze profile.
-// Dyna-Q 512 records (28,672 bytes: 513 would need an index of 2,048 slots); Dyna-Q-majority 473
-// (29,004).
+// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (30,064), see the maze profile.
+// Dyna-Q 512 records (28,672 bytes: 513 would need an index of 2,048 slots); Dyna-Q-majority 497
+// (30,060).
 #ifndef FW_CFG_LAB_TABLE_STATES
 #define FW_CFG_LAB_TABLE_STATES 512
 #endif
 #ifndef FW_CFG_LAB_MAJORITY_STATES
-#define FW_CFG_LAB_MAJORITY_STATES 473
+#define FW_CFG_LAB_MAJORITY_STATES 497
 #endif
 // The relocatable model (model.h): places = x, y, heading (3 + 3 + 4 bits); situations = heading
 // and range code (4 + 3 bits) times 4 actions; positions = x, y.
@@ -114,6 +123,13 @@
 // hundred distinct pairs per room.
 #ifndef FW_CFG_LAB_TRIED_PAIRS
 #define FW_CFG_LAB_TRIED_PAIRS 1024
+#endif
+// The paper's CMACs: 1,024 x 17 + 512 x 15 = 25,088 bytes of our model's 25,456 (with the carry).
+#ifndef FW_CFG_LAB_PAPER_FWD_CELLS
+#define FW_CFG_LAB_PAPER_FWD_CELLS 1024
+#endif
+#ifndef FW_CFG_LAB_PAPER_INV_CELLS
+#define FW_CFG_LAB_PAPER_INV_CELLS 512
 #endif
 #ifndef FW_CFG_LAB_BUDGET_BYTES
 #define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
@@ -134,14 +150,14 @@
 #ifndef FW_CFG_SIM_PQ_CAPACITY
 #define FW_CFG_SIM_PQ_CAPACITY 512
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (82,672), see the maze profile.
-// Dyna-Q 1,247 records (82,648 bytes), Dyna-Q-majority 1,134 (82,664), each with 4,096 index
-// slots.
+// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (84,720 on the MCU), see the maze
+// profile: Dyna-Q 1,311 records, Dyna-Q-majority 1,180, each with 4,096 index slots (the most
+// that fit: agent_profiles.h checks it).
 #ifndef FW_CFG_SIM_TABLE_STATES
-#define FW_CFG_SIM_TABLE_STATES 1247
+#define FW_CFG_SIM_TABLE_STATES 1311
 #endif
 #ifndef FW_CFG_SIM_MAJORITY_STATES
-#define FW_CFG_SIM_MAJORITY_STATES 1134
+#define FW_CFG_SIM_MAJORITY_STATES 1180
 #endif
 // places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
 // times 4 actions; positions = x, y.
@@ -158,6 +174,13 @@
 // rows (the pair tried longest ago is forgotten first).
 #ifndef FW_CFG_SIM_TRIED_PAIRS
 #define FW_CFG_SIM_TRIED_PAIRS 1024
+#endif
+// The paper's CMACs: 2,048 x 17 + 2,048 x 15 = 65,536 bytes of our model's 79,600.
+#ifndef FW_CFG_SIM_PAPER_FWD_CELLS
+#define FW_CFG_SIM_PAPER_FWD_CELLS 2048
+#endif
+#ifndef FW_CFG_SIM_PAPER_INV_CELLS
+#define FW_CFG_SIM_PAPER_INV_CELLS 2048
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

@@ -23,7 +23,7 @@ namespace dynaqpc {
 
 int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, explore;
+    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, model, model_tiles, explore;
     double kappa = 0;
     std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0, change_at = 0;
     bool learn = false;
@@ -32,6 +32,10 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
     o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default dyna-qpc)",
                  &agent, agent_kind_names());
+    o.add_string("--model", "NAME",
+                 "Dyna-QPC's model it learned with: relocatable or paper (default: the scenario's)", &model);
+    o.add_string("--model-tiles", "X,Y,H,C", "with --model paper: the tile widths it learned with (default: the scenario's)",
+                 &model_tiles);
     o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &starts, 1, 1000000);
     o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
     o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,
@@ -93,7 +97,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         throw UsageError(std::string(o.seen("--explore") ? "--explore" : "--kappa") +
                          ": only with --learn (a frozen replay acts greedily)");
     }
-    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &explore, &kappa}, &cfg);
+    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &model, &model_tiles, &explore, &kappa}, &cfg);
     if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");

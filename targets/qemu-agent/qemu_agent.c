@@ -98,7 +98,12 @@ int main(void)
     cfg.params.plan_alpha = 0.999f;
     cfg.storage = &PROFILE_STORAGE;
     cfg.seed = 1u;
+#ifdef QEMU_MODEL_PAPER  // the paper's CMAC-Model and CMAC-R (docs/agent.md)
+    cfg.params.model = AGENT_MODEL_PAPER;
+    console_puts("dynaqpc-qemu-agent profile=" PROFILE_NAME " agent=dyna-qpc model=paper\n");
+#else
     console_puts("dynaqpc-qemu-agent profile=" PROFILE_NAME " agent=dyna-qpc\n");
+#endif
     if (agent_init(ag, &cfg) != 0) {
         console_puts("agent_init failed\n");
         console_exit(2u);

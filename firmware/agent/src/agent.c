@@ -55,6 +55,12 @@ agent_params_t agent_default_params(void)
     p.ablate = 0;
     p.explore = AGENT_EXPLORE_EGREEDY;
     p.kappa = 0.0f;
+    p.model = AGENT_MODEL_RELOCATABLE;
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
+    }
+    p.stays = 0;
+    p.step_reward = 0.0f;
     return p;
 }
 
@@ -67,8 +73,8 @@ static bool params_valid_(const agent_params_t *p)
            p->theta >= 0.0f &&                         //
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
            p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
-           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->explore < AGENT_EXPLORE_MODES &&
-           p->kappa >= 0.0f && p->kappa <= AGENT_KAPPA_MAX;
+           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS &&
+           p->explore < AGENT_EXPLORE_MODES && p->kappa >= 0.0f && p->kappa <= AGENT_KAPPA_MAX;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)

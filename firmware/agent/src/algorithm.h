@@ -43,6 +43,9 @@ typedef struct agent_algorithm {
     extern const agent_algorithm_t agent_##id##_algorithm;
 AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
 #undef AGENT_DECLARE_ALGORITHM_
+/// Dyna-QPC with the paper's model (AGENT_MODEL_PAPER, dyna_qpc_paper.c): dyna_qpc.c's init
+/// hands the agent over to it.
+extern const agent_algorithm_t agent_dyna_qpc_paper_algorithm;
 
 // ---- The shared Q-learning step (Fig. 1), for the algorithm files ----------------------------
 

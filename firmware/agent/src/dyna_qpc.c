@@ -14,6 +14,12 @@ static int init_(agent_t *ag, const agent_storage_t *st)
 {
     const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    // The choice of model: the paper's CMAC-Model and CMAC-R plan through their own operations
+    // (dyna_qpc_paper.c, Fig. 3 as the paper has it); everything below is ours.
+    if (ag->params.model == AGENT_MODEL_PAPER) {
+        ag->algorithm = &agent_dyna_qpc_paper_algorithm;
+        return ag->algorithm->init(ag, st);
+    }
     int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
                          ag->params.min_count, &mine->forward, &mine->reloc);
     if (err) {
@@ -23,7 +29,11 @@ static int init_(agent_t *ag, const agent_storage_t *st)
         return FW_ERR_INVAL;
     }
     me->carry = mine->carry;
-    me->model.ablate = (uint8_t)(ag->params.ablate & (AGENT_ABLATE_GENERALISE | AGENT_ABLATE_MAJORITY));
+    me->model.ablate = (uint8_t)(ag->params.ablate &
+                                 (AGENT_ABLATE_GENERALISE | AGENT_ABLATE_MAJORITY | AGENT_ABLATE_STAY));
+    if (ag->params.stays) {
+        model_set_stay_reward(&me->model, ag->params.step_reward);
+    }
     return pq_init(&me->pq, mine->pq_heap, mine->pq_index_keys, mine->pq_index_pos,
                    mine->pq_capacity);
 }
@@ -34,20 +44,25 @@ static void clear_(agent_t *ag)
     pq_clear(&ag->alg.dyna_qpc.pq);
 }
 
-// The target of a predicted step: with several outcomes (a place seen with several percepts),
-// the mean of their values, each equally likely.
-static float step_target_(const agent_t *ag, const model_step_t *step)
+// The target of a predicted step from s: with several outcomes (a place seen with several
+// percepts), the mean of their values, each equally likely; a step that may stay in s (model.h:
+// a fixed step that ended in its cell) weighs in s's value by its stay share.
+static float step_target_(const agent_t *ag, agent_state_t s, const model_step_t *step)
 {
-    if (step->terminal || step->others == 0u || (ag->params.ablate & AGENT_ABLATE_EXPECTED) != 0u) {
+    const bool one_code = step->others == 0u || (ag->params.ablate & AGENT_ABLATE_EXPECTED) != 0u;
+    if (step->terminal || (one_code && step->stay == 0u)) {
         return agent_target_(ag, step->reward, step->next, step->terminal);
     }
     agent_state_t next[MODEL_MAX_PERCEPTS];
-    const uint32_t n = model_step_outcomes(&ag->alg.dyna_qpc.model, step, next);
+    const uint32_t n = one_code ? (next[0] = step->next, 1u)
+                                : model_step_outcomes(&ag->alg.dyna_qpc.model, step, next);
     float sum = 0.0f;
     for (uint32_t i = 0; i < n; i++) {
         sum += qstore_max(&ag->q, next[i]);
     }
-    return step->reward + ag->params.gamma * (sum / (float)n);
+    const float stay = (float)step->stay / 255.0f;
+    const float v = (1.0f - stay) * (sum / (float)n) + stay * qstore_max(&ag->q, s);
+    return step->reward + ag->params.gamma * v;
 }
 
 static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
@@ -77,8 +92,8 @@ static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float targ
 // The target of a predecessor of `here`: its step, leading there (and to its other outcomes).
 static float pred_target_(const agent_t *ag, const model_pred_t *pred, agent_state_t here)
 {
-    const model_step_t step = {here, pred->reward, 0u, pred->others};
-    return step_target_(ag, &step);
+    const model_step_t step = {here, pred->reward, 0u, pred->others, pred->stay};
+    return step_target_(ag, pred->state, &step);
 }
 
 // A state seen for the first time makes new predictions possible: its own untried pairs, and
@@ -93,7 +108,7 @@ static void queue_new_state_(agent_t *ag, agent_state_t s)
     model_query_init(model, s, &q);
     for (uint32_t a = 0; a < ag->space->n_actions; a++) {
         if (model_query_predict(model, &q, (uint8_t)a, &step)) {
-            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, &step));
+            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, s, &step));
         }
     }
     const uint32_t n = model_query_predecessors(model, &q, pred, NULL);
@@ -125,7 +140,7 @@ static void refresh_bonus_(agent_t *ag)
         model_step_t step;
         model_query_init(model, s, &q);
         if (model_query_predict(model, &q, a, &step)) {
-            queue_if_urgent_(ag, s, a, step_target_(ag, &step));
+            queue_if_urgent_(ag, s, a, step_target_(ag, s, &step));
         }
     }
 }
@@ -196,6 +211,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
         step.reward = c->pred[known].reward;
         step.terminal = 0;
         step.others = c->pred[known].others;
+        step.stay = c->pred[known].stay;
         if (!same) {  // the predecessor's query becomes `here`, its old place is free
             model_query_t *const q = c->query[known];
             c->query[known] = c->here;
@@ -212,7 +228,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
             return true;
         }
     }
-    const float target = step_target_(ag, &step) + agent_plan_bonus_(ag, s, a);
+    const float target = step_target_(ag, s, &step) + agent_plan_bonus_(ag, s, a);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
     // which then has no row and reads 0.
     const qstore_row_t row = qstore_row_for_plan(&ag->q, s);
@@ -248,7 +264,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
         const float target_pred =
-            (pred->others == 0u ? pred->reward + value_here : pred_target_(ag, pred, s)) +
+            (pred->others == 0u && pred->stay == 0u ? pred->reward + value_here : pred_target_(ag, pred, s)) +
             agent_plan_bonus_(ag, pred->state, pred->action);
         const float q_pred = qstore_get(&ag->q, pred->state, pred->action);
         const float p = agent_abs_(target_pred - q_pred);

@@ -229,6 +229,7 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     m->space = space;
     m->min_count = min_count;
     m->ablate = 0;
+    m->stay_reward = MODEL_NO_STAY;
     for (uint32_t k = 0; k < space->n_components; k++) {
         // A change wraps around a circular component; a value predicted as such does not.
         const bool absolute = (space->absolute_mask >> k) & 1u;
@@ -422,14 +423,43 @@ static void remember_delta_(world_model_t *m, uint32_t a, agent_state_t s_to, co
     least->count = 1;
 }
 
-// One observation of a situation's outcome: it agrees with the kept outcome, or counts against
-// it; an outcome disagreed with more often than agreed with is replaced by the new one.
-static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward)
+static bool moves_(const int8_t *delta);
+
+// Counts are halved together when one would pass 255, so their ratios stay.
+static void halve_class_(model_class_t *c)
 {
+    c->count /= 2u;
+    c->miss /= 2u;
+    c->stay /= 2u;
+}
+
+// One observation of a situation's outcome: it agrees with the kept outcome, or counts against
+// it; an outcome disagreed with more often than agreed with is replaced by the new one. With
+// `stays`, a change of nothing that earns what a kept move earns is a stay, counted beside the
+// move (the step ended in the cell it began in); a move that earns what a kept change of
+// nothing earned shows that those observations were stays of it.
+static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward, bool stays)
+{
+    if (stays && c->count != 0u && c->reward == reward && moves_(c->delta) != moves_(delta)) {
+        if (!moves_(delta)) {
+            if (c->stay == UINT8_MAX) {
+                halve_class_(c);
+            }
+            c->stay++;
+            return;
+        }
+        const uint32_t stayed = (uint32_t)c->stay + c->count;
+        c->stay = (uint8_t)(stayed > UINT8_MAX ? UINT8_MAX : stayed);
+        for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+            c->delta[k] = delta[k];
+        }
+        c->count = 1;
+        c->miss = 0;
+        return;
+    }
     if (c->count != 0u && same_delta_(c->delta, delta) && c->reward == reward) {
         if (c->count == UINT8_MAX) {  // keep the ratio, make room
-            c->count /= 2u;
-            c->miss /= 2u;
+            halve_class_(c);
         }
         c->count++;
         return;
@@ -462,6 +492,7 @@ static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_ti
     out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
     out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
     out->others = 0;
+    out->stay = 0;
     return true;
 }
 
@@ -492,12 +523,24 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     // observation that contradicts the kept outcome counts against it (cmac_contradict()) and
     // replaces it only once as many observations disagreed as agreed; CMAC-Model's learning rule
     // alone (rate 0.999) would predict whatever happened last.
+    // A stay (model.h) of a tried move leaves its outcome as it is; a move where only stays were
+    // seen replaces them at once. Only with the relocatable model, whose situations count the
+    // stays: in a gridworld a move into a wall is an outcome (and earns what moves earn).
     model_step_t kept;
+    bool ordinary;  // the reward of an ordinary step: it marks a stay
+    ordinary = reward_fixed_(r, &ordinary) == m->stay_reward && ordinary;
+    const bool stays = m->classes != NULL && (m->ablate & MODEL_ABLATE_STAY) == 0u && ordinary;
+    const bool tried = predict_exact_(m, from, &tiles, a, &kept);
+    const bool same_reward = tried && kept.reward - r <= 0.5f && r - kept.reward <= 0.5f;
+    const bool stay_of_move = stays && same_reward && !terminal && !kept.terminal && s_next == s;
+    const bool kept_stays = kept.next == s;  // only read when tried
+    const bool move_of_stay = stays && same_reward && !terminal && !kept.terminal && s_next != s &&
+                              kept_stays;
     const bool contradicts =
-        (m->ablate & MODEL_ABLATE_MAJORITY) == 0u && predict_exact_(m, from, &tiles, a, &kept) &&
-        (kept.next != s_next || kept.terminal != (uint8_t)terminal ||
-         kept.reward - r > 0.5f || r - kept.reward > 0.5f);
+        (m->ablate & MODEL_ABLATE_MAJORITY) == 0u && tried && !move_of_stay &&
+        (kept.next != s_next || kept.terminal != (uint8_t)terminal || !same_reward);
     const bool stored =
+        (stay_of_move && !kept_stays) ||
         (contradicts && cmac_contradict(&m->forward, &tiles)) || cmac_train(&m->forward, &tiles, desired);
 
     if (m->percepts != NULL) {
@@ -515,9 +558,9 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
             // Where an episode ends is a fact about the place, not about the situation.
             m->arrivals[select_(m, &m->position_of, s_next, to)] = reward;
         } else {
-            train_class_(class_of_(m, s, from, a), delta, reward);
+            train_class_(class_of_(m, s, from, a), delta, reward, stays);
             if (m->n_percept_classes != 0u) {
-                train_class_(percept_class_of_(m, s, from, a), delta, reward);
+                train_class_(percept_class_of_(m, s, from, a), delta, reward, stays);
             }
         }
     }
@@ -530,7 +573,7 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
 // rooms: 804 against 586 real steps to learn, 108 sets; docs/agent.md.)
 static bool class_trusted_(const model_class_t *c)
 {
-    return c->count >= MODEL_CLASS_MIN_COUNT;
+    return (uint32_t)c->count + c->stay >= MODEL_CLASS_MIN_COUNT;  // a stay is of its move
 }
 
 // Applies a change (undoes it, for `sign` -1) to every non-absolute component of `from`, into
@@ -564,6 +607,21 @@ static bool moves_(const int8_t *delta)
         any |= (uint8_t)delta[k];
     }
     return any != 0u;
+}
+
+static float agent_absf_(float x)
+{
+    return x < 0.0f ? -x : x;
+}
+
+// Of 255: how often a situation whose outcome moves stayed where it was (model.h), rounded.
+static uint8_t stay_share_(const world_model_t *m, const model_class_t *c)
+{
+    const uint32_t all = (uint32_t)c->count + c->miss + c->stay;
+    if ((m->ablate & MODEL_ABLATE_STAY) != 0u || c->stay == 0u || !moves_(c->delta)) {
+        return 0u;
+    }
+    return (uint8_t)((c->stay * 255u + all / 2u) / all);
 }
 
 // The relocatable model's prediction for an untried pair: the situation's usual change, the
@@ -612,6 +670,7 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
     out->terminal = (uint8_t)(arrival != MODEL_NO_ARRIVAL && moved);
     out->reward = (float)(out->terminal ? arrival : c->reward) / (float)CMAC_ONE;
     out->others = (uint16_t)others;
+    out->stay = out->terminal ? 0u : stay_share_(m, c);
     m->generalised++;
     return true;
 }
@@ -621,11 +680,40 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
 static bool predict_(world_model_t *m, const uint32_t *from, agent_state_t s,
                      const cmac_tiles_t *tiles, uint32_t a, model_step_t *out)
 {
-    if (predict_exact_(m, from, tiles, a, out) || predict_general_(m, from, s, a, out)) {
+    if (predict_exact_(m, from, tiles, a, out)) {
+        // A tried move stays as often as its situation's moves do (a property of the heading
+        // against the cell, not of the place); its own stays were not kept (model_learn()). A
+        // tried pair that only ever stayed, with its situation's reward, is predicted as the
+        // situation's move: it was the same step, not finished.
+        if (m->classes != NULL && !out->terminal && (m->ablate & MODEL_ABLATE_STAY) == 0u) {
+            const model_class_t *c = class_of_(m, s, from, a);
+            if (!class_trusted_(c) && m->n_percept_classes != 0u) {
+                c = percept_class_of_(m, s, from, a);
+            }
+            const uint8_t share = stay_share_(m, c);
+            if (out->next != s) {
+                out->stay = share;
+            } else if (share != 0u && agent_absf_((float)c->reward / (float)CMAC_ONE - out->reward) <= 0.5f) {
+                const model_step_t kept = *out;
+                if (!predict_general_(m, from, s, a, out)) {
+                    *out = kept;
+                }
+            }
+        }
+        return true;
+    }
+    if (predict_general_(m, from, s, a, out)) {
         return true;
     }
     m->untrusted++;
     return false;
+}
+
+void model_set_stay_reward(world_model_t *m, float step_reward)
+{
+    bool fits;
+    const int16_t v = reward_fixed_(step_reward, &fits);
+    m->stay_reward = fits ? v : MODEL_NO_STAY;
 }
 
 int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
@@ -751,6 +839,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                 const uint32_t outcomes =
                     step.others == 0u ? 0u : step.others | (1u << percept_value_(m, step.next));
                 out[n].others = (uint16_t)(outcomes & ~(1u << percept));
+                out[n].stay = step.stay;
                 out[n].reward = step.reward;
                 n++;
             }

@@ -814,6 +814,143 @@ static void components_need_not_be_adjacent(void **state)
     assert_true(with_preds > 10u);
 }
 
+// Stays (model.h): with the ordinary step's reward known, a step that changed nothing and earned
+// it is counted beside the situation's move, never against it. Heading 4, code 0, action 0 moved
+// +1 three times and stayed three times: the move is the outcome, staying half the time.
+static void stays_are_counted_beside_their_move(void **state)
+{
+    (void)state;
+    world_model_t with, without;
+    assert_int_equal(model_init(&with, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&with, -1.0f);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&with, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+        model_learn(&with, rel_state(x + 10, 4, 0), 0, -1.0f, rel_state(x + 10, 4, 0), false);
+    }
+    model_learn(&with, rel_state(20, 2, 0), 2, -1.0f, rel_state(20, 4, 0), false);  // (20, 4) shows 0
+    model_step_t out;
+    assert_true(model_predict(&with, rel_state(19, 4, 0), 0, &out));  // untried: generalised
+    assert_int_equal(out.next, rel_state(20, 4, 0));
+    assert_int_equal(out.stay, 128);  // 3 of 6, of 255, rounded
+    assert_true(out.reward == -1.0f);
+    // A tried move carries its situation's share; so does its predecessor.
+    assert_true(model_predict(&with, rel_state(2, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(3, 4, 0));
+    assert_int_equal(out.stay, 128);
+    model_learn(&with, rel_state(19, 4, 0), 2, -1.0f, rel_state(19, 6, 0), false);  // (19, 4) seen
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    const uint32_t n = model_predecessors(&with, rel_state(20, 4, 0), preds);
+    bool found = false;
+    for (uint32_t i = 0; i < n; i++) {
+        if (preds[i].state == rel_state(19, 4, 0) && preds[i].action == 0) {
+            found = true;
+            assert_int_equal(preds[i].stay, 128);
+        }
+    }
+    assert_true(found);
+
+    // Without the step's reward every outcome is one: three moves and three changes of nothing
+    // leave the situation's first outcome contested, and no prediction carries a share.
+    assert_int_equal(model_init(&without, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&without, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+        model_learn(&without, rel_state(x + 10, 4, 0), 0, -1.0f, rel_state(x + 10, 4, 0), false);
+    }
+    model_learn(&without, rel_state(20, 2, 0), 2, -1.0f, rel_state(20, 4, 0), false);
+    assert_true(model_predict(&without, rel_state(19, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(20, 4, 0));
+    assert_int_equal(out.stay, 0);
+}
+
+// A tried pair: a stay of its move leaves the move as its outcome (it was contradicted before);
+// a move where only stays had been seen replaces them at once, and they become its stays.
+static void a_tried_move_keeps_its_outcome_through_stays(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    const agent_state_t s = rel_state(3, 4, 0), ahead = rel_state(4, 4, 0);
+    model_learn(&m, s, 0, -1.0f, ahead, false);
+    model_step_t out;
+    for (uint32_t i = 0; i < 4; i++) {
+        model_learn(&m, s, 0, -1.0f, s, false);
+        assert_true(model_predict(&m, s, 0, &out));
+        assert_int_equal(out.next, ahead);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 0);
+    assert_int_equal(out.stay, (4u * 255u + 2u) / 5u);
+
+    const agent_state_t t = rel_state(8, 0, 0), east = rel_state(9, 0, 0);
+    for (uint32_t i = 0; i < 3; i++) {
+        model_learn(&m, t, 0, -1.0f, t, false);
+    }
+    assert_true(model_predict(&m, t, 0, &out));
+    assert_int_equal(out.next, t);  // nothing else seen: staying is all it does
+    assert_int_equal(out.stay, 0);
+    model_learn(&m, t, 0, -1.0f, east, false);
+    assert_true(model_predict(&m, t, 0, &out));
+    assert_int_equal(out.next, east);
+    assert_int_equal(out.stay, (3u * 255u + 2u) / 4u);
+}
+
+// A change of nothing with another reward (a bump: -100) is an outcome, not a stay: it counts
+// against a move as before, and replaces it once the contradictions outnumber the agreements.
+static void a_bump_is_not_a_stay(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    const agent_state_t s = rel_state(3, 4, 0);
+    for (uint32_t i = 0; i < 3; i++) {
+        model_learn(&m, s, 0, -1.0f, rel_state(4, 4, 0), false);
+    }
+    model_step_t out;
+    for (uint32_t i = 0; i < 2; i++) {
+        model_learn(&m, s, 0, -100.0f, s, false);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 2);
+    model_learn(&m, s, 0, -100.0f, s, false);
+    assert_true(model_predict(&m, s, 0, &out));
+    assert_int_equal(out.next, s);
+    assert_true(out.reward == -100.0f);
+    assert_int_equal(out.stay, 0);
+}
+
+// A tried pair that only ever stayed, in a situation whose move is known, is predicted as that
+// move (the same step, not finished there), with the situation's share of stays.
+static void a_pair_that_only_stayed_is_its_situations_move(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    model_learn(&m, rel_state(21, 2, 0), 2, -1.0f, rel_state(21, 4, 0), false);  // (21, 4) shows 0
+    const agent_state_t s = rel_state(20, 4, 0);
+    model_learn(&m, s, 0, -1.0f, s, false);
+    model_step_t out;
+    assert_true(model_predict(&m, s, 0, &out));
+    assert_int_equal(out.next, rel_state(21, 4, 0));
+    assert_int_equal(out.stay, (1u * 255u + 2u) / 4u);
+    // With stays off (the ablation), the same observations predict going nowhere.
+    world_model_t off;
+    assert_int_equal(model_init(&off, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&off, -1.0f);
+    off.ablate = MODEL_ABLATE_STAY;
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&off, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    model_learn(&off, rel_state(21, 2, 0), 2, -1.0f, rel_state(21, 4, 0), false);
+    model_learn(&off, s, 0, -1.0f, s, false);
+    assert_true(model_predict(&off, s, 0, &out));
+    assert_int_equal(out.next, s);
+    assert_int_equal(out.stay, 0);
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -853,6 +990,10 @@ int main(void)
         cmocka_unit_test(the_end_of_an_episode_is_not_read_from_its_reward),
         cmocka_unit_test(only_circular_components_wrap),
         cmocka_unit_test(components_need_not_be_adjacent),
+        cmocka_unit_test(stays_are_counted_beside_their_move),
+        cmocka_unit_test(a_tried_move_keeps_its_outcome_through_stays),
+        cmocka_unit_test(a_bump_is_not_a_stay),
+        cmocka_unit_test(a_pair_that_only_stayed_is_its_situations_move),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
