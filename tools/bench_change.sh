@@ -25,7 +25,9 @@
 # (default 20), --after E (block: episodes in the changed room before the replay, default 8),
 # --episodes M (shortcut: episodes from K on, default 40), --seeds FIRST COUNT (block: training
 # seeds, default 9101 20; shortcut: the experiment seed and the sets, default 9101 20), --jobs J
-# (default 2). Needs the host-release build.
+# (default 2), --explore MODE and --kappa K (the exploration, egreedy, plan-bonus or act-bonus,
+# and its bonus's scale: docs/agent.md; default the scenario's, egreedy; block passes them to the
+# learning replay too). Needs the host-release build.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
@@ -33,7 +35,7 @@ changes=$root/host_sim/rooms/changes
 mode=${1:-}
 [[ $mode == block || $mode == shortcut ]] || { echo "bench_change.sh: block or shortcut first (see the header)" >&2; exit 2; }
 shift
-robot=paper-lab agent=dyna-qpc planning= K=20 after=8 episodes=40 first=9101 count=20 jobs=2
+robot=paper-lab agent=dyna-qpc planning= K=20 after=8 episodes=40 first=9101 count=20 jobs=2 explore=()
 while (($#)); do
     case $1 in
         --robot) robot=$2; shift 2 ;;
@@ -44,6 +46,7 @@ while (($#)); do
         --episodes) episodes=$2; shift 2 ;;
         --seeds) first=$2 count=$3; shift 3 ;;
         --jobs) jobs=$2; shift 2 ;;
+        --explore|--kappa) explore+=("$1" "$2"); shift 2 ;;
         *) echo "bench_change.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
 done
@@ -55,9 +58,11 @@ case $robot in
 esac
 plan=()
 [ -z "$planning" ] || plan=(--planning "$planning")
+plan+=("${explore[@]}")  # train and run --learn take them alike
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 if [ -n "$planning" ]; then label="$agent, N = $planning"; else label="$agent, idle-time planning"; fi
+((${#explore[@]} == 0)) || label="$label, ${explore[*]}"
 
 if [[ $mode == block ]]; then
     one() {  # one <seed>

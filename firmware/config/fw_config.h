@@ -67,6 +67,11 @@
 #ifndef FW_CFG_MAZE_POSITIONS
 #define FW_CFG_MAZE_POSITIONS 64
 #endif
+// The exploration bonus's tried-pairs table (explore.h; 8 bytes a pair, used only by the bonus
+// modes): when each state-action pair was last tried. Full, it forgets the pair tried longest ago.
+#ifndef FW_CFG_MAZE_TRIED_PAIRS
+#define FW_CFG_MAZE_TRIED_PAIRS 4096
+#endif
 // The paper's CMAC-Model and CMAC-R (`model paper`, paper_model.h) overlay the relocatable
 // model and the planner's carry (agent_profiles.h asserts they fit in its bytes): cells of 17
 // bytes (key, 6 weights, count) and of 15 (key, 5 weights, count).
@@ -114,6 +119,13 @@
 #ifndef FW_CFG_LAB_POSITIONS
 #define FW_CFG_LAB_POSITIONS 64
 #endif
+// Tried pairs (explore.h): 128 pairs, 1 KB: what the 64 KiB paper-lab image (netduinoplus2)
+// leaves. A lab run tries about 750 distinct pairs in 20 episodes, so a bonus mode here forgets
+// most of them; the bonus measurements (docs/agent.md item 12) used a host build with
+// -DFW_CFG_LAB_TRIED_PAIRS=1024, and the bonus is off by default.
+#ifndef FW_CFG_LAB_TRIED_PAIRS
+#define FW_CFG_LAB_TRIED_PAIRS 128
+#endif
 // The paper's CMACs: 1,024 x 17 + 512 x 15 = 25,088 bytes of our model's 25,456 (with the carry).
 #ifndef FW_CFG_LAB_PAPER_FWD_CELLS
 #define FW_CFG_LAB_PAPER_FWD_CELLS 1024
@@ -159,6 +171,12 @@
 #endif
 #ifndef FW_CFG_SIM_POSITIONS
 #define FW_CFG_SIM_POSITIONS 4096
+#endif
+// Tried pairs (explore.h): 128 pairs, 1 KB: what the 192 KiB paper-sim image (stm32f4-robot)
+// leaves beside the 8,192 16-bit Q rows. A bonus mode that should remember more pairs needs a
+// host build with a larger -DFW_CFG_SIM_TRIED_PAIRS (the pair tried longest ago is forgotten).
+#ifndef FW_CFG_SIM_TRIED_PAIRS
+#define FW_CFG_SIM_TRIED_PAIRS 128
 #endif
 // The paper's CMACs: 2,048 x 17 + 2,048 x 15 = 65,536 bytes of our model's 79,600.
 #ifndef FW_CFG_SIM_PAPER_FWD_CELLS

@@ -23,7 +23,8 @@ namespace dynaqpc {
 
 int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, model, model_tiles;
+    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, model, model_tiles, explore;
+    double kappa = 0;
     std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0, change_at = 0;
     bool learn = false;
     Options o("run", "replay a learned policy greedily from random start poses");
@@ -48,6 +49,11 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
                "with --learn: planning updates after each real step, 0 = as many as the MCU's idle "
                "time allows (default: the scenario's)",
                &planning, 0, 1000000);
+    o.add_choice("--explore", "MODE",
+                 "with --learn: egreedy, plan-bonus or act-bonus (train --explore; default: the scenario's)",
+                 &explore, explore_mode_names());
+    o.add_double("--kappa", "K", "with --learn: the exploration bonus's scale (default: the scenario's)", &kappa,
+                 0.0, 1000.0);
     o.add_uint("--change-at", "K",
                "the room changes: from start K on, the obstacles are --changed's (the firmware is not "
                "told; default: never). To start in the changed room, give it as --scenario",
@@ -87,7 +93,11 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         }
     }
     robot_config_t cfg = sb.robot;
-    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &model, &model_tiles}, &cfg);
+    if ((o.seen("--explore") || o.seen("--kappa")) && !learn) {
+        throw UsageError(std::string(o.seen("--explore") ? "--explore" : "--kappa") +
+                         ": only with --learn (a frozen replay acts greedily)");
+    }
+    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &model, &model_tiles, &explore, &kappa}, &cfg);
     if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");

@@ -40,7 +40,8 @@ struct TrainSettings {
     std::uint32_t step_cap = 0;
     std::uint32_t plan_cycles = 0;
     double epsilon = 0, alpha = 0;
-    std::string gamma, ablate, model, model_tiles;
+    std::string gamma, ablate, model, model_tiles, explore;
+    double kappa = 0;
     std::string csv;
     std::string save;
     std::uint32_t change_at = 0;
@@ -86,6 +87,13 @@ void declare(Options &o, TrainSettings &s)
                  "discount: a number in [0, 1] (and theta 1e-3: the paper's mode, gamma 0.9), or auto (from the "
                  "room's size: docs/agent.md); default: the scenario's",
                  &s.gamma);
+    o.add_choice("--explore", "MODE",
+                 "egreedy (epsilon alone), plan-bonus (Dyna-Q+: planning adds kappa sqrt(steps untried) to a "
+                 "pair's reward) or act-bonus (acting picks the largest Q + that bonus); default: the scenario's "
+                 "(docs/agent.md)",
+                 &s.explore, explore_mode_names());
+    o.add_double("--kappa", "K", "the exploration bonus's scale, in reward units (default: the scenario's)",
+                 &s.kappa, 0.0, 1000.0);
     o.add_string("--ablate", "PARTS",
                  "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
                  "list of generalise, majority, new-states, expected, stay (docs/results.md)",
@@ -238,7 +246,8 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
-    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma, &s.model, &s.model_tiles},
+    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma, &s.model, &s.model_tiles,
+                        &s.explore, &s.kappa},
                     &cfg);
     if (o.seen("--ablate")) cfg.params.ablate = ablate_mask(s.ablate);
     // Idle-time planning (planning 0) is the shipped scenarios' default, or --planning 0.

@@ -104,6 +104,8 @@ ScenarioBundle load_scenario(const std::string &arg)
         r.params.gamma = static_cast<float>(sc->learning.gamma);
     }
     r.params.epsilon = static_cast<float>(sc->learning.epsilon);
+    r.params.explore = explore_mode_of(sc->learning.explore, "learning explore");
+    r.params.kappa = static_cast<float>(sc->learning.kappa);
     r.params.model = agent_model_of(sc->learning.model);
     for (std::size_t k = 0; k < sc->learning.model_tiles.size() && k < FW_CFG_MAX_COMPONENTS; k++) {
         r.params.model_tile_shift[k] = static_cast<std::uint8_t>(sc->learning.model_tiles[k]);
@@ -163,6 +165,20 @@ agent_kind_t agent_kind_of(const std::string &name)
         throw UsageError("unknown agent '" + name + "' (" + agent_kind_list() + ")");
     }
     return kind;
+}
+
+std::vector<std::string> explore_mode_names()
+{
+    return {"egreedy", "plan-bonus", "act-bonus"};  // agent_explore_t order
+}
+
+uint8_t explore_mode_of(const std::string &name, const std::string &what)
+{
+    const std::vector<std::string> names = explore_mode_names();
+    for (std::size_t i = 0; i < names.size(); i++) {
+        if (name == names[i]) return static_cast<uint8_t>(i);
+    }
+    throw UsageError(what + ": '" + name + "' is not egreedy, plan-bonus or act-bonus");
 }
 
 uint8_t ablate_mask(const std::string &list)
@@ -238,6 +254,8 @@ void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t 
     if (v.planning != nullptr && o.seen("--planning")) cfg->planning = *v.planning;
     if (v.step_cap != nullptr && o.seen("--step-cap")) cfg->step_cap = *v.step_cap;
     if (v.epsilon != nullptr && o.seen("--epsilon")) cfg->params.epsilon = static_cast<float>(*v.epsilon);
+    if (v.explore != nullptr && o.seen("--explore")) cfg->params.explore = explore_mode_of(*v.explore, "--explore");
+    if (v.kappa != nullptr && o.seen("--kappa")) cfg->params.kappa = static_cast<float>(*v.kappa);
     if (v.alpha != nullptr && o.seen("--alpha")) {
         cfg->params.alpha = cfg->params.plan_alpha = static_cast<float>(*v.alpha);
     }

@@ -63,7 +63,16 @@ struct ConfigOverrides {
     const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
     const std::string *model = nullptr;        ///< --model: Dyna-QPC's model, relocatable or paper
     const std::string *model_tiles = nullptr;  ///< --model-tiles: the paper's model's tile widths
+    const std::string *explore = nullptr;      ///< --explore: egreedy, plan-bonus or act-bonus
+    const double *kappa = nullptr;             ///< --kappa: the bonus's scale
 };
+
+/// An exploration mode's name (egreedy, plan-bonus, act-bonus: the scenario's `learning explore`
+/// and `--explore`) as an agent_explore_t; another name throws UsageError naming `what`.
+uint8_t explore_mode_of(const std::string &name, const std::string &what);
+
+/// The choices of an `--explore` option.
+std::vector<std::string> explore_mode_names();
 
 /// The model a `--model` option or a scenario's `learning model` names (relocatable, paper);
 /// another name throws UsageError.

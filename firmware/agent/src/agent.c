@@ -53,6 +53,8 @@ agent_params_t agent_default_params(void)
     p.tilings = 16;
     p.min_count = 1;
     p.ablate = 0;
+    p.explore = AGENT_EXPLORE_EGREEDY;
+    p.kappa = 0.0f;
     p.model = AGENT_MODEL_RELOCATABLE;
     for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
         p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
@@ -71,7 +73,8 @@ static bool params_valid_(const agent_params_t *p)
            p->theta >= 0.0f &&                         //
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
            p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
-           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS;
+           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS &&
+           p->explore < AGENT_EXPLORE_MODES && p->kappa >= 0.0f && p->kappa <= AGENT_KAPPA_MAX;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)
@@ -95,6 +98,12 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     if (err) {
         return err;
     }
+    // The bonus modes need the tried-pairs table; epsilon-greedy leaves it untouched.
+    ag->tried = (explore_table_t){0};
+    if (cfg->params.explore != AGENT_EXPLORE_EGREEDY &&
+        explore_init(&ag->tried, st->tried_keys, st->tried_at, st->tried_pairs) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
     prng_seed(&ag->rng, cfg->seed);
     ag->stats = (agent_stats_t){0};
     return FW_OK;
@@ -105,6 +114,9 @@ void agent_reset(agent_t *ag, uint32_t seed)
     FW_ASSERT(ag != NULL && ag->algorithm != NULL);
     qstore_clear(&ag->q);
     ag->algorithm->clear(ag);
+    if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
+        explore_clear(&ag->tried);
+    }
     prng_seed(&ag->rng, seed);
     ag->stats = (agent_stats_t){0};
 }
@@ -116,10 +128,40 @@ void agent_reset(agent_t *ag, uint32_t seed)
 #define ASSERT_STATE_(ag, s) FW_ASSERT(((s) >> (ag)->state_bits) == 0u)
 #define ASSERT_ACTION_(ag, a) FW_ASSERT((uint32_t)(a) < (ag)->space->n_actions)
 
+// The bonus on acting: the largest Q(s, a) + kappa * sqrt(tau(s, a)), ties broken uniformly. A
+// pair never tried has tau = now, so from a place it knows the robot first tries what it has not.
+static uint8_t act_bonus_(agent_t *ag, agent_state_t s)
+{
+    const uint32_t n = ag->space->n_actions;
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
+    uint32_t best = 0;
+    uint32_t ties = 1;
+    float best_v = 0.0f;
+    for (uint32_t a = 0; a < n; a++) {
+        const float v = row[a] + agent_bonus_(ag, s, (uint8_t)a);
+        if (a == 0u || v > best_v) {
+            best = a;
+            best_v = v;
+            ties = 1;
+        } else if (v == best_v) {
+            ties++;
+            if (prng_below(&ag->rng, ties) == 0u) {
+                best = a;
+            }
+        }
+    }
+    return (uint8_t)best;
+}
+
 uint8_t agent_act(agent_t *ag, agent_state_t s)
 {
     if (prng_unit(&ag->rng) < ag->params.epsilon) {
         return (uint8_t)prng_below(&ag->rng, ag->space->n_actions);
+    }
+    if (ag->params.explore == AGENT_EXPLORE_ACT_BONUS) {
+        ASSERT_STATE_(ag, s);
+        return act_bonus_(ag, s);
     }
     return agent_act_greedy(ag, s);
 }
@@ -180,6 +222,9 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
     const float target = agent_target_(ag, r, s_next, terminal);
     const float priority = agent_abs_(target - agent_q(ag, s, a));
     ag->stats.real_steps++;
+    if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
+        explore_tried(&ag->tried, agent_pair_(ag, s, a), ag->stats.real_steps);
+    }
     if (agent_q_update_(ag, s, a, target, ag->params.alpha, false)) {
         ag->stats.real_updates++;
     }
@@ -203,7 +248,12 @@ uint32_t agent_counters(const agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTER
     out[0] = (agent_counter_t){"q_rows", ag->q.rows_used, ag->q.capacity};
     out[1] = (agent_counter_t){"q_dropped", ag->q.dropped, 0u};
     out[2] = (agent_counter_t){"q_plan_refused", ag->q.plan_refused, 0u};
-    const uint32_t n = 3u + ag->algorithm->counters(ag, out + 3);
+    uint32_t n = 3u + ag->algorithm->counters(ag, out + 3);
+    if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
+        FW_ASSERT(n + 2u <= AGENT_MAX_COUNTERS);
+        out[n++] = (agent_counter_t){"tried_pairs", ag->tried.used, ag->tried.capacity};
+        out[n++] = (agent_counter_t){"tried_forgotten", ag->tried.forgotten, 0u};
+    }
     FW_ASSERT(n <= AGENT_MAX_COUNTERS);
     return n;
 }

@@ -40,8 +40,9 @@ static bool replay_one_(agent_t *ag, const dynaq_table_t *table)
     if (!dynaq_sample(table, &ag->rng, &s, &a, &r, &s_next, &terminal)) {
         return false;
     }
-    if (agent_q_update_(ag, s, a, agent_target_(ag, r, s_next, terminal), ag->params.plan_alpha,
-                        true)) {
+    // Dyna-Q+ (explore.h): the bonus of a pair untried for long joins its recorded reward.
+    const float target = agent_target_(ag, r, s_next, terminal) + agent_plan_bonus_(ag, s, a);
+    if (agent_q_update_(ag, s, a, target, ag->params.plan_alpha, true)) {
         ag->stats.planning_updates++;
     }
     return true;

@@ -80,9 +80,10 @@ static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
 FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
                  queue_keys_leave_the_top_bit_free);
 
+// `target` without the planning bonus, which this adds (Dyna-Q+; 0 in the other modes).
 static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float target)
 {
-    const float p = agent_abs_(target - agent_q(ag, s, a));
+    const float p = agent_abs_(target + agent_plan_bonus_(ag, s, a) - agent_q(ag, s, a));
     if (p > ag->params.theta) {
         (void)pq_push(&ag->alg.dyna_qpc.pq, pq_key_(ag, s, a), p);
     }
@@ -116,6 +117,34 @@ static void queue_new_state_(agent_t *ag, agent_state_t s)
     }
 }
 
+// Pairs whose bonus a real step re-examines (Dyna-Q+ only; see refresh_bonus_()).
+#define BONUS_REFRESH_PER_STEP 4u
+
+// Dyna-Q+ with prioritized sweeping: a pair's bonus grows with every real step, but the queue
+// only hears of a pair when something it leads to changes, so a pair untried for long (a door
+// that was shut) would keep the value it had when last planned. Each real step re-examines a few
+// tried pairs drawn at random (as Dyna-Q's uniform replay would reach them) and queues those whose
+// bonus has moved their target by more than theta; sweeping then carries it to their
+// predecessors. Pairs never tried get their bonus when a new state queues them.
+static void refresh_bonus_(agent_t *ag)
+{
+    world_model_t *model = &ag->alg.dyna_qpc.model;
+    for (uint32_t i = 0; i < BONUS_REFRESH_PER_STEP; i++) {
+        uint32_t pair;
+        if (!explore_sample(&ag->tried, &ag->rng, &pair)) {
+            return;
+        }
+        const agent_state_t s = pair / ag->space->n_actions;
+        const uint8_t a = (uint8_t)(pair % ag->space->n_actions);
+        model_query_t q;
+        model_step_t step;
+        model_query_init(model, s, &q);
+        if (model_query_predict(model, &q, a, &step)) {
+            queue_if_urgent_(ag, s, a, step_target_(ag, s, &step));
+        }
+    }
+}
+
 static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                      bool terminal, float priority)
 {
@@ -129,6 +158,9 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     }
     if (new_state && !terminal && (ag->params.ablate & AGENT_ABLATE_NEW_STATES) == 0u) {
         queue_new_state_(ag, s_next);
+    }
+    if (ag->params.explore == AGENT_EXPLORE_PLAN_BONUS) {
+        refresh_bonus_(ag);
     }
 }
 
@@ -196,7 +228,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
             return true;
         }
     }
-    const float target = step_target_(ag, s, &step);
+    const float target = step_target_(ag, s, &step) + agent_plan_bonus_(ag, s, a);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
     // which then has no row and reads 0.
     const qstore_row_t row = qstore_row_for_plan(&ag->q, s);
@@ -232,7 +264,8 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
         const float target_pred =
-            pred->others == 0u && pred->stay == 0u ? pred->reward + value_here : pred_target_(ag, pred, s);
+            (pred->others == 0u && pred->stay == 0u ? pred->reward + value_here : pred_target_(ag, pred, s)) +
+            agent_plan_bonus_(ag, pred->state, pred->action);
         const float q_pred = qstore_get(&ag->q, pred->state, pred->action);
         const float p = agent_abs_(target_pred - q_pred);
         if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {

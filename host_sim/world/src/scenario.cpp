@@ -597,11 +597,16 @@ bool Parser::key_learning(const Tokens &t, Scenario *s)
         {"step_cap", T::Int, &l.step_cap, 1, 100000000},
         {"sets", T::Int, &l.sets, 1, 1000000},
         {"episodes", T::Int, &l.episodes, 1, 1000000},
+        {"explore", T::Text, &l.explore, 0.0, 0.0},
+        {"kappa", T::Real, &l.kappa, 0.0, 1000.0},
         {"model", T::Text, &l.model, 0, 0},
         {"tiles", T::Text, &tiles, 0, 0},
     };
     if (!fields(t, f)) {
         return false;
+    }
+    if (l.explore != "egreedy" && l.explore != "plan-bonus" && l.explore != "act-bonus") {
+        return fail("learning explore: '" + l.explore + "' is not egreedy, plan-bonus or act-bonus");
     }
     if (l.model != "relocatable" && l.model != "paper") {
         return fail("learning model '" + l.model + "': unknown (relocatable, paper)");
@@ -901,8 +906,9 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
          "the rewards"},
         {a.learning.epsilon == b.learning.epsilon && a.learning.alpha == b.learning.alpha &&
              a.learning.gamma == b.learning.gamma && a.learning.planning == b.learning.planning &&
-             a.learning.step_cap == b.learning.step_cap,
-         "the learning line (epsilon, alpha, gamma, planning or step_cap)"},
+             a.learning.step_cap == b.learning.step_cap && a.learning.explore == b.learning.explore &&
+             a.learning.kappa == b.learning.kappa,
+         "the learning line (epsilon, alpha, gamma, planning, step_cap, explore or kappa)"},
     };
     for (const auto &c : checks) {
         if (!c.same) return std::string(c.what) + " differs (only obstacles may change)";

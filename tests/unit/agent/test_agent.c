@@ -190,7 +190,7 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
 // which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
 // grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
 // alike at every step and end with the same bytes learned and the same counters.
-typedef AGENT_MEMORY_STRUCT(value16_t, 64, 64, 4, 16, 16, 1, 1, 1, 64, 64) small_memory_t;
+typedef AGENT_MEMORY_STRUCT(value16_t, 64, 64, 4, 16, 16, 1, 1, 1, 64, 64, 16) small_memory_t;
 static small_memory_t memory_a_;
 static small_memory_t memory_b_;
 static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);

@@ -143,6 +143,28 @@ void test_learning_model(void **state)
     assert_false(world::parse_scenario(head + "learning tiles 1,,0,0\n", "m.scn", &s, &err));
 }
 
+// `learning explore MODE kappa K`: the exploration (egreedy by default) and its bonus's scale.
+void test_explore(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode x 2 y 2 heading 2\ngoal 2.5 2.5 0.6\n";
+    world::Scenario s;
+    std::string err;
+    assert_true(world::parse_scenario(head, "g.scn", &s, &err));
+    assert_string_equal(s.learning.explore.c_str(), "egreedy");
+    assert_true(s.learning.kappa == 0.0);
+    assert_true(world::parse_scenario(head + "learning explore plan-bonus kappa 0.05\n", "g.scn", &s, &err));
+    assert_string_equal(s.learning.explore.c_str(), "plan-bonus");
+    assert_true(s.learning.kappa == 0.05);
+    assert_true(world::parse_scenario(head + "learning explore act-bonus\n", "g.scn", &s, &err));
+    assert_string_equal(s.learning.explore.c_str(), "act-bonus");
+    assert_false(world::parse_scenario(head + "learning explore bonus\n", "g.scn", &s, &err));
+    assert_true(starts_with(err, "g.scn:7: learning explore: 'bonus' is not egreedy, plan-bonus or act-bonus"));
+    assert_false(world::parse_scenario(head + "learning kappa -1\n", "g.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "kappa"));
+}
+
 void test_goal_cells(void **state)
 {
     (void)state;
@@ -382,6 +404,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_paper_lab_parses),
         cmocka_unit_test(test_goal_cells),
         cmocka_unit_test(test_gamma_auto),
+        cmocka_unit_test(test_explore),
         cmocka_unit_test(test_learning_model),
         cmocka_unit_test(test_name_resolution),
         cmocka_unit_test(test_doc_example),

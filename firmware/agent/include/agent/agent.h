@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "agent/algorithms.h"
+#include "agent/explore.h"
 #include "fw/fw_prng.h"
 #include "agent/qstore.h"
 #include "agent/region.h"
@@ -47,7 +48,16 @@ typedef struct agent_params {
     /// which earns it and changes nothing is known as a stay (model.h); 0 (the default): none is
     uint8_t stays;
     float step_reward;  ///< with `stays`: the reward of an ordinary step
+    /// How agent_act() and planning explore: an agent_explore_t (explore.h); 0, epsilon-greedy
+    /// alone, is the default. The bonus modes need the storage's tried-pairs table.
+    uint8_t explore;
+    /// The bonus kappa * sqrt(tau) of a pair untried for tau real steps, in reward units;
+    /// [0, AGENT_KAPPA_MAX], used by the bonus modes only.
+    float kappa;
 } agent_params_t;
+
+/// The largest kappa agent_init() takes: a bonus beyond any reward scale the robots use.
+#define AGENT_KAPPA_MAX 1000.0f
 
 /// Dyna-QPC's world models (agent_params_t.model), chosen by one switch in dyna_qpc.c.
 #define AGENT_MODEL_RELOCATABLE 0u  ///< "relocatable": model.h (docs/agent.md)
@@ -86,6 +96,12 @@ typedef struct agent_storage {
     uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
     uint32_t *q_keys;     ///< q_states
     uint32_t q_states;
+    /// The tried-pairs table of the bonus modes (explore.h), tried_pairs entries each; NULL and 0
+    /// where the agent only explores epsilon-greedily. Shared by every algorithm: the same
+    /// exploration for each.
+    uint32_t *tried_keys;
+    uint32_t *tried_at;
+    uint32_t tried_pairs;
     AGENT_ALGORITHMS(AGENT_STORAGE_MEMBER_)
 } agent_storage_t;
 #undef AGENT_STORAGE_MEMBER_
@@ -120,6 +136,7 @@ typedef struct agent {
     qstore_t q;
     prng_t rng;
     agent_stats_t stats;
+    explore_table_t tried;  ///< when pairs were last tried (bonus modes only; explore.h)
     union {
         AGENT_ALGORITHMS(AGENT_STATE_MEMBER_)
     } alg;
@@ -140,7 +157,7 @@ int agent_kind_from_name(const char *name, agent_kind_t *kind);
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
 /// 16 tilings,
 /// min_count 1; the relocatable model (the paper's model's tiles: component
-/// PAPER_DEFAULT_TILED_COMPONENT, the robot's range code, 2 values wide, the others exact).
+/// PAPER_DEFAULT_TILED_COMPONENT, the robot's range code, 2 values wide, the others exact); epsilon-greedy exploration (kappa 0).
 agent_params_t agent_default_params(void);
 
 /// Checks the configuration and prepares an agent that knows nothing.
@@ -151,7 +168,8 @@ int agent_init(agent_t *ag, const agent_config_t *cfg);
 void agent_reset(agent_t *ag, uint32_t seed);
 
 /// Epsilon-greedy action in s: with probability epsilon a uniform random action, otherwise a
-/// greedy one with ties broken uniformly at random.
+/// greedy one with ties broken uniformly at random. With AGENT_EXPLORE_ACT_BONUS "greedy" is
+/// over Q(s, a) + kappa * sqrt(tau(s, a)), tau the real steps since (s, a) was last tried.
 uint8_t agent_act(agent_t *ag, agent_state_t s);
 
 /// The greedy action in s with ties broken uniformly at random: how a learned policy is replayed.
@@ -215,7 +233,8 @@ typedef struct agent_counter {
 #define AGENT_MAX_COUNTERS 16u
 
 /// Lists the agent's counters: the Q store's (q_rows of its capacity, q_dropped,
-/// q_plan_refused), then the algorithm's own. Returns how many were written to `out`.
+/// q_plan_refused), then the algorithm's own, then in a bonus mode the tried-pairs table's
+/// (tried_pairs of its capacity, tried_forgotten). Returns how many were written to `out`.
 uint32_t agent_counters(const agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS]);
 
 /// The step and update counts every algorithm keeps.

@@ -16,12 +16,15 @@ extern "C" {
 /// Dyna-Q's table and Dyna-Q-majority's (an agent runs one algorithm, so all get the same
 /// memory: fw_config.h sizes the tables to fill the same bytes). Within Dyna-QPC's part, the
 /// paper's two CMACs (`model paper`) overlay our model and the planner's carry, and share the
-/// queue. Q_TYPE is float or value16_t (qstore.h).
+/// queue. Q_TYPE is float or value16_t (qstore.h). TRIED: the tried-pairs table of the
+/// exploration bonus (explore.h), shared by the algorithms.
 #define AGENT_MEMORY_STRUCT(Q_TYPE, Q_STATES, CELLS, PQ_CAP, TABLE_STATES, MAJORITY_STATES, PLACES, \
-                            CLASSES, POSITIONS, PAPER_FWD, PAPER_INV)                          \
+                            CLASSES, POSITIONS, PAPER_FWD, PAPER_INV, TRIED)                   \
     struct {                                                                                   \
         Q_TYPE q[(Q_STATES)*FW_CFG_MAX_ACTIONS];                                               \
         uint32_t q_keys[Q_STATES];                                                             \
+        uint32_t tried_keys[TRIED];                                                            \
+        uint32_t tried_at[TRIED];                                                              \
         union {                                                                                \
             struct {                                                                           \
                 union {                                                                        \
@@ -68,6 +71,8 @@ extern "C" {
     {                                                                                          \
         .q = (mem).q, .q_value_bytes = (uint8_t)sizeof((mem).q[0]), .q_keys = (mem).q_keys,    \
         .q_states = AGENT_COUNT_OF((mem).q_keys),                                              \
+        .tried_keys = (mem).tried_keys, .tried_at = (mem).tried_at,                            \
+        .tried_pairs = AGENT_COUNT_OF((mem).tried_keys),                                       \
         .dyna_q = {(mem).model.dynaq.records, (mem).model.dynaq.index_keys,                    \
                    (mem).model.dynaq.index_rec, AGENT_COUNT_OF((mem).model.dynaq.records)},    \
         .dyna_qpc = {{(mem).model.qpc.m.ours.fwd_keys, (mem).model.qpc.m.ours.fwd_counts,        \
@@ -94,15 +99,18 @@ extern "C" {
 typedef AGENT_MEMORY_STRUCT(FW_CFG_MAZE_Q_TYPE, FW_CFG_MAZE_Q_STATES, FW_CFG_MAZE_CMAC_CELLS, FW_CFG_MAZE_PQ_CAPACITY,
                             FW_CFG_MAZE_TABLE_STATES, FW_CFG_MAZE_MAJORITY_STATES, FW_CFG_MAZE_PLACES,
                             FW_CFG_MAZE_CLASSES, FW_CFG_MAZE_POSITIONS,
-                            FW_CFG_MAZE_PAPER_FWD_CELLS, FW_CFG_MAZE_PAPER_INV_CELLS) agent_memory_maze_t;
+                            FW_CFG_MAZE_PAPER_FWD_CELLS, FW_CFG_MAZE_PAPER_INV_CELLS,
+                            FW_CFG_MAZE_TRIED_PAIRS) agent_memory_maze_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_TYPE, FW_CFG_LAB_Q_STATES, FW_CFG_LAB_CMAC_CELLS, FW_CFG_LAB_PQ_CAPACITY,
                             FW_CFG_LAB_TABLE_STATES, FW_CFG_LAB_MAJORITY_STATES, FW_CFG_LAB_PLACES,
                             FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS,
-                            FW_CFG_LAB_PAPER_FWD_CELLS, FW_CFG_LAB_PAPER_INV_CELLS) agent_memory_paper_lab_t;
+                            FW_CFG_LAB_PAPER_FWD_CELLS, FW_CFG_LAB_PAPER_INV_CELLS,
+                            FW_CFG_LAB_TRIED_PAIRS) agent_memory_paper_lab_t;
 typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_TYPE, FW_CFG_SIM_Q_STATES, FW_CFG_SIM_CMAC_CELLS, FW_CFG_SIM_PQ_CAPACITY,
                             FW_CFG_SIM_TABLE_STATES, FW_CFG_SIM_MAJORITY_STATES, FW_CFG_SIM_PLACES,
                             FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS,
-                            FW_CFG_SIM_PAPER_FWD_CELLS, FW_CFG_SIM_PAPER_INV_CELLS) agent_memory_paper_sim_t;
+                            FW_CFG_SIM_PAPER_FWD_CELLS, FW_CFG_SIM_PAPER_INV_CELLS,
+                            FW_CFG_SIM_TRIED_PAIRS) agent_memory_paper_sim_t;
 
 // Each profile's agent (its storage plus the agent_t that manages it) must fit its budget.
 FW_STATIC_ASSERT(sizeof(agent_memory_maze_t) + sizeof(agent_t) <= FW_CFG_MAZE_BUDGET_BYTES,
@@ -154,13 +162,13 @@ FW_STATIC_ASSERT(AGENT_FILLS_(AGENT_DYNAQ_BYTES_, FW_CFG_SIM_TABLE_STATES,
 // Every hashed table is a power of two (hashing masks the index); the Dyna-Q tables' records
 // need not be (their index is: DYNAQ_INDEX_SLOTS).
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY),
+                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_LAB_TRIED_PAIRS),
                  paper_lab_tables_pow2);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY),
+                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_TRIED_PAIRS),
                  paper_sim_tables_pow2);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY),
+                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TRIED_PAIRS),
                  maze_tables_pow2);
 
 /// The storage of each profile and an agent to run on it, one static instance each, defined in

@@ -139,6 +139,10 @@ struct Learning {
     static constexpr double kGammaFromRoom = -1.0;
     double epsilon = 0.1, alpha = 0.9, gamma = kGammaFromRoom;
     int planning = 0;  ///< 0: as many as the MCU's idle time allows (the firmware's default)
+    /// How the robot explores: "egreedy" (the default), "plan-bonus" (Dyna-Q+) or "act-bonus"
+    /// (agent/explore.h); kappa scales the bonus kappa * sqrt(steps untried).
+    std::string explore = "egreedy";
+    double kappa = 0.0;
     int step_cap = 200;
     int sets = 5;
     int episodes = 20;
