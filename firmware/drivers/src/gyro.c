@@ -42,6 +42,8 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
         !dynaqpc_can_gyro_rate_status_is_in_range(msg.status)) {
         return can_link_rx_reject(&gyro->rx);
     }
+    // Samples since the last accepted one (more than 1 when frames were lost), by the counter.
+    const uint32_t steps = gyro->rx.seen ? (uint32_t)((msg.counter - gyro->rx.counter) & (CAN_LINK_COUNTER_MOD - 1u)) : 1u;
     int err = can_link_rx_accept(&gyro->rx, msg.counter, now_us);
     if (err != FW_OK) {
         return err;
@@ -67,9 +69,10 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
             gyro->bias_rejected++;
         }
     }
-    if (gyro->have_prev && now_us > gyro->prev_us) {
-        uint64_t dt_us = now_us - gyro->prev_us;
-        if (dt_us <= FW_CFG_GYRO_MAX_DT_US) {
+    if (gyro->have_prev && now_us >= gyro->prev_us) {
+        const uint64_t rx_dt_us = now_us - gyro->prev_us;
+        if (rx_dt_us <= FW_CFG_GYRO_MAX_DT_US) {
+            const uint64_t dt_us = FW_CFG_GYRO_PERIOD_US != 0u ? (uint64_t)steps * FW_CFG_GYRO_PERIOD_US : rx_dt_us;
             float dt = (float)dt_us * 1e-6f;
             float mean = 0.5f * (gyro->prev_rate_deg_s + rate) - gyro->bias_deg_s;
             gyro->heading_deg = wrap_deg(gyro->heading_deg + mean * dt);

@@ -26,6 +26,18 @@
 #ifndef FW_CFG_GYRO_MAX_DT_US
 #define FW_CFG_GYRO_MAX_DT_US 100000u
 #endif
+/// The gyro's sample period (GYRO_RATE's cycle time, docs/dynaqpc.dbc), µs, or 0. With a period,
+/// the heading integrates each interval over the samples' own spacing (the frame counter's steps
+/// times the period), not over the frames' receive times, which a bus or a bridge bunches: the
+/// emulated board's receive times jitter by tens of ms on a loaded host, and its heading was
+/// 20-30 degrees off after bumps (spiky rates weighted by the wrong intervals); with the period,
+/// within a degree (docs/results.md, issue 23). The netduinoplus2 port sets 16000. 0 (the default
+/// elsewhere, for now): over the receive times, as every figure in docs/results.md was measured
+/// (in lock-step they are the sample times but for idle planning's lead of up to ~3.5 ms; with
+/// 16000 the lock-step runs learn differently, not better or worse).
+#ifndef FW_CFG_GYRO_PERIOD_US
+#define FW_CFG_GYRO_PERIOD_US 0u
+#endif
 /// Gyro bias estimator: while stationary, bias += (rate - bias) / 2^shift per sample.
 #ifndef FW_CFG_GYRO_BIAS_SHIFT
 #define FW_CFG_GYRO_BIAS_SHIFT 6
