@@ -155,6 +155,8 @@ class BusWatch:
 
 REPORT_RE = re.compile(r"^(report|final): (.*)$")
 PTY_RE = re.compile(r"char device redirected to (\S+) \(label (\S+)\)")
+# `dynaqpc-sim devices` names its seed (with --set K, the set's) on its ready line.
+SEED_RE = re.compile(r"seed=(\d+); ready")
 
 
 def parse_report(line: str) -> Optional[Dict[str, int]]:
@@ -261,7 +263,7 @@ def cmd_run(args) -> int:
         cricket_tty = m.group(1)
         # The seed the devices use (with --set, the set's seed mixed from --seed as `train` mixes
         # it) is the firmware's too: the same seed means the same run as the lock-step build's.
-        m = dev_lines.wait_for(re.compile(r"seed=(\d+); ready"), 15)
+        m = dev_lines.wait_for(SEED_RE, 15)
         if not m:
             raise ToolError("dynaqpc-sim devices did not name its seed")
         board_seed = int(m.group(1))

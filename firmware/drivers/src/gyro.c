@@ -71,8 +71,19 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     }
     if (gyro->have_prev && now_us >= gyro->prev_us) {
         const uint64_t rx_dt_us = now_us - gyro->prev_us;
-        if (rx_dt_us <= FW_CFG_GYRO_MAX_DT_US) {
-            const uint64_t dt_us = FW_CFG_GYRO_PERIOD_US != 0u ? (uint64_t)steps * FW_CFG_GYRO_PERIOD_US : rx_dt_us;
+#if FW_CFG_GYRO_PERIOD_US != 0u
+        // The samples' own spacing decides: a frame delivered late by a stalled bridge or host is
+        // no gap when the counter says no sample was lost. The receive times only tell a silence
+        // too long for the counter to count (CAN_LINK_COUNTER_MOD periods).
+        const uint64_t dt_us = (uint64_t)steps * FW_CFG_GYRO_PERIOD_US;
+        const bool bridged = dt_us <= FW_CFG_GYRO_MAX_DT_US &&
+                             rx_dt_us < (uint64_t)CAN_LINK_COUNTER_MOD * FW_CFG_GYRO_PERIOD_US;
+#else
+        (void)steps;
+        const uint64_t dt_us = rx_dt_us;
+        const bool bridged = rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
+#endif
+        if (bridged) {
             float dt = (float)dt_us * 1e-6f;
             float mean = 0.5f * (gyro->prev_rate_deg_s + rate) - gyro->bias_deg_s;
             gyro->heading_deg = wrap_deg(gyro->heading_deg + mean * dt);
