@@ -5,7 +5,7 @@
 # with each of its departures from the paper switched off in turn (`train --ablate`:
 # generalise = the relocatable model's predictions for untried pairs, majority = tried pairs keep
 # the majority outcome, new-states = a new state queues its pairs, expected = backups over a
-# place's codes) and all of them off (prioritized sweeping over the exact model with the complete
+# place's codes, stay = a step that stays in its cell is a share of its move) and all of them off (prioritized sweeping over the exact model with the complete
 # predecessor search), at the same planning budget, on paper-lab and paper-lab-motion (the
 # paper's own motion), paper-sim, and the lab evaluation rooms; fresh seeds.
 #
@@ -36,7 +36,8 @@ mkdir -p "$out"
 
 variants=("q-learning:q:" "dyna-q:dyna-q:" "dyna-q-majority:dyna-q-majority:" "dyna-qpc:dyna-qpc:" "no-generalise:dyna-qpc:generalise"
           "no-majority:dyna-qpc:majority" "no-new-states:dyna-qpc:new-states"
-          "no-expected:dyna-qpc:expected" "exact-model:dyna-qpc:generalise,majority,new-states,expected")
+          "no-expected:dyna-qpc:expected" "no-stay:dyna-qpc:stay"
+          "exact-model:dyna-qpc:generalise,majority,new-states,expected,stay")
 
 run() {  # run <label> <scenario> <sets> <episodes> <csv>
     local name agent ablate

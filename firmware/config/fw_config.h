@@ -33,6 +33,9 @@
 // ---- Profile "maze": host gridworlds (up to 16,384 cells, 15 state bits) --------------------------
 // Q is dense for every map the parser accepts (2^15 rows), and the model, queue and Dyna-Q table
 // are at most half full on the largest (16,384 free cells, 65,536 pairs).
+#ifndef FW_CFG_MAZE_Q_TYPE
+#define FW_CFG_MAZE_Q_TYPE float
+#endif
 #ifndef FW_CFG_MAZE_Q_STATES
 #define FW_CFG_MAZE_Q_STATES 32768
 #endif
@@ -46,12 +49,12 @@
 // (agent_profiles.h asserts that they fit and, on the Cortex-M4, that one more record would not;
 // the host's model area is 80 bytes larger: the planner's carry holds pointers): records of 40
 // bytes (Dyna-Q-majority: 44, with its counts) and an index of 8 bytes a slot, its slots the
-// power of two at least twice the records. Maze: 3,153,776 bytes = 52,630 x 40 + 131,072 x 8.
+// power of two at least twice the records. Maze: 3,154,800 bytes >= 52,655 x 40 + 131,072 x 8.
 #ifndef FW_CFG_MAZE_TABLE_STATES
-#define FW_CFG_MAZE_TABLE_STATES 52630
+#define FW_CFG_MAZE_TABLE_STATES 52655
 #endif
 #ifndef FW_CFG_MAZE_MAJORITY_STATES
-#define FW_CFG_MAZE_MAJORITY_STATES 47845
+#define FW_CFG_MAZE_MAJORITY_STATES 47868
 #endif
 // Gridworlds have no percept or situation components (the relocatable model is off); the room
 // is for the benchmark's grid robot, shaped like paper-lab's state.
@@ -64,11 +67,24 @@
 #ifndef FW_CFG_MAZE_POSITIONS
 #define FW_CFG_MAZE_POSITIONS 64
 #endif
+// The paper's CMAC-Model and CMAC-R (`model paper`, paper_model.h) overlay the relocatable
+// model and the planner's carry (agent_profiles.h asserts they fit in its bytes): cells of 17
+// bytes (key, 6 weights, count) and of 15 (key, 5 weights, count).
+#ifndef FW_CFG_MAZE_PAPER_FWD_CELLS
+#define FW_CFG_MAZE_PAPER_FWD_CELLS 65536
+#endif
+#ifndef FW_CFG_MAZE_PAPER_INV_CELLS
+#define FW_CFG_MAZE_PAPER_INV_CELLS 65536
+#endif
 #ifndef FW_CFG_MAZE_BUDGET_BYTES
 #define FW_CFG_MAZE_BUDGET_BYTES (16u * 1024u * 1024u)
 #endif
 
 // ---- Profile "paper-lab": 8,192 states (x, y, heading, IR in 3, 3, 4, 3 bits) ------------------
+// Q values: float (fits; see FW_CFG_SIM_Q_TYPE).
+#ifndef FW_CFG_LAB_Q_TYPE
+#define FW_CFG_LAB_Q_TYPE float
+#endif
 #ifndef FW_CFG_LAB_Q_STATES
 #define FW_CFG_LAB_Q_STATES 1024
 #endif
@@ -78,14 +94,14 @@
 #ifndef FW_CFG_LAB_PQ_CAPACITY
 #define FW_CFG_LAB_PQ_CAPACITY 128
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (29,040), see the maze profile.
-// Dyna-Q 512 records (28,672 bytes: 513 would need an index of 2,048 slots); Dyna-Q-majority 473
-// (29,004).
+// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (30,064), see the maze profile.
+// Dyna-Q 512 records (28,672 bytes: 513 would need an index of 2,048 slots); Dyna-Q-majority 497
+// (30,060).
 #ifndef FW_CFG_LAB_TABLE_STATES
 #define FW_CFG_LAB_TABLE_STATES 512
 #endif
 #ifndef FW_CFG_LAB_MAJORITY_STATES
-#define FW_CFG_LAB_MAJORITY_STATES 473
+#define FW_CFG_LAB_MAJORITY_STATES 497
 #endif
 // The relocatable model (model.h): places = x, y, heading (3 + 3 + 4 bits); situations = heading
 // and range code (4 + 3 bits) times 4 actions; positions = x, y.
@@ -98,28 +114,40 @@
 #ifndef FW_CFG_LAB_POSITIONS
 #define FW_CFG_LAB_POSITIONS 64
 #endif
+// The paper's CMACs: 1,024 x 17 + 512 x 15 = 25,088 bytes of our model's 25,456 (with the carry).
+#ifndef FW_CFG_LAB_PAPER_FWD_CELLS
+#define FW_CFG_LAB_PAPER_FWD_CELLS 1024
+#endif
+#ifndef FW_CFG_LAB_PAPER_INV_CELLS
+#define FW_CFG_LAB_PAPER_INV_CELLS 512
+#endif
 #ifndef FW_CFG_LAB_BUDGET_BYTES
 #define FW_CFG_LAB_BUDGET_BYTES (64u * 1024u)
 #endif
 
 // ---- Profile "paper-sim": 262,144 states (x, y, heading, sonar in 5, 5, 4, 4 bits) -------------
+// Q values in 16 bits (value16_t, agent/value16.h): 8,192 rows in the bytes of 4,096 floats,
+// the rows a floor of 64 x 64 cells (four times paper-sim's) visits (docs/agent.md, "Memory").
+#ifndef FW_CFG_SIM_Q_TYPE
+#define FW_CFG_SIM_Q_TYPE value16_t
+#endif
 #ifndef FW_CFG_SIM_Q_STATES
-#define FW_CFG_SIM_Q_STATES 4096
+#define FW_CFG_SIM_Q_STATES 8192
 #endif
 #ifndef FW_CFG_SIM_CMAC_CELLS
-#define FW_CFG_SIM_CMAC_CELLS 2048
+#define FW_CFG_SIM_CMAC_CELLS 1024
 #endif
 #ifndef FW_CFG_SIM_PQ_CAPACITY
 #define FW_CFG_SIM_PQ_CAPACITY 512
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (93,936), see the maze profile.
-// Dyna-Q 1,529 records (93,928 bytes), Dyna-Q-majority 1,390 (93,928), each with 4,096 index
-// slots.
+// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (84,720 on the MCU), see the maze
+// profile: Dyna-Q 1,311 records, Dyna-Q-majority 1,180, each with 4,096 index slots (the most
+// that fit: agent_profiles.h checks it).
 #ifndef FW_CFG_SIM_TABLE_STATES
-#define FW_CFG_SIM_TABLE_STATES 1529
+#define FW_CFG_SIM_TABLE_STATES 1311
 #endif
 #ifndef FW_CFG_SIM_MAJORITY_STATES
-#define FW_CFG_SIM_MAJORITY_STATES 1390
+#define FW_CFG_SIM_MAJORITY_STATES 1180
 #endif
 // places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
 // times 4 actions; positions = x, y.
@@ -130,7 +158,14 @@
 #define FW_CFG_SIM_CLASSES 1024
 #endif
 #ifndef FW_CFG_SIM_POSITIONS
-#define FW_CFG_SIM_POSITIONS 1024
+#define FW_CFG_SIM_POSITIONS 4096
+#endif
+// The paper's CMACs: 2,048 x 17 + 2,048 x 15 = 65,536 bytes of our model's 79,600.
+#ifndef FW_CFG_SIM_PAPER_FWD_CELLS
+#define FW_CFG_SIM_PAPER_FWD_CELLS 2048
+#endif
+#ifndef FW_CFG_SIM_PAPER_INV_CELLS
+#define FW_CFG_SIM_PAPER_INV_CELLS 2048
 #endif
 #ifndef FW_CFG_SIM_BUDGET_BYTES
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)

@@ -145,7 +145,12 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     // The tables' fill.
     o << "\"fill\":{\"q\":{\"rows\":" << (ag->q.dense ? 0u : ag->q.rows_used) << ",\"capacity\":" << ag->q.capacity
       << ",\"dense\":" << (ag->q.dense ? "true" : "false") << "}";
-    if (ag->kind == AGENT_DYNA_QPC) {
+    const bool paper = ag->kind == AGENT_DYNA_QPC && ag->params.model == AGENT_MODEL_PAPER;
+    if (paper) {  // the paper's CMAC-Model and CMAC-R (docs/agent.md): no map, no situations
+        const paper_model_t &m = ag->alg.dyna_qpc.paper;
+        o << ",\"cmac\":{\"cells\":" << m.forward.stats.cells_used << ",\"capacity\":" << m.forward.capacity << "}"
+          << ",\"cmac_r\":{\"cells\":" << m.inverse.stats.cells_used << ",\"capacity\":" << m.inverse.capacity << "}";
+    } else if (ag->kind == AGENT_DYNA_QPC) {
         const world_model_t &m = ag->alg.dyna_qpc.model;
         std::uint32_t places = 0, classes = 0, arrivals = 0;
         for (std::uint32_t i = 0; m.percepts != nullptr && i < m.places; i++) places += m.percepts[i] != 0;
@@ -180,7 +185,8 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
       << "\"states\":[";
     first = true;
     for (std::uint32_t s = 0; s < n_states; s++) {
-        const float *q = qstore_row(&ag->q, s);
+        float q[FW_CFG_MAX_ACTIONS];
+        qstore_values(&ag->q, s, q);
         bool row = false;
         if (ag->q.dense) {
             for (std::uint32_t a = 0; a < na; a++) row = row || q[a] != 0.0f;
@@ -189,7 +195,20 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
         }
         bool vis = false, modelled = false;
         std::uint32_t n[FW_CFG_MAX_ACTIONS] = {0};
-        if (ag->kind == AGENT_DYNA_QPC) {
+        if (paper) {
+            vis = row;  // no map of what was perceived: a real step writes the row
+            paper_model_t *pm = &ag->alg.dyna_qpc.paper;
+            std::uint32_t comp[FW_CFG_MAX_COMPONENTS];
+            space_unpack(&sp, s, comp);
+            for (std::uint32_t a = 0; a < na; a++) {
+                cmac_tiles_t t;
+                cmac_tiles_of(&pm->forward, comp, a, &t);
+                std::int32_t out[CMAC_MAX_OUTPUTS];
+                n[a] = cmac_predict(&pm->forward, &t, out);
+                model_step_t step;
+                modelled = paper_model_predict(pm, s, static_cast<std::uint8_t>(a), &step) || modelled;
+            }
+        } else if (ag->kind == AGENT_DYNA_QPC) {
             vis = model_has_seen(&ag->alg.dyna_qpc.model, s);
             model_query_t mq;
             model_query_init(&ag->alg.dyna_qpc.model, s, &mq);

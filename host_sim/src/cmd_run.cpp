@@ -23,7 +23,7 @@ namespace dynaqpc {
 
 int cmd_run(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg;
+    std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, model, model_tiles;
     std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0, change_at = 0;
     bool learn = false;
     Options o("run", "replay a learned policy greedily from random start poses");
@@ -31,6 +31,10 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
     o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default dyna-qpc)",
                  &agent, agent_kind_names());
+    o.add_string("--model", "NAME",
+                 "Dyna-QPC's model it learned with: relocatable or paper (default: the scenario's)", &model);
+    o.add_string("--model-tiles", "X,Y,H,C", "with --model paper: the tile widths it learned with (default: the scenario's)",
+                 &model_tiles);
     o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &starts, 1, 1000000);
     o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
     o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,
@@ -83,7 +87,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         }
     }
     robot_config_t cfg = sb.robot;
-    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr}, &cfg);
+    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &model, &model_tiles}, &cfg);
     if (learn) cfg.params.epsilon = 0.0f;
     if (!arena.empty()) {
         std::FILE *f = std::fopen(arena.c_str(), "w");

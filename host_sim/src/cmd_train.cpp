@@ -40,7 +40,7 @@ struct TrainSettings {
     std::uint32_t step_cap = 0;
     std::uint32_t plan_cycles = 0;
     double epsilon = 0, alpha = 0;
-    std::string gamma, ablate;
+    std::string gamma, ablate, model, model_tiles;
     std::string csv;
     std::string save;
     std::uint32_t change_at = 0;
@@ -88,8 +88,16 @@ void declare(Options &o, TrainSettings &s)
                  &s.gamma);
     o.add_string("--ablate", "PARTS",
                  "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
-                 "list of generalise, majority, new-states, expected (docs/results.md)",
+                 "list of generalise, majority, new-states, expected, stay (docs/results.md)",
                  &s.ablate);
+    o.add_string("--model", "NAME",
+                 "Dyna-QPC's world model: relocatable (ours) or paper (the paper's CMAC-Model and CMAC-R); "
+                 "default: the scenario's (relocatable)",
+                 &s.model);
+    o.add_string("--model-tiles", "X,Y,H,C",
+                 "with --model paper: the CMACs' tile widths of x, y, heading and range code as powers of two "
+                 "(default: the scenario's, else 0,0,0,1)",
+                 &s.model_tiles);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--save", "FILE",
                  "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "
@@ -220,7 +228,8 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
-    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma}, &cfg);
+    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma, &s.model, &s.model_tiles},
+                    &cfg);
     if (o.seen("--ablate")) cfg.params.ablate = ablate_mask(s.ablate);
     // Idle-time planning (planning 0) is the shipped scenarios' default, or --planning 0.
     if (o.seen("--plan-cycles") && cfg.planning != 0) {

@@ -95,7 +95,10 @@ std::string robot_config_c(const robot_config_t &c, const std::string &var)
     o << "    .params = {.alpha = " << f(p.alpha) << ", .plan_alpha = " << f(p.plan_alpha) << ", .gamma = " << f(p.gamma)
       << ", .epsilon = " << f(p.epsilon) << ",\n"
       << "               .theta = " << f(p.theta) << ", .model_rate = " << f(p.model_rate)
-      << ", .tilings = " << unsigned(p.tilings) << ", .min_count = " << unsigned(p.min_count) << "},\n";
+      << ", .tilings = " << unsigned(p.tilings) << ", .min_count = " << unsigned(p.min_count) << ",\n"
+      << "               .model = " << (p.model == AGENT_MODEL_PAPER ? "AGENT_MODEL_PAPER" : "AGENT_MODEL_RELOCATABLE")
+      << ", .model_tile_shift = "
+      << list_c(p.model_tile_shift, 4, [](std::uint8_t v) { return std::to_string(v); }) << "},\n";
     o << "    .values = " << (c.values == ROBOT_VALUES_ROOM ? "ROBOT_VALUES_ROOM" : "ROBOT_VALUES_PAPER") << ",\n";
     o << "    .planning = " << u(c.planning) << ", .step_cap = " << u(c.step_cap) << ",\n";
     o << "    .pose_source = " << (c.pose_source == ROBOT_POSE_GPS ? "ROBOT_POSE_GPS" : "ROBOT_POSE_CRICKET") << ",\n";

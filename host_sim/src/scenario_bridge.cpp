@@ -104,6 +104,10 @@ ScenarioBundle load_scenario(const std::string &arg)
         r.params.gamma = static_cast<float>(sc->learning.gamma);
     }
     r.params.epsilon = static_cast<float>(sc->learning.epsilon);
+    r.params.model = agent_model_of(sc->learning.model);
+    for (std::size_t k = 0; k < sc->learning.model_tiles.size() && k < FW_CFG_MAX_COMPONENTS; k++) {
+        r.params.model_tile_shift[k] = static_cast<std::uint8_t>(sc->learning.model_tiles[k]);
+    }
     r.planning = static_cast<uint32_t>(sc->learning.planning);
     r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
     b.sets = static_cast<uint32_t>(sc->learning.sets);
@@ -169,7 +173,8 @@ uint8_t ablate_mask(const std::string &list)
     } parts[] = {{"generalise", AGENT_ABLATE_GENERALISE},
                  {"majority", AGENT_ABLATE_MAJORITY},
                  {"new-states", AGENT_ABLATE_NEW_STATES},
-                 {"expected", AGENT_ABLATE_EXPECTED}};
+                 {"expected", AGENT_ABLATE_EXPECTED},
+                 {"stay", AGENT_ABLATE_STAY}};
     uint8_t mask = 0;
     std::stringstream in(list);
     std::string word;
@@ -183,7 +188,7 @@ uint8_t ablate_mask(const std::string &list)
             }
         }
         if (!known) {
-            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected)");
+            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected, stay)");
         }
     }
     return mask;
@@ -207,8 +212,28 @@ std::string agent_kind_list()
     return list;
 }
 
+std::uint8_t agent_model_of(const std::string &name)
+{
+    std::uint8_t model = 0;
+    if (agent_model_from_name(name.c_str(), &model) != FW_OK) {
+        throw UsageError("unknown model '" + name + "' (relocatable, paper)");
+    }
+    return model;
+}
+
 void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg)
 {
+    if (v.model != nullptr && o.seen("--model")) cfg->params.model = agent_model_of(*v.model);
+    if (v.model_tiles != nullptr && o.seen("--model-tiles")) {
+        std::vector<int> tiles;
+        std::string problem;
+        if (!world::parse_model_tiles(*v.model_tiles, &tiles, &problem)) {
+            throw UsageError("--model-tiles: '" + *v.model_tiles + "': " + problem);
+        }
+        for (std::size_t k = 0; k < tiles.size(); k++) {
+            cfg->params.model_tile_shift[k] = static_cast<std::uint8_t>(tiles[k]);
+        }
+    }
     if (v.agent != nullptr) cfg->agent = agent_kind_of(*v.agent);
     if (v.planning != nullptr && o.seen("--planning")) cfg->planning = *v.planning;
     if (v.step_cap != nullptr && o.seen("--step-cap")) cfg->step_cap = *v.step_cap;

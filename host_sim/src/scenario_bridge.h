@@ -41,7 +41,7 @@ ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::stri
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
 
-/// `--ablate generalise,majority,new-states,expected` as an AGENT_ABLATE_* mask ("" or "none": 0);
+/// `--ablate generalise,majority,new-states,expected,stay` as an AGENT_ABLATE_* mask ("" or "none": 0);
 /// another word throws UsageError.
 uint8_t ablate_mask(const std::string &list);
 
@@ -61,7 +61,13 @@ struct ConfigOverrides {
     const double *epsilon = nullptr;           ///< --epsilon
     const double *alpha = nullptr;             ///< --alpha: the Q learning rate, real and planning
     const std::string *gamma = nullptr;        ///< --gamma: a discount (the paper's mode) or auto
+    const std::string *model = nullptr;        ///< --model: Dyna-QPC's model, relocatable or paper
+    const std::string *model_tiles = nullptr;  ///< --model-tiles: the paper's model's tile widths
 };
+
+/// The model a `--model` option or a scenario's `learning model` names (relocatable, paper);
+/// another name throws UsageError.
+std::uint8_t agent_model_of(const std::string &name);
 
 /// Applies `v` to `cfg` as the options `o` were given (one place for train, run and dynaqpc-fw).
 void apply_overrides(const Options &o, const ConfigOverrides &v, robot_config_t *cfg);

@@ -2,7 +2,7 @@
 // dynaqpc qemu-agent: the grid robot's arena and kinematics.
 #include "gridrobot.h"
 
-const agent_space_t gridrobot_space = {4, {3, 3, 4, 3}, {0, 0, 0, 0}, 0x4, 0x8, 4, 0xC};
+const agent_space_t gridrobot_space = {4, {3, 3, 4, 3}, {0, 0, 0, 0}, 0x4, 0x8, 4, 0xC, 0};
 
 // Row y, bit x: obstacles around the goal at (4, 4), with a gap on the south side.
 static const uint8_t blocked_[8] = {0x00, 0x00, 0x00, 0x38, 0x28, 0x20, 0x00, 0x00};

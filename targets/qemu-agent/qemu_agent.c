@@ -109,8 +109,14 @@ int main(void)
     cfg.params.plan_alpha = 0.999f;
     cfg.storage = &PROFILE_STORAGE;
     cfg.seed = 1u;
+#ifdef QEMU_MODEL_PAPER  // the paper's CMAC-Model and CMAC-R (docs/agent.md)
+    cfg.params.model = AGENT_MODEL_PAPER;
+#endif
     console_puts("dynaqpc-qemu-agent profile=" PROFILE_NAME " agent=");
     console_puts(agent_kind_name(QEMU_AGENT_KIND));
+#ifdef QEMU_MODEL_PAPER
+    console_puts(" model=paper");
+#endif
     console_puts("\n");
     if (agent_init(ag, &cfg) != 0) {
         console_puts("agent_init failed\n");

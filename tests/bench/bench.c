@@ -44,7 +44,7 @@ static bool maze_step_(uint32_t *r, uint32_t *c, uint8_t a)
     return *r == 0 && *c == 8;
 }
 
-static const agent_space_t maze_space_ = {2, {3, 4}, {0, 0}, 0, 0, 4, 0};
+static const agent_space_t maze_space_ = {2, {3, 4}, {0, 0}, 0, 0, 4, 0, 0};
 
 static agent_t agent_;
 

@@ -30,10 +30,12 @@
 #include "robot/robot_app.h"
 
 enum { FUZZ_Q_STATES = 64, FUZZ_CELLS = 64, FUZZ_PQ = 32, FUZZ_TABLE = 32 };
-typedef AGENT_MEMORY_STRUCT(FUZZ_Q_STATES, FUZZ_CELLS, FUZZ_PQ, FUZZ_TABLE, FUZZ_TABLE, FW_CFG_LAB_PLACES, FW_CFG_LAB_CLASSES,
-                            FW_CFG_LAB_POSITIONS) fuzz_memory_lab_t;
-typedef AGENT_MEMORY_STRUCT(FUZZ_Q_STATES, FUZZ_CELLS, FUZZ_PQ, FUZZ_TABLE, FUZZ_TABLE, FW_CFG_SIM_PLACES, FW_CFG_SIM_CLASSES,
-                            FW_CFG_SIM_POSITIONS) fuzz_memory_sim_t;
+typedef AGENT_MEMORY_STRUCT(FW_CFG_LAB_Q_TYPE, FUZZ_Q_STATES, FUZZ_CELLS, FUZZ_PQ, FUZZ_TABLE, FUZZ_TABLE,
+                            FW_CFG_LAB_PLACES, FW_CFG_LAB_CLASSES, FW_CFG_LAB_POSITIONS, FUZZ_CELLS,
+                            FUZZ_CELLS) fuzz_memory_lab_t;
+typedef AGENT_MEMORY_STRUCT(FW_CFG_SIM_Q_TYPE, FUZZ_Q_STATES, FUZZ_CELLS, FUZZ_PQ, FUZZ_TABLE, FUZZ_TABLE,
+                            FW_CFG_SIM_PLACES, FW_CFG_SIM_CLASSES, FW_CFG_SIM_POSITIONS, FUZZ_CELLS,
+                            FUZZ_CELLS) fuzz_memory_sim_t;
 static fuzz_memory_lab_t lab_memory_;
 static fuzz_memory_sim_t sim_memory_;
 static const agent_storage_t lab_storage_ = AGENT_STORAGE_OF(lab_memory_);

@@ -24,7 +24,7 @@
 #include "robot/learned_store.h"
 
 enum { Q_STATES = 64, CELLS = 64, PQ_CAP = 32, TABLE = 32, SECTOR = 4096, SLOT = 2 * SECTOR };
-static float q_[Q_STATES * FW_CFG_MAX_ACTIONS];
+static value16_t q_[Q_STATES * FW_CFG_MAX_ACTIONS];
 static uint32_t q_keys_[Q_STATES];
 static uint32_t fk_[CELLS];
 static uint8_t fc_[CELLS];
@@ -38,12 +38,12 @@ static dynaq_record_t mtable_[TABLE];
 static uint32_t mk_[DYNAQ_INDEX_SLOTS(TABLE)], mr_[DYNAQ_INDEX_SLOTS(TABLE)];
 static uint8_t mcounts_[TABLE * FW_CFG_MAX_ACTIONS];
 static const agent_storage_t storage_ = {
-    .q = q_, .q_keys = q_keys_, .q_states = Q_STATES,
+    .q = q_, .q_value_bytes = sizeof q_[0], .q_keys = q_keys_, .q_states = Q_STATES,
     .dyna_q = {table_, tk_, tr_, TABLE},
     .dyna_q_majority = {mtable_, mk_, mr_, mcounts_, TABLE},
     .dyna_qpc = {{fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP, &carry_}};
 // 8 x 8 x 4 states (8 bits), two of them tiled: hashed Q rows, generalising CMACs.
-static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4, 0};
+static const agent_space_t space_ = {3, {3, 3, 2}, {1, 1, 0}, 4, 0, 4, 0, 0};
 static agent_t agent_;
 
 static void init_(agent_kind_t kind, uint32_t seed)

@@ -53,6 +53,12 @@ agent_params_t agent_default_params(void)
     p.tilings = 16;
     p.min_count = 1;
     p.ablate = 0;
+    p.model = AGENT_MODEL_RELOCATABLE;
+    for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+        p.model_tile_shift[k] = k == PAPER_DEFAULT_TILED_COMPONENT ? 1u : 0u;
+    }
+    p.stays = 0;
+    p.step_reward = 0.0f;
     return p;
 }
 
@@ -65,7 +71,7 @@ static bool params_valid_(const agent_params_t *p)
            p->theta >= 0.0f &&                         //
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
            p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
-           (p->ablate & ~AGENT_ABLATE_ALL) == 0u;
+           (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)
@@ -81,7 +87,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     ag->space = sp;
     ag->state_bits = space_state_bits(sp);
     ag->params = cfg->params;
-    int err = qstore_init(&ag->q, st->q, st->q_keys, st->q_states, sp->n_actions, ag->state_bits);
+    int err = qstore_init(&ag->q, st->q, st->q_value_bytes, st->q_keys, st->q_states, sp->n_actions, ag->state_bits);
     if (err) {
         return err;
     }
@@ -124,7 +130,8 @@ uint8_t agent_act_greedy(agent_t *ag, agent_state_t s)
     // Ties broken uniformly: while every value is still 0 the robot must not always pick
     // action 0 (a replayed policy would drive into a wall forever from a state it never saw).
     const uint32_t n = ag->space->n_actions;
-    const float *row = qstore_row(&ag->q, s);
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
     uint32_t best = 0;
     uint32_t ties = 1;
     for (uint32_t a = 1; a < n; a++) {
@@ -144,7 +151,8 @@ uint8_t agent_act_greedy(agent_t *ag, agent_state_t s)
 uint8_t agent_greedy(const agent_t *ag, agent_state_t s)
 {
     ASSERT_STATE_(ag, s);
-    const float *row = qstore_row(&ag->q, s);
+    float row[FW_CFG_MAX_ACTIONS];
+    qstore_values(&ag->q, s, row);
     uint32_t best = 0;
     for (uint32_t a = 1; a < ag->space->n_actions; a++) {
         if (row[a] > row[best]) {
@@ -158,7 +166,7 @@ float agent_q(const agent_t *ag, agent_state_t s, uint8_t a)
 {
     ASSERT_STATE_(ag, s);
     ASSERT_ACTION_(ag, a);
-    return qstore_row(&ag->q, s)[a];
+    return qstore_get(&ag->q, s, a);
 }
 
 // ---- Learning ---------------------------------------------------------------------------------

@@ -43,6 +43,9 @@ typedef struct agent_algorithm {
     extern const agent_algorithm_t agent_##id##_algorithm;
 AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
 #undef AGENT_DECLARE_ALGORITHM_
+/// Dyna-QPC with the paper's model (AGENT_MODEL_PAPER, dyna_qpc_paper.c): dyna_qpc.c's init
+/// hands the agent over to it.
+extern const agent_algorithm_t agent_dyna_qpc_paper_algorithm;
 
 // ---- The shared Q-learning step (Fig. 1), for the algorithm files ----------------------------
 
@@ -63,24 +66,13 @@ AGENT_ALWAYS_INLINE float agent_target_(const agent_t *ag, float r, agent_state_
 AGENT_ALWAYS_INLINE bool agent_q_update_(agent_t *ag, agent_state_t s, uint8_t a, float target,
                                          float alpha, bool planning)
 {
-    float *row = planning ? qstore_row_for_plan(&ag->q, s) : qstore_row_for_update(&ag->q, s);
-    if (row == NULL) {
+    const qstore_row_t row =
+        planning ? qstore_row_for_plan(&ag->q, s) : qstore_row_for_update(&ag->q, s);
+    if (row == QSTORE_NO_ROW) {
         return false;
     }
-    row[a] += alpha * (target - row[a]);
+    (void)qstore_learn(&ag->q, row, a, target, alpha, NULL);
     return true;
-}
-
-/// The largest of row[0 .. n-1].
-AGENT_ALWAYS_INLINE float agent_row_max_(const float *row, uint32_t n)
-{
-    float best = row[0];
-    for (uint32_t a = 1; a < n; a++) {
-        if (row[a] > best) {
-            best = row[a];
-        }
-    }
-    return best;
 }
 
 /// Dyna-Q's planning (Fig. 5 (f), dyna_q.c), for the algorithms that replay a transition table:

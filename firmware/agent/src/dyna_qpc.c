@@ -14,6 +14,12 @@ static int init_(agent_t *ag, const agent_storage_t *st)
 {
     const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    // The choice of model: the paper's CMAC-Model and CMAC-R plan through their own operations
+    // (dyna_qpc_paper.c, Fig. 3 as the paper has it); everything below is ours.
+    if (ag->params.model == AGENT_MODEL_PAPER) {
+        ag->algorithm = &agent_dyna_qpc_paper_algorithm;
+        return ag->algorithm->init(ag, st);
+    }
     int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
                          ag->params.min_count, &mine->forward, &mine->reloc);
     if (err) {
@@ -23,7 +29,11 @@ static int init_(agent_t *ag, const agent_storage_t *st)
         return FW_ERR_INVAL;
     }
     me->carry = mine->carry;
-    me->model.ablate = (uint8_t)(ag->params.ablate & (AGENT_ABLATE_GENERALISE | AGENT_ABLATE_MAJORITY));
+    me->model.ablate = (uint8_t)(ag->params.ablate &
+                                 (AGENT_ABLATE_GENERALISE | AGENT_ABLATE_MAJORITY | AGENT_ABLATE_STAY));
+    if (ag->params.stays) {
+        model_set_stay_reward(&me->model, ag->params.step_reward);
+    }
     return pq_init(&me->pq, mine->pq_heap, mine->pq_index_keys, mine->pq_index_pos,
                    mine->pq_capacity);
 }
@@ -34,20 +44,25 @@ static void clear_(agent_t *ag)
     pq_clear(&ag->alg.dyna_qpc.pq);
 }
 
-// The target of a predicted step: with several outcomes (a place seen with several percepts),
-// the mean of their values, each equally likely.
-static float step_target_(const agent_t *ag, const model_step_t *step)
+// The target of a predicted step from s: with several outcomes (a place seen with several
+// percepts), the mean of their values, each equally likely; a step that may stay in s (model.h:
+// a fixed step that ended in its cell) weighs in s's value by its stay share.
+static float step_target_(const agent_t *ag, agent_state_t s, const model_step_t *step)
 {
-    if (step->terminal || step->others == 0u || (ag->params.ablate & AGENT_ABLATE_EXPECTED) != 0u) {
+    const bool one_code = step->others == 0u || (ag->params.ablate & AGENT_ABLATE_EXPECTED) != 0u;
+    if (step->terminal || (one_code && step->stay == 0u)) {
         return agent_target_(ag, step->reward, step->next, step->terminal);
     }
     agent_state_t next[MODEL_MAX_PERCEPTS];
-    const uint32_t n = model_step_outcomes(&ag->alg.dyna_qpc.model, step, next);
+    const uint32_t n = one_code ? (next[0] = step->next, 1u)
+                                : model_step_outcomes(&ag->alg.dyna_qpc.model, step, next);
     float sum = 0.0f;
     for (uint32_t i = 0; i < n; i++) {
         sum += qstore_max(&ag->q, next[i]);
     }
-    return step->reward + ag->params.gamma * (sum / (float)n);
+    const float stay = (float)step->stay / 255.0f;
+    const float v = (1.0f - stay) * (sum / (float)n) + stay * qstore_max(&ag->q, s);
+    return step->reward + ag->params.gamma * v;
 }
 
 static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
@@ -76,8 +91,8 @@ static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float targ
 // The target of a predecessor of `here`: its step, leading there (and to its other outcomes).
 static float pred_target_(const agent_t *ag, const model_pred_t *pred, agent_state_t here)
 {
-    const model_step_t step = {here, pred->reward, 0u, pred->others};
-    return step_target_(ag, &step);
+    const model_step_t step = {here, pred->reward, 0u, pred->others, pred->stay};
+    return step_target_(ag, pred->state, &step);
 }
 
 // A state seen for the first time makes new predictions possible: its own untried pairs, and
@@ -92,7 +107,7 @@ static void queue_new_state_(agent_t *ag, agent_state_t s)
     model_query_init(model, s, &q);
     for (uint32_t a = 0; a < ag->space->n_actions; a++) {
         if (model_query_predict(model, &q, (uint8_t)a, &step)) {
-            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, &step));
+            queue_if_urgent_(ag, s, (uint8_t)a, step_target_(ag, s, &step));
         }
     }
     const uint32_t n = model_query_predecessors(model, &q, pred, NULL);
@@ -164,6 +179,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
         step.reward = c->pred[known].reward;
         step.terminal = 0;
         step.others = c->pred[known].others;
+        step.stay = c->pred[known].stay;
         if (!same) {  // the predecessor's query becomes `here`, its old place is free
             model_query_t *const q = c->query[known];
             c->query[known] = c->here;
@@ -180,24 +196,24 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
             return true;
         }
     }
-    const float target = step_target_(ag, &step);
+    const float target = step_target_(ag, s, &step);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
     // which then has no row and reads 0.
-    float *row = qstore_row_for_plan(&ag->q, s);
-    if (row == NULL) {
+    const qstore_row_t row = qstore_row_for_plan(&ag->q, s);
+    if (row == QSTORE_NO_ROW) {
         // No row and no room for one: nothing changes, so neither the pair nor its predecessors
         // go back in the queue (requeueing it spun the planner on paper-sim: 10 M refusals in
         // 15 episodes, 2 updates per real step made of a budget of 1,000).
         ag->stats.planning_skipped++;
         return true;
     }
-    row[a] += ag->params.plan_alpha * (target - row[a]);
-    const float q_sa = row[a];
+    float q_sa;
+    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
     ag->stats.planning_updates++;
     // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
     // the queue with what is left, so planning keeps working on it while it is the most urgent.
     const float left = agent_abs_(target - q_sa);
-    if (left > ag->params.theta) {
+    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
         (void)pq_push(&me->pq, key, left);
     }
 
@@ -212,13 +228,14 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     if (c->n == 0u) {
         return true;
     }
-    const float value_here = ag->params.gamma * agent_row_max_(row, n_actions);
+    const float value_here = ag->params.gamma * qstore_row_max(&ag->q, row);
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
         const float target_pred =
-            pred->others == 0u ? pred->reward + value_here : pred_target_(ag, pred, s);
-        const float p = agent_abs_(target_pred - qstore_row(&ag->q, pred->state)[pred->action]);
-        if (p > ag->params.theta) {
+            pred->others == 0u && pred->stay == 0u ? pred->reward + value_here : pred_target_(ag, pred, s);
+        const float q_pred = qstore_get(&ag->q, pred->state, pred->action);
+        const float p = agent_abs_(target_pred - q_pred);
+        if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {
             (void)pq_push(&me->pq, pq_key_(ag, pred->state, pred->action), p);
         }
     }

@@ -150,6 +150,37 @@ static agent_state_t with_percept_(const world_model_t *m, agent_state_t s, uint
     return s;
 }
 
+/// A place the percept map does not keep (its heading lies between the motion's turns).
+#define NO_PLACE_ UINT32_MAX
+
+// The percept map's index of the place of s: the place's components packed, with the low
+// turn_step_bits of the heading (always 0 once the robot has turned) squeezed out. Without a
+// turn step it is the packed place itself.
+AGENT_ALWAYS_INLINE uint32_t place_(const world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t p = select_(m, &m->place_of, s, comp);
+    if ((p & m->place_gap) != 0u) {
+        return NO_PLACE_;
+    }
+    return (p & m->place_low) | ((p >> m->place_gap_bits) & ~m->place_low);
+}
+
+// The percepts seen at the place of s (a mask; 0 for a place the map does not keep).
+AGENT_ALWAYS_INLINE uint32_t seen_at_(const world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t place = place_(m, s, comp);
+    return place == NO_PLACE_ ? 0u : m->percepts[place];
+}
+
+// Notes that the absolute components of s were perceived at its place.
+static void perceive_(world_model_t *m, agent_state_t s, const uint32_t *comp)
+{
+    const uint32_t place = place_(m, s, comp);
+    if (place != NO_PLACE_) {
+        m->percepts[place] |= (uint16_t)(1u << select_(m, &m->percept_of, s, comp));
+    }
+}
+
 static model_class_t *class_of_(const world_model_t *m, agent_state_t s, const uint32_t *comp,
                                 uint32_t a)
 {
@@ -175,7 +206,13 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
         return FW_ERR_INVAL;
     }
     const uint32_t all = all_mask_(space);
-    const uint32_t place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
+    // The percept map keeps every place when the storage has room for them all (so a start's
+    // heading before its first turn is mapped too), else only the headings turns reach.
+    const uint32_t every_place_bits = masked_bits_(space, all & ~(uint32_t)space->absolute_mask);
+    const uint32_t gap_bits =
+        every_place_bits <= 24u && reloc->places >= (1u << every_place_bits) ? 0u
+                                                                             : space->turn_step_bits;
+    const uint32_t place_bits = every_place_bits - gap_bits;
     const uint32_t context_bits = masked_bits_(space, space->context_mask);
     const uint32_t position_bits =
         masked_bits_(space, all & ~(uint32_t)(space->absolute_mask | space->context_mask));
@@ -192,6 +229,7 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     m->space = space;
     m->min_count = min_count;
     m->ablate = 0;
+    m->stay_reward = MODEL_NO_STAY;
     for (uint32_t k = 0; k < space->n_components; k++) {
         // A change wraps around a circular component; a value predicted as such does not.
         const bool absolute = (space->absolute_mask >> k) & 1u;
@@ -215,6 +253,14 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
     }
     m->percepts = space->absolute_mask != 0u ? reloc->percepts : NULL;
     m->places = space->absolute_mask != 0u ? 1u << place_bits : 0u;
+    // The heading's offset in a place index: the bits of the place components below it.
+    const uint32_t below = gap_bits != 0u
+                               ? masked_bits_(space, (space->circular_mask - 1u) &
+                                                         ~(uint32_t)space->absolute_mask)
+                               : 0u;
+    m->place_gap_bits = (uint8_t)gap_bits;
+    m->place_gap = ((1u << gap_bits) - 1u) << below;
+    m->place_low = (1u << below) - 1u;
     m->classes = space->context_mask != 0u ? reloc->classes : NULL;
     m->n_classes = space->context_mask != 0u ? (1u << context_bits) * space->n_actions : 0u;
     m->arrivals = space->context_mask != 0u ? reloc->arrivals : NULL;
@@ -377,14 +423,43 @@ static void remember_delta_(world_model_t *m, uint32_t a, agent_state_t s_to, co
     least->count = 1;
 }
 
-// One observation of a situation's outcome: it agrees with the kept outcome, or counts against
-// it; an outcome disagreed with more often than agreed with is replaced by the new one.
-static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward)
+static bool moves_(const int8_t *delta);
+
+// Counts are halved together when one would pass 255, so their ratios stay.
+static void halve_class_(model_class_t *c)
 {
+    c->count /= 2u;
+    c->miss /= 2u;
+    c->stay /= 2u;
+}
+
+// One observation of a situation's outcome: it agrees with the kept outcome, or counts against
+// it; an outcome disagreed with more often than agreed with is replaced by the new one. With
+// `stays`, a change of nothing that earns what a kept move earns is a stay, counted beside the
+// move (the step ended in the cell it began in); a move that earns what a kept change of
+// nothing earned shows that those observations were stays of it.
+static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward, bool stays)
+{
+    if (stays && c->count != 0u && c->reward == reward && moves_(c->delta) != moves_(delta)) {
+        if (!moves_(delta)) {
+            if (c->stay == UINT8_MAX) {
+                halve_class_(c);
+            }
+            c->stay++;
+            return;
+        }
+        const uint32_t stayed = (uint32_t)c->stay + c->count;
+        c->stay = (uint8_t)(stayed > UINT8_MAX ? UINT8_MAX : stayed);
+        for (uint32_t k = 0; k < FW_CFG_MAX_COMPONENTS; k++) {
+            c->delta[k] = delta[k];
+        }
+        c->count = 1;
+        c->miss = 0;
+        return;
+    }
     if (c->count != 0u && same_delta_(c->delta, delta) && c->reward == reward) {
         if (c->count == UINT8_MAX) {  // keep the ratio, make room
-            c->count /= 2u;
-            c->miss /= 2u;
+            halve_class_(c);
         }
         c->count++;
         return;
@@ -417,6 +492,7 @@ static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_ti
     out->reward = (float)pred[n_comp] / (float)CMAC_ONE;
     out->terminal = (uint8_t)(pred[n_comp + 1u] >= CMAC_ONE / 2);
     out->others = 0;
+    out->stay = 0;
     return true;
 }
 
@@ -447,19 +523,29 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
     // observation that contradicts the kept outcome counts against it (cmac_contradict()) and
     // replaces it only once as many observations disagreed as agreed; CMAC-Model's learning rule
     // alone (rate 0.999) would predict whatever happened last.
+    // A stay (model.h) of a tried move leaves its outcome as it is; a move where only stays were
+    // seen replaces them at once. Only with the relocatable model, whose situations count the
+    // stays: in a gridworld a move into a wall is an outcome (and earns what moves earn).
     model_step_t kept;
+    bool ordinary;  // the reward of an ordinary step: it marks a stay
+    ordinary = reward_fixed_(r, &ordinary) == m->stay_reward && ordinary;
+    const bool stays = m->classes != NULL && (m->ablate & MODEL_ABLATE_STAY) == 0u && ordinary;
+    const bool tried = predict_exact_(m, from, &tiles, a, &kept);
+    const bool same_reward = tried && kept.reward - r <= 0.5f && r - kept.reward <= 0.5f;
+    const bool stay_of_move = stays && same_reward && !terminal && !kept.terminal && s_next == s;
+    const bool kept_stays = kept.next == s;  // only read when tried
+    const bool move_of_stay = stays && same_reward && !terminal && !kept.terminal && s_next != s &&
+                              kept_stays;
     const bool contradicts =
-        (m->ablate & MODEL_ABLATE_MAJORITY) == 0u && predict_exact_(m, from, &tiles, a, &kept) &&
-        (kept.next != s_next || kept.terminal != (uint8_t)terminal ||
-         kept.reward - r > 0.5f || r - kept.reward > 0.5f);
+        (m->ablate & MODEL_ABLATE_MAJORITY) == 0u && tried && !move_of_stay &&
+        (kept.next != s_next || kept.terminal != (uint8_t)terminal || !same_reward);
     const bool stored =
+        (stay_of_move && !kept_stays) ||
         (contradicts && cmac_contradict(&m->forward, &tiles)) || cmac_train(&m->forward, &tiles, desired);
 
     if (m->percepts != NULL) {
-        m->percepts[select_(m, &m->place_of, s, from)] |=
-            (uint16_t)(1u << select_(m, &m->percept_of, s, from));
-        m->percepts[select_(m, &m->place_of, s_next, to)] |=
-            (uint16_t)(1u << select_(m, &m->percept_of, s_next, to));
+        perceive_(m, s, from);
+        perceive_(m, s_next, to);
     }
     int8_t delta[FW_CFG_MAX_COMPONENTS];
     bool fits = delta_of_(sp, from, to, delta);
@@ -472,9 +558,9 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
             // Where an episode ends is a fact about the place, not about the situation.
             m->arrivals[select_(m, &m->position_of, s_next, to)] = reward;
         } else {
-            train_class_(class_of_(m, s, from, a), delta, reward);
+            train_class_(class_of_(m, s, from, a), delta, reward, stays);
             if (m->n_percept_classes != 0u) {
-                train_class_(percept_class_of_(m, s, from, a), delta, reward);
+                train_class_(percept_class_of_(m, s, from, a), delta, reward, stays);
             }
         }
     }
@@ -487,7 +573,7 @@ bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_st
 // rooms: 804 against 586 real steps to learn, 108 sets; docs/agent.md.)
 static bool class_trusted_(const model_class_t *c)
 {
-    return c->count >= MODEL_CLASS_MIN_COUNT;
+    return (uint32_t)c->count + c->stay >= MODEL_CLASS_MIN_COUNT;  // a stay is of its move
 }
 
 // Applies a change (undoes it, for `sign` -1) to every non-absolute component of `from`, into
@@ -523,6 +609,21 @@ static bool moves_(const int8_t *delta)
     return any != 0u;
 }
 
+static float agent_absf_(float x)
+{
+    return x < 0.0f ? -x : x;
+}
+
+// Of 255: how often a situation whose outcome moves stayed where it was (model.h), rounded.
+static uint8_t stay_share_(const world_model_t *m, const model_class_t *c)
+{
+    const uint32_t all = (uint32_t)c->count + c->miss + c->stay;
+    if ((m->ablate & MODEL_ABLATE_STAY) != 0u || c->stay == 0u || !moves_(c->delta)) {
+        return 0u;
+    }
+    return (uint8_t)((c->stay * 255u + all / 2u) / all);
+}
+
 // The relocatable model's prediction for an untried pair: the situation's usual change, the
 // percepts the map has for the place it leads to (a place never seen is not predictable; one
 // seen with several percepts, where the range code depends on where in the cell the robot is,
@@ -556,7 +657,7 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
     const bool moved = moves_(c->delta);
     uint32_t others = 0;
     if (moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
-        const uint32_t seen = m->percepts[select_(m, &m->place_of, next, to)];
+        const uint32_t seen = seen_at_(m, next, to);
         if (seen == 0u) {
             return false;
         }
@@ -569,6 +670,7 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
     out->terminal = (uint8_t)(arrival != MODEL_NO_ARRIVAL && moved);
     out->reward = (float)(out->terminal ? arrival : c->reward) / (float)CMAC_ONE;
     out->others = (uint16_t)others;
+    out->stay = out->terminal ? 0u : stay_share_(m, c);
     m->generalised++;
     return true;
 }
@@ -578,11 +680,40 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
 static bool predict_(world_model_t *m, const uint32_t *from, agent_state_t s,
                      const cmac_tiles_t *tiles, uint32_t a, model_step_t *out)
 {
-    if (predict_exact_(m, from, tiles, a, out) || predict_general_(m, from, s, a, out)) {
+    if (predict_exact_(m, from, tiles, a, out)) {
+        // A tried move stays as often as its situation's moves do (a property of the heading
+        // against the cell, not of the place); its own stays were not kept (model_learn()). A
+        // tried pair that only ever stayed, with its situation's reward, is predicted as the
+        // situation's move: it was the same step, not finished.
+        if (m->classes != NULL && !out->terminal && (m->ablate & MODEL_ABLATE_STAY) == 0u) {
+            const model_class_t *c = class_of_(m, s, from, a);
+            if (!class_trusted_(c) && m->n_percept_classes != 0u) {
+                c = percept_class_of_(m, s, from, a);
+            }
+            const uint8_t share = stay_share_(m, c);
+            if (out->next != s) {
+                out->stay = share;
+            } else if (share != 0u && agent_absf_((float)c->reward / (float)CMAC_ONE - out->reward) <= 0.5f) {
+                const model_step_t kept = *out;
+                if (!predict_general_(m, from, s, a, out)) {
+                    *out = kept;
+                }
+            }
+        }
+        return true;
+    }
+    if (predict_general_(m, from, s, a, out)) {
         return true;
     }
     m->untrusted++;
     return false;
+}
+
+void model_set_stay_reward(world_model_t *m, float step_reward)
+{
+    bool fits;
+    const int16_t v = reward_fixed_(step_reward, &fits);
+    m->stay_reward = fits ? v : MODEL_NO_STAY;
 }
 
 int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
@@ -605,7 +736,7 @@ bool model_has_seen(const world_model_t *m, agent_state_t s)
     }
     uint32_t comp[FW_CFG_MAX_COMPONENTS];
     space_unpack(m->space, s, comp);
-    return (m->percepts[select_(m, &m->place_of, s, comp)] >> select_(m, &m->percept_of, s, comp)) & 1u;
+    return (seen_at_(m, s, comp) >> select_(m, &m->percept_of, s, comp)) & 1u;
 }
 
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
@@ -683,7 +814,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
             const uint32_t *const back = prev->comp;
             // Each percept seen at that place is a candidate (one, for a space without them).
             uint32_t seen =
-                m->percepts != NULL ? m->percepts[select_(m, &m->place_of, back_state, back)] : 1u;
+                m->percepts != NULL ? seen_at_(m, back_state, back) : 1u;
             for (; seen != 0u && n < MODEL_MAX_PREDECESSORS; seen &= seen - 1u) {
                 model_query_t *const next = queries != NULL ? queries[n] : &scratch;
                 if (next != prev) {  // the last candidate was confirmed: it keeps its query
@@ -708,6 +839,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                 const uint32_t outcomes =
                     step.others == 0u ? 0u : step.others | (1u << percept_value_(m, step.next));
                 out[n].others = (uint16_t)(outcomes & ~(1u << percept));
+                out[n].stay = step.stay;
                 out[n].reward = step.reward;
                 n++;
             }

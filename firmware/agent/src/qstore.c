@@ -11,17 +11,20 @@
 #include "fw/fw_util.h"
 #include "inline.h"
 
-// What an unknown state reads as. Large enough for any action count.
-static const float zero_row_[FW_CFG_MAX_ACTIONS];
-
-int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8_t n_actions,
-                uint32_t state_bits)
+int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
+                uint8_t n_actions, uint32_t state_bits)
 {
-    if (qs == NULL || q == NULL || !FW_IS_POW2(capacity) || n_actions < 1u ||
-        n_actions > FW_CFG_MAX_ACTIONS || state_bits > 31u) {
+    if (qs == NULL || q == NULL || (value_bytes != 2u && value_bytes != 4u) ||
+        !FW_IS_POW2(capacity) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS ||
+        state_bits > 31u) {
         return FW_ERR_INVAL;
     }
-    qs->q = q;
+    qs->wide = (uint8_t)(value_bytes == 4u);
+    if (qs->wide) {
+        qs->v.f = q;
+    } else {
+        qs->v.h = q;
+    }
     qs->capacity = capacity;
     qs->n_actions = n_actions;
     qs->dense = (uint8_t)((1u << state_bits) <= capacity);
@@ -40,10 +43,9 @@ int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8
 
 void qstore_clear(qstore_t *qs)
 {
+    // +0.0 is all zero bits in both widths.
     const uint32_t n = qs->capacity * qs->n_actions;
-    for (uint32_t i = 0; i < n; i++) {
-        qs->q[i] = 0.0f;
-    }
+    memset(qs->wide ? (void *)qs->v.f : (void *)qs->v.h, 0, n * (qs->wide ? 4u : 2u));
     if (!qs->dense) {
         oa_clear(&qs->index);
     }
@@ -52,20 +54,72 @@ void qstore_clear(qstore_t *qs)
     qs->plan_refused = 0;
 }
 
-// The row of state s for reading; an unknown state reads as zeros. The planner's lookups (about
-// three per planning update) come here.
-AGENT_ALWAYS_INLINE const float *row_of_(const qstore_t *qs, agent_state_t s)
+// Value i of the table (row * n_actions + action), in either width. The branch goes the same
+// way for the life of the store.
+AGENT_ALWAYS_INLINE float load_(const qstore_t *qs, uint32_t i)
 {
-    if (qs->dense) {
-        return &qs->q[s * qs->n_actions];
-    }
-    const uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
-    return slot == OA_NONE ? zero_row_ : &qs->q[slot * qs->n_actions];
+    return qs->wide ? qs->v.f[i] : value16_to_float(qs->v.h[i]);
 }
 
-const float *qstore_row(const qstore_t *qs, agent_state_t s)
+AGENT_ALWAYS_INLINE void store_(qstore_t *qs, uint32_t i, float x)
 {
-    return row_of_(qs, s);
+    if (qs->wide) {
+        qs->v.f[i] = x;
+    } else {
+        qs->v.h[i] = value16_from_float(x);
+    }
+}
+
+// The row of state s for reading, QSTORE_NO_ROW for an unknown state (which reads as zeros).
+// The planner's lookups (about three per planning update) come here.
+AGENT_ALWAYS_INLINE qstore_row_t row_of_(const qstore_t *qs, agent_state_t s)
+{
+    if (qs->dense) {
+        return s;
+    }
+    const uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
+    return slot == OA_NONE ? QSTORE_NO_ROW : slot;
+}
+
+AGENT_ALWAYS_INLINE float max_of_(const qstore_t *qs, qstore_row_t row)
+{
+    if (row == QSTORE_NO_ROW) {
+        return 0.0f;
+    }
+    const uint32_t base = row * qs->n_actions;
+    float best = load_(qs, base);
+    for (uint32_t a = 1; a < qs->n_actions; a++) {
+        const float v = load_(qs, base + a);
+        if (v > best) {
+            best = v;
+        }
+    }
+    return best;
+}
+
+float qstore_get(const qstore_t *qs, agent_state_t s, uint8_t a)
+{
+    const qstore_row_t row = row_of_(qs, s);
+    return row == QSTORE_NO_ROW ? 0.0f : load_(qs, row * qs->n_actions + a);
+}
+
+void qstore_values(const qstore_t *qs, agent_state_t s, float *out)
+{
+    const qstore_row_t row = row_of_(qs, s);
+    for (uint32_t a = 0; a < qs->n_actions; a++) {
+        out[a] = row == QSTORE_NO_ROW ? 0.0f : load_(qs, row * qs->n_actions + a);
+    }
+}
+
+float qstore_max(const qstore_t *qs, agent_state_t s)
+{
+    return max_of_(qs, row_of_(qs, s));
+}
+
+bool qstore_moves(const qstore_t *qs, float q, float target, float alpha)
+{
+    const float next = q + alpha * (target - q);
+    return qs->wide ? next != q : value16_from_float(next) != value16_from_float(q);
 }
 
 // How much a row has learned: the sum of |Q| over its actions (a state seen once or twice has
@@ -74,10 +128,10 @@ const float *qstore_row(const qstore_t *qs, agent_state_t s)
 static uint32_t learned_(void *ctx, uint32_t slot)
 {
     const qstore_t *qs = ctx;
-    const float *row = &qs->q[slot * qs->n_actions];
     float sum = 0.0f;
     for (uint32_t a = 0; a < qs->n_actions; a++) {
-        sum += row[a] < 0.0f ? -row[a] : row[a];
+        const float v = load_(qs, slot * qs->n_actions + a);
+        sum += v < 0.0f ? -v : v;
     }
     uint32_t bits;
     memcpy(&bits, &sum, sizeof bits);
@@ -89,9 +143,8 @@ static uint32_t learned_(void *ctx, uint32_t slot)
 static uint32_t evict_(qstore_t *qs, agent_state_t s)
 {
     const uint32_t victim = oa_least(&qs->index, s, learned_, qs);
-    float *row = &qs->q[victim * qs->n_actions];
     for (uint32_t a = 0; a < qs->n_actions; a++) {
-        row[a] = 0.0f;
+        store_(qs, victim * qs->n_actions + a, 0.0f);
     }
     qs->rows_used--;
     qs->dropped++;  // a state forgotten
@@ -99,11 +152,11 @@ static uint32_t evict_(qstore_t *qs, agent_state_t s)
 }
 
 // The row of s for writing, created in a free slot of its window if it has none; a full window
-// forgets the row that learned least when `may_evict`, else refuses (NULL, counted).
-static float *row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict)
+// forgets the row that learned least when `may_evict`, else refuses (QSTORE_NO_ROW, counted).
+static qstore_row_t row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict)
 {
     if (qs->dense) {
-        return &qs->q[s * qs->n_actions];
+        return s;
     }
     uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
     if (slot == OA_NONE) {  // not the common case: s has no row yet
@@ -111,41 +164,53 @@ static float *row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict)
         if (slot == OA_NONE) {
             if (!may_evict) {
                 qs->plan_refused++;
-                return NULL;
+                return QSTORE_NO_ROW;
             }
             slot = evict_(qs, s);
             oa_put(&qs->index, slot, s);
         }
         qs->rows_used++;
     }
-    return &qs->q[slot * qs->n_actions];
+    return slot;
 }
 
-float *qstore_row_for_update(qstore_t *qs, agent_state_t s)
+qstore_row_t qstore_row_for_update(qstore_t *qs, agent_state_t s)
 {
     return row_for_write_(qs, s, true);
 }
 
-float *qstore_row_for_plan(qstore_t *qs, agent_state_t s)
+qstore_row_t qstore_row_for_plan(qstore_t *qs, agent_state_t s)
 {
     return row_for_write_(qs, s, false);
 }
 
-float qstore_max(const qstore_t *qs, agent_state_t s)
+bool qstore_learn(qstore_t *qs, qstore_row_t row, uint8_t a, float target, float alpha,
+                  float *value)
 {
-    const float *row = row_of_(qs, s);
-    float best = row[0];
-    for (uint32_t a = 1; a < qs->n_actions; a++) {
-        if (row[a] > best) {
-            best = row[a];
-        }
+    const uint32_t i = row * qs->n_actions + a;
+    const float before = load_(qs, i);
+    store_(qs, i, before + alpha * (target - before));
+    const float after = load_(qs, i);
+    if (value != NULL) {
+        *value = after;
     }
-    return best;
+    return after != before;
+}
+
+void qstore_set(qstore_t *qs, qstore_row_t row, uint8_t a, float v)
+{
+    store_(qs, row * qs->n_actions + a, v);
+}
+
+float qstore_row_max(const qstore_t *qs, qstore_row_t row)
+{
+    return max_of_(qs, row);
 }
 
 uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out)
 {
-    uint32_t n = agent_region_add(out, 0, qs->q, qs->capacity * qs->n_actions * (uint32_t)sizeof(float));
+    const uint32_t bytes = qs->capacity * qs->n_actions * (qs->wide ? 4u : 2u);
+    uint32_t n = agent_region_add(out, 0, qs->wide ? (void *)qs->v.f : (void *)qs->v.h, bytes);
     if (!qs->dense) {
         n = agent_region_add(out, n, qs->index.keys, qs->capacity * (uint32_t)sizeof(uint32_t));
     }
@@ -154,10 +219,13 @@ uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out)
 
 int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bits)
 {
-    const float *const q = image[0];
     const uint32_t n = qs->n_actions;
+    // Each value a number within the limit; an empty row all zero bits.
+    const float *const qf = image[0];
+    const value16_t *const qh = image[0];
     for (uint32_t i = 0; i < qs->capacity * n; i++) {
-        if (!check_finite(q[i]) || q[i] > QSTORE_VALUE_LIMIT || q[i] < -QSTORE_VALUE_LIMIT) {
+        if (qs->wide ? !check_finite(qf[i]) || qf[i] > QSTORE_VALUE_LIMIT || qf[i] < -QSTORE_VALUE_LIMIT
+                     : !value16_ok(qh[i])) {
             return FW_ERR_CORRUPT;
         }
     }
@@ -169,7 +237,7 @@ int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bi
         const uint32_t key = keys[slot];
         if (key == QSTORE_EMPTY) {
             for (uint32_t a = 0; a < n; a++) {
-                if (q[slot * n + a] != 0.0f) {
+                if (qs->wide ? qf[slot * n + a] != 0.0f : qh[slot * n + a] != 0u) {
                     return FW_ERR_CORRUPT;
                 }
             }

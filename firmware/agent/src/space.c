@@ -41,6 +41,17 @@ int space_validate(const agent_space_t *sp)
     if (space_state_bits(sp) > SPACE_MAX_STATE_BITS) {
         return FW_ERR_INVAL;
     }
+    if (sp->turn_step_bits != 0u) {  // one circular component, not absolute, wider than a step
+        const uint32_t c = sp->circular_mask;
+        if (c == 0u || (c & (c - 1u)) != 0u || (c & sp->absolute_mask) != 0u) {
+            return FW_ERR_INVAL;
+        }
+        for (uint32_t k = 0; k < sp->n_components; k++) {
+            if (((c >> k) & 1u) && sp->turn_step_bits >= sp->bits[k]) {
+                return FW_ERR_INVAL;
+            }
+        }
+    }
     return FW_OK;
 }
 

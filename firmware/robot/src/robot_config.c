@@ -30,6 +30,10 @@ static float magnitude_(float x)
 agent_params_t robot_config_agent_params(const robot_config_t *cfg)
 {
     agent_params_t p = cfg->params;
+    // A step that earns the ordinary reward and leaves the state as it was did not leave its cell
+    // (a fixed step shorter than the cell): Dyna-QPC's model counts it beside the move (model.h).
+    p.stays = 1u;
+    p.step_reward = cfg->reward_step;
     if (cfg->values == ROBOT_VALUES_ROOM) {
         // The paper's gamma 0.9 halves a reward's weight every 6.6 steps: 60 steps from the goal
         // a state differs from its neighbour by about 0.02, below the noise of one bump, and the

@@ -93,4 +93,22 @@ void robot_config_space(const robot_config_t *c, agent_space_t *sp)
     sp->absolute_mask = 1u << 3;  // the range code is predicted, not its change
     sp->context_mask = (1u << 2) | (1u << 3);  // an action's effect depends on heading and code
     sp->n_actions = ROBOT_N_ACTIONS;
+    sp->turn_step_bits = (uint8_t)robot_turn_step_bits(c);
+}
+
+uint32_t robot_turn_step_bits(const robot_config_t *c)
+{
+    if (!c->aligned_actions) {
+        return 0u;
+    }
+    // An aligned turn ends on a multiple of turn_rad, and heading sector 0 is centred on 0: a
+    // turn of exactly 2^g sectors reaches every 2^g-th sector and no other.
+    const float sectors = c->turn_rad * (float)(1u << c->bits_heading) / (2.0f * FW_PI_F);
+    for (uint32_t g = 1; g < c->bits_heading; g++) {
+        const float d = sectors - (float)(1u << g);
+        if (d < 1e-3f && d > -1e-3f) {
+            return g;
+        }
+    }
+    return 0u;
 }

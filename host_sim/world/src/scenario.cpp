@@ -588,6 +588,7 @@ bool Parser::key_learning(const Tokens &t, Scenario *s)
     using T = Field::Type;
     Learning &l = s->learning;
     std::string gamma = "auto";
+    std::string tiles;
     std::vector<Field> f = {
         {"epsilon", T::Real, &l.epsilon, 0.0, 1.0},
         {"alpha", T::Real, &l.alpha, 0.0, 1.0},
@@ -596,9 +597,20 @@ bool Parser::key_learning(const Tokens &t, Scenario *s)
         {"step_cap", T::Int, &l.step_cap, 1, 100000000},
         {"sets", T::Int, &l.sets, 1, 1000000},
         {"episodes", T::Int, &l.episodes, 1, 1000000},
+        {"model", T::Text, &l.model, 0, 0},
+        {"tiles", T::Text, &tiles, 0, 0},
     };
     if (!fields(t, f)) {
         return false;
+    }
+    if (l.model != "relocatable" && l.model != "paper") {
+        return fail("learning model '" + l.model + "': unknown (relocatable, paper)");
+    }
+    if (!tiles.empty()) {
+        std::string problem;
+        if (!parse_model_tiles(tiles, &l.model_tiles, &problem)) {
+            return fail("learning tiles '" + tiles + "': " + problem);
+        }
     }
     if (gamma == "auto") {
         l.gamma = Learning::kGammaFromRoom;
@@ -929,6 +941,30 @@ bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *
     if (text.size() > kMaxFileBytes) return report("file too large");
     if (!parse_scenario(text, path, out, error)) return false;
     out->path = path;
+    return true;
+}
+
+bool parse_model_tiles(const std::string &text, std::vector<int> *out, std::string *problem)
+{
+    std::vector<int> v;
+    std::size_t at = 0;
+    while (at <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', at), text.size());
+        const std::string word = text.substr(at, comma - at);
+        int n = -1;
+        const auto r = std::from_chars(word.data(), word.data() + word.size(), n);
+        if (word.empty() || r.ec != std::errc() || r.ptr != word.data() + word.size() || n < 0 || n > 4) {
+            *problem = "each width a power of two's exponent 0..4, four of them: x,y,heading,code (e.g. 1,1,0,0)";
+            return false;
+        }
+        v.push_back(n);
+        at = comma + 1;
+    }
+    if (v.size() != 4) {
+        *problem = "four widths, x,y,heading,code (e.g. 1,1,0,0)";
+        return false;
+    }
+    *out = v;
     return true;
 }
 

@@ -10,7 +10,7 @@
 #include "fw/fw_base.h"
 
 // A corridor of 16 cells: action 0 moves left, action 1 right; the goal is cell 15.
-static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2, 0};
+static const agent_space_t corridor_ = {1, {4}, {0}, 0, 0, 2, 0, 0};
 
 static agent_t agent_;
 
@@ -41,7 +41,7 @@ static void init_rejects_bad_configurations(void **state)
     c.storage = NULL;
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config(AGENT_DYNA_QPC);
-    c.params.ablate = 0x10;  // not a part the ablation knows
+    c.params.ablate = 0x20;  // not a part the ablation knows
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config((agent_kind_t)7);
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
@@ -190,14 +190,14 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
 // which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
 // grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
 // alike at every step and end with the same bytes learned and the same counters.
-typedef AGENT_MEMORY_STRUCT(64, 64, 4, 16, 16, 1, 1, 1) small_memory_t;
+typedef AGENT_MEMORY_STRUCT(value16_t, 64, 64, 4, 16, 16, 1, 1, 1, 64, 64) small_memory_t;
 static small_memory_t memory_a_;
 static small_memory_t memory_b_;
 static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);
 static const agent_storage_t storage_b_ = AGENT_STORAGE_OF(memory_b_);
 static agent_t agent_b_;
 // x, y (3 bits, tiles 2 wide), heading (2 bits, circular); actions: forward, back, left, right.
-static const agent_space_t grid_ = {3, {3, 3, 2}, {1, 1, 0}, 0x4, 0, 4, 0};
+static const agent_space_t grid_ = {3, {3, 3, 2}, {1, 1, 0}, 0x4, 0, 4, 0, 0};
 
 static agent_state_t grid_step_(agent_state_t s, uint8_t a, float *reward)
 {
@@ -274,7 +274,7 @@ static void plan_calls_plan_as_single_steps_would(void **state)
 
 // A robot's space: x (5 bits), heading (4 bits, circular), range code (2 bits, absolute);
 // heading and code are the situation.
-static const agent_space_t robot_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+static const agent_space_t robot_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
 
 static agent_state_t robot_state_(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -309,10 +309,44 @@ static void dyna_qpc_backs_up_the_mean_of_a_places_codes(void **state)
     const float v2 = qstore_max(&agent_.q, robot_state_(11, 4, 2));
     assert_true(v1 > v2 + 1.0f);  // the two outcomes are worth clearly different amounts
     const float mean = -1.0f + 0.9f * 0.5f * (v1 + v2);
-    assert_float_equal(agent_q(&agent_, from, 0), mean, 1e-3f);
+    assert_float_equal(agent_q(&agent_, from, 0), mean, mean * 0x1p-9f);  // within a value16 step or two
     assert_true(agent_.alg.dyna_qpc.model.generalised > 0u);
 }
 
+
+// A step that may stay where it is (model.h: a stay) is backed up over both outcomes: moving on,
+// and staying, each by its share. Action 0 at heading 4 and code 0 moved +1 three times and
+// stayed three times: from (10, 4, 0) it reaches (11, 4, 0), worth 10, half the time (128 of
+// 255), and stays in (10, 4, 0), worth 50, the other half.
+static void dyna_qpc_backs_up_a_stay_by_its_share(void **state)
+{
+    (void)state;
+    for (uint32_t ablate = 0; ablate <= 1u; ablate++) {
+        agent_config_t c = config(AGENT_DYNA_QPC);
+        c.space = &robot_;
+        c.storage = &agent_storage_paper_lab;
+        c.params.alpha = 1.0f;
+        c.params.gamma = 0.9f;
+        c.params.stays = 1u;
+        c.params.step_reward = -1.0f;
+        c.params.ablate = ablate ? AGENT_ABLATE_STAY : 0u;
+        assert_int_equal(agent_init(&agent_, &c), FW_OK);
+        for (uint32_t x = 1; x <= 3; x++) {
+            agent_observe(&agent_, robot_state_(x, 4, 0), 0, -1.0f, robot_state_(x + 1, 4, 0), false);
+            agent_observe(&agent_, robot_state_(x + 4, 4, 0), 0, -1.0f, robot_state_(x + 4, 4, 0), false);
+        }
+        const agent_state_t from = robot_state_(10, 4, 0), next = robot_state_(11, 4, 0);
+        agent_observe(&agent_, from, 3, 50.0f, robot_state_(20, 0, 0), true);
+        agent_observe(&agent_, next, 1, 10.0f, robot_state_(20, 0, 0), true);
+        (void)agent_plan(&agent_, 10000);
+        assert_false(agent_plan_step(&agent_));  // the queue ran dry
+        assert_float_equal(qstore_max(&agent_.q, from), 50.0f, 1e-4f);
+        assert_float_equal(qstore_max(&agent_.q, next), 10.0f, 1e-4f);
+        const float p = ablate ? 0.0f : 128.0f / 255.0f;
+        const float expected = -1.0f + 0.9f * ((1.0f - p) * 10.0f + p * 50.0f);
+        assert_float_equal(agent_q(&agent_, from, 0), expected, 1e-3f);
+    }
+}
 
 // A first visit to a state makes new predictions: its own untried pairs that the relocatable
 // model now predicts, and untried pairs elsewhere now predicted to lead into it. The values
@@ -657,6 +691,7 @@ int main(void)
         cmocka_unit_test(same_seed_same_behaviour_and_reset_forgets),
         cmocka_unit_test(plan_calls_plan_as_single_steps_would),
         cmocka_unit_test(dyna_qpc_backs_up_the_mean_of_a_places_codes),
+        cmocka_unit_test(dyna_qpc_backs_up_a_stay_by_its_share),
         cmocka_unit_test(kinds_and_names_round_trip),
         cmocka_unit_test(counters_list_the_q_store_then_the_algorithm),
         cmocka_unit_test(preconditions_are_asserted),

@@ -13,7 +13,7 @@
 
 // A small agent, so that a save is a few kilobytes and cutting at every byte stays quick.
 enum { Q_STATES = 64, CELLS = 64, PQ_CAP = 32 };
-static float q_[Q_STATES * FW_CFG_MAX_ACTIONS];
+static value16_t q_[Q_STATES * FW_CFG_MAX_ACTIONS];
 static uint32_t q_keys_[Q_STATES];
 static uint32_t fk_[CELLS];
 static uint8_t fc_[CELLS];
@@ -25,11 +25,11 @@ static dynaq_record_t table_[TABLE];
 static uint32_t tk_[DYNAQ_INDEX_SLOTS(TABLE)], tr_[DYNAQ_INDEX_SLOTS(TABLE)];
 static agent_plan_carry_t carry_;
 static const agent_storage_t storage_ = {
-    .q = q_, .q_keys = q_keys_, .q_states = Q_STATES,
+    .q = q_, .q_value_bytes = sizeof q_[0], .q_keys = q_keys_, .q_states = Q_STATES,
     .dyna_q = {table_, tk_, tr_, TABLE},
     .dyna_qpc = {{fk_, fc_, fw_, CELLS}, {NULL, 0, NULL, 0, NULL, 0}, heap_, pk_, pp_, PQ_CAP, &carry_}};
 // 4 x 4 x 4 states of 6 bits (hashed: 64 rows for 64 states is dense; use 8 bits to hash).
-static const agent_space_t space_ = {3, {3, 3, 2}, {0, 0, 0}, 0, 0, 4, 0};
+static const agent_space_t space_ = {3, {3, 3, 2}, {0, 0, 0}, 0, 0, 4, 0, 0};
 static agent_t agent_;
 
 static agent_kind_t kind_ = AGENT_DYNA_QPC;
@@ -549,12 +549,12 @@ static uint32_t empty_row_(void)
     fail();
     return 0;
 }
-static void q_nan_(void) { q_[used_row_(0) * 4 + 1] = 0.0f / 0.0f; }
-static void q_inf_(void) { q_[3] = 1.0f / 0.0f; }
+static void q_nan_(void) { q_[used_row_(0) * 4 + 1] = 0xfe00u; }  // exponent 63
+static void q_inf_(void) { q_[3] = 0x7e01u; }                     // exponent 63
 static void q_key_out_of_range_(void) { q_keys_[used_row_(0)] = 1u << 20; }
 static void q_key_top_bit_(void) { q_keys_[used_row_(0)] = 0x80000001u; }
 static void q_duplicate_key_(void) { q_keys_[used_row_(1)] = q_keys_[used_row_(0)]; }
-static void q_empty_row_with_values_(void) { q_[empty_row_() * 4] = 0.5f; }
+static void q_empty_row_with_values_(void) { q_[empty_row_() * 4] = value16_from_float(0.5f); }
 static void q_key_far_from_home_(void)
 {
     // A key moved half the table away from where it was: outside its probe window.
@@ -562,8 +562,8 @@ static void q_key_far_from_home_(void)
     const uint32_t to = (from + Q_STATES / 2u) % Q_STATES;
     q_keys_[to] = q_keys_[from];
     q_keys_[from] = QSTORE_EMPTY;
-    memcpy(&q_[to * 4], &q_[from * 4], 4 * sizeof(float));
-    memset(&q_[from * 4], 0, 4 * sizeof(float));
+    memcpy(&q_[to * 4], &q_[from * 4], 4 * sizeof(value16_t));
+    memset(&q_[from * 4], 0, 4 * sizeof(value16_t));
 }
 
 static const spoil_fn q_spoils_[] = {q_nan_,          q_inf_,           q_key_out_of_range_,

@@ -20,11 +20,11 @@ static int16_t arrivals_[32];
 static const model_reloc_storage_t inv_ = {percepts_, 512, classes_, 256, arrivals_, 32};
 
 // x (5 bits), heading (4 bits, circular), a range code (2 bits, predicted as a value).
-static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4, 0};
+static const agent_space_t robot_ = {3, {5, 4, 2}, {1, 0, 0}, 0x2, 0x4, 4, 0, 0};
 // The same robot whose action effects generalise over x: keyed on heading and code.
-static const agent_space_t rel_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+static const agent_space_t rel_ = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
 // A corridor: one component, 4 bits, exact tiles.
-static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2, 0};
+static const agent_space_t line_ = {1, {4}, {0}, 0, 0, 2, 0, 0};
 
 static agent_state_t robot_state(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -248,7 +248,7 @@ static void untried_headings_fall_back_on_the_percept(void **state)
 // The same robot with its components in another order: the code first, then x, then the
 // heading. Its situation (code and heading) is no longer one run of adjacent bits, so the model
 // packs it component by component (select_() in model.c) instead of with one shift and mask.
-static const agent_space_t rel_swapped_ = {3, {2, 5, 4}, {0, 0, 0}, 0x4, 0x1, 4, 0x5};
+static const agent_space_t rel_swapped_ = {3, {2, 5, 4}, {0, 0, 0}, 0x4, 0x1, 4, 0x5, 0};
 
 static agent_state_t swapped_state(uint32_t x, uint32_t h, uint32_t r)
 {
@@ -419,7 +419,7 @@ static void terminal_arrivals_are_predicted_by_position(void **state)
 static void out_of_range_predictions_are_untrusted(void **state)
 {
     (void)state;
-    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2, 0};
+    static const agent_space_t wide = {1, {4}, {1}, 0, 0, 2, 0, 0};
     world_model_t m;
     assert_int_equal(model_init(&m, &wide, 2, 1.0f, 1, &fwd_, &inv_), FW_OK);
     model_step_t out;
@@ -617,7 +617,7 @@ static void the_end_of_an_episode_is_not_read_from_its_reward(void **state)
 // A circular component's change is learned the short way round across its whole range (an
 // 8-bit heading: 255 -> 0 is +1, which fits a change and a CMAC weight; -255 fits neither), and
 // a component that is not circular never wraps: a jump of +11 in 4 bits stays +11.
-static const agent_space_t wrap_ = {3, {4, 8, 4}, {0, 0, 0}, 0x2, 0, 4, 0};
+static const agent_space_t wrap_ = {3, {4, 8, 4}, {0, 0, 0}, 0x2, 0, 4, 0, 0};
 
 static agent_state_t wrap_state(uint32_t x, uint32_t h, uint32_t y)
 {
@@ -668,9 +668,9 @@ static void only_circular_components_wrap(void **state)
 // component by component (select_() and the model_select_t packing in model.c). The same walk
 // learned in this layout and in rel_ (where every selection is one run of bits) must predict
 // the same for every state and action, name the same predecessors, and see the same states.
-static const agent_space_t split_ = {4, {2, 5, 1, 4}, {0, 0, 0, 0}, 0x8, 0x5, 4, 0xD};
+static const agent_space_t split_ = {4, {2, 5, 1, 4}, {0, 0, 0, 0}, 0x8, 0x5, 4, 0xD, 0};
 // rel_ with a 3-bit code, its twin.
-static const agent_space_t rel3_ = {3, {5, 4, 3}, {0, 0, 0}, 0x2, 0x4, 4, 0x6};
+static const agent_space_t rel3_ = {3, {5, 4, 3}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
 
 static agent_state_t split_of_(agent_state_t rel3)
 {
@@ -814,11 +814,148 @@ static void components_need_not_be_adjacent(void **state)
     assert_true(with_preds > 10u);
 }
 
+// Stays (model.h): with the ordinary step's reward known, a step that changed nothing and earned
+// it is counted beside the situation's move, never against it. Heading 4, code 0, action 0 moved
+// +1 three times and stayed three times: the move is the outcome, staying half the time.
+static void stays_are_counted_beside_their_move(void **state)
+{
+    (void)state;
+    world_model_t with, without;
+    assert_int_equal(model_init(&with, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&with, -1.0f);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&with, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+        model_learn(&with, rel_state(x + 10, 4, 0), 0, -1.0f, rel_state(x + 10, 4, 0), false);
+    }
+    model_learn(&with, rel_state(20, 2, 0), 2, -1.0f, rel_state(20, 4, 0), false);  // (20, 4) shows 0
+    model_step_t out;
+    assert_true(model_predict(&with, rel_state(19, 4, 0), 0, &out));  // untried: generalised
+    assert_int_equal(out.next, rel_state(20, 4, 0));
+    assert_int_equal(out.stay, 128);  // 3 of 6, of 255, rounded
+    assert_true(out.reward == -1.0f);
+    // A tried move carries its situation's share; so does its predecessor.
+    assert_true(model_predict(&with, rel_state(2, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(3, 4, 0));
+    assert_int_equal(out.stay, 128);
+    model_learn(&with, rel_state(19, 4, 0), 2, -1.0f, rel_state(19, 6, 0), false);  // (19, 4) seen
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    const uint32_t n = model_predecessors(&with, rel_state(20, 4, 0), preds);
+    bool found = false;
+    for (uint32_t i = 0; i < n; i++) {
+        if (preds[i].state == rel_state(19, 4, 0) && preds[i].action == 0) {
+            found = true;
+            assert_int_equal(preds[i].stay, 128);
+        }
+    }
+    assert_true(found);
+
+    // Without the step's reward every outcome is one: three moves and three changes of nothing
+    // leave the situation's first outcome contested, and no prediction carries a share.
+    assert_int_equal(model_init(&without, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&without, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+        model_learn(&without, rel_state(x + 10, 4, 0), 0, -1.0f, rel_state(x + 10, 4, 0), false);
+    }
+    model_learn(&without, rel_state(20, 2, 0), 2, -1.0f, rel_state(20, 4, 0), false);
+    assert_true(model_predict(&without, rel_state(19, 4, 0), 0, &out));
+    assert_int_equal(out.next, rel_state(20, 4, 0));
+    assert_int_equal(out.stay, 0);
+}
+
+// A tried pair: a stay of its move leaves the move as its outcome (it was contradicted before);
+// a move where only stays had been seen replaces them at once, and they become its stays.
+static void a_tried_move_keeps_its_outcome_through_stays(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    const agent_state_t s = rel_state(3, 4, 0), ahead = rel_state(4, 4, 0);
+    model_learn(&m, s, 0, -1.0f, ahead, false);
+    model_step_t out;
+    for (uint32_t i = 0; i < 4; i++) {
+        model_learn(&m, s, 0, -1.0f, s, false);
+        assert_true(model_predict(&m, s, 0, &out));
+        assert_int_equal(out.next, ahead);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 0);
+    assert_int_equal(out.stay, (4u * 255u + 2u) / 5u);
+
+    const agent_state_t t = rel_state(8, 0, 0), east = rel_state(9, 0, 0);
+    for (uint32_t i = 0; i < 3; i++) {
+        model_learn(&m, t, 0, -1.0f, t, false);
+    }
+    assert_true(model_predict(&m, t, 0, &out));
+    assert_int_equal(out.next, t);  // nothing else seen: staying is all it does
+    assert_int_equal(out.stay, 0);
+    model_learn(&m, t, 0, -1.0f, east, false);
+    assert_true(model_predict(&m, t, 0, &out));
+    assert_int_equal(out.next, east);
+    assert_int_equal(out.stay, (3u * 255u + 2u) / 4u);
+}
+
+// A change of nothing with another reward (a bump: -100) is an outcome, not a stay: it counts
+// against a move as before, and replaces it once the contradictions outnumber the agreements.
+static void a_bump_is_not_a_stay(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    const agent_state_t s = rel_state(3, 4, 0);
+    for (uint32_t i = 0; i < 3; i++) {
+        model_learn(&m, s, 0, -1.0f, rel_state(4, 4, 0), false);
+    }
+    model_step_t out;
+    for (uint32_t i = 0; i < 2; i++) {
+        model_learn(&m, s, 0, -100.0f, s, false);
+    }
+    assert_int_equal(m.forward.stats.contradicted, 2);
+    model_learn(&m, s, 0, -100.0f, s, false);
+    assert_true(model_predict(&m, s, 0, &out));
+    assert_int_equal(out.next, s);
+    assert_true(out.reward == -100.0f);
+    assert_int_equal(out.stay, 0);
+}
+
+// A tried pair that only ever stayed, in a situation whose move is known, is predicted as that
+// move (the same step, not finished there), with the situation's share of stays.
+static void a_pair_that_only_stayed_is_its_situations_move(void **state)
+{
+    (void)state;
+    world_model_t m;
+    assert_int_equal(model_init(&m, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&m, -1.0f);
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&m, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    model_learn(&m, rel_state(21, 2, 0), 2, -1.0f, rel_state(21, 4, 0), false);  // (21, 4) shows 0
+    const agent_state_t s = rel_state(20, 4, 0);
+    model_learn(&m, s, 0, -1.0f, s, false);
+    model_step_t out;
+    assert_true(model_predict(&m, s, 0, &out));
+    assert_int_equal(out.next, rel_state(21, 4, 0));
+    assert_int_equal(out.stay, (1u * 255u + 2u) / 4u);
+    // With stays off (the ablation), the same observations predict going nowhere.
+    world_model_t off;
+    assert_int_equal(model_init(&off, &rel_, 1, 1.0f, 1, &fwd_, &inv_), FW_OK);
+    model_set_stay_reward(&off, -1.0f);
+    off.ablate = MODEL_ABLATE_STAY;
+    for (uint32_t x = 1; x <= 3; x++) {
+        model_learn(&off, rel_state(x, 4, 0), 0, -1.0f, rel_state(x + 1, 4, 0), false);
+    }
+    model_learn(&off, rel_state(21, 2, 0), 2, -1.0f, rel_state(21, 4, 0), false);
+    model_learn(&off, s, 0, -1.0f, s, false);
+    assert_true(model_predict(&off, s, 0, &out));
+    assert_int_equal(out.next, s);
+    assert_int_equal(out.stay, 0);
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
     world_model_t m;
-    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4, 0};
+    const agent_space_t bad = {0, {1, 1, 1, 1}, {0}, 0, 0, 4, 0, 0};
     assert_int_equal(model_init(&m, &bad, 16, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 16, 1.0f, 0, &fwd_, &inv_), FW_ERR_INVAL);
     assert_int_equal(model_init(&m, &line_, 3, 1.0f, 1, &fwd_, &inv_), FW_ERR_INVAL);
@@ -827,6 +964,48 @@ static void init_rejects_bad_arguments(void **state)
     const model_reloc_storage_t none = {NULL, 0, NULL, 0, NULL, 0};
     assert_int_equal(model_init(&m, &line_, 16, 1.0f, 1, &fwd_, &none), FW_OK);
     assert_int_equal(model_init(&m, &rel_, 16, 1.0f, 1, &fwd_, &none), FW_ERR_INVAL);
+}
+
+// Aligned 90-degree turns over 16 headings (turn_step_bits 2). With room for every place the
+// percept map keeps them all, a start's heading between turns too; with a quarter of the room
+// it keeps the headings turns reach, and a place between them is not mapped (not seen, no
+// percept recorded), while moves and predecessors along the turns' headings work as before.
+static uint16_t quarter_[128 + 1];
+static void percept_map_keeps_the_headings_turns_reach(void **state)
+{
+    (void)state;
+    static const agent_space_t turned = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 2};
+    const uint32_t from[3] = {3, 4, 0}, to[3] = {4, 4, 1}, off[3] = {7, 1, 2}, off2[3] = {8, 1, 3};
+    const agent_state_t s = space_pack(&turned, from), s2 = space_pack(&turned, to);
+    const agent_state_t t = space_pack(&turned, off), t2 = space_pack(&turned, off2);
+    world_model_t m;
+
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &inv_), FW_OK);  // 512 places
+    assert_int_equal(m.places, 512);
+    model_learn(&m, t, 0, -1.0f, t2, false);
+    assert_true(model_has_seen(&m, t));  // every heading mapped
+
+    const model_reloc_storage_t quarter = {quarter_, 128, classes_, 256, arrivals_, 32};
+    quarter_[128] = 0xBEEFu;
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &quarter), FW_OK);
+    assert_int_equal(m.places, 128);
+    model_learn(&m, s, 0, -1.0f, s2, false);
+    assert_true(model_has_seen(&m, s));
+    assert_true(model_has_seen(&m, s2));
+    model_learn(&m, t, 0, -1.0f, t2, false);
+    assert_false(model_has_seen(&m, t));  // between turns: not mapped
+    assert_false(model_has_seen(&m, t2));
+    assert_int_equal(quarter_[128], 0xBEEFu);  // nothing written past the map
+    model_pred_t preds[MODEL_MAX_PREDECESSORS];
+    const uint32_t n = model_predecessors(&m, s2, preds);
+    assert_true(n >= 1u);
+    assert_int_equal(preds[0].state, s);
+    assert_int_equal(preds[0].action, 0);
+
+    const model_reloc_storage_t too_small = {quarter_, 64, classes_, 256, arrivals_, 32};
+    assert_int_equal(model_init(&m, &turned, 16, 1.0f, 1, &fwd_, &too_small), FW_ERR_INVAL);
+    static const agent_space_t unaligned = {3, {5, 4, 2}, {0, 0, 0}, 0x2, 0x4, 4, 0x6, 0};
+    assert_int_equal(model_init(&m, &unaligned, 16, 1.0f, 1, &fwd_, &quarter), FW_ERR_INVAL);
 }
 
 int main(void)
@@ -853,6 +1032,11 @@ int main(void)
         cmocka_unit_test(the_end_of_an_episode_is_not_read_from_its_reward),
         cmocka_unit_test(only_circular_components_wrap),
         cmocka_unit_test(components_need_not_be_adjacent),
+        cmocka_unit_test(stays_are_counted_beside_their_move),
+        cmocka_unit_test(a_tried_move_keeps_its_outcome_through_stays),
+        cmocka_unit_test(a_bump_is_not_a_stay),
+        cmocka_unit_test(a_pair_that_only_stayed_is_its_situations_move),
+        cmocka_unit_test(percept_map_keeps_the_headings_turns_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,62 +2,65 @@
 // Tests of the Q store: dense and hashed layouts, unknown states, a full table.
 #include "test_common.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "agent/qstore.h"
 #include "fw/fw_base.h"
 
-static float q_[256 * FW_CFG_MAX_ACTIONS];
+static value16_t q_[256 * FW_CFG_MAX_ACTIONS];
 static uint32_t keys_[256];
 
 static void small_spaces_are_dense(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 8), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, NULL, 256, 4, 8), FW_OK);
     assert_true(qs.dense);
-    float *row = qstore_row_for_update(&qs, 255);
-    assert_non_null(row);
-    row[2] = 3.5f;
-    assert_float_equal(qstore_row(&qs, 255)[2], 3.5f, 0.0f);
+    const qstore_row_t row = qstore_row_for_update(&qs, 255);
+    assert_int_equal(row, 255);  // a dense row is its state
+    qstore_set(&qs, row, 2, 3.5f);
+    assert_float_equal(qstore_get(&qs, 255, 2), 3.5f, 0.0f);
     assert_float_equal(qstore_max(&qs, 255), 3.5f, 0.0f);
-    assert_ptr_equal(row, &q_[255 * 4]);
+    assert_int_equal(q_[255 * 4 + 2], value16_from_float(3.5f));
 }
 
 static void large_spaces_are_hashed_and_unknown_states_read_zero(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 18), FW_ERR_INVAL);  // needs keys
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, NULL, 256, 4, 18), FW_ERR_INVAL);  // needs keys
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 18), FW_OK);
     assert_false(qs.dense);
-    const float *unknown = qstore_row(&qs, 123456);
+    float unknown[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    qstore_values(&qs, 123456, unknown);
     for (int a = 0; a < 4; a++) {
         assert_float_equal(unknown[a], 0.0f, 0.0f);
     }
     assert_int_equal(qs.rows_used, 0);
-    float *row = qstore_row_for_update(&qs, 123456);
-    row[1] = -2.0f;
-    row[3] = -1.0f;
+    const qstore_row_t row = qstore_row_for_update(&qs, 123456);
+    qstore_set(&qs, row, 1, -2.0f);
+    qstore_set(&qs, row, 3, -1.0f);
     assert_int_equal(qs.rows_used, 1);
-    assert_float_equal(qstore_row(&qs, 123456)[1], -2.0f, 0.0f);
+    assert_float_equal(qstore_get(&qs, 123456, 1), -2.0f, 0.0f);
     assert_float_equal(qstore_max(&qs, 123456), 0.0f, 0.0f);
-    assert_ptr_equal(qstore_row_for_update(&qs, 123456), row);  // the same row, not a new one
+    assert_float_equal(qstore_row_max(&qs, row), 0.0f, 0.0f);
+    assert_int_equal(qstore_row_for_update(&qs, 123456), row);  // the same row, not a new one
 }
 
 static void distinct_states_keep_distinct_values(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 18), FW_OK);
     for (uint32_t s = 0; s < 150; s++) {
-        float *row = qstore_row_for_update(&qs, s * 1021u);
-        assert_non_null(row);
-        row[s % 4] = (float)s;
+        const qstore_row_t row = qstore_row_for_update(&qs, s * 1021u);
+        assert_int_not_equal(row, QSTORE_NO_ROW);
+        qstore_set(&qs, row, (uint8_t)(s % 4), (float)s);
     }
     assert_int_equal(qs.dropped, 0);
     for (uint32_t s = 0; s < 150; s++) {
-        assert_float_equal(qstore_row(&qs, s * 1021u)[s % 4], (float)s, 0.0f);
+        assert_float_equal(qstore_get(&qs, s * 1021u, (uint8_t)(s % 4)), (float)s, 0.0f);
     }
 }
 
@@ -65,30 +68,30 @@ static void full_table_forgets_what_it_learned_least(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 20), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 20), FW_OK);
     // State 7 has learned something big; then 1000 states pass through a 256-row table.
-    qstore_row_for_update(&qs, 7)[2] = -50.0f;
+    qstore_set(&qs, qstore_row_for_update(&qs, 7), 2, -50.0f);
     for (uint32_t s = 1000; s < 2000; s++) {
-        float *row = qstore_row_for_update(&qs, s);
-        assert_non_null(row);  // a write always finds a row
-        row[0] = -0.5f;        // each visited once
+        const qstore_row_t row = qstore_row_for_update(&qs, s);
+        assert_int_not_equal(row, QSTORE_NO_ROW);  // a write always finds a row
+        qstore_set(&qs, row, 0, -0.5f);            // each visited once
     }
     assert_true(qs.rows_used <= 256 && qs.rows_used > 200);
     assert_true(qs.dropped >= 1000 - 256 + 1);
-    assert_float_equal(qstore_row(&qs, 7)[2], -50.0f, 0.0f);  // the well-learned row survives
-    assert_float_equal(qstore_row(&qs, 1999)[0], -0.5f, 0.0f);  // the newest is there
+    assert_float_equal(qstore_get(&qs, 7, 2), -50.0f, 0.0f);  // the well-learned row survives
+    assert_float_equal(qstore_get(&qs, 1999, 0), -0.5f, 0.0f);  // the newest is there
     qstore_clear(&qs);
     assert_int_equal(qs.rows_used, 0);
-    assert_non_null(qstore_row_for_update(&qs, 999));
+    assert_int_not_equal(qstore_row_for_update(&qs, 999), QSTORE_NO_ROW);
 }
 
 static void planning_never_forgets_a_state(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 20), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 20), FW_OK);
     for (uint32_t s = 1000; s < 2000; s++) {  // real steps fill the table
-        qstore_row_for_update(&qs, s)[0] = -1.0f;
+        qstore_set(&qs, qstore_row_for_update(&qs, s), 0, -1.0f);
     }
     uint32_t known[256];
     uint32_t n_known = 0;
@@ -98,19 +101,19 @@ static void planning_never_forgets_a_state(void **state)
         }
     }
     const uint32_t dropped = qs.dropped;
-    assert_non_null(qstore_row_for_plan(&qs, known[0]));  // a known state plans in its row
+    assert_int_not_equal(qstore_row_for_plan(&qs, known[0]), QSTORE_NO_ROW);  // a known state plans in its row
     uint32_t refused = 0;
     for (uint32_t s = 5000; s < 6000; s++) {  // unknown states find no free row, or take one
-        refused += qstore_row_for_plan(&qs, s) == NULL;
+        refused += qstore_row_for_plan(&qs, s) == QSTORE_NO_ROW;
     }
     assert_true(refused > 0);
     assert_int_equal(qs.plan_refused, refused);
     assert_int_equal(qs.dropped, dropped);  // planning forgot nothing
     for (uint32_t i = 0; i < n_known; i++) {
-        assert_float_equal(qstore_row(&qs, known[i])[0], -1.0f, 0.0f);
+        assert_float_equal(qstore_get(&qs, known[i], 0), -1.0f, 0.0f);
     }
     qstore_clear(&qs);
-    assert_non_null(qstore_row_for_plan(&qs, 5000));  // a free row is taken
+    assert_int_not_equal(qstore_row_for_plan(&qs, 5000), QSTORE_NO_ROW);  // a free row is taken
     assert_int_equal(qs.rows_used, 1);
 }
 
@@ -118,12 +121,13 @@ static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
     qstore_t qs;
-    assert_int_equal(qstore_init(&qs, q_, keys_, 100, 4, 8), FW_ERR_INVAL);
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 0, 8), FW_ERR_INVAL);
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, FW_CFG_MAX_ACTIONS + 1, 8), FW_ERR_INVAL);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 100, 4, 8), FW_ERR_INVAL);
+    assert_int_equal(qstore_init(&qs, q_, 3, keys_, 256, 4, 8), FW_ERR_INVAL);  // 2 or 4 bytes
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 0, 8), FW_ERR_INVAL);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, FW_CFG_MAX_ACTIONS + 1, 8), FW_ERR_INVAL);
 }
 
-static float q2_[256 * FW_CFG_MAX_ACTIONS];
+static value16_t q2_[256 * FW_CFG_MAX_ACTIONS];
 static uint32_t keys2_[256];
 static uint32_t image_keys_[256];
 
@@ -134,21 +138,22 @@ static void saved_regions_check_and_restore_themselves(void **state)
     (void)state;
     qstore_t qs;
     qstore_t back;
-    assert_int_equal(qstore_init(&qs, q_, keys_, 256, 4, 18), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 18), FW_OK);
     for (uint32_t s = 0; s < 1000; s++) {  // more states than rows: some are forgotten
-        qstore_row_for_update(&qs, s * 613u % 262144u)[s % 4] = (float)(s + 1u);
+        qstore_set(&qs, qstore_row_for_update(&qs, s * 613u % 262144u), (uint8_t)(s % 4),
+                   (float)(s + 1u));
     }
     assert_true(qs.dropped > 0);
     agent_region_t r[QSTORE_MAX_REGIONS];
     assert_int_equal(qstore_regions(&qs, r), 2);
     assert_ptr_equal(r[0].data, q_);
-    assert_int_equal(r[0].size, 256 * 4 * sizeof(float));
+    assert_int_equal(r[0].size, 256 * 4 * sizeof(value16_t));
     assert_ptr_equal(r[1].data, keys_);
     assert_int_equal(r[1].size, 256 * sizeof(uint32_t));
     const void *image[QSTORE_MAX_REGIONS] = {r[0].data, r[1].data};
     assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
 
-    assert_int_equal(qstore_init(&back, q2_, keys2_, 256, 4, 18), FW_OK);
+    assert_int_equal(qstore_init(&back, q2_, 2, keys2_, 256, 4, 18), FW_OK);
     agent_region_t rb[QSTORE_MAX_REGIONS];
     assert_int_equal(qstore_regions(&back, rb), 2);
     for (uint32_t i = 0; i < 2; i++) {
@@ -158,7 +163,11 @@ static void saved_regions_check_and_restore_themselves(void **state)
     assert_int_equal(back.rows_used, qs.rows_used);
     for (uint32_t s = 0; s < 1000; s++) {
         const agent_state_t st = s * 613u % 262144u;
-        assert_memory_equal(qstore_row(&back, st), qstore_row(&qs, st), 4 * sizeof(float));
+        float a[4];
+        float b[4];
+        qstore_values(&back, st, a);
+        qstore_values(&qs, st, b);
+        assert_memory_equal(a, b, sizeof a);
     }
 
     // A stored key copied FW_CFG_MAX_PROBE slots on: past its window, where no search looks.
@@ -179,8 +188,120 @@ static void saved_regions_check_and_restore_themselves(void **state)
     assert_int_equal(qstore_check(&qs, bad, 18), FW_OK);
 
     // A dense store saves its values only.
-    assert_int_equal(qstore_init(&qs, q_, NULL, 256, 4, 8), FW_OK);
+    assert_int_equal(qstore_init(&qs, q_, 2, NULL, 256, 4, 8), FW_OK);
     assert_int_equal(qstore_regions(&qs, r), 1);
+}
+
+// Every value16 converts to a float and back to itself; negative zero keeps its sign bit.
+static void every_value16_round_trips(void **state)
+{
+    (void)state;
+    uint32_t values = 0;
+    for (uint32_t v = 0; v <= 0xffffu; v++) {
+        if (!value16_ok((value16_t)v)) {
+            continue;  // exponent 63 is never stored
+        }
+        values++;
+        assert_int_equal(value16_from_float(value16_to_float((value16_t)v)), v);
+    }
+    assert_int_equal(values, 2u * 63u * 512u);
+    assert_float_equal(value16_to_float(0x3e00u), 1.0f, 0.0f);
+    assert_float_equal(value16_to_float(0xc280u), -5.0f, 0.0f);
+    assert_float_equal(value16_to_float(0x7dffu), VALUE16_MAX, 0.0f);
+    assert_float_equal(value16_to_float(0x0001u), 0x1p-39f, 0.0f);  // the smallest subnormal
+    assert_float_equal(value16_to_float(0x0200u), 0x1p-30f, 0.0f);  // the smallest normal
+}
+
+// Rounding is to nearest with ties to even, in the normal and the subnormal range; beyond the
+// largest value16 a value saturates; a gridworld's far values keep their 10 bits.
+static void conversion_rounds_to_nearest_even_and_saturates(void **state)
+{
+    (void)state;
+    // 1 + 2^-10 lies halfway between 1 and 1 + 2^-9: to the even one, 1.
+    assert_int_equal(value16_from_float(1.0f + 0x1p-10f), 0x3e00u);
+    // 1 + 3 * 2^-10 lies halfway between 1 + 2^-9 (odd) and 1 + 2^-8 (even).
+    assert_int_equal(value16_from_float(1.0f + 3.0f * 0x1p-10f), 0x3e02u);
+    // Just above halfway rounds up.
+    assert_int_equal(value16_from_float(1.0f + 0x1p-10f + 0x1p-20f), 0x3e01u);
+    // Subnormal: 1.5 * 2^-39 ties to 2 * 2^-39 (even); 0.5 * 2^-39 ties to 0.
+    assert_int_equal(value16_from_float(1.5f * 0x1p-39f), 0x0002u);
+    assert_int_equal(value16_from_float(0.5f * 0x1p-39f), 0x0000u);
+    assert_int_equal(value16_from_float(-0.75f * 0x1p-39f), 0x8001u);
+    // A carry out of the fraction moves to the next binade: 1023.5 rounds to 1024.
+    assert_int_equal(value16_from_float(1023.5f), value16_from_float(1024.0f));
+    // The values a robot's Q takes, and a gridworld's 240 steps from its goal.
+    assert_float_equal(value16_to_float(value16_from_float(-100.0f)), -100.0f, 0.0f);
+    assert_float_equal(value16_to_float(value16_from_float(-1.9f)), -1.9f, 1.9f * 0x1p-10f);
+    assert_float_equal(value16_to_float(value16_from_float(87.654f)), 87.654f, 87.654f * 0x1p-10f);
+    const float far = powf(0.95f, 240.0f);
+    assert_float_equal(value16_to_float(value16_from_float(far)), far, far * 0x1p-10f);
+    assert_int_equal(value16_from_float(1e10f), 0x7dffu);
+    assert_int_equal(value16_from_float(-1e30f), 0xfdffu);
+}
+
+// A learning write is computed in float and stored rounded; a restored image holding exponent
+// 63 is refused.
+static void learning_rounds_each_write_and_bad_values_are_refused(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 18), FW_OK);
+    const qstore_row_t row = qstore_row_for_update(&qs, 42);
+    // From 0 towards 100 with alpha 0.9, then 0.1: each stored value is the nearest half.
+    float q = -1.0f;
+    assert_true(qstore_learn(&qs, row, 1, 100.0f, 0.9f, &q));
+    assert_float_equal(q, 90.0f, 0.0f);
+    assert_true(qstore_learn(&qs, row, 1, 93.7f, 0.1f, &q));
+    assert_float_equal(q, value16_to_float(value16_from_float(90.0f + 0.1f * 3.7f)), 0.0f);
+    assert_float_equal(qstore_get(&qs, 42, 1), q, 0.0f);
+    // Many updates towards a target come within one half step of it (no drift, no stall far off).
+    int changed = 0;
+    for (int i = 0; i < 200; i++) {
+        changed += qstore_learn(&qs, row, 2, -37.3f, 0.5f, &q);
+    }
+    assert_float_equal(q, -37.3f, 37.3f * 0x1p-9f);
+    assert_in_range(changed, 10, 20);  // then the value rounds back to itself: no change
+    assert_false(qstore_moves(&qs, q, -37.3f, 0.5f));
+    assert_true(qstore_moves(&qs, q, -30.0f, 0.5f));
+
+    agent_region_t r[QSTORE_MAX_REGIONS];
+    assert_int_equal(qstore_regions(&qs, r), 2);
+    memcpy(q2_, q_, sizeof q2_);
+    const void *image[QSTORE_MAX_REGIONS] = {q2_, r[1].data};
+    assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
+    q2_[row * 4 + 1] = 0x7e00u;  // exponent 63
+    assert_int_equal(qstore_check(&qs, image, 18), FW_ERR_CORRUPT);
+    q2_[row * 4 + 1] = 0xffffu;  // exponent 63, negative
+    assert_int_equal(qstore_check(&qs, image, 18), FW_ERR_CORRUPT);
+}
+
+static float qf_[256 * FW_CFG_MAX_ACTIONS];
+
+// A store of floats keeps what it is given exactly (no rounding), forgets and saves as the
+// 16-bit one does, and refuses a restored NaN or a value beyond its limit.
+static void a_float_store_keeps_floats(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, qf_, 4, keys_, 256, 4, 18), FW_OK);
+    const qstore_row_t row = qstore_row_for_update(&qs, 4321);
+    float q = 0.0f;
+    assert_true(qstore_learn(&qs, row, 3, 1.0f + 0x1p-20f, 1.0f, &q));
+    assert_float_equal(q, 1.0f + 0x1p-20f, 0.0f);  // a value16 would round this to 1
+    assert_true(qstore_moves(&qs, 1.0f, 1.0f + 0x1p-20f, 1.0f));
+    assert_float_equal(qstore_max(&qs, 4321), 1.0f + 0x1p-20f, 0.0f);
+    assert_float_equal(qstore_get(&qs, 1234, 0), 0.0f, 0.0f);  // unknown: zeros
+    agent_region_t r[QSTORE_MAX_REGIONS];
+    assert_int_equal(qstore_regions(&qs, r), 2);
+    assert_int_equal(r[0].size, 256 * 4 * sizeof(float));
+    const void *image[QSTORE_MAX_REGIONS] = {r[0].data, r[1].data};
+    assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
+    qf_[row * 4 + 3] = 2e9f;  // beyond QSTORE_VALUE_LIMIT
+    assert_int_equal(qstore_check(&qs, image, 18), FW_ERR_CORRUPT);
+    qf_[row * 4 + 3] = 0.0f / 0.0f;
+    assert_int_equal(qstore_check(&qs, image, 18), FW_ERR_CORRUPT);
+    qstore_clear(&qs);
+    assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
 }
 
 int main(void)
@@ -193,6 +314,10 @@ int main(void)
         cmocka_unit_test(planning_never_forgets_a_state),
         cmocka_unit_test(init_rejects_bad_arguments),
         cmocka_unit_test(saved_regions_check_and_restore_themselves),
+        cmocka_unit_test(every_value16_round_trips),
+        cmocka_unit_test(a_float_store_keeps_floats),
+        cmocka_unit_test(conversion_rounds_to_nearest_even_and_saturates),
+        cmocka_unit_test(learning_rounds_each_write_and_bad_values_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -175,6 +175,29 @@ static void test_heading_sectors_wrap(void **state)
     }
 }
 
+// Aligned turns of 2^g heading sectors leave the low g heading bits at 0 once the robot has
+// turned; fixed turns, or turns that are not a power of two of sectors, leave none.
+static void test_turn_step_of_aligned_turns(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *sim_;  // 16 sectors
+    cfg.aligned_actions = 1;
+    cfg.turn_rad = FW_PI_F / 2.0f;
+    assert_int_equal(robot_turn_step_bits(&cfg), 2);
+    agent_space_t sp;
+    robot_config_space(&cfg, &sp);
+    assert_int_equal(sp.turn_step_bits, 2);
+    cfg.turn_rad = FW_PI_F / 4.0f;
+    assert_int_equal(robot_turn_step_bits(&cfg), 1);
+    cfg.turn_rad = FW_PI_F / 8.0f;  // one sector: every heading is reached
+    assert_int_equal(robot_turn_step_bits(&cfg), 0);
+    cfg.turn_rad = FW_PI_F / 3.0f;  // 60 degrees: 2.67 sectors
+    assert_int_equal(robot_turn_step_bits(&cfg), 0);
+    cfg.turn_rad = FW_PI_F / 2.0f;
+    cfg.aligned_actions = 0;  // fixed turns drift off the sectors' centres
+    assert_int_equal(robot_turn_step_bits(&cfg), 0);
+}
+
 static void test_range_code_bits(void **state)
 {
     (void)state;
@@ -573,6 +596,7 @@ int main(void)
         cmocka_unit_test(test_position_cells_and_clamping),
         cmocka_unit_test(test_goal_as_cells),
         cmocka_unit_test(test_heading_sectors_wrap),
+        cmocka_unit_test(test_turn_step_of_aligned_turns),
         cmocka_unit_test(test_range_code_bits),
         cmocka_unit_test(test_action_wheels_realise_the_step),
         cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),

@@ -120,6 +120,29 @@ void test_gamma_auto(void **state)
     assert_non_null(std::strstr(err.c_str(), "gamma"));
 }
 
+// `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
+// unknown model or malformed widths are refused with the line.
+void test_learning_model(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode x 2 y 2 heading 2\ngoal 2.5 2.5 0.6\n";
+    world::Scenario s;
+    std::string err;
+    assert_true(world::parse_scenario(head, "m.scn", &s, &err));
+    assert_true(s.learning.model == "relocatable" && s.learning.model_tiles.empty());
+    assert_true(world::parse_scenario(head + "learning model paper tiles 1,0,2,0\n", "m.scn", &s, &err));
+    assert_true(s.learning.model == "paper");
+    assert_true(s.learning.model_tiles == std::vector<int>({1, 0, 2, 0}));
+    assert_false(world::parse_scenario(head + "learning model cmac\n", "m.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "m.scn:7"));
+    assert_non_null(std::strstr(err.c_str(), "unknown (relocatable, paper)"));
+    assert_false(world::parse_scenario(head + "learning model paper tiles 1,1,0\n", "m.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "four widths"));
+    assert_false(world::parse_scenario(head + "learning tiles 1,1,0,5\n", "m.scn", &s, &err));
+    assert_false(world::parse_scenario(head + "learning tiles 1,,0,0\n", "m.scn", &s, &err));
+}
+
 void test_goal_cells(void **state)
 {
     (void)state;
@@ -218,6 +241,7 @@ const BadFile kBadFiles[] = {
     {"missing_field.scn", 3, "missing field 'robot width'"},
     {"missing_ranger_min.scn", 4, "missing field 'ranger min'"},
     {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
+    {"bad_model.scn", 6, "learning model 'cmac': unknown (relocatable, paper)"},
     {"garbage.bin", 3, "not a text file"},
     {"does_not_exist.scn", 0, "cannot open"},
     {"", 0, "cannot read"},  // the directory itself
@@ -358,6 +382,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_paper_lab_parses),
         cmocka_unit_test(test_goal_cells),
         cmocka_unit_test(test_gamma_auto),
+        cmocka_unit_test(test_learning_model),
         cmocka_unit_test(test_name_resolution),
         cmocka_unit_test(test_doc_example),
         cmocka_unit_test(test_bad_files),

@@ -37,7 +37,29 @@ typedef struct agent_params {
     /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results.md): a
     /// mask of AGENT_ABLATE_*; 0 (the default) keeps them all.
     uint8_t ablate;
+    /// Dyna-QPC's world model: AGENT_MODEL_RELOCATABLE (ours, the default) or AGENT_MODEL_PAPER
+    /// (the paper's CMAC-Model and CMAC-R, paper_model.h).
+    uint8_t model;
+    /// With AGENT_MODEL_PAPER: the CMACs' tile width of each state component as a power of two
+    /// (0: exact), up to PAPER_MAX_TILE_SHIFT.
+    uint8_t model_tile_shift[FW_CFG_MAX_COMPONENTS];
+    /// Dyna-QPC: nonzero when step_reward is the reward of an ordinary step, so that a step
+    /// which earns it and changes nothing is known as a stay (model.h); 0 (the default): none is
+    uint8_t stays;
+    float step_reward;  ///< with `stays`: the reward of an ordinary step
 } agent_params_t;
+
+/// Dyna-QPC's world models (agent_params_t.model), chosen by one switch in dyna_qpc.c.
+#define AGENT_MODEL_RELOCATABLE 0u  ///< "relocatable": model.h (docs/agent.md)
+#define AGENT_MODEL_PAPER 1u        ///< "paper": the paper's CMAC-Model and CMAC-R, paper_model.h
+#define AGENT_MODELS 2u
+
+/// The name of a model as the tools and scenario files spell it ("relocatable", "paper"), or
+/// NULL for a number that is none.
+const char *agent_model_name(uint8_t model);
+
+/// The model called `name`: FW_OK and *model, or FW_ERR_INVAL for a name that is none.
+int agent_model_from_name(const char *name, uint8_t *model);
 
 /// No predictions for untried pairs (the relocatable action model): the planner knows only the
 /// pairs the robot tried, and confirms predecessors against them only.
@@ -48,8 +70,11 @@ typedef struct agent_params {
 #define AGENT_ABLATE_NEW_STATES 0x04u
 /// A move into a place seen with several range codes backs up the first code's value only.
 #define AGENT_ABLATE_EXPECTED 0x08u
+/// Dyna-QPC: a step that stays in its cell is an outcome like any other, not a share of its move
+/// (model.h, MODEL_ABLATE_STAY).
+#define AGENT_ABLATE_STAY MODEL_ABLATE_STAY
 /// Every AGENT_ABLATE_* bit.
-#define AGENT_ABLATE_ALL 0x0Fu
+#define AGENT_ABLATE_ALL 0x1Fu
 
 /// Caller-owned static storage for an agent: the Q store every algorithm has, and each
 /// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
@@ -57,7 +82,8 @@ typedef struct agent_params {
 /// be left zero (NULL).
 #define AGENT_STORAGE_MEMBER_(kind, number, name, id) agent_##id##_storage_t id;
 typedef struct agent_storage {
-    float *q;             ///< q_states * FW_CFG_MAX_ACTIONS
+    void *q;              ///< q_states * FW_CFG_MAX_ACTIONS values of q_value_bytes each
+    uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
     uint32_t *q_keys;     ///< q_states
     uint32_t q_states;
     AGENT_ALGORITHMS(AGENT_STORAGE_MEMBER_)
@@ -113,7 +139,8 @@ int agent_kind_from_name(const char *name, agent_kind_t *kind);
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),
 /// 16 tilings,
-/// min_count 1.
+/// min_count 1; the relocatable model (the paper's model's tiles: component
+/// PAPER_DEFAULT_TILED_COMPONENT, the robot's range code, 2 values wide, the others exact).
 agent_params_t agent_default_params(void);
 
 /// Checks the configuration and prepares an agent that knows nothing.

@@ -8,6 +8,7 @@
 
 #include "agent/model.h"
 #include "agent/model_state.h"
+#include "agent/paper_model.h"
 #include "agent/pqueue.h"
 
 #ifdef __cplusplus
@@ -28,11 +29,14 @@ typedef struct agent_plan_carry {
     model_query_t store[MODEL_MAX_PREDECESSORS + 1];  ///< where `here` and `query` point
 } agent_plan_carry_t;
 
-/// Dyna-QPC's state: the world model, the priority queue, and where its planner's carry is.
+/// Dyna-QPC's state: the world model, the priority queue, and where its planner's carry is; or,
+/// with the paper's model (agent_params_t.model, dyna_qpc_paper.c), the paper's CMACs and the
+/// queue.
 typedef struct agent_dyna_qpc {
     world_model_t model;
     pqueue_t pq;
     agent_plan_carry_t *carry;
+    paper_model_t paper;
 } agent_dyna_qpc_t;
 
 /// Dyna-QPC's part of agent_storage_t.
@@ -44,6 +48,9 @@ typedef struct agent_dyna_qpc_storage {
     uint32_t *pq_index_pos;        ///< PQ_INDEX_SLOTS(pq_capacity)
     uint32_t pq_capacity;
     agent_plan_carry_t *carry;
+    /// The paper's CMACs (AGENT_MODEL_PAPER), which may overlay `forward`, `reloc` and `carry`:
+    /// an agent runs one model.
+    paper_model_storage_t paper;
 } agent_dyna_qpc_storage_t;
 
 #ifdef __cplusplus

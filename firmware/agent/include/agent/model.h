@@ -38,6 +38,12 @@ extern "C" {
 /// most observations agreed on, replaced only once as many disagreed (CMAC-Model through
 /// cmac_contradict(); a situation through its counts of agreeing and disagreeing observations).
 ///
+/// An action that changes nothing and earns what its usual outcome earns did not go far enough
+/// (a fixed step that ended in the cell it began in): such an observation is a *stay*, counted
+/// beside the outcome instead of against it (model_class_t.stay), and a prediction carries the
+/// share of stays (model_step_t.stay) for the planner's expected backup over "moved" and
+/// "stayed" (docs/agent.md, "Steps that stay in their cell").
+///
 /// A prediction is trusted only when its CMAC cells were each trained at least `min_count`
 /// times, or, for an untried pair, when its situation's outcome was seen at least
 /// MODEL_CLASS_MIN_COUNT times (else its percept's at least MODEL_PERCEPT_MIN_COUNT times) and
@@ -68,6 +74,8 @@ extern "C" {
 #define MODEL_ABLATE_GENERALISE 0x01u
 /// world_model_t.ablate: tried pairs keep their last outcome (agent.h: AGENT_ABLATE_MAJORITY).
 #define MODEL_ABLATE_MAJORITY 0x02u
+/// world_model_t.ablate: a stay is an outcome like any other (agent.h: AGENT_ABLATE_STAY).
+#define MODEL_ABLATE_STAY 0x10u
 
 /// How a predicted change applies to one component (see decode_() in model.c).
 typedef struct model_field {
@@ -93,6 +101,9 @@ typedef struct model_class {
     int16_t reward;                       ///< fixed point, 8 fractional bits
     uint8_t count;                        ///< observations that agreed (saturates by halving)
     uint8_t miss;                         ///< observations that did not
+    /// observations that changed nothing and earned `reward` while the outcome moves: the action
+    /// did not go far enough (halved with count and miss)
+    uint8_t stay;
 } model_class_t;
 
 /// One change an action has produced, and how often.
@@ -103,6 +114,8 @@ typedef struct model_delta {
 
 /// A terminal arrival's reward at a position (fixed point, 8 fractional bits), or none.
 #define MODEL_NO_ARRIVAL INT16_MIN
+/// world_model_t.stay_reward when no reward marks a stay.
+#define MODEL_NO_STAY INT16_MIN
 
 typedef struct world_model {
     const agent_space_t *space;
@@ -119,6 +132,9 @@ typedef struct world_model {
     // (outside both), packed as indices into the tables below.
     uint16_t *percepts;   ///< per place: bit v set when the absolute components read v there
     uint32_t places;
+    uint32_t place_gap;   ///< the low bits of the heading in a place index (space->turn_step_bits)
+    uint32_t place_low;   ///< the place index's bits below the heading
+    uint8_t place_gap_bits;
     model_class_t *classes;  ///< per situation and action
     uint32_t n_classes;
     int16_t *arrivals;    ///< per position: reward of an arrival that ended an episode
@@ -132,26 +148,34 @@ typedef struct world_model {
     uint32_t untrusted;    ///< predictions refused for low confidence or an out-of-range result
     uint32_t rejected;     ///< predecessor candidates the forward prediction did not confirm
     uint32_t generalised;  ///< predictions made for untried pairs by the relocatable model
-    /// AGENT_ABLATE_GENERALISE and AGENT_ABLATE_MAJORITY (agent.h), for the ablation; 0 after
+    /// The reward of an ordinary step (fixed point, 8 fractional bits): a change of nothing that
+    /// earns it is a stay; MODEL_NO_STAY (after model_init()): no observation is
+    int16_t stay_reward;
+    /// AGENT_ABLATE_GENERALISE, AGENT_ABLATE_MAJORITY and AGENT_ABLATE_STAY (agent.h), for the
+    /// ablation; 0 after
     /// model_init()
     uint8_t ablate;
 } world_model_t;
 
 /// One predicted transition. A move into a place the map has seen with several percepts has as
 /// many outcomes, equally likely: `next`, and `next` with each percept (absolute components'
-/// value) in `others` instead of its own (model_step_outcomes()).
+/// value) in `others` instead of its own (model_step_outcomes()). A step that moves may also
+/// leave the state as it was, with the same reward: `stay` of 255 times.
 typedef struct model_step {
     agent_state_t next;
     float reward;
     uint8_t terminal;
     uint16_t others;  ///< a bit per other percept value; 0: `next` is the one outcome
+    uint8_t stay;     ///< of 255: the chance the state stays as it was (0: it moves to `next`)
 } model_step_t;
 
 /// A predecessor of a state: taking `action` in `state` is predicted to lead there with
-/// `reward` (or, with `others`, there or to the same place with another of those percepts).
+/// `reward` (or, with `others`, there or to the same place with another of those percepts; with
+/// `stay`, of 255 times it stays in `state`).
 typedef struct model_pred {
     agent_state_t state;
     uint8_t action;
+    uint8_t stay;
     uint16_t others;
     float reward;
 } model_pred_t;
@@ -165,7 +189,9 @@ typedef struct model_cmac_storage {
 } model_cmac_storage_t;
 
 /// Caller-owned storage of the relocatable model and the percept map. A space with an
-/// absolute component needs `percepts` for 2^(bits outside absolute_mask) places; one with a
+/// absolute component needs `percepts` for 2^(bits outside absolute_mask) places, or, with
+/// fewer, 2^(those bits - turn_step_bits) (the headings between aligned turns left out:
+/// agent_space_t); one with a
 /// context_mask needs `classes` for 2^(context bits) * n_actions situations and `arrivals` for
 /// 2^(bits outside context and absolute masks) positions. Unneeded parts may be NULL.
 typedef struct model_reloc_storage {
@@ -186,6 +212,11 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
 
 /// Forgets everything.
 void model_clear(world_model_t *m);
+
+/// Recognises stays (model.h): a change of nothing that earns `step_reward` (the reward of an
+/// ordinary step, within +-127) is counted beside the move it did not finish. Until called (and
+/// in a space without a context_mask, whose model keeps no situations) every outcome is one.
+void model_set_stay_reward(world_model_t *m, float step_reward);
 
 /// Learns one real transition: CMAC-Model on (s, a) -> (s', r, terminal); the change a made; what
 /// was perceived at both places; the situation's outcome, or, for a terminal step, the arrival.
@@ -231,8 +262,8 @@ bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, mo
 /// model_predecessors() for the query's state. With `queries` (MODEL_MAX_PREDECESSORS places
 /// apart from q, or NULL), *queries[i] also receives the query of out[i].state, ready for
 /// further questions, and model_query_predict() for out[i] is known to give: q's state (with
-/// out[i].others as the other outcomes), reward out[i].reward, not terminal (that is how a
-/// predecessor is confirmed).
+/// out[i].others as the other outcomes and out[i].stay as its stay share), reward
+/// out[i].reward, not terminal (that is how a predecessor is confirmed).
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
                                   model_query_t *const *queries);
 

@@ -3,8 +3,10 @@
 #ifndef AGENT_QSTORE_H
 #define AGENT_QSTORE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
+#include "agent/value16.h"
 #include "agent/oa_table.h"
 #include "agent/region.h"
 #include "agent/space.h"
@@ -13,8 +15,16 @@
 extern "C" {
 #endif
 
-/// Q values are single-precision floats: the Cortex-M4F has a single-precision FPU, and
-/// docs/agent.md records why fixed point lost (gridworld values of 1e-4 vanish in 16 bits).
+/// Q values are single-precision floats, or, where a profile needs the rows more than the
+/// precision, 16-bit values (agent/value16.h: a float with a 6-bit exponent and 10 significant
+/// bits), read as floats, updated in float and rounded to the nearest value16 when written.
+/// A profile chooses by the type of its array (agent_profiles.h): paper-lab and the gridworlds
+/// keep floats (they fit); paper-sim's 16-bit values hold twice the rows in the same RAM, so a
+/// floor with four times its cells fits 192 KB (docs/agent.md, "Memory"). 10 significant bits
+/// suffice there: the step between values is 2^-10 of them (0.1 at a robot's returns near
+/// -100) while an action's values differ by whole step costs, and a gridworld's far values
+/// (1e-6) are still normal numbers (measured: docs/results.md, "16-bit values"). (Fixed point
+/// lost: a gridworld's values of 1e-4 vanish in 16 fixed-point bits; IEEE half's below 6e-5.)
 ///
 /// Dense when every state fits (2^state_bits <= capacity): row s is at s * n_actions, no keys.
 /// Hashed otherwise: the rows' states in an open-addressing index (oa_table.h) of `capacity`
@@ -23,7 +33,11 @@ extern "C" {
 /// has learned least (smallest sum of |Q|) is forgotten and reused, and counted in `dropped`: a
 /// robot that keeps exploring keeps learning where it is, at the cost of states it barely knew.
 typedef struct qstore {
-    float *q;            // capacity * n_actions
+    union {
+        float *f;        // capacity * n_actions floats (wide)
+        value16_t *h;    // or value16s
+    } v;
+    uint8_t wide;        // 1: floats, 0: value16s
     oa_table_t index;    // capacity slots (hashed mode only; keys NULL when dense)
     uint32_t capacity;   // rows
     uint8_t n_actions;
@@ -33,36 +47,64 @@ typedef struct qstore {
     uint32_t plan_refused; ///< planning writes refused: the state had no row and no free slot (planning never evicts)
 } qstore_t;
 
+/// A row of the store (a state's slot), for the writes of one update; QSTORE_NO_ROW: none.
+typedef uint32_t qstore_row_t;
+#define QSTORE_NO_ROW UINT32_MAX
+
 /// Marks an empty row in hashed mode.
 #define QSTORE_EMPTY OA_EMPTY
 
 /// Prepares an all-zero table. `capacity` must be a power of two; `q` holds capacity *
-/// n_actions floats; `keys` holds capacity words (unused, may be NULL, if the table is dense).
-/// Returns FW_OK or FW_ERR_INVAL.
-int qstore_init(qstore_t *qs, float *q, uint32_t *keys, uint32_t capacity, uint8_t n_actions,
-                uint32_t state_bits);
+/// n_actions values of `value_bytes` each (4: float, 2: value16); `keys` holds capacity words
+/// (unused, may be NULL, if the table is dense). Returns FW_OK or FW_ERR_INVAL.
+int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
+                uint8_t n_actions, uint32_t state_bits);
 
 /// Zeroes every value.
 void qstore_clear(qstore_t *qs);
 
-/// The n_actions values of state s, read-only. An unknown state gives a row of zeros.
-const float *qstore_row(const qstore_t *qs, agent_state_t s);
+/// Q(s, a). An unknown state reads 0.
+float qstore_get(const qstore_t *qs, agent_state_t s, uint8_t a);
 
-/// The row of state s for a real step's write, created if needed. A full probe window forgets the
-/// row that learned least (counted in `dropped`); never NULL.
-float *qstore_row_for_update(qstore_t *qs, agent_state_t s);
-
-/// The row of state s for a planning write: the existing row, or a new one in a free slot of its
-/// probe window. Planning never forgets a state to make room (that churned tens of millions of
-/// rows per set on paper-sim, each a state real experience had taught): with no free slot it
-/// returns NULL and counts `plan_refused`.
-float *qstore_row_for_plan(qstore_t *qs, agent_state_t s);
+/// The n_actions values of state s into out[]. An unknown state gives zeros.
+void qstore_values(const qstore_t *qs, agent_state_t s, float *out);
 
 /// max over a of Q(s, a).
 float qstore_max(const qstore_t *qs, agent_state_t s);
 
-/// The largest |Q| a restored table may hold: far beyond any return a robot's rewards and
-/// discount give, and far enough below FLT_MAX that learning from it cannot overflow.
+/// The row of state s for a real step's write, created if needed. A full probe window forgets the
+/// row that learned least (counted in `dropped`); never QSTORE_NO_ROW.
+qstore_row_t qstore_row_for_update(qstore_t *qs, agent_state_t s);
+
+/// The row of state s for a planning write: the existing row, or a new one in a free slot of its
+/// probe window. Planning never forgets a state to make room (that churned tens of millions of
+/// rows per set on paper-sim, each a state real experience had taught): with no free slot it
+/// returns QSTORE_NO_ROW and counts `plan_refused`.
+qstore_row_t qstore_row_for_plan(qstore_t *qs, agent_state_t s);
+
+/// Q += alpha * (target - Q) for action a of `row`, computed in float and stored rounded to the
+/// nearest value16; *value (may be NULL) gets the value stored. Returns whether the stored value
+/// changed: once Q is within about one value16 step of the target an update rounds back to where
+/// it was, and a planner that requeued such a pair would replay it forever.
+bool qstore_learn(qstore_t *qs, qstore_row_t row, uint8_t a, float target, float alpha,
+                  float *value);
+
+/// Whether an update of a stored value q towards `target` at rate alpha would change it: a
+/// planner queues a pair only if so. In value16s a value near its target rounds back to itself
+/// (the step between them is 2^-10 of the value, larger than a small sweep threshold), and a
+/// pair queued for an update that changes nothing would be replayed, with its predecessors,
+/// forever.
+bool qstore_moves(const qstore_t *qs, float q, float target, float alpha);
+
+/// Sets action a of `row` to v (rounded to the nearest value16).
+void qstore_set(qstore_t *qs, qstore_row_t row, uint8_t a, float v);
+
+/// max over a of the values of `row`.
+float qstore_row_max(const qstore_t *qs, qstore_row_t row);
+
+/// The largest |Q| a restored table of floats may hold: far beyond any return a robot's rewards
+/// and discount give, and far enough below FLT_MAX that learning from it cannot overflow.
+/// (value16s saturate at VALUE16_MAX.)
 #define QSTORE_VALUE_LIMIT 1e9f
 
 /// The most regions qstore_regions() lists.
@@ -74,7 +116,8 @@ uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out);
 
 /// Checks restored contents before they are copied into `qs` (which gives the shape: capacity,
 /// actions, dense or hashed): image[i] holds the bytes of region i as qstore_regions() lists
-/// them. Every value must be finite and within QSTORE_VALUE_LIMIT; in a hashed table every key
+/// them. Every float must be finite and within QSTORE_VALUE_LIMIT, every value16 a value
+/// (value16_ok: no exponent 63); in a hashed table every key
 /// must be empty or a state of `state_bits` bits, found by a search from its home slot within
 /// FW_CFG_MAX_PROBE slots (no empty slot and no copy of it before it), and every empty row all
 /// zeros (a new row is used as it is). Reads only. Returns FW_OK or FW_ERR_CORRUPT.

@@ -36,6 +36,13 @@ typedef struct agent_space {
     /// outside it (a position) are what the model generalises over. 0: no generalisation (a
     /// gridworld, where a wall makes neighbouring cells unlike each other).
     uint8_t context_mask;
+    /// The motion turns the circular component in steps of 2^turn_step_bits values (aligned
+    /// turns: 90 degrees over 16 headings is 2 bits), so once the robot has turned its heading
+    /// is a multiple of that step. Where its storage cannot hold every place, the model's
+    /// percept map keeps only those headings' places (a quarter of the memory over 16
+    /// headings), and a place between them (a start's heading before the first turn) is not
+    /// mapped. 0: every value is reached (unaligned turns).
+    uint8_t turn_step_bits;
 } agent_space_t;
 
 /// The most bits the absolute components of a space may have together: the model keeps, per

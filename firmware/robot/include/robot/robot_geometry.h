@@ -29,6 +29,12 @@ uint32_t robot_cell_of(float v, float extent, uint8_t bits);
 /// The agent's state space for this robot: x, y, heading (circular), range code (absolute).
 void robot_config_space(const robot_config_t *cfg, agent_space_t *out);
 
+/// How many low heading bits aligned turns never change once the robot has turned: g when a
+/// turn is exactly 2^g heading sectors (90 degrees over 16 sectors: 2), else 0 (fixed turns, or
+/// turns that do not divide the sectors). The model keeps its percept map over the headings
+/// turns reach (agent_space_t.turn_step_bits), so 16 sectors cost the memory of 4.
+uint32_t robot_turn_step_bits(const robot_config_t *cfg);
+
 /// The range code: bit k set when a sensor of rays_of_bit[k] reads below its threshold.
 /// Readings that are not finite or not positive count as "nothing near".
 uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint32_t n);

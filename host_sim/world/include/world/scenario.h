@@ -142,6 +142,12 @@ struct Learning {
     int step_cap = 200;
     int sets = 5;
     int episodes = 20;
+    /// Dyna-QPC's world model: "relocatable" (ours, the default) or "paper" (the paper's
+    /// CMAC-Model and CMAC-R, docs/agent.md).
+    std::string model = "relocatable";
+    /// With the paper's model: the CMACs' tile width of x, y, heading and the range code as powers
+    /// of two (`tiles 1,1,0,0`: x and y two cells wide); empty: the firmware's default.
+    std::vector<int> model_tiles;
 };
 
 /// A parsed, validated scenario. Plain data: copy it freely.
@@ -203,6 +209,10 @@ struct CellBox {
 /// The cells of the state grid whose centres are inside the goal circle (what `goal ... cells`
 /// makes the goal), whether or not the scenario says `cells`.
 std::vector<CellBox> goal_cells(const Scenario &s);
+
+/// "1,1,0,0": the paper's model's tile widths (powers of two, 0..4) of x, y, heading and the
+/// range code, into `out`. False, with `problem` saying why, for another text.
+bool parse_model_tiles(const std::string &text, std::vector<int> *out, std::string *problem);
 
 /// The distance from (x, y) to the nearest of goal_cells(): 0 inside one, infinity when there
 /// are none.

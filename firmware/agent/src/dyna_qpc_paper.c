@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc: Dyna-QPC with the paper's model (`--model paper`): Fig. 3's prioritized sweeping over
+// CMAC-Model and CMAC-R (paper_model.h), as the paper's Figs. 9 and 10 put them together.
+//
+// Why a set of operations of its own rather than branches through dyna_qpc.c: ours plans through
+// a model with several outcomes per pair, a predecessor search whose answers the planner carries
+// from one update to the next, and queues the pairs a new state makes predictable; none of that
+// is the paper's. Here a planning update is Fig. 3 (g) and nothing more: pop the most urgent pair,
+// back it up through CMAC-Model, queue what CMAC-R names as leading into its state. What both
+// share is the agent (the Q store, acting, the real step's update: agent.c), the queue
+// (pqueue.h), the settings, and the trust gate. dyna_qpc.c's init hands the agent over to these
+// operations when agent_params_t.model is AGENT_MODEL_PAPER: that is the one switch.
+#include <stddef.h>
+#include <string.h>
+
+#include "algorithm.h"
+#include "fw/fw_base.h"
+
+FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + PAPER_MODEL_REGIONS <= AGENT_MAX_REGIONS,
+                 dyna_qpc_paper_lists_at_most_AGENT_MAX_REGIONS);
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24, paper_queue_keys_fit);
+
+// Dyna-QPC's models by name (agent.h: AGENT_MODEL_*): ours, and the paper's, which this file runs.
+static const char *const model_names_[AGENT_MODELS] = {"relocatable", "paper"};
+
+const char *agent_model_name(uint8_t model)
+{
+    return model < AGENT_MODELS ? model_names_[model] : NULL;
+}
+
+int agent_model_from_name(const char *name, uint8_t *model)
+{
+    for (uint32_t k = 0; name != NULL && k < AGENT_MODELS; k++) {
+        if (strcmp(name, model_names_[k]) == 0) {
+            *model = (uint8_t)k;
+            return FW_OK;
+        }
+    }
+    return FW_ERR_INVAL;
+}
+
+static int init_(agent_t *ag, const agent_storage_t *st)
+{
+    const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    if (mine->pq_heap == NULL) {
+        return FW_ERR_INVAL;
+    }
+    const int err = paper_model_init(&me->paper, ag->space, ag->params.model_tile_shift,
+                                     ag->params.tilings, ag->params.model_rate,
+                                     ag->params.min_count, &mine->paper);
+    if (err) {
+        return err;
+    }
+    return pq_init(&me->pq, mine->pq_heap, mine->pq_index_keys, mine->pq_index_pos,
+                   mine->pq_capacity);
+}
+
+static void clear_(agent_t *ag)
+{
+    paper_model_clear(&ag->alg.dyna_qpc.paper);
+    pq_clear(&ag->alg.dyna_qpc.pq);
+}
+
+static uint32_t key_(const agent_t *ag, agent_state_t s, uint8_t a)
+{
+    return s * ag->space->n_actions + a;
+}
+
+// Fig. 3 (d) to (f): the model learns the step, which is queued by its priority.
+static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
+                     bool terminal, float priority)
+{
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    (void)paper_model_learn(&me->paper, s, a, r, s_next, terminal);
+    if (priority > ag->params.theta) {
+        (void)pq_push(&me->pq, key_(ag, s, a), priority);
+    }
+}
+
+// Fig. 3 (g), one pass: the most urgent pair is backed up through CMAC-Model, then each pair
+// CMAC-R names as leading into its state is queued by how much the change matters to it.
+static bool plan_one_(agent_t *ag)
+{
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    uint32_t key;
+    float priority;
+    if (!pq_pop(&me->pq, &key, &priority)) {
+        return false;
+    }
+    const uint32_t n_actions = ag->space->n_actions;
+    const agent_state_t s = key / n_actions;
+    const uint8_t a = (uint8_t)(key % n_actions);
+    model_step_t step;
+    qstore_row_t row = QSTORE_NO_ROW;
+    if (!paper_model_predict(&me->paper, s, a, &step) ||
+        (row = qstore_row_for_plan(&ag->q, s)) == QSTORE_NO_ROW) {
+        ag->stats.planning_skipped++;  // untrusted, or no Q row and no room for one
+        return true;
+    }
+    const float target = agent_target_(ag, step.reward, step.next, step.terminal != 0u);
+    float q_sa;
+    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
+    ag->stats.planning_updates++;
+    const float left = agent_abs_(target - q_sa);
+    // What a step below 1 left (as ours: docs/agent.md, 2.), if another update would change it.
+    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
+        (void)pq_push(&me->pq, key, left);
+    }
+    model_pred_t pred[PAPER_MAX_PREDECESSORS];
+    const uint32_t n = paper_model_predecessors(&me->paper, s, pred);
+    const float value_here = ag->params.gamma * qstore_row_max(&ag->q, row);
+    for (uint32_t i = 0; i < n; i++) {
+        const float q_pred = qstore_get(&ag->q, pred[i].state, pred[i].action);
+        const float target_pred = pred[i].reward + value_here;
+        const float p = agent_abs_(target_pred - q_pred);
+        if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {
+            (void)pq_push(&me->pq, key_(ag, pred[i].state, pred[i].action), p);
+        }
+    }
+    return true;
+}
+
+static uint32_t plan_(agent_t *ag, uint32_t n)
+{
+    uint32_t done = 0;
+    while (done < n && plan_one_(ag)) {
+        done++;
+    }
+    return done;
+}
+
+static uint32_t regions_(const agent_t *ag, agent_region_t *out)
+{
+    return paper_model_regions(&ag->alg.dyna_qpc.paper, out);
+}
+
+static int check_(const agent_t *ag, const void *const *image, uint32_t state_bits)
+{
+    (void)state_bits;
+    return paper_model_check(&ag->alg.dyna_qpc.paper, image);
+}
+
+static void restored_(agent_t *ag)
+{
+    paper_model_restored(&ag->alg.dyna_qpc.paper);
+    pq_clear(&ag->alg.dyna_qpc.pq);  // work in progress, not knowledge: never saved
+}
+
+static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+{
+    const paper_model_t *m = &ag->alg.dyna_qpc.paper;
+    out[0] = (agent_counter_t){"cmac_fwd", m->forward.stats.cells_used, m->forward.capacity};
+    out[1] = (agent_counter_t){"cmac_evicted", m->forward.stats.evicted, 0u};
+    out[2] = (agent_counter_t){"cmac_dropped", m->forward.stats.dropped, 0u};
+    out[3] = (agent_counter_t){"cmac_r", m->inverse.stats.cells_used, m->inverse.capacity};
+    out[4] = (agent_counter_t){"cmac_r_evicted", m->inverse.stats.evicted, 0u};
+    out[5] = (agent_counter_t){"cmac_r_dropped", m->inverse.stats.dropped, 0u};
+    out[6] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
+    out[7] = (agent_counter_t){"model_rejected", m->rejected, 0u};
+    out[8] = (agent_counter_t){"queue", ag->alg.dyna_qpc.pq.size, ag->alg.dyna_qpc.pq.capacity};
+    out[9] = (agent_counter_t){"queue_dropped", ag->alg.dyna_qpc.pq.stats.dropped, 0u};
+    return 10u;
+}
+
+static uint32_t backlog_(const agent_t *ag)
+{
+    return pq_size(&ag->alg.dyna_qpc.pq);
+}
+
+const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
+    .init = init_,
+    .clear = clear_,
+    .observe = observe_,
+    .plan = plan_,
+    .regions = regions_,
+    .check = check_,
+    .restored = restored_,
+    .counters = counters_,
+    .backlog = backlog_,
+};
