@@ -71,7 +71,7 @@ void declare(Options &o, TrainSettings &s)
     o.add_uint("--plan-cycles", "C",
                "with idle-time planning (--planning 0, the default of the shipped scenarios): MCU "
                "cycles per planning update at 168 MHz (default: the agent's own Cortex-M4 "
-               "measurement: dyna-qpc 4213, dyna-q 361, dyna-q-majority 359; docs/results.md)",
+               "measurement: dyna-qpc 4213, dyna-q 389, dyna-q-majority 388; docs/results.md)",
                &s.plan_cycles, 1, 100000000);
     o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
                &s.seed, 0, UINT32_MAX);
