@@ -25,6 +25,7 @@
 #include "bus_link.h"
 #include "commands.h"
 #include "devices.h"
+#include "lockstep.h"
 #include "drivers/telemetry.h"
 #include "dynaqpc_can.h"
 #include "options.h"
@@ -62,6 +63,7 @@ struct DevicesSettings {
     std::string scenario;
     double speed = 1.0;
     std::uint32_t seed = 1;
+    std::uint32_t set = 0;
     double duration = 0.0;
     bool supervise = false;
     std::uint32_t episodes = 0;
@@ -86,6 +88,7 @@ public:
         if (!fw_seen_ && from_firmware(f)) {
             fw_seen_ = true;
         }
+        if (running_) check_.on_frame(f, world_.pose());
         if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
             tlm_status_t st;
             if (tlm_decode_status(&f, &st) == 0) {
@@ -110,9 +113,11 @@ public:
             running_ = false;
             done_++;
             const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
-            std::printf("episode=%u steps=%u reward=%d reached_goal=%d bumps=%u robot_time_s=%.3f wall_s=%.3f\n",
+            std::printf("episode=%u steps=%u reward=%d reached_goal=%d bumps=%u robot_time_s=%.3f wall_s=%.3f "
+                        "start=%.3f,%.3f,%.1f %s\n",
                         e.episode, e.steps, e.total_reward, e.reached_goal ? 1 : 0, e.bumps,
-                        static_cast<double>(t_us - start_us_) * 1e-6, wall);
+                        static_cast<double>(t_us - start_us_) * 1e-6, wall, start_pose_.x, start_pose_.y,
+                        start_pose_.heading * 57.29577951308232, check_.summary().c_str());
             std::fflush(stdout);
             return true;
         }
@@ -158,6 +163,7 @@ private:
     {
         start_pose_ = world_.sample_start_pose();
         world_.reset(start_pose_);
+        check_.reset();
         send_start();
         running_ = true;
         fw_idle_ = false;  // until a status says so after the command
@@ -174,6 +180,7 @@ private:
     const robot_config_t &cfg_;
     BusLink &bus_;
     world::Pose start_pose_{};
+    PoseCheck check_;
     bool fw_seen_ = false, fw_idle_ = false, running_ = false, fw_safe_ = false, silent_ = false;
     std::uint64_t start_us_ = 0, sent_us_ = 0, safe_since_us_ = 0, last_status_us_ = 0;
     std::uint32_t safe_stops_ = 0, restarts_ = 0;
@@ -208,6 +215,9 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     o.add_double("--speed", "X", "world time runs X times faster than real time (default 1; the firmware's "
                  "--speed must match)", &s.speed, 0.0, 1000.0, true, false);
     o.add_uint("--seed", "N", "world and sensor noise seed (default 1)", &s.seed, 0, UINT32_MAX);
+    o.add_uint("--set", "K", "use set K's seed of an experiment seeded with --seed, as `train --seed S` "
+               "gives its set K (the world's and, printed as seed=N, the firmware's; default: --seed itself)",
+               &s.set, 1, UINT32_MAX);
     o.add_double("--duration", "SEC", "stop after SEC seconds of wall time (default: until SIGINT/SIGTERM)",
                  &s.duration, 0.0, 1e9, true, false);
     o.add_flag("--supervise", "act as the operator: random start, TOOL_CMD START_EPISODE, one line per episode",
@@ -225,6 +235,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     if (o.seen("--episodes") && !s.supervise) throw UsageError("--episodes: only with --supervise");
 
     const ScenarioBundle sb = load_scenario(s.scenario);
+    if (o.seen("--set")) s.seed = set_seed(s.seed, s.set);
     world::World world(*sb.world, s.seed);
     Devices devices(world, s.seed);
     const std::uint64_t dt_us = static_cast<std::uint64_t>(std::llround(sb.world->timing.physics_dt * 1e6));
@@ -243,8 +254,8 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     // is put down at a random start, as the supervisor would, not at the arena's centre (which
     // may be in the goal, ending the first episode at its first step).
     if (!s.supervise) world.reset(world.sample_start_pose());
-    std::printf("devices: %s, speed %gx, %s; ready\n", sb.name.c_str(), s.speed,
-                s.supervise ? "supervising" : "no supervisor");
+    std::printf("devices: %s, speed %gx, %s, seed=%u; ready\n", sb.name.c_str(), s.speed,
+                s.supervise ? "supervising" : "no supervisor", s.seed);
     std::fflush(stdout);
 
     struct sigaction sa {};

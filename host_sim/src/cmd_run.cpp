@@ -116,7 +116,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     lo.flash_file = load;
     lo.evaluate = !learn;
     lo.flash_read_only = true;
-    lo.plan_update_cycles = kDefaultPlanCycles;  // a scenario with planning 0 plans in idle time
+    lo.plan_update_cycles = plan_cycles_of(cfg.agent);  // a scenario with planning 0 plans in idle time
     std::unique_ptr<Lockstep> sim_ptr;
     try {
         sim_ptr = std::make_unique<Lockstep>(*sb.world, cfg, lo);

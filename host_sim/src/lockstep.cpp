@@ -55,6 +55,7 @@ struct Lockstep::Impl {
     std::uint64_t episode_start_us = 0, episode_end_us = 0;
     TrajectoryPoint point;
     bool point_has_action = false;
+    PoseCheck pose_check;  // the firmware's pose against the world's, over the set
 
     Impl(const world::Scenario &sc, const robot_config_t &c, const LockstepOptions &o)
         : cfg(c), opt(o), world(sc, o.seed), devices(world, o.seed)
@@ -112,6 +113,7 @@ struct Lockstep::Impl {
         hal_can_frame_t f;
         while (hal_host_can_take_tx(&f)) {
             devices.receive(f, t_us);
+            pose_check.on_frame(f, world.pose());
             if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID) {
                 if (tlm_decode_episode(&f, &episode) == 0) {
                     episode_over = true;
@@ -233,7 +235,7 @@ struct Lockstep::Impl {
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
-          << " clock_lead_max_us=" << max_lead_us;
+          << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary();
         return o.str();
     }
 };
@@ -275,6 +277,16 @@ agent_t *Lockstep::agent() const
 std::string Lockstep::counters() const
 {
     return impl_->counters();
+}
+
+// Set k of an experiment seeded with s: a splitmix-style mix, so neighbouring seeds and sets
+// give unrelated streams, and a set's results do not depend on --jobs.
+std::uint32_t set_seed(std::uint32_t seed, std::uint32_t set)
+{
+    std::uint64_t z = (static_cast<std::uint64_t>(seed) << 32) + set + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::uint32_t>((z ^ (z >> 31)) >> 16);
 }
 
 }  // namespace dynaqpc

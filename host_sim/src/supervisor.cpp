@@ -2,10 +2,14 @@
 // dynaqpc-sim: the operator's frames and bounds.
 #include "supervisor.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "drivers/telemetry.h"
+#include "dynaqpc_can.h"
 #include "fw/fw_util.h"
 
 namespace dynaqpc {
@@ -29,6 +33,46 @@ std::uint64_t episode_limit_us(const robot_config_t &cfg)
 {
     return static_cast<std::uint64_t>(cfg.step_cap + 2) * (cfg.action_periods + (cfg.wait_for_fix ? 60u : 1u)) *
                cfg.period_us + 10000000u;
+}
+
+void PoseCheck::on_frame(const hal_can_frame_t &f, const world::Pose &truth)
+{
+    if (f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID) {
+        tlm_pose_t p;
+        if (tlm_decode_pose(&f, &p) == 0) {
+            fw_x_ = p.x_mm * 1e-3;
+            fw_y_ = p.y_mm * 1e-3;
+            fw_heading_deg_ = p.heading_cdeg * 0.01;
+            have_pose_ = true;
+        }
+    } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && have_pose_) {
+        constexpr double kDegPerRad = 57.29577951308232;
+        double e = std::fmod(fw_heading_deg_ - truth.heading * kDegPerRad, 360.0);
+        if (e > 180.0) e -= 360.0;
+        if (e < -180.0) e += 360.0;
+        e = std::fabs(e);
+        if (std::getenv("DYNAQPC_POSE_TRACE") != nullptr) {
+            std::printf("posecheck fw=%.3f,%.3f,%.1f world=%.3f,%.3f,%.1f\n", fw_x_, fw_y_, fw_heading_deg_, truth.x,
+                        truth.y, truth.heading * kDegPerRad);
+        }
+        heading_sum_ += e;
+        heading_max_ = std::max(heading_max_, e);
+        position_sum_ += std::hypot(fw_x_ - truth.x, fw_y_ - truth.y);
+        n_++;
+    }
+}
+
+void PoseCheck::reset()
+{
+    *this = PoseCheck{};
+}
+
+std::string PoseCheck::summary() const
+{
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "head_err_mean_deg=%.1f head_err_max_deg=%.1f pos_err_mean_m=%.3f",
+                  heading_err_mean_deg(), heading_err_max_deg(), position_err_mean_m());
+    return buf;
 }
 
 }  // namespace dynaqpc

@@ -5,6 +5,7 @@
 #define DYNAQPC_SIM_SUPERVISOR_H
 
 #include <cstdint>
+#include <string>
 
 #include "hal/hal_can.h"
 #include "robot/robot_config.h"
@@ -21,6 +22,30 @@ hal_can_frame_t start_episode_frame(const robot_config_t &cfg, const world::Pose
 /// A generous bound on one episode's robot time: the step cap's actions and fix waits, plus 10 s.
 /// An episode that outlasts it means the firmware stopped ending episodes.
 std::uint64_t episode_limit_us(const robot_config_t &cfg);
+
+/// How far the firmware's idea of where it is (its TLM_POSE) is from the simulated robot's true
+/// pose, at each real step's observation (the TLM_LEARN that follows the period's TLM_POSE):
+/// the robot then stands still waiting for its fix, so the comparison is fair on a real-time bus
+/// as in lock-step. A heading that drifts puts the robot in other states and its aligned moves
+/// off the grid; the closed loop's diagnosis (docs/results.md, issue 23) reads it.
+class PoseCheck {
+public:
+    /// A frame from the firmware; `truth` is the world's pose now.
+    void on_frame(const hal_can_frame_t &f, const world::Pose &truth);
+    void reset();
+    std::uint32_t steps() const { return n_; }
+    double heading_err_mean_deg() const { return n_ ? heading_sum_ / n_ : 0.0; }
+    double heading_err_max_deg() const { return heading_max_; }
+    double position_err_mean_m() const { return n_ ? position_sum_ / n_ : 0.0; }
+    /// "head_err_mean_deg=.. head_err_max_deg=.. pos_err_mean_m=.."
+    std::string summary() const;
+
+private:
+    bool have_pose_ = false;
+    double fw_x_ = 0.0, fw_y_ = 0.0, fw_heading_deg_ = 0.0;
+    std::uint32_t n_ = 0;
+    double heading_sum_ = 0.0, heading_max_ = 0.0, position_sum_ = 0.0;
+};
 
 }  // namespace dynaqpc
 

@@ -155,6 +155,8 @@ class BusWatch:
 
 REPORT_RE = re.compile(r"^(report|final): (.*)$")
 PTY_RE = re.compile(r"char device redirected to (\S+) \(label (\S+)\)")
+# `dynaqpc-sim devices` names its seed (with --set K, the set's) on its ready line.
+SEED_RE = re.compile(r"seed=(\d+); ready")
 
 
 def parse_report(line: str) -> Optional[Dict[str, int]]:
@@ -251,15 +253,23 @@ def cmd_run(args) -> int:
                    "--wait-firmware", "--duration", str(args.duration + 30)]
         if args.episodes:
             dev_cmd += ["--episodes", str(args.episodes)]
+        if args.set:
+            dev_cmd += ["--set", str(args.set)]
         devices = subprocess.Popen(dev_cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
         dev_lines = Lines(devices, "devices: " if not args.quiet else "", not args.quiet)
         m = dev_lines.wait_for(re.compile(r"^cricket_tty=(\S+)"), 15)
         if not m:
             raise ToolError("dynaqpc-sim devices did not name its Cricket pty")
         cricket_tty = m.group(1)
+        # The seed the devices use (with --set, the set's seed mixed from --seed as `train` mixes
+        # it) is the firmware's too: the same seed means the same run as the lock-step build's.
+        m = dev_lines.wait_for(SEED_RE, 15)
+        if not m:
+            raise ToolError("dynaqpc-sim devices did not name its seed")
+        board_seed = int(m.group(1))
         watch = BusWatch(dbc).start()
 
-        append = f"seed={args.seed} report_s={args.report_s} speed={args.speed}"
+        append = f"seed={board_seed} report_s={args.report_s} speed={args.speed}"
         if args.step_cap:
             append += f" step_cap={args.step_cap}"
         if args.planning is not None:
@@ -283,11 +293,18 @@ def cmd_run(args) -> int:
         print(f"emu: QEMU netduinoplus2 ({os.path.basename(args.elf)}), SLCAN on {m.group(1)}, "
               f"Cricket on {cricket_tty}, devices: paper-lab", flush=True)
 
+        # SIGTERM or SIGINT (also when started in the background, where SIGINT is ignored) end
+        # the run early as --duration does: QEMU and the devices stopped, the counters printed.
+        stop = threading.Event()
+        for sig in (signal.SIGTERM, signal.SIGINT):
+            signal.signal(sig, lambda *_: stop.set())
         deadline = time.monotonic() + args.duration
-        while time.monotonic() < deadline:
+        while time.monotonic() < deadline and not stop.is_set():
             if qemu.poll() is not None or devices.poll() is not None:
                 break
             time.sleep(0.2)
+        if stop.is_set():
+            print("emu: stopped by a signal", flush=True)
         time.sleep(0.5)  # the last frames and report line
         args.wall_s = time.monotonic() - wall0
     finally:
@@ -386,7 +403,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
     r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
     r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
-    r.add_argument("--seed", type=int, default=1)
+    r.add_argument("--seed", type=int, default=1,
+                   help="the world's and the firmware's seed (with --set: the experiment's, as train --seed)")
+    r.add_argument("--set", type=int, default=0, metavar="K",
+                   help="run set K of `dynaqpc-sim train --seed S`: the devices and the firmware get that "
+                        "set's seed (default: --seed itself)")
     r.add_argument("--speed", type=int, default=1,
                    help="the devices and the firmware's clock X times faster than real time (X divides 168); "
                         "with --icount 0 at 8 the firmware sees 125 M instructions per second of its time")

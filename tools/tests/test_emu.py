@@ -23,3 +23,24 @@ def test_run_options():
     assert args.agent == "dyna-q" and args.icount == 3 and args.speed == 8
     assert args.min_idle_loop_updates == 5 and args.no_persist
     assert emu.AGENTS.index("dyna-qpc") == 2  # agent_kind_t's AGENT_DYNA_QPC
+
+
+def test_the_board_gets_the_devices_seed():
+    """`run --set K` hands the board the seed the devices print: that of train's set K."""
+    import subprocess
+    from conftest import c_binary, in_netns
+    sim = c_binary("dynaqpc-sim")
+    if not sim.exists():
+        import pytest
+        pytest.skip(f"{sim} not built")
+    seeds = []
+    for k in ("1", "2", "2"):
+        out = subprocess.run(in_netns([str(sim), "devices", "--scenario", "paper-lab", "--seed", "1", "--set", k,
+                                       "--wait-firmware", "--duration", "0.2"]),
+                             capture_output=True, text=True, timeout=30).stdout
+        m = emu.SEED_RE.search(out)
+        assert m, out
+        seeds.append(int(m.group(1)))
+    assert seeds[0] != seeds[1] and seeds[1] == seeds[2] and seeds[0] != 1
+    args = emu.build_parser().parse_args(["run", "--seed", "1", "--set", "2"])
+    assert args.set == 2 and args.seed == 1

@@ -42,6 +42,8 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
         !dynaqpc_can_gyro_rate_status_is_in_range(msg.status)) {
         return can_link_rx_reject(&gyro->rx);
     }
+    // Samples since the last accepted one (more than 1 when frames were lost), by the counter.
+    const uint32_t steps = gyro->rx.seen ? (uint32_t)((msg.counter - gyro->rx.counter) & (CAN_LINK_COUNTER_MOD - 1u)) : 1u;
     int err = can_link_rx_accept(&gyro->rx, msg.counter, now_us);
     if (err != FW_OK) {
         return err;
@@ -55,11 +57,33 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     }
     float rate = (float)msg.yaw_rate * 0.01f;
     if (gyro->stationary) {
-        gyro->bias_deg_s += (rate - gyro->bias_deg_s) / (float)(1u << FW_CFG_GYRO_BIAS_SHIFT);
+        // "Stationary" is when the wheels were told to stop; the robot stops some time later
+        // (on the emulated board the motor command crossed a serial line, a Python bridge and
+        // the bus: ~20-60 ms at 190 deg/s). Learning from those samples made the bias several
+        // deg/s wrong after every turn, and the heading drifted by that much per second
+        // (85 degrees off on average over the board's first episode; docs/results.md, issue 23).
+        const float off = rate - gyro->bias_deg_s;
+        if (off <= (float)FW_CFG_GYRO_BIAS_GATE_DEG_S && off >= -(float)FW_CFG_GYRO_BIAS_GATE_DEG_S) {
+            gyro->bias_deg_s += off / (float)(1u << FW_CFG_GYRO_BIAS_SHIFT);
+        } else {
+            gyro->bias_rejected++;
+        }
     }
-    if (gyro->have_prev && now_us > gyro->prev_us) {
-        uint64_t dt_us = now_us - gyro->prev_us;
-        if (dt_us <= FW_CFG_GYRO_MAX_DT_US) {
+    if (gyro->have_prev && now_us >= gyro->prev_us) {
+        const uint64_t rx_dt_us = now_us - gyro->prev_us;
+#if FW_CFG_GYRO_PERIOD_US != 0u
+        // The samples' own spacing decides: a frame delivered late by a stalled bridge or host is
+        // no gap when the counter says no sample was lost. The receive times only tell a silence
+        // too long for the counter to count (CAN_LINK_COUNTER_MOD periods).
+        const uint64_t dt_us = (uint64_t)steps * FW_CFG_GYRO_PERIOD_US;
+        const bool bridged = dt_us <= FW_CFG_GYRO_MAX_DT_US &&
+                             rx_dt_us < (uint64_t)CAN_LINK_COUNTER_MOD * FW_CFG_GYRO_PERIOD_US;
+#else
+        (void)steps;
+        const uint64_t dt_us = rx_dt_us;
+        const bool bridged = rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
+#endif
+        if (bridged) {
             float dt = (float)dt_us * 1e-6f;
             float mean = 0.5f * (gyro->prev_rate_deg_s + rate) - gyro->bias_deg_s;
             gyro->heading_deg = wrap_deg(gyro->heading_deg + mean * dt);

@@ -151,6 +151,38 @@ static void test_gyro_learns_bias_while_stationary(void **state)
     assert_float_equal(gyro_heading_deg(&g), 30.0f, 0.01f);
 }
 
+// The wheels stop some time after the command: a robot told to stand still may still turn for a
+// few samples (on the emulated board, ~20-60 ms of a 190 deg/s turn). Those samples are not bias;
+// learning from them made the heading drift by degrees per turn (docs/results.md, issue 23).
+static void test_gyro_bias_ignores_a_turn_still_ending(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    uint8_t c = 0;
+    uint64_t t = 0;
+    gyro_set_stationary(&g, true);
+    for (unsigned i = 0; i < 1000u; i++) {  // 0.5 deg/s offset learnt
+        hal_can_frame_t f = gyro_frame(&c, 50, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    }
+    gyro_set_heading(&g, 90.0f);
+    // Told to stop, it turns on at -190 deg/s for three samples (48 ms), then stands still 2 s.
+    for (unsigned i = 0; i < 3u; i++) {
+        hal_can_frame_t f = gyro_frame(&c, -19000, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    }
+    for (unsigned i = 0; i < 125u; i++) {
+        hal_can_frame_t f = gyro_frame(&c, 50, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    }
+    assert_int_equal(g.bias_rejected, 3);
+    assert_float_equal(g.bias_deg_s, 0.5f, 1e-3f);
+    // The turn itself is integrated (trapezoids over its four intervals, the bias removed).
+    const float turned = (0.5f * (0.5f - 190.0f) + 2.0f * -190.0f + 0.5f * (-190.0f + 0.5f) - 4.0f * 0.5f) * 0.016f;
+    assert_float_equal(gyro_heading_deg(&g), 90.0f + turned, 0.01f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -159,6 +191,7 @@ int main(void)
         cmocka_unit_test(test_gyro_integrates_rate_over_receive_time),
         cmocka_unit_test(test_gyro_skips_gaps_and_unusable_samples),
         cmocka_unit_test(test_gyro_learns_bias_while_stationary),
+        cmocka_unit_test(test_gyro_bias_ignores_a_turn_still_ending),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -4,7 +4,8 @@
 // gyro_rx_rate() decodes a frame and integrates the heading: the trapezoid of the last two rates
 // over the time between their receive stamps, minus the bias estimate. The bias is learnt while
 // the application says the robot stands still (gyro_set_stationary), which is when a rate is
-// pure bias. Samples with Status INIT or FAULT are not integrated; a gap longer than
+// pure bias, from samples within FW_CFG_GYRO_BIAS_GATE_DEG_S of the estimate (farther: the robot
+// is still turning after the wheels were told to stop). Samples with Status INIT or FAULT are not integrated; a gap longer than
 // FW_CFG_GYRO_MAX_DT_US is not bridged (counted in `gaps`: the heading is then suspect).
 // Context: one thread; nothing blocks.
 #ifndef DRIVERS_GYRO_H
@@ -39,6 +40,7 @@ typedef struct gyro {
     float prev_rate_deg_s;  ///< last integrated rate (bias not removed)
     uint64_t prev_us;
     uint32_t gaps;          ///< intervals longer than FW_CFG_GYRO_MAX_DT_US not integrated
+    uint32_t bias_rejected; ///< stationary samples beyond the bias gate (still turning): not learnt
 } gyro_t;
 
 /// Clears the state; heading 0, bias 0, not stationary.

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc netduinoplus2 board: the hal_* contract on what QEMU's netduinoplus2 models (board.h).
 //
-// Time, interrupts and the Cricket USART are the STM32F4 port's drivers on the same registers
-// (stm32f4_time.c, stm32f4_usart.c). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
+// Interrupts and the Cricket USART are the STM32F4 port's drivers on the same registers
+// (stm32f4_usart.c); time is TIM2's counter (below: why not SysTick's interrupts, as on the
+// STM32F4). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
 // stm32f2xx-usart shape the serial code: its interrupt is raised for RXNE only (TXE never
 // interrupts), and a write to DR is sent at once (TXE always reads 1). So received bytes come by
 // interrupt, one per interrupt, through the driver's ring; transmitted bytes are written to DR
@@ -71,22 +72,53 @@ int nd2_board_init(void)
     return 0;
 }
 
-// ---- Time (SysTick at the core clock, 1 kHz interrupt: as the STM32F4 port) -------------------------
-static volatile uint64_t ms_;
-static uint32_t ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u;  // core cycles per firmware microsecond
+// ---- Time: TIM2's counter, read; SysTick's 1 kHz interrupt only wakes the idle loop ---------------
+// QEMU delivers SysTick's interrupt when the vCPU thread runs. On a loaded host that thread can
+// be off the CPU for more than a millisecond; periods that expire meanwhile raise one pending
+// interrupt, not several, so a clock that counts SysTick interrupts (as the STM32F4 port's does,
+// where no interrupt is ever that late) loses milliseconds. Measured on the shared 2-core host at
+// load ~8: the firmware's clock ran at 0.89 of the wall and of the simulated devices' time, so
+// each action's two 192 ms periods lasted 12 % longer in the world (turns and steps overshot) and
+// the gyro's integration, timed by the same clock, saw 11 % less rotation than there was: the
+// heading drifted and the robot learned three times more slowly than the lock-step build
+// (docs/results.md, issue 23). QEMU's stm32f2xx-timer computes CNT from its virtual clock at
+// each read (1 GHz input by default: with PSC = 999 it counts microseconds), so nothing is lost
+// however late the vCPU runs; the 32-bit count (71 minutes) is extended to 64 bits here, read
+// at least every millisecond by the SysTick handler. With -icount the virtual clock counts
+// instructions, as SysTick does.
+#define TIM2_BASE 0x40000000u
+#define TIM2_CR1 (*(volatile uint32_t *)(TIM2_BASE + 0x00u))
+#define TIM2_EGR (*(volatile uint32_t *)(TIM2_BASE + 0x14u))
+#define TIM2_CNT (*(volatile uint32_t *)(TIM2_BASE + 0x24u))
+#define TIM2_PSC (*(volatile uint32_t *)(TIM2_BASE + 0x28u))
+#define TIM2_INPUT_HZ 1000000000u  // QEMU 7.2 stm32f2xx-timer "clock-frequency" default
+#define TIM_CR1_CEN 1u
+#define TIM_EGR_UG 1u
+
+static uint32_t speed_ = 1u;         // firmware time runs this many times faster than QEMU's clock
+static uint32_t tim_last_;           // the last count read
+static uint64_t tim_high_;           // counts before it, in multiples of 2^32
+static uint32_t ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u;  // SysTick cycles per firmware us
 
 int nd2_set_time_speed(uint32_t speed)
 {
     if (speed == 0u || (STM32F4_SYSCLK_HZ / 1000000u) % speed != 0u) {
         return -1;
     }
+    speed_ = speed;
     ticks_per_us_ = STM32F4_SYSCLK_HZ / 1000000u / speed;
     return 0;
 }
 
 int hal_time_init(void)
 {
-    ms_ = 0u;
+    TIM2_CR1 = 0u;
+    TIM2_PSC = TIM2_INPUT_HZ / 1000000u - 1u;  // 1 MHz: QEMU microseconds
+    TIM2_CNT = 0u;
+    TIM2_EGR = TIM_EGR_UG;
+    TIM2_CR1 = TIM_CR1_CEN;
+    tim_last_ = 0u;
+    tim_high_ = 0u;
     SYSTICK->CTRL = 0u;
     SYSTICK->LOAD = ticks_per_us_ * 1000u - 1u;
     SYSTICK->VAL = 0u;
@@ -97,20 +129,20 @@ int hal_time_init(void)
 
 void SysTick_Handler(void)
 {
-    ms_ = ms_ + 1u;
+    (void)hal_time_us();  // keeps the 64-bit extension of TIM2's count current
 }
 
 uint64_t hal_time_us(void)
 {
     const hal_irq_state_t s = hal_irq_save();
-    uint64_t ms = ms_;
-    uint32_t val = SYSTICK->VAL;
-    if (SCB_ICSR & SCB_ICSR_PENDSTSET) {
-        ms += 1u;
-        val = SYSTICK->VAL;
+    const uint32_t cnt = TIM2_CNT;
+    if (cnt < tim_last_) {
+        tim_high_ += 1u;  // the 32-bit count wrapped since the last read (< 71 minutes ago)
     }
+    tim_last_ = cnt;
+    const uint64_t us = ((tim_high_ << 32) | cnt) * speed_;
     hal_irq_restore(s);
-    return stm32f4_time_us(ms, SYSTICK->LOAD, val, ticks_per_us_);
+    return us;
 }
 
 // ---- CPU ------------------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc netduinoplus2 board: the robot's firmware on QEMU's `-M netduinoplus2` (an STM32F405
-// with the peripherals QEMU 7.2 models: SysTick, NVIC, USARTs; no RCC, no bxCAN, no flash
+// with the peripherals QEMU 7.2 models: SysTick, NVIC, USARTs, TIM2-5; no RCC, no bxCAN, no flash
 // interface, no IWDG). What stands in for the missing ones:
 //   CAN    SLCAN (Lawicel) lines on USART1 (QEMU's first -serial): tools/dynaqpc_tools/emu
 //          bridges them to the virtual CAN bus (python-can's slcan interface)
@@ -30,7 +30,8 @@ extern "C" {
 int nd2_board_init(void);
 
 /// Firmware time runs `speed` times faster than the emulated clock (1, the default: as on the
-/// robot): a firmware millisecond is 168,000 / speed core cycles of SysTick. With QEMU's
+/// robot): hal_time_us() is TIM2's microsecond count times speed, and SysTick interrupts every
+/// 168,000 / speed core cycles (a firmware millisecond). With QEMU's
 /// -icount shift=S, the firmware then sees a CPU of 1e9 / (2^S x speed) instructions per second
 /// of its own time (shift 0 at speed 8, or shift 3 at speed 1: 125 M), while the simulated devices
 /// run `--speed` times faster than real time alongside. speed must divide 168 (1, 2, 4, 6, 7, 8,
