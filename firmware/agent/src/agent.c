@@ -61,6 +61,7 @@ agent_params_t agent_default_params(void)
     }
     p.stays = 0;
     p.step_reward = 0.0f;
+    p.q_prior = 0.0f;
     return p;
 }
 
@@ -74,7 +75,8 @@ static bool params_valid_(const agent_params_t *p)
            p->model_rate > 0.0f && p->model_rate <= 1.0f && FW_IS_POW2(p->tilings) &&
            p->tilings <= FW_CFG_MAX_TILINGS && p->min_count >= 1u &&
            (p->ablate & ~AGENT_ABLATE_ALL) == 0u && p->model < AGENT_MODELS &&
-           p->explore < AGENT_EXPLORE_MODES && p->kappa >= 0.0f && p->kappa <= AGENT_KAPPA_MAX;
+           p->explore < AGENT_EXPLORE_MODES && p->kappa >= 0.0f && p->kappa <= AGENT_KAPPA_MAX &&
+           p->q_prior >= -QSTORE_VALUE_LIMIT && p->q_prior <= QSTORE_VALUE_LIMIT;
 }
 
 int agent_init(agent_t *ag, const agent_config_t *cfg)
@@ -94,6 +96,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     if (err) {
         return err;
     }
+    qstore_set_prior(&ag->q, cfg->params.q_prior);
     err = ag->algorithm->init(ag, st);
     if (err) {
         return err;

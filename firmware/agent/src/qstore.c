@@ -11,6 +11,22 @@
 #include "fw/fw_util.h"
 #include "inline.h"
 
+// Value i of the table (row * n_actions + action), in either width. The branch goes the same
+// way for the life of the store.
+AGENT_ALWAYS_INLINE float load_(const qstore_t *qs, uint32_t i)
+{
+    return qs->wide ? qs->v.f[i] : value16_to_float(qs->v.h[i]);
+}
+
+AGENT_ALWAYS_INLINE void store_(qstore_t *qs, uint32_t i, float x)
+{
+    if (qs->wide) {
+        qs->v.f[i] = x;
+    } else {
+        qs->v.h[i] = value16_from_float(x);
+    }
+}
+
 int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
                 uint8_t n_actions, uint32_t state_bits)
 {
@@ -28,6 +44,7 @@ int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint
     qs->capacity = capacity;
     qs->n_actions = n_actions;
     qs->dense = (uint8_t)((1u << state_bits) <= capacity);
+    qs->prior = 0.0f;
     qs->index = (oa_table_t){0};
     if (!qs->dense) {
         // Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive
@@ -41,33 +58,28 @@ int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint
     return FW_OK;
 }
 
+void qstore_set_prior(qstore_t *qs, float prior)
+{
+    qs->prior = prior;
+    qstore_clear(qs);
+}
+
 void qstore_clear(qstore_t *qs)
 {
-    // +0.0 is all zero bits in both widths.
+    // +0.0 is all zero bits in both widths. A dense store's rows all exist: they start at the
+    // prior. A hashed store's empty rows stay zero (qstore_check() holds them to it) and take the
+    // prior when a state is given one.
     const uint32_t n = qs->capacity * qs->n_actions;
     memset(qs->wide ? (void *)qs->v.f : (void *)qs->v.h, 0, n * (qs->wide ? 4u : 2u));
+    for (uint32_t i = 0; qs->dense && qs->prior != 0.0f && i < n; i++) {
+        store_(qs, i, qs->prior);
+    }
     if (!qs->dense) {
         oa_clear(&qs->index);
     }
     qs->rows_used = 0;
     qs->dropped = 0;
     qs->plan_refused = 0;
-}
-
-// Value i of the table (row * n_actions + action), in either width. The branch goes the same
-// way for the life of the store.
-AGENT_ALWAYS_INLINE float load_(const qstore_t *qs, uint32_t i)
-{
-    return qs->wide ? qs->v.f[i] : value16_to_float(qs->v.h[i]);
-}
-
-AGENT_ALWAYS_INLINE void store_(qstore_t *qs, uint32_t i, float x)
-{
-    if (qs->wide) {
-        qs->v.f[i] = x;
-    } else {
-        qs->v.h[i] = value16_from_float(x);
-    }
 }
 
 // The row of state s for reading, QSTORE_NO_ROW for an unknown state (which reads as zeros).
@@ -84,7 +96,7 @@ AGENT_ALWAYS_INLINE qstore_row_t row_of_(const qstore_t *qs, agent_state_t s)
 AGENT_ALWAYS_INLINE float max_of_(const qstore_t *qs, qstore_row_t row)
 {
     if (row == QSTORE_NO_ROW) {
-        return 0.0f;
+        return qs->prior;
     }
     const uint32_t base = row * qs->n_actions;
     float best = load_(qs, base);
@@ -100,14 +112,14 @@ AGENT_ALWAYS_INLINE float max_of_(const qstore_t *qs, qstore_row_t row)
 float qstore_get(const qstore_t *qs, agent_state_t s, uint8_t a)
 {
     const qstore_row_t row = row_of_(qs, s);
-    return row == QSTORE_NO_ROW ? 0.0f : load_(qs, row * qs->n_actions + a);
+    return row == QSTORE_NO_ROW ? qs->prior : load_(qs, row * qs->n_actions + a);
 }
 
 void qstore_values(const qstore_t *qs, agent_state_t s, float *out)
 {
     const qstore_row_t row = row_of_(qs, s);
     for (uint32_t a = 0; a < qs->n_actions; a++) {
-        out[a] = row == QSTORE_NO_ROW ? 0.0f : load_(qs, row * qs->n_actions + a);
+        out[a] = row == QSTORE_NO_ROW ? qs->prior : load_(qs, row * qs->n_actions + a);
     }
 }
 
@@ -122,15 +134,15 @@ bool qstore_moves(const qstore_t *qs, float q, float target, float alpha)
     return qs->wide ? next != q : value16_from_float(next) != value16_from_float(q);
 }
 
-// How much a row has learned: the sum of |Q| over its actions (a state seen once or twice has
-// little), for oa_least(). The sum is never negative, and non-negative floats order as their
+// How much a row has learned: the sum of |Q - prior| over its actions (a state seen once or
+// twice has little), for oa_least(). The sum is never negative, and non-negative floats order as their
 // bits do, so the bits are the score.
 static uint32_t learned_(void *ctx, uint32_t slot)
 {
     const qstore_t *qs = ctx;
     float sum = 0.0f;
     for (uint32_t a = 0; a < qs->n_actions; a++) {
-        const float v = load_(qs, slot * qs->n_actions + a);
+        const float v = load_(qs, slot * qs->n_actions + a) - qs->prior;
         sum += v < 0.0f ? -v : v;
     }
     uint32_t bits;
@@ -138,14 +150,20 @@ static uint32_t learned_(void *ctx, uint32_t slot)
     return bits;
 }
 
+// A row given to a new state: every action at the prior.
+static void start_row_(qstore_t *qs, uint32_t row)
+{
+    for (uint32_t a = 0; a < qs->n_actions; a++) {
+        store_(qs, row * qs->n_actions + a, qs->prior);
+    }
+}
+
 // A full probe window: the new state takes the row of the window that has learned least, which
 // is emptied and reused in place, so no probe path is broken.
 static uint32_t evict_(qstore_t *qs, agent_state_t s)
 {
     const uint32_t victim = oa_least(&qs->index, s, learned_, qs);
-    for (uint32_t a = 0; a < qs->n_actions; a++) {
-        store_(qs, victim * qs->n_actions + a, 0.0f);
-    }
+    start_row_(qs, victim);
     qs->rows_used--;
     qs->dropped++;  // a state forgotten
     return victim;
@@ -161,6 +179,9 @@ static qstore_row_t row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict
     uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
     if (slot == OA_NONE) {  // not the common case: s has no row yet
         slot = oa_insert(&qs->index, s);
+        if (slot != OA_NONE) {  // an empty row holds zeros: the new state starts at the prior
+            start_row_(qs, slot);
+        }
         if (slot == OA_NONE) {
             if (!may_evict) {
                 qs->plan_refused++;

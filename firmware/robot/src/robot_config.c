@@ -27,6 +27,29 @@ static float magnitude_(float x)
     return x < 0.0f ? -x : x;
 }
 
+// Whether a walk of side_cells steps (along the floor's two sides) ends beyond n0, the distance
+// from the goal at which a path's value R gamma^n - |r| (1 - gamma^n) / (1 - gamma) crosses zero
+// (R the goal's reward, r a step's). n0 = ln(|r| / ((1 - gamma) R + |r|)) / ln(gamma); compared
+// as gamma^side_cells < |r| / ((1 - gamma) R + |r|) to stay clear of logarithms of 0.
+static bool robot_goal_beyond_zero_crossing_(const robot_config_t *cfg, float gamma,
+                                             float side_cells)
+{
+    const float step = -cfg->reward_step;
+    const float goal = cfg->reward_goal;
+    if (step <= 0.0f || goal <= 0.0f || gamma >= 1.0f) {
+        return false;  // steps cost nothing, or no goal reward: known values never fall below 0
+    }
+    float walk = 1.0f;  // gamma^side_cells, by squaring (side_cells is a whole number)
+    float base = gamma;
+    for (uint32_t n = (uint32_t)side_cells; n > 0u; n >>= 1) {
+        if (n & 1u) {
+            walk *= base;
+        }
+        base *= base;
+    }
+    return walk < step / ((1.0f - gamma) * goal + step);
+}
+
 agent_params_t robot_config_agent_params(const robot_config_t *cfg)
 {
     agent_params_t p = cfg->params;
@@ -47,6 +70,19 @@ agent_params_t robot_config_agent_params(const robot_config_t *cfg)
         scale = magnitude_(cfg->reward_bump) > scale ? magnitude_(cfg->reward_bump) : scale;
         scale = magnitude_(cfg->reward_step) > scale ? magnitude_(cfg->reward_step) : scale;
         p.theta = scale / ROBOT_REWARD_PER_THETA;
+        // A state the robot never met is worth less than nothing where every step costs and the
+        // goal can be far: with a prior of 0 every known state more than n0 steps from the goal
+        // (where its value crosses zero) looks worse than any state the robot does not know, and
+        // in a long room the robot that has found the goal keeps leaving its path for states it
+        // has not met (docs/agent.md, "What an unknown state is worth"). Where a walk along the
+        // floor's two sides is longer than n0, unknown states start at a share of the value of
+        // wandering for ever, reward_step / (1 - gamma): below every state near the goal, above
+        // the far ones nothing has reached yet. Where it is not (the lab robot's floors, whose
+        // n0 is 23-30 steps), the paper's optimistic 0 stays, and with it the exploration it
+        // drives.
+        if (robot_goal_beyond_zero_crossing_(cfg, p.gamma, side_cells)) {
+            p.q_prior = ROBOT_PRIOR_SHARE * cfg->reward_step / (1.0f - p.gamma);
+        }
     }
     return p;
 }

@@ -117,6 +117,45 @@ static void planning_never_forgets_a_state(void **state)
     assert_int_equal(qs.rows_used, 1);
 }
 
+// A prior: what a state never written reads, where its row starts, what a full window measures
+// learning against; a dense store's every row starts there.
+static void unknown_states_read_the_prior(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, 2, keys_, 256, 4, 20), FW_OK);
+    qstore_set_prior(&qs, -20.0f);
+    assert_float_equal(qstore_get(&qs, 4242, 3), -20.0f, 0.0f);
+    assert_float_equal(qstore_max(&qs, 4242), -20.0f, 0.0f);
+    const qstore_row_t row = qstore_row_for_update(&qs, 4242);
+    float q;
+    assert_true(qstore_learn(&qs, row, 1, -10.0f, 0.5f, &q));
+    assert_float_equal(q, -15.0f, 0.0f);  // learning starts from the prior, not from 0
+    assert_float_equal(qstore_get(&qs, 4242, 0), -20.0f, 0.0f);  // the row's other actions too
+    assert_float_equal(qstore_row_max(&qs, row), -15.0f, 0.0f);
+    // A full table forgets the row nearest the prior: a row at -20 has learned nothing, one
+    // at 0 has learned 20 in each action.
+    qstore_set(&qs, qstore_row_for_update(&qs, 7), 2, 0.0f);
+    for (uint32_t s = 1000; s < 2000; s++) {
+        qstore_set(&qs, qstore_row_for_update(&qs, s), 0, -20.5f);
+    }
+    assert_true(qs.dropped > 0);
+    assert_float_equal(qstore_get(&qs, 7, 2), 0.0f, 0.0f);
+    assert_float_equal(qstore_get(&qs, 7, 1), -20.0f, 0.0f);
+    qstore_clear(&qs);  // a cleared store keeps its prior; its empty rows are zeros
+    assert_float_equal(qstore_get(&qs, 7, 2), -20.0f, 0.0f);
+    for (uint32_t i = 0; i < 256 * 4; i++) {
+        assert_int_equal(q_[i], 0);
+    }
+    // Dense: every row exists from the start, at the prior.
+    assert_int_equal(qstore_init(&qs, q_, 2, NULL, 256, 4, 8), FW_OK);
+    assert_float_equal(qstore_get(&qs, 200, 1), 0.0f, 0.0f);
+    qstore_set_prior(&qs, -5.0f);
+    for (uint32_t s = 0; s < 256; s++) {
+        assert_float_equal(qstore_max(&qs, s), -5.0f, 0.0f);
+    }
+}
+
 static void init_rejects_bad_arguments(void **state)
 {
     (void)state;
@@ -312,6 +351,7 @@ int main(void)
         cmocka_unit_test(distinct_states_keep_distinct_values),
         cmocka_unit_test(full_table_forgets_what_it_learned_least),
         cmocka_unit_test(planning_never_forgets_a_state),
+        cmocka_unit_test(unknown_states_read_the_prior),
         cmocka_unit_test(init_rejects_bad_arguments),
         cmocka_unit_test(saved_regions_check_and_restore_themselves),
         cmocka_unit_test(every_value16_round_trips),

@@ -60,6 +60,9 @@ static void test_values_from_the_room(void **state)
     p = robot_config_agent_params(&c);
     assert_float_equal(p.gamma, 0.975f, 1e-7f);
     assert_float_equal(p.theta, 1e-3f, 1e-9f);
+    // A walk of 64 cells passes n0 = ln(1 / 3.5) / ln(0.975) = 49.5 steps, where a path's value
+    // crosses zero: unknown states start at half the value of wandering for ever, 0.5 x -1 / 0.025.
+    assert_float_equal(p.q_prior, -20.0f, 1e-3f);
     assert_true(p.alpha == c.params.alpha && p.epsilon == c.params.epsilon);
     c.bits_x = 6;  // a floor twice as wide: a longer horizon
     c.arena_w *= 2.0f;
@@ -73,6 +76,14 @@ static void test_values_from_the_room(void **state)
     c.values = ROBOT_VALUES_ROOM;
     assert_true(robot_config_agent_params(&c).gamma == 0.9f);
     assert_true(robot_config_agent_params(&c).theta == 1e-3f);
+    // Its walk of 16 cells ends before n0 = 22.8 steps: the paper's prior of 0 stays.
+    assert_true(robot_config_agent_params(&c).q_prior == 0.0f);
+    c.reward_step = 0.0f;  // steps that cost nothing: known values never fall below 0
+    c.bits_x = c.bits_y = 5;
+    assert_true(robot_config_agent_params(&c).q_prior == 0.0f);
+    c.values = ROBOT_VALUES_PAPER;  // and the paper's mode keeps its prior
+    c.reward_step = -1.0f;
+    assert_true(robot_config_agent_params(&c).q_prior == 0.0f);
 }
 
 static void test_defaults_need_a_scenario(void **state)

@@ -54,6 +54,13 @@ typedef struct agent_params {
     /// The bonus kappa * sqrt(tau) of a pair untried for tau real steps, in reward units;
     /// [0, AGENT_KAPPA_MAX], used by the bonus modes only.
     float kappa;
+    /// Q(s, a) of a state never written: what it reads and where its row starts, finite, within
+    /// QSTORE_VALUE_LIMIT. 0 (the paper's, and the default) is optimistic wherever steps cost:
+    /// every known state's value falls below it once the goal is more than about
+    /// reward_goal / |step reward| steps away, and a robot far from its goal then prefers any
+    /// state it does not know to the long way home (docs/agent.md, "What an unknown state is
+    /// worth").
+    float q_prior;
 } agent_params_t;
 
 /// The largest kappa agent_init() takes: a bonus beyond any reward scale the robots use.

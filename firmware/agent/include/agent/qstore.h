@@ -42,6 +42,7 @@ typedef struct qstore {
     uint32_t capacity;   // rows
     uint8_t n_actions;
     uint8_t dense;
+    float prior;         ///< Q of a state never written: what it reads, where its row starts
     uint32_t rows_used;  ///< rows holding a state (hashed) or written at least once (dense: 0)
     uint32_t dropped;    ///< states forgotten to make room: a full probe window reuses the row that learned least
     uint32_t plan_refused; ///< planning writes refused: the state had no row and no free slot (planning never evicts)
@@ -60,13 +61,18 @@ typedef uint32_t qstore_row_t;
 int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
                 uint8_t n_actions, uint32_t state_bits);
 
-/// Zeroes every value.
+/// Forgets every state: each reads the prior again.
 void qstore_clear(qstore_t *qs);
 
-/// Q(s, a). An unknown state reads 0.
+/// Sets the prior, the value every action of a state never written reads and its row starts
+/// from (qstore_init: 0, the paper's), and clears the store. A prior below zero tempers the
+/// optimism of unknown states where the step reward is negative (agent_params_t.q_prior).
+void qstore_set_prior(qstore_t *qs, float prior);
+
+/// Q(s, a). An unknown state reads the prior.
 float qstore_get(const qstore_t *qs, agent_state_t s, uint8_t a);
 
-/// The n_actions values of state s into out[]. An unknown state gives zeros.
+/// The n_actions values of state s into out[]. An unknown state gives the prior.
 void qstore_values(const qstore_t *qs, agent_state_t s, float *out);
 
 /// max over a of Q(s, a).

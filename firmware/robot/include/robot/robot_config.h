@@ -50,6 +50,16 @@ typedef enum robot_values {
 /// With ROBOT_VALUES_ROOM, theta is the largest reward's magnitude over this (1e-3 for the
 /// paper's +-100).
 #define ROBOT_REWARD_PER_THETA 1e5f
+/// With ROBOT_VALUES_ROOM, on a floor where a walk along its two sides ends farther from the goal
+/// than the distance at which a path's value crosses zero (the sonar robot's floors, not the lab
+/// robot's), a state never written starts at this share of the value of wandering for ever,
+/// reward_step / (1 - gamma) (agent_params_t.q_prior; elsewhere 0, the paper's). Chosen on the
+/// far-goal tuning rooms (docs/results.md, "What an unknown state is worth"): 1 stops the robot
+/// exploring (the lab robot's tuning rooms: 39 % of sets learned against 95 %), 0 leaves it
+/// straying from long paths (the sonar robot's tuning serpentine: 0/2 sets; 0.5: 2/2).
+#ifndef ROBOT_PRIOR_SHARE
+#define ROBOT_PRIOR_SHARE 0.5f
+#endif
 
 /// Where the pose comes from.
 typedef enum robot_pose_source {
