@@ -118,6 +118,12 @@ uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t 
 /// returns how many it wrote (2).
 uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out);
 
+/// Dyna-QPC's queue, whichever model plans through it (dyna_qpc.c, dyna_qpc_paper.c): its
+/// counters `queue` (size of capacity) and `queue_dropped`, returning how many it wrote (2), and
+/// its backlog.
+uint32_t agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_counter_t *out);
+uint32_t agent_dyna_qpc_backlog_(const agent_t *ag);
+
 /// Trivial operations for an algorithm that has nothing to do there.
 int agent_init_nothing_(agent_t *ag, const agent_storage_t *st);
 void agent_nothing_(agent_t *ag);

@@ -33,8 +33,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
     cmac->cfg = *cfg;
     // The cells' keys: bounded windows of FW_CFG_MAX_PROBE cells, homes from the top bits of the
     // key's hash.
-    const uint32_t limit = FW_CFG_MAX_PROBE < capacity ? FW_CFG_MAX_PROBE : capacity;
-    if (oa_init(&cmac->index, keys, capacity, limit, OA_HOME_HIGH) != FW_OK) {
+    if (oa_init(&cmac->index, keys, capacity, oa_probe_limit(capacity), OA_HOME_HIGH) != FW_OK) {
         return FW_ERR_INVAL;
     }
     cmac->counts = counts;

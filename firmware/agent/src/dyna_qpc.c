@@ -332,15 +332,22 @@ static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
     out[3] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
     out[4] = (agent_counter_t){"model_rejected", m->rejected, 0u};
     out[5] = (agent_counter_t){"model_generalised", m->generalised, 0u};
-    out[6] = (agent_counter_t){"queue", ag->alg.dyna_qpc.pq.size, ag->alg.dyna_qpc.pq.capacity};
-    out[7] = (agent_counter_t){"queue_dropped", ag->alg.dyna_qpc.pq.stats.dropped, 0u};
+    (void)agent_dyna_qpc_queue_counters_(ag, &out[6]);
     out[8] = (agent_counter_t){"percept_places", places, m->places};
     out[9] = (agent_counter_t){"situations", situations, m->n_classes};
     out[10] = (agent_counter_t){"arrivals", arrivals, m->positions};
     return 11u;
 }
 
-static uint32_t backlog_(const agent_t *ag)
+uint32_t agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_counter_t *out)
+{
+    const pqueue_t *pq = &ag->alg.dyna_qpc.pq;
+    out[0] = (agent_counter_t){"queue", pq->size, pq->capacity};
+    out[1] = (agent_counter_t){"queue_dropped", pq->stats.dropped, 0u};
+    return 2u;
+}
+
+uint32_t agent_dyna_qpc_backlog_(const agent_t *ag)
 {
     return pq_size(&ag->alg.dyna_qpc.pq);
 }
@@ -354,5 +361,5 @@ const agent_algorithm_t agent_dyna_qpc_algorithm = {
     .check = check_,
     .restored = restored_,
     .counters = counters_,
-    .backlog = backlog_,
+    .backlog = agent_dyna_qpc_backlog_,
 };

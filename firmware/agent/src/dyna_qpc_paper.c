@@ -158,14 +158,7 @@ static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
     out[5] = (agent_counter_t){"cmac_r_dropped", m->inverse.stats.dropped, 0u};
     out[6] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
     out[7] = (agent_counter_t){"model_rejected", m->rejected, 0u};
-    out[8] = (agent_counter_t){"queue", ag->alg.dyna_qpc.pq.size, ag->alg.dyna_qpc.pq.capacity};
-    out[9] = (agent_counter_t){"queue_dropped", ag->alg.dyna_qpc.pq.stats.dropped, 0u};
-    return 10u;
-}
-
-static uint32_t backlog_(const agent_t *ag)
-{
-    return pq_size(&ag->alg.dyna_qpc.pq);
+    return 8u + agent_dyna_qpc_queue_counters_(ag, &out[8]);
 }
 
 const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
@@ -177,5 +170,5 @@ const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
     .check = check_,
     .restored = restored_,
     .counters = counters_,
-    .backlog = backlog_,
+    .backlog = agent_dyna_qpc_backlog_,
 };

@@ -13,8 +13,7 @@ int explore_init(explore_table_t *t, uint32_t *keys, uint32_t *tried_at, uint32_
     if (t == NULL || keys == NULL || tried_at == NULL || !FW_IS_POW2(capacity)) {
         return FW_ERR_INVAL;
     }
-    const uint32_t limit = FW_CFG_MAX_PROBE < capacity ? FW_CFG_MAX_PROBE : capacity;
-    if (oa_init(&t->index, keys, capacity, limit, OA_HOME_HIGH) != FW_OK) {
+    if (oa_init(&t->index, keys, capacity, oa_probe_limit(capacity), OA_HOME_HIGH) != FW_OK) {
         return FW_ERR_INVAL;
     }
     t->tried_at = tried_at;

@@ -49,8 +49,7 @@ int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint
     if (!qs->dense) {
         // Multiplicative hashing: the top bits of s * (2^32 / golden ratio) spread consecutive
         // states, which neighbouring robot poses are, evenly over the table.
-        const uint32_t limit = FW_CFG_MAX_PROBE < capacity ? FW_CFG_MAX_PROBE : capacity;
-        if (oa_init(&qs->index, keys, capacity, limit, OA_HOME_HIGH) != FW_OK) {
+        if (oa_init(&qs->index, keys, capacity, oa_probe_limit(capacity), OA_HOME_HIGH) != FW_OK) {
             return FW_ERR_INVAL;
         }
     }

@@ -59,6 +59,13 @@ typedef enum oa_home {
     OA_HOME_LOW = 1,
 } oa_home_t;
 
+/// The probe window of a table of `slots` (a power of two): FW_CFG_MAX_PROBE, or every slot of a
+/// smaller table. What the agent's tables pass oa_init() as `limit`.
+static inline uint32_t oa_probe_limit(uint32_t slots)
+{
+    return FW_CFG_MAX_PROBE < slots ? FW_CFG_MAX_PROBE : slots;
+}
+
 /// Sets up the index over `keys` (`slots` entries, a power of two; `limit` in 1..slots). Does
 /// not touch the keys: call oa_clear() for an empty table. Returns FW_OK or FW_ERR_INVAL.
 int oa_init(oa_table_t *t, uint32_t *keys, uint32_t slots, uint32_t limit, oa_home_t home);
