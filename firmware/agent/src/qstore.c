@@ -69,9 +69,12 @@ void qstore_clear(qstore_t *qs)
     // prior. A hashed store's empty rows stay zero (qstore_check() holds them to it) and take the
     // prior when a state is given one.
     const uint32_t n = qs->capacity * qs->n_actions;
-    memset(qs->wide ? (void *)qs->v.f : (void *)qs->v.h, 0, n * (qs->wide ? 4u : 2u));
-    for (uint32_t i = 0; qs->dense && qs->prior != 0.0f && i < n; i++) {
-        store_(qs, i, qs->prior);
+    if (qs->dense && qs->prior != 0.0f) {
+        for (uint32_t i = 0; i < n; i++) {
+            store_(qs, i, qs->prior);
+        }
+    } else {
+        memset(qs->wide ? (void *)qs->v.f : (void *)qs->v.h, 0, n * (qs->wide ? 4u : 2u));
     }
     if (!qs->dense) {
         oa_clear(&qs->index);
@@ -81,7 +84,7 @@ void qstore_clear(qstore_t *qs)
     qs->plan_refused = 0;
 }
 
-// The row of state s for reading, QSTORE_NO_ROW for an unknown state (which reads as zeros).
+// The row of state s for reading, QSTORE_NO_ROW for an unknown state (which reads the prior).
 // The planner's lookups (about three per planning update) come here.
 AGENT_ALWAYS_INLINE qstore_row_t row_of_(const qstore_t *qs, agent_state_t s)
 {
@@ -157,12 +160,11 @@ static void start_row_(qstore_t *qs, uint32_t row)
     }
 }
 
-// A full probe window: the new state takes the row of the window that has learned least, which
-// is emptied and reused in place, so no probe path is broken.
+// A full probe window: the new state takes the row of the window that has learned least, reused
+// in place (the caller starts it afresh), so no probe path is broken.
 static uint32_t evict_(qstore_t *qs, agent_state_t s)
 {
     const uint32_t victim = oa_least(&qs->index, s, learned_, qs);
-    start_row_(qs, victim);
     qs->rows_used--;
     qs->dropped++;  // a state forgotten
     return victim;
@@ -178,9 +180,6 @@ static qstore_row_t row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict
     uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
     if (slot == OA_NONE) {  // not the common case: s has no row yet
         slot = oa_insert(&qs->index, s);
-        if (slot != OA_NONE) {  // an empty row holds zeros: the new state starts at the prior
-            start_row_(qs, slot);
-        }
         if (slot == OA_NONE) {
             if (!may_evict) {
                 qs->plan_refused++;
@@ -189,6 +188,7 @@ static qstore_row_t row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict
             slot = evict_(qs, s);
             oa_put(&qs->index, slot, s);
         }
+        start_row_(qs, slot);  // a free row or a forgotten one: the new state starts at the prior
         qs->rows_used++;
     }
     return slot;
