@@ -46,7 +46,9 @@ typedef enum robot_values {
 /// two sides: a state H steps from the goal keeps e^-1 of the goal's reward, and neighbours
 /// that far still differ by about 0.37 (reward_goal / H + 1) in value, well above a slip's
 /// noise (docs/agent.md, "Values that reach the far end").
+#ifndef ROBOT_HORIZON_PER_SIDE_CELL
 #define ROBOT_HORIZON_PER_SIDE_CELL 0.625f
+#endif
 /// With ROBOT_VALUES_ROOM, theta is the largest reward's magnitude over this (1e-3 for the
 /// paper's +-100).
 #define ROBOT_REWARD_PER_THETA 1e5f
