@@ -118,6 +118,16 @@ uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t 
 /// returns how many it wrote (2).
 uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out);
 
+/// Prioritized sweeping's two steps, whichever model Dyna-QPC plans through (dyna_qpc.c,
+/// dyna_qpc_paper.c). The update of the popped pair `key`, action a of state s whose Q row is
+/// `row`: Q(s, a) moves towards `target` at the planning rate and is counted, and what a rate
+/// below 1 left goes back in the queue if it is above theta and another update would change the
+/// stored value.
+void agent_sweep_update_(agent_t *ag, qstore_row_t row, uint32_t key, uint8_t a, float target);
+/// Queues (s, a) by |target - Q(s, a)| if that is above theta and an update would change the
+/// stored value (a value16 near its target rounds back to itself: qstore_moves()).
+void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_t a, float target);
+
 /// Dyna-QPC's queue, whichever model plans through it (dyna_qpc.c, dyna_qpc_paper.c): its
 /// counters `queue` (size of capacity) and `queue_dropped`, returning how many it wrote (2), and
 /// its backlog.

@@ -65,11 +65,6 @@ static float step_target_(const agent_t *ag, agent_state_t s, const model_step_t
     return step->reward + ag->params.gamma * v;
 }
 
-static uint32_t pq_key_(const agent_t *ag, agent_state_t s, uint8_t a)
-{
-    return s * ag->space->n_actions + a;
-}
-
 // A queued pair whose CMAC-Model tiles did not all find room carries this bit in its queue key,
 // and popping it is a skip that needs no model lookup (a miss in a full window probes all
 // FW_CFG_MAX_PROBE slots). With eviction this is rare: only a window held entirely by the same
@@ -85,7 +80,7 @@ static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float targ
 {
     const float p = agent_abs_(target + agent_plan_bonus_(ag, s, a) - agent_q(ag, s, a));
     if (p > ag->params.theta) {
-        (void)pq_push(&ag->alg.dyna_qpc.pq, pq_key_(ag, s, a), p);
+        (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, s, a), p);
     }
 }
 
@@ -154,7 +149,7 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     const bool new_state = me->model.percepts != NULL && !model_has_seen(&me->model, s_next);
     const bool plannable = model_learn(&me->model, s, a, r, s_next, terminal);
     if (priority > ag->params.theta) {
-        (void)pq_push(&me->pq, pq_key_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT), priority);
+        (void)pq_push(&me->pq, agent_pair_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT), priority);
     }
     if (new_state && !terminal && (ag->params.ablate & AGENT_ABLATE_NEW_STATES) == 0u) {
         queue_new_state_(ag, s_next);
@@ -202,7 +197,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     const bool same = c->valid && c->here->state == s;
     uint32_t known = 0;
     while (c->valid && known < c->n &&
-           pq_key_(ag, c->pred[known].state, c->pred[known].action) != key) {
+           agent_pair_(ag, c->pred[known].state, c->pred[known].action) != key) {
         known++;
     }
     model_step_t step;
@@ -239,15 +234,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
         ag->stats.planning_skipped++;
         return true;
     }
-    float q_sa;
-    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
-    ag->stats.planning_updates++;
-    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
-    // the queue with what is left, so planning keeps working on it while it is the most urgent.
-    const float left = agent_abs_(target - q_sa);
-    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
-        (void)pq_push(&me->pq, key, left);
-    }
+    agent_sweep_update_(ag, row, key, a, target);
 
     if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
         model_count_again(&me->model, c->counted);
@@ -266,13 +253,31 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
         const float target_pred =
             (pred->others == 0u && pred->stay == 0u ? pred->reward + value_here : pred_target_(ag, pred, s)) +
             agent_plan_bonus_(ag, pred->state, pred->action);
-        const float q_pred = qstore_get(&ag->q, pred->state, pred->action);
-        const float p = agent_abs_(target_pred - q_pred);
-        if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {
-            (void)pq_push(&me->pq, pq_key_(ag, pred->state, pred->action), p);
-        }
+        agent_sweep_queue_(ag, pred->state, pred->action, target_pred);
     }
     return true;
+}
+
+void agent_sweep_update_(agent_t *ag, qstore_row_t row, uint32_t key, uint8_t a, float target)
+{
+    float q_sa;
+    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
+    ag->stats.planning_updates++;
+    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
+    // the queue with what is left, so planning keeps working on it while it is the most urgent.
+    const float left = agent_abs_(target - q_sa);
+    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
+        (void)pq_push(&ag->alg.dyna_qpc.pq, key, left);
+    }
+}
+
+void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_t a, float target)
+{
+    const float q = qstore_get(&ag->q, s, a);
+    const float p = agent_abs_(target - q);
+    if (p > ag->params.theta && qstore_moves(&ag->q, q, target, ag->params.plan_alpha)) {
+        (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, s, a), p);
+    }
 }
 
 static uint32_t plan_(agent_t *ag, uint32_t n)

@@ -62,11 +62,6 @@ static void clear_(agent_t *ag)
     pq_clear(&ag->alg.dyna_qpc.pq);
 }
 
-static uint32_t key_(const agent_t *ag, agent_state_t s, uint8_t a)
-{
-    return s * ag->space->n_actions + a;
-}
-
 // Fig. 3 (d) to (f): the model learns the step, which is queued by its priority.
 static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                      bool terminal, float priority)
@@ -74,7 +69,7 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
     (void)paper_model_learn(&me->paper, s, a, r, s_next, terminal);
     if (priority > ag->params.theta) {
-        (void)pq_push(&me->pq, key_(ag, s, a), priority);
+        (void)pq_push(&me->pq, agent_pair_(ag, s, a), priority);
     }
 }
 
@@ -98,25 +93,13 @@ static bool plan_one_(agent_t *ag)
         ag->stats.planning_skipped++;  // untrusted, or no Q row and no room for one
         return true;
     }
-    const float target = agent_target_(ag, step.reward, step.next, step.terminal != 0u);
-    float q_sa;
-    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
-    ag->stats.planning_updates++;
-    const float left = agent_abs_(target - q_sa);
-    // What a step below 1 left (as ours: docs/agent.md, 2.), if another update would change it.
-    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
-        (void)pq_push(&me->pq, key, left);
-    }
+    agent_sweep_update_(ag, row, key, a,
+                        agent_target_(ag, step.reward, step.next, step.terminal != 0u));
     model_pred_t pred[PAPER_MAX_PREDECESSORS];
     const uint32_t n = paper_model_predecessors(&me->paper, s, pred);
     const float value_here = ag->params.gamma * qstore_row_max(&ag->q, row);
     for (uint32_t i = 0; i < n; i++) {
-        const float q_pred = qstore_get(&ag->q, pred[i].state, pred[i].action);
-        const float target_pred = pred[i].reward + value_here;
-        const float p = agent_abs_(target_pred - q_pred);
-        if (p > ag->params.theta && qstore_moves(&ag->q, q_pred, target_pred, ag->params.plan_alpha)) {
-            (void)pq_push(&me->pq, key_(ag, pred[i].state, pred[i].action), p);
-        }
+        agent_sweep_queue_(ag, pred[i].state, pred[i].action, pred[i].reward + value_here);
     }
     return true;
 }
