@@ -119,14 +119,34 @@ uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t 
 uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out);
 
 /// Prioritized sweeping's two steps, whichever model Dyna-QPC plans through (dyna_qpc.c,
-/// dyna_qpc_paper.c). The update of the popped pair `key`, action a of state s whose Q row is
-/// `row`: Q(s, a) moves towards `target` at the planning rate and is counted, and what a rate
-/// below 1 left goes back in the queue if it is above theta and another update would change the
-/// stored value.
-void agent_sweep_update_(agent_t *ag, qstore_row_t row, uint32_t key, uint8_t a, float target);
+/// dyna_qpc_paper.c); inline, as they are the planning update's own work.
+/// The update of the popped pair `key`, action a of state s whose Q row is `row`: Q(s, a) moves
+/// towards `target` at the planning rate and is counted, and what a rate below 1 left goes back
+/// in the queue if it is above theta and another update would change the stored value.
+AGENT_ALWAYS_INLINE void agent_sweep_update_(agent_t *ag, qstore_row_t row, uint32_t key,
+                                             uint8_t a, float target)
+{
+    float q_sa;
+    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
+    ag->stats.planning_updates++;
+    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
+    // the queue with what is left, so planning keeps working on it while it is the most urgent.
+    const float left = agent_abs_(target - q_sa);
+    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
+        (void)pq_push(&ag->alg.dyna_qpc.pq, key, left);
+    }
+}
+
 /// Queues (s, a) by |target - Q(s, a)| if that is above theta and an update would change the
 /// stored value (a value16 near its target rounds back to itself: qstore_moves()).
-void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_t a, float target);
+AGENT_ALWAYS_INLINE void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_t a, float target)
+{
+    const float q = qstore_get(&ag->q, s, a);
+    const float p = agent_abs_(target - q);
+    if (p > ag->params.theta && qstore_moves(&ag->q, q, target, ag->params.plan_alpha)) {
+        (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, s, a), p);
+    }
+}
 
 /// Dyna-QPC's queue, whichever model plans through it (dyna_qpc.c, dyna_qpc_paper.c): its
 /// counters `queue` (size of capacity) and `queue_dropped`, returning how many it wrote (2), and

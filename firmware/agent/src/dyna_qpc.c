@@ -258,28 +258,6 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     return true;
 }
 
-void agent_sweep_update_(agent_t *ag, qstore_row_t row, uint32_t key, uint8_t a, float target)
-{
-    float q_sa;
-    (void)qstore_learn(&ag->q, row, a, target, ag->params.plan_alpha, &q_sa);
-    ag->stats.planning_updates++;
-    // With alpha < 1 one update leaves (1 - alpha) of the error behind; the pair goes back in
-    // the queue with what is left, so planning keeps working on it while it is the most urgent.
-    const float left = agent_abs_(target - q_sa);
-    if (left > ag->params.theta && qstore_moves(&ag->q, q_sa, target, ag->params.plan_alpha)) {
-        (void)pq_push(&ag->alg.dyna_qpc.pq, key, left);
-    }
-}
-
-void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_t a, float target)
-{
-    const float q = qstore_get(&ag->q, s, a);
-    const float p = agent_abs_(target - q);
-    if (p > ag->params.theta && qstore_moves(&ag->q, q, target, ag->params.plan_alpha)) {
-        (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, s, a), p);
-    }
-}
-
 static uint32_t plan_(agent_t *ag, uint32_t n)
 {
     agent_plan_carry_t *c = ag->alg.dyna_qpc.carry;

@@ -32,16 +32,16 @@ static float magnitude_(float x)
 // (R the goal's reward, r a step's). n0 = ln(|r| / ((1 - gamma) R + |r|)) / ln(gamma); compared
 // as gamma^side_cells < |r| / ((1 - gamma) R + |r|) to stay clear of logarithms of 0.
 static bool robot_goal_beyond_zero_crossing_(const robot_config_t *cfg, float gamma,
-                                             float side_cells)
+                                             uint32_t side_cells)
 {
     const float step = -cfg->reward_step;
     const float goal = cfg->reward_goal;
     if (step <= 0.0f || goal <= 0.0f || gamma >= 1.0f) {
         return false;  // steps cost nothing, or no goal reward: known values never fall below 0
     }
-    float walk = 1.0f;  // gamma^side_cells, by squaring (side_cells is a whole number)
+    float walk = 1.0f;  // gamma^side_cells, by squaring
     float base = gamma;
-    for (uint32_t n = (uint32_t)side_cells; n > 0u; n >>= 1) {
+    for (uint32_t n = side_cells; n > 0u; n >>= 1) {
         if (n & 1u) {
             walk *= base;
         }
@@ -64,8 +64,8 @@ agent_params_t robot_config_agent_params(const robot_config_t *cfg)
         // the longest shortest path of a room is a few times its sides in cells (a serpentine
         // more, an open floor less), and the e^-1 at H steps still leaves a usable gradient
         // beyond.
-        const float side_cells = (float)((1u << cfg->bits_x) + (1u << cfg->bits_y));
-        p.gamma = 1.0f - 1.0f / (ROBOT_HORIZON_PER_SIDE_CELL * side_cells);
+        const uint32_t side_cells = (1u << cfg->bits_x) + (1u << cfg->bits_y);
+        p.gamma = 1.0f - 1.0f / (ROBOT_HORIZON_PER_SIDE_CELL * (float)side_cells);
         float scale = magnitude_(cfg->reward_goal);
         scale = magnitude_(cfg->reward_bump) > scale ? magnitude_(cfg->reward_bump) : scale;
         scale = magnitude_(cfg->reward_step) > scale ? magnitude_(cfg->reward_step) : scale;
