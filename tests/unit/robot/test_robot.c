@@ -300,6 +300,32 @@ static void test_aligned_steps_cross_into_the_next_cell(void **state)
     assert_int_not_equal(robot_encode_state(&cfg, &pose, 0), robot_encode_state(&cfg, &end, 0));
 }
 
+static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;  // 0.5375 x 0.4 m cells, a 0.18 m track
+    const float cw = 0.5375f, margin = cfg.step_past_m;
+    assert_true(robot_backs_off(&cfg));
+    assert_false(robot_backs_off(sim_));  // a 0.40 m track in 0.25 m cells: no room to stand anywhere
+    // Stopped by a bump 0.45 m into cell 2 while stepping east: back to margin past its west edge.
+    robot_pose_t pose = {2.0f * cw + 0.45f, 1.0f, 0.0f};
+    robot_motion_t m = robot_backoff_motion(&cfg, &pose, 0.0f);
+    assert_true(m.periods >= 1u);
+    assert_float_equal(m.v_right, m.v_left, 0);
+    assert_float_equal(travel_of_(&cfg, m), -(0.45f - margin), 1e-4);
+    // Not beyond the stop: nothing to do.
+    pose.x = 2.0f * cw + 0.10f;
+    assert_int_equal(robot_backoff_motion(&cfg, &pose, 0.0f).periods, 0);
+    // Stepping west (a backward step facing east): back east, to margin short of the east edge.
+    // The motion drives backward; the controller reverses it after a backward step.
+    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, &pose, 3.14159265f)),
+                       -(cw - 0.10f - margin), 1e-4);
+    cfg.aligned_actions = 0;
+    assert_false(robot_backs_off(&cfg));
+    pose.x = 2.0f * cw + 0.45f;
+    assert_int_equal(robot_backoff_motion(&cfg, &pose, 0.0f).periods, 0);
+}
+
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------
 
 typedef struct bench {
@@ -409,6 +435,50 @@ static void test_bump_costs_and_is_counted(void **state)
     assert_true(bench_.ctrl.episode_done);
     assert_int_equal(bench_.ctrl.last_episode.bumps, 1);
     assert_float_equal(bench_.ctrl.last_episode.reward, -102.0f, 1e-6);
+}
+
+// A step that bumps backs off before its outcome is observed: the step is learned once, with the
+// bump's reward, at the pose where the back-off ended.
+static void test_bumped_step_backs_off_then_is_observed(void **state)
+{
+    (void)state;
+    bench_init_(lab_, AGENT_Q_LEARNING);
+    bench_.cfg.aligned_actions = 1;  // the lab robot's own motion
+    bench_.cfg.action_periods = lab_->action_periods;
+    bench_.cfg.turn_rad = lab_->turn_rad;
+    agent_paper_sim.params.epsilon = 0.0f;
+    const float cw = 0.5375f;
+    const robot_pose_t blocked = {2.0f * cw + 0.45f, 1.0f, 0.0f};  // facing east, 0.45 m in
+    bench_.sense.pose = blocked;
+    const agent_state_t s0 = robot_encode_state(&bench_.cfg, &blocked, 0);
+    qstore_set(&agent_paper_sim.q, qstore_row_for_update(&agent_paper_sim.q, s0), ROBOT_FORWARD, 10.0f);
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();  // the first state: forward
+    assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
+    // The step hits something at once and goes nowhere.
+    for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING && !bench_.ctrl.backing_off; i++) {
+        bench_.sense.bump = true;
+        bench_period_();
+        bench_.sense.pose = blocked;
+    }
+    for (int i = 0; i < 5 && !bench_.ctrl.backing_off; i++) {
+        bench_.sense.pose = blocked;
+        bench_period_();  // waiting for the fix; then the back-off's first period
+    }
+    assert_true(bench_.ctrl.backing_off);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    assert_true(bench_.ctrl.v_left < 0.0f);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 0);  // not observed yet
+    for (int i = 0; i < 50 && !bench_.ctrl.step_done; i++) {
+        bench_period_();
+    }
+    assert_true(bench_.ctrl.step_done);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 1);
+    assert_float_equal(bench_.ctrl.last_step.reward, -100.0f, 0);
+    assert_float_equal(bench_.sense.pose.x, 2.0f * cw + bench_.cfg.step_past_m, 2e-3);
+    assert_false(bench_.ctrl.backing_off);
+    assert_int_equal(bench_.ctrl.last_episode.bumps, 0);  // the episode goes on
+    assert_int_equal(bench_.ctrl.bumps, 1);
 }
 
 static void test_operator_safe_stop_holds_until_start(void **state)
@@ -612,9 +682,11 @@ int main(void)
         cmocka_unit_test(test_action_wheels_realise_the_step),
         cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),
         cmocka_unit_test(test_aligned_steps_cross_into_the_next_cell),
+        cmocka_unit_test(test_backoff_returns_to_where_an_aligned_step_stops),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
         cmocka_unit_test(test_step_cap_ends_the_episode),
         cmocka_unit_test(test_bump_costs_and_is_counted),
+        cmocka_unit_test(test_bumped_step_backs_off_then_is_observed),
         cmocka_unit_test(test_operator_safe_stop_holds_until_start),
         cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),

@@ -78,6 +78,8 @@ typedef struct robot_ctrl {
     uint8_t a;
     uint8_t periods_left;
     bool bump_latched;
+    bool backing_off;          ///< the pending step bumped, and the robot is backing off (robot_backs_off())
+    float act_heading;         ///< the heading the pending step started with
     uint64_t stopped_at_us;    // when the wheels stopped after the last action
     uint32_t step, episode, bumps;
     float episode_reward;

@@ -63,6 +63,13 @@ typedef enum robot_values {
 #define ROBOT_PRIOR_SHARE 0.5f
 #endif
 
+/// 1: a robot narrower than its cells backs off after a step that bumped (robot_backs_off(),
+/// robot_motion.h); 0: it stays where the bump left it. Measured with 0 in host builds only
+/// (docs/results.md, "Backing off after a bump").
+#ifndef ROBOT_BUMP_BACKOFF
+#define ROBOT_BUMP_BACKOFF 1
+#endif
+
 /// Where the pose comes from.
 typedef enum robot_pose_source {
     ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle

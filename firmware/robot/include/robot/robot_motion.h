@@ -3,6 +3,7 @@
 #ifndef ROBOT_MOTION_H
 #define ROBOT_MOTION_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "robot/robot_config.h"
@@ -23,6 +24,18 @@ typedef struct robot_motion {
 /// turn_rad in its direction (at least a quarter of turn_rad away), a step ends step_past_m
 /// past the edge of the current x-y cell along the heading (robot_config.h says why).
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
+
+/// Whether the robot backs off after a step that bumped: with aligned actions, and a track
+/// narrower than the smaller side of a cell (a robot with room to stand anywhere in its cell;
+/// the lab robot, not the sonar robot), unless ROBOT_BUMP_BACKOFF is 0.
+bool robot_backs_off(const robot_config_t *cfg);
+
+/// After a step along `dir` (radians, the heading the step started with, plus pi for a backward
+/// step) that bumped: the motion back along `dir` to step_past_m past the edge of the pose's
+/// cell behind the robot, where an aligned step into this cell stops. Its wheel speeds drive
+/// backward (the caller reverses them after a backward step); periods 0 when the pose is not
+/// beyond that point or actions are not aligned.
+robot_motion_t robot_backoff_motion(const robot_config_t *cfg, const robot_pose_t *pose, float dir);
 
 #ifdef __cplusplus
 }
