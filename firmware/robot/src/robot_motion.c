@@ -48,6 +48,14 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
     return fminf(fmaxf(t, 0.0f) + margin, sqrtf(cw * cw + ch * ch) + margin);
 }
 
+// Periods for a motion `ratio` times the fixed action's length: never faster than the fixed
+// action (a turn must also stay inside the gyro's measuring range, which it was sized for).
+static uint8_t periods_for_(const robot_config_t *cfg, float ratio)
+{
+    const float periods = ceilf(ratio * (float)cfg->action_periods - 1e-3f);
+    return (uint8_t)(periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods);
+}
+
 bool robot_backs_off(const robot_config_t *cfg)
 {
     float cw, ch;
@@ -74,10 +82,7 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, const robot_pose_
     if (!(d > 0.01f)) {
         return m;
     }
-    const float ratio = d / cfg->step_m;
-    float periods = ceilf(ratio * (float)cfg->action_periods - 1e-3f);
-    periods = periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods;
-    m.periods = (uint8_t)periods;
+    m.periods = periods_for_(cfg, d / cfg->step_m);
     const float v = d / ((float)m.periods * (float)cfg->period_us * 1e-6f);
     m.v_left = -v;
     m.v_right = -v;
@@ -107,8 +112,7 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
         default:
             break;
         }
-        const float periods = ceilf(ratio * (float)cfg->action_periods - 1e-3f);
-        m.periods = (uint8_t)(periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods);
+        m.periods = periods_for_(cfg, ratio);
     }
     const float duration = (float)m.periods * period_s;
     const float v = dist / duration;
