@@ -60,7 +60,6 @@ static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_pose_t *
     c->a = c->learning ? agent_act(c->agent, s) : agent_act_greedy(c->agent, s);
     c->have_s = true;
     c->bump_latched = false;
-    c->backing_off = false;
     c->act_heading = pose->heading;
     const robot_motion_t m = robot_action_motion(c->cfg, c->a, pose);
     c->periods_left = m.periods;
@@ -89,15 +88,9 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
     const robot_config_t *cfg = c->cfg;
     // A step that bumped backs off first (robot_motion.h): its outcome is observed where the
     // back-off ends, in the same cell, at the offset an aligned step leaves.
-    if (c->have_s && c->bump_latched && !c->backing_off &&
-        (c->a == ROBOT_FORWARD || c->a == ROBOT_BACKWARD) && robot_backs_off(cfg)) {
-        const float dir = c->act_heading + (c->a == ROBOT_BACKWARD ? FW_PI_F : 0.0f);
-        robot_motion_t m = robot_backoff_motion(cfg, &in->pose, dir);
+    if (c->have_s && c->bump_latched && !c->backing_off && robot_backs_off(cfg)) {
+        const robot_motion_t m = robot_backoff_motion(cfg, c->a, c->act_heading, &in->pose);
         if (m.periods > 0u) {
-            if (c->a == ROBOT_BACKWARD) {
-                m.v_left = -m.v_left;
-                m.v_right = -m.v_right;
-            }
             c->backing_off = true;
             c->periods_left = m.periods;
             c->mode = ROBOT_MODE_ACTING;

@@ -69,23 +69,25 @@ bool robot_backs_off(const robot_config_t *cfg)
 // not show: in the lab robot's far-goal rooms, steps from such offsets bumped 3 to 9 times as
 // often as the others, and one unlucky bump could close a passage for good (docs/results.md).
 // Backing off to where an aligned step into the cell stops restores the offset along the step.
-robot_motion_t robot_backoff_motion(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
+                                    const robot_pose_t *pose)
 {
     robot_motion_t m = {0.0f, 0.0f, 0u};
-    if (!cfg->aligned_actions) {
+    if (!cfg->aligned_actions || (action != ROBOT_FORWARD && action != ROBOT_BACKWARD)) {
         return m;
     }
-    // How far behind the pose, along dir, the edge of its cell lies: aligned_step_() backwards,
-    // less the margin it adds; the stop is the margin past that edge.
-    const float behind = aligned_step_(cfg, pose, dir + FW_PI_F) - cfg->step_past_m;
+    const bool forward = action == ROBOT_FORWARD;
+    // How far back along the step the edge of the pose's cell lies: aligned_step_() the other
+    // way, less the margin it adds; the stop is the margin past that edge.
+    const float behind = aligned_step_(cfg, pose, heading + (forward ? FW_PI_F : 0.0f)) - cfg->step_past_m;
     const float d = behind - cfg->step_past_m;
     if (!(d > 0.01f)) {
         return m;
     }
     m.periods = periods_for_(cfg, d / cfg->step_m);
     const float v = d / ((float)m.periods * (float)cfg->period_us * 1e-6f);
-    m.v_left = -v;
-    m.v_right = -v;
+    m.v_left = forward ? -v : v;  // the way the step came: backward after a forward step
+    m.v_right = m.v_left;
     return m;
 }
 

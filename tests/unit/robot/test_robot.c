@@ -309,21 +309,22 @@ static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
     assert_false(robot_backs_off(sim_));  // a 0.40 m track in 0.25 m cells: no room to stand anywhere
     // Stopped by a bump 0.45 m into cell 2 while stepping east: back to margin past its west edge.
     robot_pose_t pose = {2.0f * cw + 0.45f, 1.0f, 0.0f};
-    robot_motion_t m = robot_backoff_motion(&cfg, &pose, 0.0f);
+    robot_motion_t m = robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose);
     assert_true(m.periods >= 1u);
     assert_float_equal(m.v_right, m.v_left, 0);
     assert_float_equal(travel_of_(&cfg, m), -(0.45f - margin), 1e-4);
     // Not beyond the stop: nothing to do.
     pose.x = 2.0f * cw + 0.10f;
-    assert_int_equal(robot_backoff_motion(&cfg, &pose, 0.0f).periods, 0);
-    // Stepping west (a backward step facing east): back east, to margin short of the east edge.
-    // The motion drives backward; the controller reverses it after a backward step.
-    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, &pose, 3.14159265f)),
-                       -(cw - 0.10f - margin), 1e-4);
+    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
+    // Stepping west (a backward step facing east): forward again, east, to margin short of the
+    // east edge.
+    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_BACKWARD, 0.0f, &pose)),
+                       cw - 0.10f - margin, 1e-4);
+    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_TURN_LEFT, 0.0f, &pose).periods, 0);
     cfg.aligned_actions = 0;
     assert_false(robot_backs_off(&cfg));
     pose.x = 2.0f * cw + 0.45f;
-    assert_int_equal(robot_backoff_motion(&cfg, &pose, 0.0f).periods, 0);
+    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
 }
 
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------

@@ -30,12 +30,12 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
 /// the lab robot, not the sonar robot), unless ROBOT_BUMP_BACKOFF is 0.
 bool robot_backs_off(const robot_config_t *cfg);
 
-/// After a step along `dir` (radians, the heading the step started with, plus pi for a backward
-/// step) that bumped: the motion back along `dir` to step_past_m past the edge of the pose's
-/// cell behind the robot, where an aligned step into this cell stops. Its wheel speeds drive
-/// backward (the caller reverses them after a backward step); periods 0 when the pose is not
-/// beyond that point or actions are not aligned.
-robot_motion_t robot_backoff_motion(const robot_config_t *cfg, const robot_pose_t *pose, float dir);
+/// After `action` (ROBOT_FORWARD or ROBOT_BACKWARD), started facing `heading`, bumped and left
+/// the robot at `pose`: the motion back the way the step came, to step_past_m past the edge of
+/// the pose's cell behind it, where an aligned step into this cell stops. Periods 0 when the
+/// pose is not beyond that point, for a turn, or when actions are not aligned.
+robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
+                                    const robot_pose_t *pose);
 
 #ifdef __cplusplus
 }
