@@ -27,6 +27,7 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->episode_reward = 0.0f;
     c->have_s = false;
     c->bump_latched = false;
+    c->settle_phase = 0u;
     c->episode_start_us = UINT64_MAX;  // set at the first period
     c->stopped_at_us = 0;
     c->safe_stop_held = false;
@@ -99,6 +100,18 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         }
     }
     c->backing_off = false;
+    // Before the first state of an episode (or after a stop cut a step short), the robot settles
+    // onto the grid of aligned stops (robot_motion.h), one phase at a time, each from the pose
+    // the last one ended at.
+    while (!c->have_s && c->settle_phase < ROBOT_SETTLE_PHASES && robot_settles(cfg)) {
+        const robot_motion_t m = robot_settle_motion(cfg, c->settle_phase++, &in->pose);
+        if (m.periods > 0u) {
+            c->periods_left = m.periods;
+            c->mode = ROBOT_MODE_ACTING;
+            wheels_(c, m.v_left, m.v_right);
+            return;
+        }
+    }
     const agent_state_t s_next =
         robot_encode_state(cfg, &in->pose, robot_range_code(cfg, in->range_m, in->n_ranges));
     if (!c->have_s) {
@@ -166,6 +179,7 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
             // stop) still has its outcome to observe: the wait goes on where it was.
             if (c->resume_mode != ROBOT_MODE_WAIT_FIX) {
                 c->have_s = false;
+                c->settle_phase = 0u;
                 c->stopped_at_us = in->now_us;
             }
             c->mode = ROBOT_MODE_WAIT_FIX;

@@ -91,6 +91,63 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     return m;
 }
 
+bool robot_settles(const robot_config_t *cfg)
+{
+    // A quarter turn must end on the grid of headings for phase 2.
+    const float quarters = 0.5f * FW_PI_F / cfg->turn_rad;
+    return ROBOT_START_SETTLE != 0 && robot_backs_off(cfg) && fabsf(quarters - roundf(quarters)) < 1e-3f;
+}
+
+// The signed distance along `dir` from the pose to the nearer of the two offsets in its cell at
+// which an aligned step along that axis stops (step_past_m past the edge behind, or short of the
+// edge ahead); 0 within a centimetre of it.
+static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+{
+    const float ahead = aligned_step_(cfg, pose, dir) - cfg->step_past_m;
+    const float behind = aligned_step_(cfg, pose, dir + FW_PI_F) - cfg->step_past_m;
+    const float len = behind + ahead;
+    const float target = behind < 0.5f * len ? cfg->step_past_m : len - cfg->step_past_m;
+    const float d = target - behind;
+    return fabsf(d) > 0.01f ? d : 0.0f;
+}
+
+// Why settle: a start leaves the robot anywhere in its first cell, facing anywhere, and until it
+// has stepped along both axes its offsets are ones aligned steps never leave. After the back-off
+// restored a bumped step's offset, starts were what remained of those offsets: settling took the
+// lab robot's far-goal tuning rooms from 346 to 353 of 360 sets (docs/results.md).
+robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose)
+{
+    robot_motion_t m = {0.0f, 0.0f, 0u};
+    if (!cfg->aligned_actions || phase >= ROBOT_SETTLE_PHASES) {
+        return m;
+    }
+    const float period_s = (float)cfg->period_us * 1e-6f;
+    const float h = wrap_2pi_(pose->heading) / cfg->turn_rad;  // in grid turns
+    const float misaligned = (roundf(h) - h) * cfg->turn_rad;  // to the nearest grid heading
+    float turn = 0.0f, d = 0.0f;
+    switch (phase) {
+    case 0u: turn = misaligned; break;
+    case 1u:
+    case 3u: d = settle_distance_(cfg, pose, pose->heading); break;
+    default:  // 2: a quarter turn left, unless the other axis is settled already
+        if (settle_distance_(cfg, pose, pose->heading + 0.5f * FW_PI_F) != 0.0f) {
+            turn = misaligned + 0.5f * FW_PI_F;
+        }
+        break;
+    }
+    if (fabsf(turn) > 1e-3f) {
+        m.periods = periods_for_(cfg, fabsf(turn) / cfg->turn_rad);
+        const float w = fabsf(turn) * cfg->track_m * 0.5f / ((float)m.periods * period_s);
+        m.v_left = turn > 0.0f ? -w : w;  // positive: counter-clockwise, left
+        m.v_right = -m.v_left;
+    } else if (d != 0.0f) {
+        m.periods = periods_for_(cfg, fabsf(d) / cfg->step_m);
+        m.v_left = d / ((float)m.periods * period_s);
+        m.v_right = m.v_left;
+    }
+    return m;
+}
+
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose)
 {
     const float period_s = (float)cfg->period_us * 1e-6f;

@@ -327,6 +327,42 @@ static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
     assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
 }
 
+static void test_settling_ends_on_the_grid_of_aligned_stops(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;  // 0.5375 x 0.4 m cells, 90 degree turns
+    const float cw = 0.5375f, ch = 0.4f, margin = cfg.step_past_m;
+    const float deg = 3.14159265f / 180.0f;
+    assert_true(robot_settles(&cfg));
+    assert_false(robot_settles(sim_));  // it does not back off either
+    // Put down 0.45 m into cell 2 along x and 0.10 m into row 1, facing 20 degrees.
+    robot_pose_t pose = {2.0f * cw + 0.45f, ch + 0.10f, 20.0f * deg};
+    // 0: to the nearest grid heading, east.
+    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, 0u, &pose)), -20.0f * deg, 1e-4);
+    pose.heading = 0.0f;
+    // 1: to the nearer stop along x: margin short of the east edge.
+    robot_motion_t m = robot_settle_motion(&cfg, 1u, &pose);
+    assert_float_equal(m.v_right, m.v_left, 0);
+    assert_float_equal(travel_of_(&cfg, m), (cw - margin) - 0.45f, 1e-4);
+    pose.x = 3.0f * cw - margin;
+    // 2: a quarter turn left, north; 3: to margin past the south edge.
+    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, 2u, &pose)), 90.0f * deg, 1e-4);
+    pose.heading = 90.0f * deg;
+    assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, 3u, &pose)), margin - 0.10f, 1e-4);
+    pose.y = ch + margin;
+    // On the grid: nothing more to do in any phase.
+    for (uint8_t phase = 0u; phase < ROBOT_SETTLE_PHASES; phase++) {
+        assert_int_equal(robot_settle_motion(&cfg, phase, &pose).periods, 0);
+    }
+    // Settled across already: phase 2 does not turn.
+    pose = (robot_pose_t){2.0f * cw + 0.45f, ch + margin, 0.0f};
+    assert_int_equal(robot_settle_motion(&cfg, 2u, &pose).periods, 0);
+    assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_PHASES, &pose).periods, 0);
+    cfg.aligned_actions = 0;
+    assert_false(robot_settles(&cfg));
+    assert_int_equal(robot_settle_motion(&cfg, 1u, &pose).periods, 0);
+}
+
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------
 
 typedef struct bench {
@@ -454,6 +490,7 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     const agent_state_t s0 = robot_encode_state(&bench_.cfg, &blocked, 0);
     qstore_set(&agent_paper_sim.q, qstore_row_for_update(&agent_paper_sim.q, s0), ROBOT_FORWARD, 10.0f);
     robot_ctrl_start_episode(&bench_.ctrl);
+    bench_.ctrl.settle_phase = ROBOT_SETTLE_PHASES;  // put down settled (settling has its own test)
     bench_period_();  // the first state: forward
     assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
     // The step hits something at once and goes nowhere.
@@ -480,6 +517,34 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     assert_false(bench_.ctrl.backing_off);
     assert_int_equal(bench_.ctrl.last_episode.bumps, 0);  // the episode goes on
     assert_int_equal(bench_.ctrl.bumps, 1);
+}
+
+// An episode's first state is observed where settling onto the grid ends, and settling is not a
+// real step.
+static void test_episode_starts_after_settling(void **state)
+{
+    (void)state;
+    bench_init_(lab_, AGENT_Q_LEARNING);
+    bench_.cfg.aligned_actions = 1;  // the lab robot's own motion
+    bench_.cfg.action_periods = lab_->action_periods;
+    bench_.cfg.turn_rad = lab_->turn_rad;
+    const float cw = 0.5375f, ch = 0.4f, margin = bench_.cfg.step_past_m;
+    const float deg = 3.14159265f / 180.0f;
+    bench_.sense.pose = (robot_pose_t){2.0f * cw + 0.45f, ch + 0.10f, 20.0f * deg};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    uint32_t periods = 0;
+    for (; periods < 100 && !bench_.ctrl.step_done; periods++) {
+        bench_period_();
+    }
+    assert_true(bench_.ctrl.step_done);
+    assert_true(periods > 4u);  // four motions, each followed by a fix
+    assert_int_equal(bench_.ctrl.last_step.step, 0);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 0);
+    // Where it was observed: the period's pose before the first action moved it.
+    const robot_pose_t settled = {3.0f * cw - margin, ch + margin, 90.0f * deg};
+    assert_int_equal(bench_.ctrl.last_step.state, robot_encode_state(&bench_.cfg, &settled, 0));
+    assert_float_equal(bench_.ctrl.act_heading, settled.heading, 1e-3);
+    assert_int_equal(bench_.ctrl.settle_phase, ROBOT_SETTLE_PHASES);
 }
 
 static void test_operator_safe_stop_holds_until_start(void **state)
@@ -684,10 +749,12 @@ int main(void)
         cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),
         cmocka_unit_test(test_aligned_steps_cross_into_the_next_cell),
         cmocka_unit_test(test_backoff_returns_to_where_an_aligned_step_stops),
+        cmocka_unit_test(test_settling_ends_on_the_grid_of_aligned_stops),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
         cmocka_unit_test(test_step_cap_ends_the_episode),
         cmocka_unit_test(test_bump_costs_and_is_counted),
         cmocka_unit_test(test_bumped_step_backs_off_then_is_observed),
+        cmocka_unit_test(test_episode_starts_after_settling),
         cmocka_unit_test(test_operator_safe_stop_holds_until_start),
         cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),

@@ -37,6 +37,21 @@ bool robot_backs_off(const robot_config_t *cfg);
 robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
                                     const robot_pose_t *pose);
 
+/// The motions that settle a robot onto the grid of aligned stops, one phase at a time.
+#define ROBOT_SETTLE_PHASES 4u
+
+/// Whether the robot settles at an episode's start: robot_backs_off(), ROBOT_START_SETTLE, and a
+/// quarter turn a whole number of turn_rad.
+bool robot_settles(const robot_config_t *cfg);
+
+/// Phase `phase` (0 to ROBOT_SETTLE_PHASES - 1) of settling onto the grid, from `pose` (where the
+/// previous phase ended): 0 turns to the nearest multiple of turn_rad; 1 drives along the heading
+/// to the nearer of the two offsets in the cell an aligned step stops at (step_past_m past the
+/// edge behind, or short of the edge ahead); 2 turns a quarter turn left, unless the offset across
+/// is at one of those already; 3 is 1 along the new heading. Periods 0 when the phase has nothing
+/// to do, or when actions are not aligned.
+robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose);
+
 #ifdef __cplusplus
 }
 #endif
