@@ -4,7 +4,9 @@
 // Pure logic, no I/O: each control period the application hands it what the sensors say and gets
 // back the wheel speeds to command. One real step of the agent is: observe the state, pick an
 // action, drive it for cfg->action_periods periods, (paper-lab) stop and wait for a fresh pose
-// fix, observe the outcome and its reward, learn, and pick the next action.
+// fix, observe the outcome and its reward, learn, and pick the next action. A step that bumped
+// backs off before its outcome is observed, and an episode's first state is observed after
+// settling onto the grid, on a robot narrower than its cells (robot_motion.h).
 #ifndef ROBOT_CONTROLLER_H
 #define ROBOT_CONTROLLER_H
 
