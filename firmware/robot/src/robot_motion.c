@@ -114,7 +114,7 @@ static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pos
 // Why settle: a start leaves the robot anywhere in its first cell, facing anywhere, and until it
 // has stepped along both axes its offsets are ones aligned steps never leave. After the back-off
 // restored a bumped step's offset, starts were what remained of those offsets: settling took the
-// lab robot's far-goal tuning rooms from 346 to 353 of 360 sets (docs/results.md).
+// lab robot's far-goal tuning rooms from 346 to 354 of 360 sets (docs/results.md).
 robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose)
 {
     robot_motion_t m = {0.0f, 0.0f, 0u};
