@@ -83,6 +83,27 @@ static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
     robot_ctrl_stop(c);
 }
 
+// Before the first state of an episode (or after a stop cut a step short), the robot settles
+// onto the grid of aligned stops (robot_motion.h), one phase at a time, each from the pose the
+// last one ended at. Returns whether a settling motion started.
+static bool settle_(robot_ctrl_t *c, const robot_pose_t *pose)
+{
+    if (!robot_settles(c->cfg)) {
+        return false;
+    }
+    while (c->settle_phase < ROBOT_SETTLE_PHASES) {
+        const robot_motion_t m = robot_settle_motion(c->cfg, c->settle_phase, pose);
+        c->settle_phase++;
+        if (m.periods > 0u) {
+            c->periods_left = m.periods;
+            c->mode = ROBOT_MODE_ACTING;
+            wheels_(c, m.v_left, m.v_right);
+            return true;
+        }
+    }
+    return false;
+}
+
 // The outcome of the pending step (or, at an episode's start, the first state) is observable.
 static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
 {
@@ -100,17 +121,8 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         }
     }
     c->backing_off = false;
-    // Before the first state of an episode (or after a stop cut a step short), the robot settles
-    // onto the grid of aligned stops (robot_motion.h), one phase at a time, each from the pose
-    // the last one ended at.
-    while (!c->have_s && c->settle_phase < ROBOT_SETTLE_PHASES && robot_settles(cfg)) {
-        const robot_motion_t m = robot_settle_motion(cfg, c->settle_phase++, &in->pose);
-        if (m.periods > 0u) {
-            c->periods_left = m.periods;
-            c->mode = ROBOT_MODE_ACTING;
-            wheels_(c, m.v_left, m.v_right);
-            return;
-        }
+    if (!c->have_s && settle_(c, &in->pose)) {
+        return;
     }
     const agent_state_t s_next =
         robot_encode_state(cfg, &in->pose, robot_range_code(cfg, in->range_m, in->n_ranges));

@@ -48,6 +48,10 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
     return fminf(fmaxf(t, 0.0f) + margin, sqrtf(cw * cw + ch * ch) + margin);
 }
 
+// Shorter drives and turns than these are not worth a motion: the pose is already there.
+#define MIN_DRIVE_M 0.01f
+#define MIN_TURN_RAD 1e-3f
+
 // Periods for a motion `ratio` times the fixed action's length: never faster than the fixed
 // action (a turn must also stay inside the gyro's measuring range, which it was sized for).
 static uint8_t periods_for_(const robot_config_t *cfg, float ratio)
@@ -81,7 +85,7 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     // way, less the margin it adds; the stop is the margin past that edge.
     const float behind = aligned_step_(cfg, pose, heading + (forward ? FW_PI_F : 0.0f)) - cfg->step_past_m;
     const float d = behind - cfg->step_past_m;
-    if (!(d > 0.01f)) {
+    if (!(d > MIN_DRIVE_M)) {
         return m;
     }
     m.periods = periods_for_(cfg, d / cfg->step_m);
@@ -93,14 +97,13 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
 
 bool robot_settles(const robot_config_t *cfg)
 {
-    // A quarter turn must end on the grid of headings for phase 2.
-    const float quarters = 0.5f * FW_PI_F / cfg->turn_rad;
-    return ROBOT_START_SETTLE != 0 && robot_backs_off(cfg) && fabsf(quarters - roundf(quarters)) < 1e-3f;
+    // Headings a quarter turn apart, so that the grid of stops is one of cells' sides.
+    return ROBOT_START_SETTLE != 0 && robot_backs_off(cfg) && fabsf(cfg->turn_rad - 0.5f * FW_PI_F) < MIN_TURN_RAD;
 }
 
 // The signed distance along `dir` from the pose to the nearer of the two offsets in its cell at
 // which an aligned step along that axis stops (step_past_m past the edge behind, or short of the
-// edge ahead); 0 within a centimetre of it.
+// edge ahead); 0 when it is there already.
 static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
     const float ahead = aligned_step_(cfg, pose, dir) - cfg->step_past_m;
@@ -108,7 +111,7 @@ static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pos
     const float len = behind + ahead;
     const float target = behind < 0.5f * len ? cfg->step_past_m : len - cfg->step_past_m;
     const float d = target - behind;
-    return fabsf(d) > 0.01f ? d : 0.0f;
+    return fabsf(d) > MIN_DRIVE_M ? d : 0.0f;
 }
 
 // Why settle: a start leaves the robot anywhere in its first cell, facing anywhere, and until it
@@ -118,7 +121,7 @@ static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pos
 robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose)
 {
     robot_motion_t m = {0.0f, 0.0f, 0u};
-    if (!cfg->aligned_actions || phase >= ROBOT_SETTLE_PHASES) {
+    if (!cfg->aligned_actions) {
         return m;
     }
     const float period_s = (float)cfg->period_us * 1e-6f;
@@ -126,16 +129,22 @@ robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, con
     const float misaligned = (roundf(h) - h) * cfg->turn_rad;  // to the nearest grid heading
     float turn = 0.0f, d = 0.0f;
     switch (phase) {
-    case 0u: turn = misaligned; break;
-    case 1u:
-    case 3u: d = settle_distance_(cfg, pose, pose->heading); break;
-    default:  // 2: a quarter turn left, unless the other axis is settled already
+    case ROBOT_SETTLE_FACE_GRID:
+        turn = misaligned;
+        break;
+    case ROBOT_SETTLE_ALONG:
+    case ROBOT_SETTLE_ACROSS:  // after the quarter turn, along the heading again
+        d = settle_distance_(cfg, pose, pose->heading);
+        break;
+    case ROBOT_SETTLE_QUARTER_LEFT:
         if (settle_distance_(cfg, pose, pose->heading + 0.5f * FW_PI_F) != 0.0f) {
             turn = misaligned + 0.5f * FW_PI_F;
         }
         break;
+    default:
+        break;
     }
-    if (fabsf(turn) > 1e-3f) {
+    if (fabsf(turn) > MIN_TURN_RAD) {
         m.periods = periods_for_(cfg, fabsf(turn) / cfg->turn_rad);
         const float w = fabsf(turn) * cfg->track_m * 0.5f / ((float)m.periods * period_s);
         m.v_left = turn > 0.0f ? -w : w;  // positive: counter-clockwise, left

@@ -351,13 +351,16 @@ static void test_settling_ends_on_the_grid_of_aligned_stops(void **state)
     assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, 3u, &pose)), margin - 0.10f, 1e-4);
     pose.y = ch + margin;
     // On the grid: nothing more to do in any phase.
-    for (uint8_t phase = 0u; phase < ROBOT_SETTLE_PHASES; phase++) {
+    for (uint8_t phase = ROBOT_SETTLE_FACE_GRID; phase < ROBOT_SETTLE_PHASES; phase++) {
         assert_int_equal(robot_settle_motion(&cfg, phase, &pose).periods, 0);
     }
     // Settled across already: phase 2 does not turn.
     pose = (robot_pose_t){2.0f * cw + 0.45f, ch + margin, 0.0f};
     assert_int_equal(robot_settle_motion(&cfg, 2u, &pose).periods, 0);
     assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_PHASES, &pose).periods, 0);
+    cfg.turn_rad = 3.14159265f / 4.0f;  // 45 degree headings: an aligned step may be diagonal
+    assert_false(robot_settles(&cfg));
+    cfg = *lab_;
     cfg.aligned_actions = 0;
     assert_false(robot_settles(&cfg));
     assert_int_equal(robot_settle_motion(&cfg, 1u, &pose).periods, 0);
@@ -486,12 +489,13 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     agent_paper_sim.params.epsilon = 0.0f;
     const float cw = 0.5375f;
     const robot_pose_t blocked = {2.0f * cw + 0.45f, 1.0f, 0.0f};  // facing east, 0.45 m in
-    bench_.sense.pose = blocked;
+    // Put down on the grid of aligned stops in the same cell, so that there is nothing to settle.
+    bench_.sense.pose = (robot_pose_t){2.0f * cw + bench_.cfg.step_past_m, 0.8f + bench_.cfg.step_past_m, 0.0f};
     const agent_state_t s0 = robot_encode_state(&bench_.cfg, &blocked, 0);
     qstore_set(&agent_paper_sim.q, qstore_row_for_update(&agent_paper_sim.q, s0), ROBOT_FORWARD, 10.0f);
     robot_ctrl_start_episode(&bench_.ctrl);
-    bench_.ctrl.settle_phase = ROBOT_SETTLE_PHASES;  // put down settled (settling has its own test)
     bench_period_();  // the first state: forward
+    assert_true(bench_.ctrl.step_done);
     assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
     // The step hits something at once and goes nowhere.
     for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING && !bench_.ctrl.backing_off; i++) {
@@ -519,32 +523,92 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     assert_int_equal(bench_.ctrl.bumps, 1);
 }
 
-// An episode's first state is observed where settling onto the grid ends, and settling is not a
-// real step.
-static void test_episode_starts_after_settling(void **state)
+// Runs the controller until a real step (or an episode's first state) is observed; returns how
+// many motions started before it (settling's, when no step was pending). *at gets the pose it
+// was observed at (the period's, before the next action moved the robot).
+static uint32_t motions_until_observed_(robot_pose_t *at)
 {
-    (void)state;
+    uint32_t motions = 0;
+    robot_mode_t last = bench_.ctrl.mode;
+    for (uint32_t i = 0; i < 200u; i++) {
+        *at = bench_.sense.pose;
+        bench_period_();
+        if (bench_.ctrl.step_done) {
+            return motions;
+        }
+        motions += bench_.ctrl.mode == ROBOT_MODE_ACTING && last != ROBOT_MODE_ACTING;
+        last = bench_.ctrl.mode;
+    }
+    fail_msg("nothing observed in 200 periods");
+    return motions;
+}
+
+static void bench_init_lab_aligned_(void)
+{
     bench_init_(lab_, AGENT_Q_LEARNING);
     bench_.cfg.aligned_actions = 1;  // the lab robot's own motion
     bench_.cfg.action_periods = lab_->action_periods;
     bench_.cfg.turn_rad = lab_->turn_rad;
+}
+
+// An episode's first state is observed where settling onto the grid ends, and settling is not a
+// real step; every episode settles, and so does a robot whose step a safe stop cut short.
+static void test_episode_starts_after_settling(void **state)
+{
+    (void)state;
+    bench_init_lab_aligned_();
     const float cw = 0.5375f, ch = 0.4f, margin = bench_.cfg.step_past_m;
     const float deg = 3.14159265f / 180.0f;
     bench_.sense.pose = (robot_pose_t){2.0f * cw + 0.45f, ch + 0.10f, 20.0f * deg};
     robot_ctrl_start_episode(&bench_.ctrl);
-    uint32_t periods = 0;
-    for (; periods < 100 && !bench_.ctrl.step_done; periods++) {
-        bench_period_();
-    }
-    assert_true(bench_.ctrl.step_done);
-    assert_true(periods > 4u);  // four motions, each followed by a fix
+    robot_pose_t at;
+    assert_int_equal(motions_until_observed_(&at), 4);  // face east, along x, turn north, along y
     assert_int_equal(bench_.ctrl.last_step.step, 0);
     assert_int_equal(agent_paper_sim.stats.real_steps, 0);
-    // Where it was observed: the period's pose before the first action moved it.
-    const robot_pose_t settled = {3.0f * cw - margin, ch + margin, 90.0f * deg};
-    assert_int_equal(bench_.ctrl.last_step.state, robot_encode_state(&bench_.cfg, &settled, 0));
-    assert_float_equal(bench_.ctrl.act_heading, settled.heading, 1e-3);
-    assert_int_equal(bench_.ctrl.settle_phase, ROBOT_SETTLE_PHASES);
+    assert_float_equal(at.x, 3.0f * cw - margin, 2e-3);
+    assert_float_equal(at.y, ch + margin, 2e-3);
+    assert_float_equal(at.heading, 90.0f * deg, 1e-3);
+    assert_int_equal(bench_.ctrl.last_step.state, robot_encode_state(&bench_.cfg, &at, 0));
+
+    // A second episode, put down facing a grid heading with the offset along it off the grid:
+    // one motion.
+    robot_ctrl_stop(&bench_.ctrl);
+    bench_.sense.pose = (robot_pose_t){2.0f * cw + 0.30f, ch + margin, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    assert_int_equal(motions_until_observed_(&at), 1);
+    assert_float_equal(at.x, 3.0f * cw - margin, 2e-3);
+    assert_float_equal(at.heading, 0.0f, 1e-3);
+
+    // Put down on the grid: the first state at once.
+    robot_ctrl_stop(&bench_.ctrl);
+    bench_.sense.pose = (robot_pose_t){2.0f * cw + margin, ch + margin, 0.0f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    assert_int_equal(motions_until_observed_(&at), 0);
+
+    // The bus goes silent during the first step: the step is dropped, and the robot settles
+    // again from where the stop left it before it observes a first state afresh.
+    bench_period_();
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
+    bench_.sense.bus_ok = false;
+    bench_period_();
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
+    bench_.sense.bus_ok = true;
+    assert_true(motions_until_observed_(&at) >= 1u);
+    assert_int_equal(bench_.ctrl.last_step.step, 0);
+    assert_int_equal(agent_paper_sim.stats.real_steps, 0);
+}
+
+// The sonar robot (aligned actions, larger than its cells) does not settle.
+static void test_a_robot_larger_than_its_cells_does_not_settle(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.cfg.aligned_actions = 1;
+    bench_.cfg.turn_rad = sim_->turn_rad;
+    bench_.sense.pose = (robot_pose_t){1.1f, 2.2f, 0.3f};
+    robot_ctrl_start_episode(&bench_.ctrl);
+    bench_period_();
+    assert_true(bench_.ctrl.step_done);
 }
 
 static void test_operator_safe_stop_holds_until_start(void **state)
@@ -755,6 +819,7 @@ int main(void)
         cmocka_unit_test(test_bump_costs_and_is_counted),
         cmocka_unit_test(test_bumped_step_backs_off_then_is_observed),
         cmocka_unit_test(test_episode_starts_after_settling),
+        cmocka_unit_test(test_a_robot_larger_than_its_cells_does_not_settle),
         cmocka_unit_test(test_operator_safe_stop_holds_until_start),
         cmocka_unit_test(test_safe_stop_on_bus_loss_and_resume),
         cmocka_unit_test(test_waits_for_a_fix_taken_after_stopping),

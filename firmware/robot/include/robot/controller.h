@@ -82,7 +82,7 @@ typedef struct robot_ctrl {
     bool bump_latched;
     bool backing_off;          ///< the pending step bumped, and the robot is backing off (robot_backs_off())
     float act_heading;         ///< the heading the pending step started with
-    uint8_t settle_phase;      ///< the next phase of settling onto the grid (robot_settles())
+    uint8_t settle_phase;      ///< the next robot_settle_phase_t of settling onto the grid (robot_settles())
     uint64_t stopped_at_us;    // when the wheels stopped after the last action
     uint32_t step, episode, bumps;
     float episode_reward;

@@ -37,19 +37,29 @@ bool robot_backs_off(const robot_config_t *cfg);
 robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
                                     const robot_pose_t *pose);
 
-/// The motions that settle a robot onto the grid of aligned stops, one phase at a time.
-#define ROBOT_SETTLE_PHASES 4u
+/// The phases of settling onto the grid of aligned stops, in order.
+typedef enum robot_settle_phase {
+    ROBOT_SETTLE_FACE_GRID = 0,      ///< turn to the nearest grid heading
+    ROBOT_SETTLE_ALONG = 1,          ///< drive to the nearer aligned stop along it
+    ROBOT_SETTLE_QUARTER_LEFT = 2,   ///< a quarter turn left, unless the offset across is a stop
+    ROBOT_SETTLE_ACROSS = 3,         ///< drive to the nearer aligned stop along the new heading
+    ROBOT_SETTLE_PHASES = 4,
+} robot_settle_phase_t;
 
-/// Whether the robot settles at an episode's start: robot_backs_off(), ROBOT_START_SETTLE, and a
-/// quarter turn a whole number of turn_rad.
+/// Whether the robot settles onto the grid of aligned stops before it observes a first state:
+/// robot_backs_off(), ROBOT_START_SETTLE, and turns of a quarter turn (on a finer grid of
+/// headings an aligned step may be diagonal, and the stops are not a cell's sides). It settles at
+/// an episode's start, and again after a safe stop cut a step short (the controller starts
+/// afresh from wherever the stop left it).
 bool robot_settles(const robot_config_t *cfg);
 
-/// Phase `phase` (0 to ROBOT_SETTLE_PHASES - 1) of settling onto the grid, from `pose` (where the
-/// previous phase ended): 0 turns to the nearest multiple of turn_rad; 1 drives along the heading
-/// to the nearer of the two offsets in the cell an aligned step stops at (step_past_m past the
-/// edge behind, or short of the edge ahead); 2 turns a quarter turn left, unless the offset across
-/// is at one of those already; 3 is 1 along the new heading. Periods 0 when the phase has nothing
-/// to do, or when actions are not aligned.
+/// Phase `phase` (robot_settle_phase_t) of settling onto the grid, from `pose` (where the
+/// previous phase ended). An aligned stop is an offset in the cell at which an aligned step along
+/// that axis stops: step_past_m past the edge behind, or short of the edge ahead. Periods 0 when
+/// the phase has nothing to do, for a phase beyond the last, or when actions are not aligned.
+/// Settling is not a real step: a bump while settling is not counted, not rewarded and not backed
+/// off from, and settling goes on from where the bump left the robot (its first state may then
+/// be off the grid; about 3 % of starts on the lab robot's far-goal tuning rooms).
 robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose);
 
 #ifdef __cplusplus
