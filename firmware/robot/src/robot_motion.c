@@ -60,6 +60,21 @@ static uint8_t periods_for_(const robot_config_t *cfg, float ratio)
     return (uint8_t)(periods < 1.0f ? 1.0f : periods > 255.0f ? 255.0f : periods);
 }
 
+// Driving `d` metres (negative: backward) in `periods` control periods.
+static robot_motion_t drive_motion_(const robot_config_t *cfg, float d, uint8_t periods)
+{
+    const float v = d / ((float)periods * ((float)cfg->period_us * 1e-6f));
+    return (robot_motion_t){v, v, periods};
+}
+
+// Turning `turn` radians in place (positive: counter-clockwise, left) in `periods` control
+// periods: each wheel travels turn * track / 2.
+static robot_motion_t turn_motion_(const robot_config_t *cfg, float turn, uint8_t periods)
+{
+    const float w = fabsf(turn) * cfg->track_m * 0.5f / ((float)periods * ((float)cfg->period_us * 1e-6f));
+    return turn > 0.0f ? (robot_motion_t){-w, w, periods} : (robot_motion_t){w, -w, periods};
+}
+
 bool robot_backs_off(const robot_config_t *cfg)
 {
     float cw, ch;
@@ -88,11 +103,8 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     if (!(d > MIN_DRIVE_M)) {
         return m;
     }
-    m.periods = periods_for_(cfg, d / cfg->step_m);
-    const float v = d / ((float)m.periods * (float)cfg->period_us * 1e-6f);
-    m.v_left = forward ? -v : v;  // the way the step came: backward after a forward step
-    m.v_right = m.v_left;
-    return m;
+    // The way the step came: backward after a forward step.
+    return drive_motion_(cfg, forward ? -d : d, periods_for_(cfg, d / cfg->step_m));
 }
 
 bool robot_settles(const robot_config_t *cfg)
@@ -124,7 +136,6 @@ robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, con
     if (!cfg->aligned_actions) {
         return m;
     }
-    const float period_s = (float)cfg->period_us * 1e-6f;
     const float h = wrap_2pi_(pose->heading) / cfg->turn_rad;  // in grid turns
     const float misaligned = (roundf(h) - h) * cfg->turn_rad;  // to the nearest grid heading
     float turn = 0.0f, d = 0.0f;
@@ -145,23 +156,18 @@ robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, con
         break;
     }
     if (fabsf(turn) > MIN_TURN_RAD) {
-        m.periods = periods_for_(cfg, fabsf(turn) / cfg->turn_rad);
-        const float w = fabsf(turn) * cfg->track_m * 0.5f / ((float)m.periods * period_s);
-        m.v_left = turn > 0.0f ? -w : w;  // positive: counter-clockwise, left
-        m.v_right = -m.v_left;
-    } else if (d != 0.0f) {
-        m.periods = periods_for_(cfg, fabsf(d) / cfg->step_m);
-        m.v_left = d / ((float)m.periods * period_s);
-        m.v_right = m.v_left;
+        return turn_motion_(cfg, turn, periods_for_(cfg, fabsf(turn) / cfg->turn_rad));
+    }
+    if (d != 0.0f) {
+        return drive_motion_(cfg, d, periods_for_(cfg, fabsf(d) / cfg->step_m));
     }
     return m;
 }
 
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose)
 {
-    const float period_s = (float)cfg->period_us * 1e-6f;
     float dist = cfg->step_m, turn = cfg->turn_rad;
-    robot_motion_t m = {0.0f, 0.0f, cfg->action_periods};
+    uint8_t periods = cfg->action_periods;
     if (cfg->aligned_actions) {
         // Never faster than the fixed action: a longer step or turn takes more periods (a turn
         // must also stay inside the gyro's measuring range, which the fixed turn was sized for).
@@ -173,25 +179,20 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
             ratio = dist / cfg->step_m;
             break;
         case ROBOT_TURN_LEFT:
-        case ROBOT_TURN_RIGHT:  // both positive: the wheels below give the direction
+        case ROBOT_TURN_RIGHT:  // both positive: the cases below give the direction
             turn = fabsf(aligned_turn_(pose->heading, cfg->turn_rad, action == ROBOT_TURN_LEFT));
             ratio = turn / cfg->turn_rad;
             break;
         default:
             break;
         }
-        m.periods = periods_for_(cfg, ratio);
+        periods = periods_for_(cfg, ratio);
     }
-    const float duration = (float)m.periods * period_s;
-    const float v = dist / duration;
-    // A turn in place: each wheel travels turn * track / 2.
-    const float w = turn * cfg->track_m * 0.5f / duration;
     switch (action) {
-    case ROBOT_FORWARD: m.v_left = v; m.v_right = v; break;
-    case ROBOT_BACKWARD: m.v_left = -v; m.v_right = -v; break;
-    case ROBOT_TURN_LEFT: m.v_left = -w; m.v_right = w; break;
-    case ROBOT_TURN_RIGHT: m.v_left = w; m.v_right = -w; break;
-    default: break;
+    case ROBOT_FORWARD: return drive_motion_(cfg, dist, periods);
+    case ROBOT_BACKWARD: return drive_motion_(cfg, -dist, periods);
+    case ROBOT_TURN_LEFT: return turn_motion_(cfg, turn, periods);
+    case ROBOT_TURN_RIGHT: return turn_motion_(cfg, -turn, periods);
+    default: return (robot_motion_t){0.0f, 0.0f, periods};
     }
-    return m;
 }

@@ -337,33 +337,33 @@ static void test_settling_ends_on_the_grid_of_aligned_stops(void **state)
     assert_false(robot_settles(sim_));  // it does not back off either
     // Put down 0.45 m into cell 2 along x and 0.10 m into row 1, facing 20 degrees.
     robot_pose_t pose = {2.0f * cw + 0.45f, ch + 0.10f, 20.0f * deg};
-    // 0: to the nearest grid heading, east.
-    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, 0u, &pose)), -20.0f * deg, 1e-4);
+    // To the nearest grid heading, east.
+    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_FACE_GRID, &pose)), -20.0f * deg, 1e-4);
     pose.heading = 0.0f;
-    // 1: to the nearer stop along x: margin short of the east edge.
-    robot_motion_t m = robot_settle_motion(&cfg, 1u, &pose);
+    // To the nearer stop along x: margin short of the east edge.
+    robot_motion_t m = robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose);
     assert_float_equal(m.v_right, m.v_left, 0);
     assert_float_equal(travel_of_(&cfg, m), (cw - margin) - 0.45f, 1e-4);
     pose.x = 3.0f * cw - margin;
-    // 2: a quarter turn left, north; 3: to margin past the south edge.
-    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, 2u, &pose)), 90.0f * deg, 1e-4);
+    // A quarter turn left, north; then to margin past the south edge.
+    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_QUARTER_LEFT, &pose)), 90.0f * deg, 1e-4);
     pose.heading = 90.0f * deg;
-    assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, 3u, &pose)), margin - 0.10f, 1e-4);
+    assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_ACROSS, &pose)), margin - 0.10f, 1e-4);
     pose.y = ch + margin;
     // On the grid: nothing more to do in any phase.
     for (uint8_t phase = ROBOT_SETTLE_FACE_GRID; phase < ROBOT_SETTLE_PHASES; phase++) {
         assert_int_equal(robot_settle_motion(&cfg, phase, &pose).periods, 0);
     }
-    // Settled across already: phase 2 does not turn.
+    // Settled across already: no quarter turn.
     pose = (robot_pose_t){2.0f * cw + 0.45f, ch + margin, 0.0f};
-    assert_int_equal(robot_settle_motion(&cfg, 2u, &pose).periods, 0);
+    assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_QUARTER_LEFT, &pose).periods, 0);
     assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_PHASES, &pose).periods, 0);
     cfg.turn_rad = 3.14159265f / 4.0f;  // 45 degree headings: an aligned step may be diagonal
     assert_false(robot_settles(&cfg));
     cfg = *lab_;
     cfg.aligned_actions = 0;
     assert_false(robot_settles(&cfg));
-    assert_int_equal(robot_settle_motion(&cfg, 1u, &pose).periods, 0);
+    assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose).periods, 0);
 }
 
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------
