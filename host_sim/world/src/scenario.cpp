@@ -102,6 +102,7 @@ private:
     bool key_ranger(const Tokens &t, Scenario *s);
     bool key_ray(const Tokens &t, Scenario *s);
     bool key_code_bit(const Tokens &t, Scenario *s);
+    bool key_actuation(const Tokens &t, Scenario *s);
     bool key_gyro(const Tokens &t, Scenario *s);
     bool key_gps(const Tokens &t, Scenario *s);
     bool key_cricket(const Tokens &t, Scenario *s);
@@ -268,6 +269,7 @@ bool Parser::line(const Tokens &t, Scenario *s)
         {"ranger", true, &Parser::ranger_line_, &Parser::key_ranger},
         {"ray", false, nullptr, &Parser::key_ray},
         {"code_bit", false, nullptr, &Parser::key_code_bit},
+        {"actuation", true, nullptr, &Parser::key_actuation},
         {"gyro", true, nullptr, &Parser::key_gyro},
         {"gps", true, nullptr, &Parser::key_gps},
         {"cricket", true, &Parser::cricket_line_, &Parser::key_cricket},
@@ -438,6 +440,18 @@ bool Parser::key_code_bit(const Tokens &t, Scenario *s)
     s->code_bits.push_back(b);
     code_bit_lines_.push_back(line_);
     return true;
+}
+
+bool Parser::key_actuation(const Tokens &t, Scenario *s)
+{
+    using T = Field::Type;
+    ActuationSpec &a = s->actuation;
+    a.enabled = true;
+    std::vector<Field> f = {
+        {"gain", T::Real, &a.gain, 0.0, 0.5},
+        {"noise", T::Real, &a.noise, 0.0, 0.5},
+    };
+    return fields(t, f);
 }
 
 bool Parser::key_gyro(const Tokens &t, Scenario *s)
@@ -882,6 +896,9 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
              a.ranger.noise_sd == b.ranger.noise_sd && rays_same(a.ranger.rays, b.ranger.rays),
          "the ranger or its rays"},
         {bits_same(a.code_bits, b.code_bits), "the code bits"},
+        {a.actuation.enabled == b.actuation.enabled && a.actuation.gain == b.actuation.gain &&
+             a.actuation.noise == b.actuation.noise,
+         "the actuation"},
         {a.gyro.bias == b.gyro.bias && a.gyro.noise_sd == b.gyro.noise_sd, "the gyro"},
         {a.gps.enabled == b.gps.enabled && a.gps.xy_sd == b.gps.xy_sd && a.gps.heading_sd == b.gps.heading_sd,
          "the gps"},

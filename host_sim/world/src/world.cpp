@@ -32,7 +32,7 @@ constexpr double kPi = FW_PI;
 // round-off sized impulses on resting contacts.
 constexpr float kPushImpulse = 1e-5f;
 
-enum Stream : std::uint32_t { kStart = 1, kRange = 2, kGyro = 3, kGps = 4 };
+enum Stream : std::uint32_t { kStart = 1, kRange = 2, kGyro = 3, kGps = 4, kActuation = 6 };  // 5: Cricket
 
 // Sets the bump flag when the robot begins touching anything, or when the solver has to push
 // the robot back (it drove or turned into something). PostSolve reports each touching contact
@@ -95,6 +95,10 @@ struct World::Impl {
     b2Fixture *robot_fixture = nullptr;
     BumpListener bump;
     RandomStream start_rng, range_rng, gyro_rng, gps_rng;
+    // `actuation`: its own stream, so that an exact robot (no line) draws nothing new and a
+    // wheel's gain, drawn once here, is the same robot for the World's whole life.
+    RandomStream actuation_rng;
+    double gain_l = 1.0, gain_r = 1.0;
     double target_l = 0.0, target_r = 0.0;
     double half_track = 0.0;
     double mass = 0.0, inertia = 0.0, max_force = 0.0;
@@ -103,8 +107,13 @@ struct World::Impl {
 
     Impl(const Scenario &s, std::uint32_t seed)
         : sc(s), start_rng(seed, kStart), range_rng(seed, kRange), gyro_rng(seed, kGyro),
-          gps_rng(seed, kGps)
+          gps_rng(seed, kGps), actuation_rng(seed, kActuation)
     {
+        if (sc.actuation.enabled) {
+            const double g = sc.actuation.gain;
+            gain_l = actuation_rng.uniform(1.0 - g, 1.0 + g);
+            gain_r = actuation_rng.uniform(1.0 - g, 1.0 + g);
+        }
         build();
     }
 
@@ -298,7 +307,18 @@ void World::set_obstacles(const std::vector<Obstacle> &obstacles)
 
 void World::set_wheel_targets(double left, double right)
 {
-    const double vmax = impl_->sc.robot.max_speed;
+    Impl &m = *impl_;
+    const ActuationSpec &a = m.sc.actuation;
+    if (a.enabled) {
+        // The motor runs at its gain times the command, each command a little off.
+        left *= m.gain_l;
+        right *= m.gain_r;
+        if (a.noise > 0.0) {
+            left *= 1.0 + a.noise * m.actuation_rng.normal();
+            right *= 1.0 + a.noise * m.actuation_rng.normal();
+        }
+    }
+    const double vmax = m.sc.robot.max_speed;
     impl_->target_l = std::clamp(left, -vmax, vmax);
     impl_->target_r = std::clamp(right, -vmax, vmax);
 }
@@ -335,6 +355,8 @@ WheelSpeeds World::wheel_speeds() const
 }
 
 double World::yaw_rate() const { return impl_->robot->GetAngularVelocity(); }
+
+WheelSpeeds World::wheel_gains() const { return {impl_->gain_l, impl_->gain_r}; }
 
 bool World::bumped() const { return impl_->bump.bumped; }
 void World::clear_bump() { impl_->bump.bumped = false; }

@@ -264,6 +264,7 @@ const BadFile kBadFiles[] = {
     {"missing_ranger_min.scn", 4, "missing field 'ranger min'"},
     {"bad_beacon.scn", 6, "beacon id '1:2:3'"},
     {"bad_model.scn", 6, "learning model 'cmac': unknown (relocatable, paper)"},
+    {"bad_actuation.scn", 7, "actuation gain 0.7 out of range [0, 0.5]"},
     {"garbage.bin", 3, "not a text file"},
     {"does_not_exist.scn", 0, "cannot open"},
     {"", 0, "cannot read"},  // the directory itself
@@ -324,6 +325,23 @@ void test_text_rules(void **state)
     assert_true(starts_with(err, "t.scn:6: missing value for 'gyro bias'"));
     assert_false(world::parse_scenario(base + "gyro bias 0 bias 0\n", "t.scn", &s, &err));
     assert_true(starts_with(err, "t.scn:6: duplicate field 'bias'"));
+    // actuation: both fields optional; out of range, not a number, unknown, twice: refused.
+    assert_true(world::parse_scenario(base + "actuation gain 0.1 noise 0.05\n", "t.scn", &s, &err));
+    assert_true(s.actuation.enabled && s.actuation.gain == 0.1 && s.actuation.noise == 0.05);
+    assert_true(world::parse_scenario(base + "actuation\n", "t.scn", &s, &err));
+    assert_true(s.actuation.enabled && s.actuation.gain == 0.0 && s.actuation.noise == 0.0);
+    assert_true(world::parse_scenario(base, "t.scn", &s, &err));
+    assert_false(s.actuation.enabled);
+    assert_false(world::parse_scenario(base + "actuation gain 0.6\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: actuation gain 0.6 out of range [0, 0.5]"));
+    assert_false(world::parse_scenario(base + "actuation noise -0.1\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: actuation noise -0.1 out of range"));
+    assert_false(world::parse_scenario(base + "actuation gain x\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: 'x' is not a number (actuation gain)"));
+    assert_false(world::parse_scenario(base + "actuation slip 1\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: unknown field 'slip' for 'actuation'"));
+    assert_false(world::parse_scenario(base + "actuation gain 0.1\nactuation noise 0.1\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:7: duplicate 'actuation' (first on line 6)"));
     // encode sensor must match the code bits.
     assert_false(world::parse_scenario(base + "encode sensor 2\ncode_bit 0.3 0\n", "t.scn", &s,
                                        &err));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Tests of the simulated world: driving, turning, actions, range rays, bumps, start poses,
 // determinism, gyro/GPS noise and the Cricket listener's lines.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -370,6 +371,68 @@ Trace run_trace(const world::Scenario &s, std::uint32_t seed)
     return t;
 }
 
+// `actuation gain G noise S`: each wheel runs at its gain (drawn once per World, in
+// [1 - G, 1 + G]) times each command's 1 + S N(0, 1); without the line, exactly the target.
+void test_actuation(void **state)
+{
+    (void)state;
+    {
+        world::World exact(open_arena(""), 5);
+        const world::WheelSpeeds g = exact.wheel_gains();
+        assert_true(g.left == 1.0 && g.right == 1.0);
+        exact.set_wheel_targets(0.7, -0.3);
+        assert_true(exact.wheel_targets().left == 0.7 && exact.wheel_targets().right == -0.3);
+    }
+    // Gain alone: the targets are the command times the drawn gains, the same for a seed, other
+    // gains for another seed; every gain within [0.9, 1.1] and their spread over many seeds covers it.
+    const world::Scenario gs = open_arena("actuation gain 0.1\n");
+    double lo = 2.0, hi = 0.0;
+    for (std::uint32_t seed = 1; seed <= 200; ++seed) {
+        world::World w(gs, seed);
+        const world::WheelSpeeds g = w.wheel_gains();
+        for (double x : {g.left, g.right}) {
+            assert_true(x >= 0.9 && x <= 1.1);
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+        }
+        w.set_wheel_targets(1.0, -0.5);
+        assert_true(w.wheel_targets().left == g.left && w.wheel_targets().right == -0.5 * g.right);
+        world::World again(gs, seed);
+        assert_true(again.wheel_gains().left == g.left && again.wheel_gains().right == g.right);
+    }
+    assert_true(lo < 0.91 && hi > 1.09);
+    // A gain mismatch bends a straight drive toward the slower wheel.
+    {
+        world::World w(gs, 3);
+        const world::WheelSpeeds g = w.wheel_gains();
+        w.reset({5.0, 5.0, 0.0});
+        w.set_wheel_targets(0.5, 0.5);
+        for (int i = 0; i < 60; ++i) w.step();
+        const double turned = w.pose().heading;
+        assert_true((turned > 0.0) == (g.right > g.left));
+        assert_true(std::fabs(turned) > 0.01);
+    }
+    // Noise: per command, mean 1, sd S (within sampling error); the gains stay as drawn.
+    const world::Scenario ns = open_arena("actuation noise 0.05\n");
+    world::World w(ns, 9);
+    assert_true(w.wheel_gains().left == 1.0 && w.wheel_gains().right == 1.0);
+    double sum = 0.0, sq = 0.0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+        w.set_wheel_targets(1.0, 1.0);
+        for (double x : {w.wheel_targets().left, w.wheel_targets().right}) {
+            sum += x;
+            sq += x * x;
+        }
+    }
+    const double mean = sum / (2 * n), sd = std::sqrt(sq / (2 * n) - mean * mean);
+    assert_true(std::fabs(mean - 1.0) < 0.003);
+    assert_true(std::fabs(sd - 0.05) < 0.003);
+    // The clamp to max_speed still applies after the factors.
+    w.set_wheel_targets(100.0, -100.0);
+    assert_true(w.wheel_targets().left == 2.0 && w.wheel_targets().right == -2.0);
+}
+
 void test_determinism(void **state)
 {
     (void)state;
@@ -568,6 +631,7 @@ int main(void)
         cmocka_unit_test(test_bump_wall),
         cmocka_unit_test(test_start_poses),
         cmocka_unit_test(test_goal),
+        cmocka_unit_test(test_actuation),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_gyro_gps_noise),
         cmocka_unit_test(test_sensor_code),

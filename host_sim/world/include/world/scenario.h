@@ -79,6 +79,18 @@ struct GyroSpec {
     double noise_sd = 0.0;  ///< rad/s, per reading
 };
 
+/// How the motors carry out the wheel speed targets (`actuation`, docs/scenarios.md). Without the
+/// line the robot is exact: each wheel runs at exactly its target.
+struct ActuationSpec {
+    bool enabled = false;  ///< the scenario has an `actuation` line
+    /// Each wheel's gain is drawn once per World (once per set in `train`), uniform in
+    /// [1 - gain, 1 + gain]: the wheel runs at gain x its target.
+    double gain = 0.0;
+    /// Each motor command's target of each wheel is multiplied by 1 + noise x N(0, 1), drawn per
+    /// command and wheel.
+    double noise = 0.0;
+};
+
 struct GpsSpec {
     bool enabled = false;     ///< the scenario has a `gps` line
     double xy_sd = 0.0;       ///< m, per axis
@@ -164,6 +176,7 @@ struct Scenario {
     RobotSpec robot;
     RangerSpec ranger;
     std::vector<CodeBit> code_bits;
+    ActuationSpec actuation;
     GyroSpec gyro;
     GpsSpec gps;
     CricketSpec cricket;

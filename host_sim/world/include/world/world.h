@@ -61,7 +61,10 @@ public:
 
     /// Wheel speed targets, m/s, each clamped to +-robot.max_speed. The wheel controller slews
     /// its command toward them at robot.max_accel and drives each wheel with a force (limited to
-    /// what max_accel needs) so the wheel's speed follows the command.
+    /// what max_accel needs) so the wheel's speed follows the command. With the scenario's
+    /// `actuation` line each target is first multiplied by its wheel's gain (drawn once, at
+    /// construction) and by 1 + noise x N(0, 1) (drawn per call and wheel, "actuation" stream);
+    /// wheel_targets() returns what the wheels then aim at.
     void set_wheel_targets(double left, double right);
     WheelSpeeds wheel_targets() const;
 
@@ -76,6 +79,8 @@ public:
     WheelSpeeds wheel_speeds() const;
     /// Body yaw rate, rad/s, true value.
     double yaw_rate() const;
+    /// The wheels' gains of `actuation gain` (1, 1 for an exact robot).
+    WheelSpeeds wheel_gains() const;
 
     /// True if, since the last clear_bump() or reset(), the robot began touching a wall or an
     /// obstacle or pushed against one (a contact that the solver had to resist). Backing away
