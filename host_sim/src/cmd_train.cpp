@@ -20,6 +20,7 @@
 
 #include "commands.h"
 #include "hal_host/hal_host_config.h"
+#include "learning_record.h"
 #include "lockstep.h"
 #include "options.h"
 #include "scenario_bridge.h"
@@ -43,6 +44,8 @@ struct TrainSettings {
     std::string gamma, ablate, model, model_tiles, explore;
     double kappa = 0;
     std::string csv;
+    std::string sets_csv;
+    std::uint32_t threshold = 0;
     std::string save;
     std::uint32_t change_at = 0;
     std::string changed;
@@ -107,6 +110,15 @@ void declare(Options &o, TrainSettings &s)
                  "(default: the scenario's, else 0,0,0,1)",
                  &s.model_tiles);
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
+    o.add_string("--sets-csv", "OUT",
+                 "write one row per set to OUT: the first learned episode, the real steps before it, the "
+                 "relapses after it and their longest run (docs/results/README.md, \"Relapses\")",
+                 &s.sets_csv);
+    o.add_uint("--threshold", "N",
+               "a set has learned at the first of 3 episodes running that reach the goal in at most N steps; "
+               "after that an episode that misses it or takes more than 2N is a relapse (default: 50 for the "
+               "lab robot, 500 for the sonar robot)",
+               &s.threshold, 1, 100000000);
     o.add_string("--save", "FILE",
                  "keep what the first set learned: the firmware's flash image, replaced at the start and saved at "
                  "each episode end "
@@ -125,6 +137,18 @@ void declare(Options &o, TrainSettings &s)
     o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
     o.add_flag("--counters", "print the firmware's counters after each set (table fill, drops, bus)",
                &s.counters);
+}
+
+void write_set_records(const std::string &path, const std::string &agent,
+                       const std::map<std::uint32_t, std::vector<EpisodeOutcome>> &outcomes,
+                       const std::vector<SetRecord> &records)
+{
+    std::FILE *f = path == "-" ? stdout : std::fopen(path.c_str(), "w");
+    if (f == nullptr) throw UsageError("--sets-csv: cannot open '" + path + "': " + std::strerror(errno));
+    std::fputs(set_record_csv_header(), f);
+    std::size_t i = 0;
+    for (const auto &kv : outcomes) std::fputs(set_record_csv_row(agent, kv.first, records[i++]).c_str(), f);
+    if (f != stdout && std::fclose(f) != 0) throw std::runtime_error("--sets-csv: cannot write '" + path + "'");
 }
 
 std::string csv_row(const std::string &agent, std::uint32_t set, const EpisodeRow &r, bool no_wall)
@@ -276,9 +300,11 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     Progress progress(total, !s.quiet);
     // Per episode: sums over sets, for the summary.
     std::vector<double> steps_sum(s.episodes + 1, 0.0), time_sum(s.episodes + 1, 0.0);
+    // Per set, its episodes in order, for the learning record.
+    std::map<std::uint32_t, std::vector<EpisodeOutcome>> outcomes;
     std::uint64_t done = 0;
     auto take = [&](std::uint32_t set, const EpisodeRow &r, const std::string &line) {
-        (void)set;
+        outcomes[set].push_back({r.steps, r.reached_goal});
         if (out != nullptr) {
             std::fputs(line.c_str(), out);
             std::fflush(out);  // a row per episode as it ends: dynaqpc-experiment counts them for its progress bar
@@ -342,6 +368,8 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
                     row.updates = upd;
                     rows[{set, ep}] = {row, line};
                     steps_sum[ep] += steps;
+                    outcomes[set].resize(std::max<std::size_t>(outcomes[set].size(), ep));
+                    outcomes[set][ep - 1] = {steps, row.reached_goal};
                     time_sum[ep] += row.robot_time_s;
                     progress.tick(++done);
                 }
@@ -363,6 +391,10 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     if (out != nullptr && out != stdout && std::fclose(out) != 0) {
         throw std::runtime_error("--csv: cannot write '" + s.csv + "'");
     }
+    const std::uint32_t threshold = s.threshold != 0 ? s.threshold : default_learned_threshold(cfg);
+    std::vector<SetRecord> records;
+    for (const auto &kv : outcomes) records.push_back(record_of_set(kv.second, threshold));
+    if (!s.sets_csv.empty()) write_set_records(s.sets_csv, s.agent, outcomes, records);
     if (!s.quiet) {
         std::FILE *sum = s.csv == "-" ? stderr : stdout;
         const std::string plan = cfg.planning == 0
@@ -380,6 +412,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
                              time_sum[e] / s.sets);
             }
         }
+        print_learning_summary(sum, records, threshold);
     }
     return kExitOk;
 }
