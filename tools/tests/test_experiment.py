@@ -42,6 +42,29 @@ def test_learned_episode_index():
     assert experiment.trailing_mean([2, 4, 6, 8], 3) == [2, 3, 4, 6]
 
 
+def test_relapses_after_learning():
+    # Episodes 2-4 reach the goal within 50 steps: learned. After them: 90 (<= 2 x 50, not a
+    # relapse), a miss, 101 steps, 20, a miss: 3 relapses of 5, the longest run 2.
+    steps = [200, 50, 12, 30, 90, 200, 101, 20, 200]
+    goal = [0, 1, 1, 1, 1, 0, 1, 1, 0]
+    r = experiment.relapses_of_set(steps, goal, 50)
+    assert (r.learned, r.after, r.relapses, r.longest_run) == (True, 5, 3, 2)
+    # A short episode that missed the goal does not count towards learning.
+    assert not experiment.relapses_of_set([40, 50, 50], [0, 1, 1], 50).learned
+
+
+def test_table_reports_relapses(tmp_path):
+    rows = [HEADER]
+    for e, (n, g) in enumerate(zip([200, 50, 12, 30, 90, 200, 101, 20, 200], [0, 1, 1, 1, 1, 0, 1, 1, 0]), 1):
+        rows.append(f"dyna-qpc,1,{e},{n},{-n},{g},0,10.0,{10 * n},0.5\n")
+    (tmp_path / "dyna-qpc.csv").write_text("".join(rows))
+    runs = experiment.read_csv_dir(str(tmp_path))
+    s = experiment.summarise(runs[0], LearnSettings(learned_steps=50, smooth=1))
+    assert s.relapse_text() == "3/5 (60.0 %), longest 2"
+    table = experiment.table_markdown([s], LearnSettings(learned_steps=50, smooth=1), "paper-lab")
+    assert "Relapses after learning" in table and "3/5 (60.0 %), longest 2" in table
+
+
 def _by_agent(runs):
     return {r.agent: r for r in runs}
 
@@ -74,9 +97,9 @@ def test_table1_numbers(csv_dir):
     assert [r.episodes for r in dq.sets] == [3, 3] and dq.sets[0].robot_time_s == pytest.approx(108)
     table = experiment.table_markdown([q, dq], LearnSettings(smooth=1), "paper-lab")
     rows = [ln for ln in table.splitlines() if ln.startswith("| ")]
-    assert rows[0].count("|") == 11  # one column per measure: ep. 10 only (12 episodes), the paper's
+    assert rows[0].count("|") == 12  # one column per measure: ep. 10 only (12 episodes), the paper's
     assert rows[1].startswith("| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | "
-                              "6.5 ± 2.1 | 0.307 | 100.0 | – |")
+                              "6.5 ± 2.1 | 0.307 | – | 100.0 | – |")
     assert rows[2].startswith("| Dyna-QPC | scenario's | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
     assert rows[2].endswith("| 2,019 steps (1.12 h) |")
     assert "paper 0.192" in table

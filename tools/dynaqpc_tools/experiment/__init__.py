@@ -15,12 +15,12 @@ from .orchestrate import default_sim, run_sets, scenario_protocol
 from .plots import plot_fig13, plot_trajectories
 from .runs import (AGENT_LABELS, AGENTS, COLUMNS, TRAJECTORY_COLUMNS, AgentRuns, read_csv_dir, read_csvs,
                    read_runs, read_trajectory)
-from .stats import (PAPER_STEP_S, AgentSummary, LearnSettings, SetResult, learned_episode_index, measure,
-                    set_results, summarise, summarise_all, table_markdown, trailing_mean)
+from .stats import (PAPER_STEP_S, AgentSummary, LearnSettings, Relapses, SetResult, learned_episode_index,
+                    measure, relapses_of_set, set_results, summarise, summarise_all, table_markdown, trailing_mean)
 
 __all__ = [
     "AGENT_LABELS", "AGENTS", "COLUMNS", "TRAJECTORY_COLUMNS", "PAPER_STEP_S", "AgentRuns", "AgentSummary",
     "LearnSettings", "SetResult", "build_parser", "default_sim", "learned_episode_index", "main", "measure",
-    "plot_fig13", "plot_trajectories", "read_csv_dir", "read_csvs", "read_runs", "read_trajectory", "run_sets",
+    "plot_fig13", "plot_trajectories", "Relapses", "relapses_of_set", "read_csv_dir", "read_csvs", "read_runs", "read_trajectory", "run_sets",
     "scenario_protocol", "set_results", "summarise", "summarise_all", "table_markdown", "trailing_mean",
 ]

@@ -44,6 +44,8 @@ class AgentRuns:
     #: The planning budget asked for (updates per real step; 0 = idle time), when known.
     budget: Optional[int] = None
     extra: Dict[str, str] = field(default_factory=dict)
+    #: 1 where the episode reached the goal (sets x episodes), or None when not known.
+    reached: Optional["np.ndarray"] = None  # noqa: F821
 
     @property
     def total_updates(self) -> int:
@@ -60,7 +62,7 @@ def _open_text(path: str):
 def _parse_row(row: Dict[str, str], path: str, line: int):
     try:
         return (row["agent"].strip(), int(row["set"]), int(row["episode"]), int(row["steps"]),
-                float(row["robot_time_s"]), float(row["wall_s"]), int(row["updates"]))
+                float(row["robot_time_s"]), float(row["wall_s"]), int(row["updates"]), int(row["reached_goal"]))
     except (ValueError, TypeError, AttributeError, KeyError) as e:
         raise ToolError(f"{path}:{line}: bad value ({e})") from None
 
@@ -89,13 +91,13 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
             for row in reader:
                 if None in row or any(v is None for v in row.values()):
                     raise ToolError(f"{path}:{reader.line_num}: {len(row)} fields, want {len(want)}")
-                agent, s, e, steps, rt, w, u = _parse_row(row, path, reader.line_num)
+                agent, s, e, steps, rt, w, u, goal = _parse_row(row, path, reader.line_num)
                 if steps < 0 or rt < 0 or u < 0 or e < 1:
                     raise ToolError(f"{path}:{reader.line_num}: negative steps/time/updates or episode < 1")
                 per = cells.setdefault(agent, {})
                 if (s, e) in per:
                     raise ToolError(f"{path}:{reader.line_num}: agent {agent} set {s} episode {e} twice")
-                per[(s, e)] = (steps, rt, u)
+                per[(s, e)] = (steps, rt, u, 1 if goal else 0)
                 wall[agent] = wall.get(agent, 0.0) + w
                 extra.setdefault(agent, {c: row[c] for c in extra_columns})
     except UnicodeDecodeError:
@@ -121,7 +123,7 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
 
         out[agent] = AgentRuns(agent, sets, list(range(1, n_ep + 1)), matrix(0), matrix(1), matrix(2),
                                wall[agent], source=str(path), budget=budget_from_name(path),
-                               extra=extra[agent])
+                               extra=extra[agent], reached=matrix(3))
     return out
 
 

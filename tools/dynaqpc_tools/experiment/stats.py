@@ -59,6 +59,39 @@ def learned_episode_index(steps: Sequence[float], threshold: float, smooth: int 
     return idx
 
 
+#: Episodes running that must reach the goal within the threshold before relapses are counted
+#: (host_sim/src/learning_record.h: the same rule as `dynaqpc-sim train`'s learning record).
+LEARNED_RUN = 3
+
+
+@dataclass
+class Relapses:
+    """After the first LEARNED_RUN episodes running that reach the goal within the threshold,
+    the episodes that miss it or take more than twice the threshold."""
+    learned: bool = False
+    after: int = 0
+    relapses: int = 0
+    longest_run: int = 0
+
+
+def relapses_of_set(steps: Sequence[float], reached: Sequence[float], threshold: float) -> Relapses:
+    good = [bool(g) and s <= threshold for s, g in zip(steps, reached)]
+    for i in range(len(good) - LEARNED_RUN + 1):
+        if all(good[i:i + LEARNED_RUN]):
+            out = Relapses(True)
+            run = 0
+            for s, g in zip(steps[i + LEARNED_RUN:], reached[i + LEARNED_RUN:]):
+                out.after += 1
+                if not g or s > 2 * threshold:
+                    out.relapses += 1
+                    run += 1
+                    out.longest_run = max(out.longest_run, run)
+                else:
+                    run = 0
+            return out
+    return Relapses()
+
+
 @dataclass
 class LearnSettings:
     learned_steps: Optional[float] = None
@@ -115,6 +148,7 @@ class SetResult:
     steps: float         # real steps to learn, or the whole run's
     robot_time_s: float  # the same episodes' robot time
     threshold: float = 0.0  # steps: the set's learned threshold (absolute, or relative to its end)
+    relapses: Optional[Relapses] = None  # with an absolute threshold and the goal column
 
 
 def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
@@ -127,8 +161,11 @@ def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
             threshold = settings.learned_factor * float(sum(tail)) / len(tail)
         i = learned_episode_index(list(row_steps), threshold, settings.smooth)
         n = len(row_steps) if i is None else i + 1
+        rel = None
+        if settings.learned_steps is not None and runs.reached is not None:
+            rel = relapses_of_set(list(row_steps), list(runs.reached[len(out)]), threshold)
         out.append(SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n])),
-                             float(threshold)))
+                             float(threshold), rel))
     return out
 
 
@@ -158,6 +195,20 @@ class AgentSummary:
     @property
     def n_learned(self) -> int:
         return sum(1 for r in self.sets if r.learned)
+
+    def relapse_text(self) -> str:
+        """Relapses after learning over every set that reached the goal within the threshold
+        LEARNED_RUN episodes running: 'r/n (p %), longest L'."""
+        rel = [r.relapses for r in self.sets if r.relapses is not None and r.relapses.learned]
+        if not any(r.relapses is not None for r in self.sets):
+            return "–"
+        if not rel:
+            return "none learned"
+        after = sum(r.relapses.after for r in self.sets if r.relapses is not None)
+        n = sum(r.relapses.relapses for r in self.sets if r.relapses is not None)
+        longest = max(r.relapses.longest_run for r in self.sets if r.relapses is not None)
+        pct = 100.0 * n / after if after else 0.0
+        return f"{n}/{after} ({pct:.1f} %), longest {longest}"
 
     @property
     def steps_mean_sd(self):
@@ -235,7 +286,7 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
     at_eps = [e for e in REPORT_EPISODES if e <= n_max]
     head = ["Agent", "Planning budget", "Planning updates / real step", "Sets learned",
             "Real steps to learn", "Robot time to learn (h)", "Episodes to learn",
-            f"Robot s / real step (paper {PAPER_STEP_S})"]
+            f"Robot s / real step (paper {PAPER_STEP_S})", "Relapses after learning"]
     head += [f"Mean steps ep. {e}" for e in at_eps]
     if paper:
         head.append("Paper")
@@ -246,7 +297,7 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
     for s in summaries:
         cells = [s.label, budget_text(s), f"{s.planning_per_step:,.1f}", f"{s.n_learned}/{s.n_sets}",
                  _pm(*s.steps_mean_sd, "{:,.0f}"), _pm(*s.hours_mean_sd, "{:.2f}"),
-                 _pm(*s.episodes_mean_sd, "{:.1f}"), f"{s.s_per_step:.3f}"]
+                 _pm(*s.episodes_mean_sd, "{:.1f}"), f"{s.s_per_step:.3f}", s.relapse_text()]
         cells += [f"{s.mean_steps_at[e]:.1f}" if s.mean_steps_at[e] is not None else "–" for e in at_eps]
         if paper:
             cells.append(paper.get(s.agent, "–"))
@@ -263,7 +314,10 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
     lines += ["", f"Learned: {settings.rule()} to the end of the set{thresholds}. Real steps and robot time to learn: "
               "those of the episodes up to that point, mean ± sample sd over ALL sets (a set that never "
               "learned counts its whole run). Planning updates / real step: (updates - steps) / steps "
-              "from the CSV's updates column (real plus planning Q updates).", ""]
+              "from the CSV's updates column (real plus planning Q updates). Relapses after learning "
+              f"(with --threshold): after a set first reached the goal within the threshold {LEARNED_RUN} episodes "
+              "running, the episodes that missed it or took more than twice the threshold, of all episodes after "
+              "those; longest: the longest run of them in one set.", ""]
     lines += [f"**Warning:** {w}." for w in warn]
     if warn:
         lines.append("")
