@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc on the emulated robot board (QEMU netduinoplus2, hal/ports/netduinoplus2): the paper-lab
-// robot's firmware, the same application, scheduler, drivers and flash store as
+// dynaqpc on the emulated robot board (QEMU netduinoplus2, hal/ports/stm32f4/boards/netduinoplus2):
+// the paper-lab robot's firmware, the same application, scheduler, drivers and flash store as
 // targets/stm32f4-robot, started the way robot_app_run() starts it, and reporting its own
 // counters over the board's console (semihosting) every few seconds.
 //
@@ -26,6 +26,7 @@
 #include "robot/agent_profiles.h"
 #include "robot/learned_store.h"
 #include "robot/robot_app.h"
+#include "stm32f4/semihost.h"
 
 // The largest record the agent can save; the linker script checks it fits a slot.
 #define LEARNED_RECORD_BOUND (sizeof(learned_header_t) + sizeof(agent_memory_paper_lab_t))
@@ -63,38 +64,38 @@ static void report_(const char *what)
     for (uint32_t i = 0; i < ss.task_count; i++) {
         misses += ss.task[i].misses;
     }
-    nd2_puts(what);
-    nd2_kv("t_ms", hal_time_us() / 1000u);
-    nd2_kv("episodes", st.episodes);
-    nd2_kv("real_steps", as->real_steps);
-    nd2_kv("planning_updates", as->planning_updates);
-    nd2_kv("idle_loop_updates", ss.idle_steps);
-    nd2_kv("control_runs", ss.task[0].runs);
-    nd2_kv("control_worst_run_us", ss.task[0].worst_run_us);
-    nd2_kv("control_worst_lateness_us", ss.task[0].worst_lateness_us);
-    nd2_kv("misses", misses);
-    nd2_kv("idle_permille", hal_time_us() == 0u ? 0u : (uint32_t)(ss.idle_us * 1000u / hal_time_us()));
-    nd2_kv("events_dropped", ss.events_dropped);
-    nd2_kv("events_high_water", ss.events_high_water);
-    nd2_kv("frames_rx", st.frames_rx);
-    nd2_kv("frames_bad", st.frames_bad);
-    nd2_kv("can_tx", cs.tx_frames);
-    nd2_kv("can_tx_dropped", cs.tx_dropped);
-    nd2_kv("slcan_errors", nd2_slcan_errors());
-    nd2_kv("saves", st.saves);
-    nd2_kv("save_errors", st.save_errors);
-    nd2_kv("stack_unused", nd2_stack_unused_bytes());
-    nd2_puts("\n");
+    semihost_puts(what);
+    semihost_kv("t_ms", hal_time_us() / 1000u);
+    semihost_kv("episodes", st.episodes);
+    semihost_kv("real_steps", as->real_steps);
+    semihost_kv("planning_updates", as->planning_updates);
+    semihost_kv("idle_loop_updates", ss.idle_steps);
+    semihost_kv("control_runs", ss.task[0].runs);
+    semihost_kv("control_worst_run_us", ss.task[0].worst_run_us);
+    semihost_kv("control_worst_lateness_us", ss.task[0].worst_lateness_us);
+    semihost_kv("misses", misses);
+    semihost_kv("idle_permille", hal_time_us() == 0u ? 0u : (uint32_t)(ss.idle_us * 1000u / hal_time_us()));
+    semihost_kv("events_dropped", ss.events_dropped);
+    semihost_kv("events_high_water", ss.events_high_water);
+    semihost_kv("frames_rx", st.frames_rx);
+    semihost_kv("frames_bad", st.frames_bad);
+    semihost_kv("can_tx", cs.tx_frames);
+    semihost_kv("can_tx_dropped", cs.tx_dropped);
+    semihost_kv("slcan_errors", nd2_slcan_errors());
+    semihost_kv("saves", st.saves);
+    semihost_kv("save_errors", st.save_errors);
+    semihost_kv("stack_unused", nd2_stack_unused_bytes());
+    semihost_puts("\n");
 }
 
 int main(void)
 {
     (void)nd2_board_init();
     static char cmdline[160];
-    nd2_cmdline(cmdline, sizeof cmdline);
+    semihost_cmdline(cmdline, sizeof cmdline);
     if (nd2_set_time_speed(option_(cmdline, "speed", 1u)) != 0) {
-        nd2_puts("netduinoplus2: speed= must divide 168\n");
-        nd2_exit(ND2_EXIT_INIT);
+        semihost_puts("netduinoplus2: speed= must divide 168\n");
+        semihost_exit(ND2_EXIT_INIT);
     }
     static robot_config_t cfg;
     cfg = robot_config_paper_lab;
@@ -114,16 +115,16 @@ int main(void)
     opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
     const int rc = robot_app_init(&opt);
     if (rc != FW_OK) {
-        nd2_kv("netduinoplus2: robot_app_init failed, rc", (uint64_t)(uint32_t)-rc);
-        nd2_puts("\n");
-        nd2_exit(ND2_EXIT_INIT);
+        semihost_kv("netduinoplus2: robot_app_init failed, rc", (uint64_t)(uint32_t)-rc);
+        semihost_puts("\n");
+        semihost_exit(ND2_EXIT_INIT);
     }
-    nd2_puts("netduinoplus2: paper-lab firmware running; ");
-    nd2_kv("step_cap", cfg.step_cap);
-    nd2_kv("planning", cfg.planning);
-    nd2_kv("agent", (uint32_t)cfg.agent);
-    nd2_kv("seed", opt.seed);
-    nd2_puts("\n");
+    semihost_puts("netduinoplus2: paper-lab firmware running; ");
+    semihost_kv("step_cap", cfg.step_cap);
+    semihost_kv("planning", cfg.planning);
+    semihost_kv("agent", (uint32_t)cfg.agent);
+    semihost_kv("seed", opt.seed);
+    semihost_puts("\n");
     uint64_t next_report = report_us;
     for (;;) {
         robot_app_step();
@@ -140,7 +141,7 @@ int main(void)
             for (uint32_t i = 0; i < ss.task_count; i++) {
                 misses += ss.task[i].misses;
             }
-            nd2_exit(misses == 0u ? ND2_EXIT_OK : ND2_EXIT_FAILED);
+            semihost_exit(misses == 0u ? ND2_EXIT_OK : ND2_EXIT_FAILED);
         }
     }
 }

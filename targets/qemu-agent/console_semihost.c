@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc qemu-agent on the emulator: the console is the port's semihosting (no newlib stdio:
-// its printf family links an allocator).
+// dynaqpc qemu-agent on the emulator: the console is the STM32F4 family's semihosting
+// (hal/ports/stm32f4/src/semihost.c; no newlib stdio: its printf family links an allocator).
 #include "console.h"
 
-#include "semihost.h"
+#include "stm32f4/semihost.h"
 
 void console_puts(const char *s)
 {

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
-# The STM32F4 port's register-level drivers: no fixed address, no CPU instruction, so the host
+# The STM32F4 family's register-level drivers: no fixed address, no CPU instruction, so the host
 # tests compile the same files against fake register blocks (tests/support/stm32f4_fake.h).
-# Included by this port's CMakeLists.txt and by tests/support/CMakeLists.txt.
+# Included by the family's CMakeLists.txt and by tests/support/CMakeLists.txt.
 set(DYNAQPC_STM32F4_DRIVER_SOURCES
     ${CMAKE_CURRENT_LIST_DIR}/src/stm32f4_wait.c
     ${CMAKE_CURRENT_LIST_DIR}/src/stm32f4_rcc.c

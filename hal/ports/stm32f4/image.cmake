@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: MIT
-# How the STM32F4 port links an image (included by this port's CMakeLists.txt; the images
-# themselves are defined under targets/).
+# How an image links on the STM32F4 family, whichever the board (included by the family's
+# CMakeLists.txt; the images themselves are defined under targets/).
 #
 # dynaqpc_image(<name> SCRIPT <ld> RAM <bytes> FLASH <bytes> STACK <bytes>
 #               SOURCES ... LIBS ... [DEFINES ...])
-# Links <name>.elf with the port's startup and linker script (ld/<SCRIPT>, or a board's own
-# script given as an absolute path; either may INCLUDE the port's sections.ld), prints its size
+# Links <name>.elf with the family's startup and the linker script SCRIPT: a board's memory map
+# (an absolute path: boards/<board>/*.ld, or an emulator's under targets/) that INCLUDEs the
+# family's ld/sections.ld (and ld/store.ld when it has a hal_flash region). Prints its size
 # against the budgets after each build and registers the test cortex-m4.size.<name>.
-# A second port provides a function of the same name and signature in its own folder.
+# Another port provides a function of the same name and signature in its own folder.
 function(dynaqpc_image name)
     cmake_parse_arguments(ARG "" "SCRIPT;RAM;FLASH;STACK" "SOURCES;LIBS;DEFINES" ${ARGN})
     add_executable(${name}.elf ${ARG_SOURCES} $<TARGET_OBJECTS:dynaqpc_stm32f4_startup>)

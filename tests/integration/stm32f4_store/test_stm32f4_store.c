@@ -2,8 +2,8 @@
 // The paper images' records through the STM32F4 flash driver (hal/ports/stm32f4/src/
 // stm32f4_flash.c) and the firmware's two-slot store (firmware/robot/src/learned_store.c), on a
 // fake flash interface holding a region of the size the linker scripts give:
-//   paper-lab, ld/stm32f405.ld: sectors 10-11, 2 x 128 KB (slots of one sector)
-//   paper-sim, ld/stm32f427.ld: bank-2 sectors 20-23, 4 x 128 KB (slots of two sectors)
+//   paper-lab, boards/robot: sectors 10-11, 2 x 128 KB (slots of one sector)
+//   paper-sim, boards/robot-f42x: bank-2 sectors 20-23, 4 x 128 KB (slots of two sectors)
 // The hal_flash functions below are what hal_stm32f4.c does on the MCU: the driver on a region.
 #include "test_common.h"
 

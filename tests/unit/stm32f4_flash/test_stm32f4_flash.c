@@ -169,7 +169,7 @@ static void bank2_sectors_are_coded_from_16(void **state)
     assert_int_equal(stm32f4_flash_snb(23) << FLASH_CR_SNB_SHIFT & ~FLASH_CR_SNB_MASK, 0);  // fits
 }
 
-// The two images' regions (ld/stm32f405.ld, ld/stm32f427.ld) against parts of several sizes.
+// The two boards' regions (boards/robot, boards/robot-f42x) against parts of several sizes.
 static void region_checked_against_map_and_part_size(void **state)
 {
     (void)state;

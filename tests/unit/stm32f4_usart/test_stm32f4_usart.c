@@ -167,6 +167,19 @@ static void transmit_feeds_from_ring_then_stops(void **state)
     assert_true(regs_.CR1 & USART_CR1_RXNEIE);
 }
 
+static void polled_write_waits_for_txe_a_bounded_time(void **state)
+{
+    (void)state;
+    const uint8_t line[3] = {'t', '1', '\r'};
+    regs_.SR = USART_SR_TXE;
+    assert_int_equal(stm32f4_usart_put_polled(&regs_, line, sizeof line, 10u), 3);
+    assert_int_equal(regs_.DR, '\r');
+    regs_.SR = 0u;  // the transmitter never empties: give up after the polls, nothing written
+    regs_.DR = 0u;
+    assert_int_equal(stm32f4_usart_put_polled(&regs_, line, sizeof line, 10u), 0);
+    assert_int_equal(regs_.DR, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +191,7 @@ int main(void)
         cmocka_unit_test_setup(full_ring_still_notifies, setup_),
         cmocka_unit_test_setup(hardware_overrun_and_framing_errors_counted, setup_),
         cmocka_unit_test_setup(transmit_feeds_from_ring_then_stops, setup_),
+        cmocka_unit_test_setup(polled_write_waits_for_txe_a_bounded_time, setup_),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -239,7 +239,7 @@ void hal_uart_get_stats(hal_uart_stats_t *out)
 }
 
 // ---- Flash -------------------------------------------------------------------------------------------
-// The region is the image's linker script's (ld/stm32f405.ld: sectors 10-11; ld/stm32f427.ld:
+// The region is the board's linker script's (boards/robot: sectors 10-11; boards/robot-f42x:
 // bank-2 sectors 20-23), given as the values of these symbols. It is checked once against the
 // sector map and the part's F_SIZE: on a part without those sectors there is no region
 // (hal_flash_get_geometry says FW_ERR_NOSYS) rather than a bus fault.

@@ -141,3 +141,18 @@ size_t stm32f4_usart_queue(stm32f4_usart_port_t *p, const uint8_t *data, size_t 
     }
     return n;
 }
+
+size_t stm32f4_usart_put_polled(stm32f4_usart_t *u, const uint8_t *data, size_t len, uint32_t polls)
+{
+    size_t n = 0;
+    for (; n < len; n++) {
+        uint32_t waited = 0;
+        while ((u->SR & USART_SR_TXE) == 0u) {
+            if (++waited >= polls) {
+                return n;
+            }
+        }
+        u->DR = data[n];
+    }
+    return n;
+}

@@ -5,8 +5,8 @@
 //   CAN1  RX PB8, TX PB9 (AF9)  -> the CAN transceiver's RXD / TXD
 //   USART2 TX PA2, RX PA3 (AF7) -> the Cricket listener's RX / TX (115200 8N1)
 // The internal flash region of hal_flash is the image's linker script's (_dynaqpc_store_*):
-//   STM32F405/407 (ld/stm32f405.ld, paper-lab):  sectors 10-11, 0x080C0000, 2 x 128 KB
-//   STM32F427/429 2 MB (ld/stm32f427.ld, paper-sim): bank-2 sectors 20-23, 0x08180000, 4 x 128 KB
+//   STM32F405/407 (boards/robot, paper-lab):  sectors 10-11, 0x080C0000, 2 x 128 KB
+//   STM32F427/429 2 MB (boards/robot-f42x, paper-sim): bank-2 sectors 20-23, 0x08180000, 4 x 128 KB
 #ifndef STM32F4_BOARD_H
 #define STM32F4_BOARD_H
 

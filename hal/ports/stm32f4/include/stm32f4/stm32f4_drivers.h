@@ -174,6 +174,11 @@ size_t stm32f4_usart_read(stm32f4_usart_port_t *p, uint8_t *buf, size_t cap);
 /// (0 before stm32f4_usart_setup). The caller masks interrupts (CR1 is shared with the handler).
 size_t stm32f4_usart_queue(stm32f4_usart_port_t *p, const uint8_t *data, size_t len);
 
+/// Writes bytes straight to DR, each after at most `polls` reads of SR for TXE, without the
+/// interrupt or the tx ring (a USART whose TXE never interrupts: QEMU's, boards/netduinoplus2).
+/// Returns how many went out: fewer when TXE stayed clear. The caller masks interrupts.
+size_t stm32f4_usart_put_polled(stm32f4_usart_t *u, const uint8_t *data, size_t len, uint32_t polls);
+
 // ---- Internal flash (stm32f4_flash.c) ----------------------------------------------------------------
 
 /// Sectors of the largest STM32F4 map (RM0090 3.3, table 6: 2 MB in two banks). Sectors 0-11 are

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc QEMU images: semihosting calls (ARM "Semihosting for AArch32 and AArch64", v2):
-// BKPT 0xAB with the operation in r0 and its argument in r1.
-#include "semihost.h"
+// dynaqpc STM32F4 family: console, command line and exit over ARM semihosting ("Semihosting for
+// AArch32 and AArch64", v2: BKPT 0xAB with the operation in r0 and its argument in r1), for the
+// images that run under QEMU (the netduinoplus2 board, targets/qemu-agent). No newlib stdio (its
+// printf family links an allocator).
+#include "stm32f4/semihost.h"
 
 #define SYS_WRITE0 0x04u
+#define SYS_GET_CMDLINE 0x15u
 #define SYS_EXIT_EXTENDED 0x20u
 #define ADP_STOPPED_APPLICATION_EXIT 0x20026u
 
@@ -48,6 +51,19 @@ void semihost_kv(const char *key, uint64_t v)
     semihost_puts("=");
     semihost_put_u64(v);
     semihost_puts(" ");
+}
+
+void semihost_cmdline(char *buf, uint32_t cap)
+{
+    if (cap == 0u) {
+        return;
+    }
+    buf[0] = '\0';
+    uint32_t block[2] = {(uint32_t)(uintptr_t)buf, cap};
+    if (call_(SYS_GET_CMDLINE, block) != 0u) {
+        buf[0] = '\0';
+    }
+    buf[cap - 1u] = '\0';
 }
 
 void semihost_exit(uint32_t status)

@@ -6,8 +6,8 @@
 //          bridges them to the virtual CAN bus (python-can's slcan interface)
 //   UART   the Cricket listener on USART2 (QEMU's second -serial), as on the robot
 //   flash  the hal_flash region in SRAM (NOR semantics kept; erased at power-on)
-// and the board's console is ARM semihosting (QEMU's -semihosting-config): reports, the command
-// line (-append), exit codes, a hard fault's report.
+// and the board's console is ARM semihosting (QEMU's -semihosting-config; the family's
+// stm32f4/semihost.h): reports, the command line (-append), exit codes, a hard fault's report.
 #ifndef NETDUINOPLUS2_BOARD_H
 #define NETDUINOPLUS2_BOARD_H
 
@@ -38,20 +38,17 @@ int nd2_board_init(void);
 /// 12, 14, ...); call before hal_time_init(). Returns 0, or -1 for a speed it cannot do.
 int nd2_set_time_speed(uint32_t speed);
 
-/// The main stack's bytes never written since reset (the startup code paints it).
+/// The main stack's bytes never written since reset (the reset handler paints them with
+/// ND2_STACK_PAINT: startup_hooks.h).
+#define ND2_STACK_PAINT 0xA5A5A5A5u
 uint32_t nd2_stack_unused_bytes(void);
+
+/// A fault or an unexpected interrupt: reports `what`, the exception number, CFSR and HFSR over
+/// semihosting and ends the emulation with ND2_EXIT_HARD_FAULT.
+__attribute__((noreturn)) void nd2_fault(const char *what);
 
 /// SLCAN lines received that were neither a frame nor a command.
 uint32_t nd2_slcan_errors(void);
-
-// ---- Console: ARM semihosting ---------------------------------------------------------------------
-void nd2_puts(const char *s);
-/// key=value and a space, e.g. "steps=12 ".
-void nd2_kv(const char *key, uint64_t v);
-/// The command line QEMU passes with -append (up to cap - 1 bytes, NUL-terminated); "" if none.
-void nd2_cmdline(char *buf, uint32_t cap);
-/// Ends the emulation; `status` becomes QEMU's exit code.
-__attribute__((noreturn)) void nd2_exit(uint32_t status);
 
 #ifdef __cplusplus
 }

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc netduinoplus2 board: the hal_* contract on what QEMU's netduinoplus2 models (board.h).
 //
-// Interrupts and the Cricket USART are the STM32F4 port's drivers on the same registers
+// Interrupts and the Cricket USART are the STM32F4 family's drivers on the same registers
 // (stm32f4_usart.c); time is TIM2's counter (below: why not SysTick's interrupts, as on the
-// STM32F4). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
+// robot). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
 // stm32f2xx-usart shape the serial code: its interrupt is raised for RXNE only (TXE never
 // interrupts), and a write to DR is sent at once (TXE always reads 1). So received bytes come by
 // interrupt, one per interrupt, through the driver's ring; transmitted bytes are written to DR
@@ -17,11 +17,11 @@
 #include "hal/hal_uart.h"
 #include "netduinoplus2/board.h"
 #include "netduinoplus2/slcan.h"
+#include "stm32f4/semihost.h"
 #include "stm32f4/stm32f4_drivers.h"
 
-#define USART1 ((stm32f4_usart_t *)0x40011000u)
+#define USART1 ((stm32f4_usart_t *)STM32F4_USART1_BASE)
 #define USART2 ((stm32f4_usart_t *)STM32F4_USART2_BASE)
-#define USART1_IRQ 37u
 #define SYSTICK ((stm32f4_systick_t *)STM32F4_SYSTICK_BASE)
 #define SCB_ICSR (*(volatile uint32_t *)STM32F4_SCB_ICSR)
 #define SCB_SHPR3 (*(volatile uint32_t *)0xE000ED20u)
@@ -32,6 +32,7 @@
 /// would need ~87 us a byte, which this board does not pretend to be).
 #define TXE_POLLS 1000u
 
+void HardFault_Handler(void);
 void SysTick_Handler(void);
 void USART1_IRQHandler(void);
 void USART2_IRQHandler(void);
@@ -45,21 +46,11 @@ static void nvic_enable_(uint32_t irq, uint32_t prio)
 // Writes bytes to a USART's DR; returns how many went out. Caller masks interrupts.
 static size_t usart_put_(stm32f4_usart_t *u, const uint8_t *data, size_t len)
 {
-    size_t n = 0;
-    for (; n < len; n++) {
-        uint32_t polls = 0;
-        while ((u->SR & USART_SR_TXE) == 0u) {
-            if (++polls >= TXE_POLLS) {
-                return n;
-            }
-        }
-        u->DR = data[n];
-    }
-    return n;
+    return stm32f4_usart_put_polled(u, data, len, TXE_POLLS);
 }
 
 // ---- Board ------------------------------------------------------------------------------------
-// The hal_flash region: SRAM the linker script reserves (ld/netduinoplus2.ld).
+// The hal_flash region: SRAM the linker script reserves (netduinoplus2.ld).
 extern uint8_t _dynaqpc_store_start[];
 extern const uint8_t _dynaqpc_store_sectors[];
 extern const uint8_t _dynaqpc_store_sector_bytes[];
@@ -70,6 +61,37 @@ int nd2_board_init(void)
     // Power-on: the region is erased (QEMU's RAM starts zeroed, flash starts erased).
     memset(_dynaqpc_store_start, 0xFF, (size_t)LD_VALUE(_dynaqpc_store_sectors) * LD_VALUE(_dynaqpc_store_sector_bytes));
     return 0;
+}
+
+// ---- Faults and the stack (the family's reset handler calls in: startup_hooks.h) -----------------
+extern uint32_t _sstack, _estack;
+
+uint32_t nd2_stack_unused_bytes(void)
+{
+    const volatile uint32_t *w = &_sstack;
+    while (w < &_estack && *w == ND2_STACK_PAINT) {
+        w++;
+    }
+    return (uint32_t)((uintptr_t)w - (uintptr_t)&_sstack);
+}
+
+void nd2_fault(const char *what)
+{
+    uint32_t ipsr;
+    __asm__ volatile("mrs %0, ipsr" : "=r"(ipsr));
+    semihost_puts("\nnetduinoplus2: ");
+    semihost_puts(what);
+    semihost_puts(" ");
+    semihost_kv("exception", ipsr & 0x1FFu);
+    semihost_kv("cfsr", *(volatile uint32_t *)0xE000ED28u);
+    semihost_kv("hfsr", *(volatile uint32_t *)0xE000ED2Cu);
+    semihost_puts("\n");
+    semihost_exit(ND2_EXIT_HARD_FAULT);
+}
+
+void HardFault_Handler(void)
+{
+    nd2_fault("HARD FAULT");
 }
 
 // ---- Time: TIM2's counter, read; SysTick's 1 kHz interrupt only wakes the idle loop ---------------
@@ -160,7 +182,7 @@ void hal_irq_restore(hal_irq_state_t state)
 
 void hal_cpu_wait_until(uint64_t deadline_us)
 {
-    // As on the STM32F4 (hal_stm32f4.c): WFI with PRIMASK set still wakes on a pending
+    // As on the robot (hal_stm32f4.c): WFI with PRIMASK set still wakes on a pending
     // interrupt; SysTick bounds the sleep to 1 ms. QEMU halts the vCPU until then.
     if (hal_time_us() < deadline_us) {
         __asm__ volatile("dsb\n\twfi\n\tisb" ::: "memory");
@@ -257,7 +279,7 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
     can_uart_.ctx = NULL;
     const int rc = stm32f4_usart_setup(&can_uart_, STM32F4_APB2_HZ, 115200u);
     if (rc == FW_OK) {
-        nvic_enable_(USART1_IRQ, STM32F4_CFG_IRQ_PRIO_CAN);
+        nvic_enable_(STM32F4_IRQ_USART1, STM32F4_CFG_IRQ_PRIO_CAN);
     }
     return rc;
 }
