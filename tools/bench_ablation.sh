@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The ablation (issue 25): where Dyna-QPC's speed comes from. Q-learning, Dyna-Q (last outcome, as
+# The ablation: where Dyna-QPC's speed comes from. Q-learning, Dyna-Q (last outcome, as
 # Sutton & Barto), Dyna-Q keeping the majority outcome (the rule Dyna-QPC's model uses), and Dyna-QPC
 # with each of its departures from the paper switched off in turn (`train --ablate`:
 # generalise = the relocatable model's predictions for untried pairs, majority = tried pairs keep

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Rooms that change (docs/results.md, "Rooms that change"): the robot learns one room, the room
+# Rooms that change (docs/results/changing-rooms.md): the robot learns one room, the room
 # changes at episode K (`train --change-at K --changed FILE`), and the robot keeps learning.
 #
 #   tools/bench_change.sh block    [options]   a change that blocks the learned path

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Host = MCU, in the loop (issue 23): the paper-lab firmware on the emulated board (QEMU
+# Host = MCU, in the loop: the paper-lab firmware on the emulated board (QEMU
 # netduinoplus2, `dynaqpc-emu run`) learns sets of `dynaqpc-sim train --seed S`, each set with that
 # set's seed (`--set K`: the same start poses, sensor noise and agent seed as the lock-step build's
 # set K), in real time and in a private network namespace each; then the lock-step build learns

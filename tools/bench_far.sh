@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The far-goal benchmark (issue 22): Q-learning, Dyna-Q and Dyna-QPC at the same planning budget
+# The far-goal benchmark: Q-learning, Dyna-Q and Dyna-QPC at the same planning budget
 # per real step (N = 5, N = 1,000 and the MCU's idle time) on the far-goal evaluation rooms
 # (host_sim/rooms/far-eval, never used for tuning), fresh seeds, the shipped settings (gamma auto).
 # Prints one Table 1 per robot and budget (dynaqpc-experiment table: real steps and robot time

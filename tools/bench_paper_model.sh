@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The paper's Dyna-QPC (issue 25, 2): Dyna-QPC with the paper's CMAC-Model and CMAC-R
+# The paper's Dyna-QPC: Dyna-QPC with the paper's CMAC-Model and CMAC-R
 # (`--model paper`) against table-based Dyna-Q (`--agent dyna-q`) and against Dyna-QPC with our
 # model (the default, `--model relocatable`), at the same planning budget, on paper-lab
 # (20 sets x 20 episodes) and paper-sim (8 sets x 60 episodes), on a seed no choice was tuned on.

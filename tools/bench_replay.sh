@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The frozen greedy replay benchmark (docs/results.md): for each training seed, train one set of
+# The frozen greedy replay benchmark (docs/results/replay.md): for each training seed, train one set of
 # 20 episodes, save the flash image, and drive its frozen greedy table from 30 random starts
 # (`dynaqpc-sim run`, seed 7, the scenario's 200-step cap). Prints, over all starts, how many
 # reached the goal and how many within 50 steps.

@@ -47,7 +47,7 @@ maze_run_config_t maze_run_default_config(void)
     // it: with the goal's reward 1, gamma 0.95 and the agents' 1e-4, at 180 steps from the goal,
     // and on a corridor maze with a 240-step path Dyna-QPC then learned from real steps alone
     // beyond it (241,000 real steps against 62,000 with 0, 5 runs; Dyna-Q 177,000). Sutton &
-    // Barto's refined mazes learn the same with either (docs/results.md).
+    // Barto's refined mazes learn the same with either (docs/results/maze.md).
     cfg.params.theta = 0.0f;
     cfg.storage = &agent_storage_maze;
     cfg.runs = 1;

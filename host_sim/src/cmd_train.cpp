@@ -75,7 +75,7 @@ void declare(Options &o, TrainSettings &s)
     o.add_uint("--plan-cycles", "C",
                "with idle-time planning (--planning 0, the default of the shipped scenarios): MCU "
                "cycles per planning update at 168 MHz (default: the agent's own Cortex-M4 "
-               "measurement: dyna-qpc 4213, dyna-q 389, dyna-q-majority 388; docs/results.md)",
+               "measurement: dyna-qpc 4213, dyna-q 389, dyna-q-majority 388; docs/results/paper-lab.md)",
                &s.plan_cycles, 1, 100000000);
     o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
                &s.seed, 0, UINT32_MAX);
@@ -99,7 +99,7 @@ void declare(Options &o, TrainSettings &s)
                  &s.kappa, 0.0, 1000.0);
     o.add_string("--ablate", "PARTS",
                  "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
-                 "list of generalise, majority, new-states, expected, stay (docs/results.md)",
+                 "list of generalise, majority, new-states, expected, stay (docs/results/ablation.md)",
                  &s.ablate);
     o.add_string("--model", "NAME",
                  "Dyna-QPC's world model: relocatable (ours) or paper (the paper's CMAC-Model and CMAC-R); "

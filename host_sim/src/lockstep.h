@@ -24,9 +24,9 @@ namespace dynaqpc {
 /// (the M4 retires most instructions in one cycle; the ART accelerator hides flash wait states for
 /// straight-line code). Measured by `ctest --preset cortex-m4 -V -R bench.insn_paper_lab`:
 ///   Dyna-QPC         cortex-m4.bench.insn_paper_lab                  4,213 (the figure when it was
-///                    set, issue 13; 4,161 when the others were first measured, 4,647 with main
+///                    set; 4,161 when the others were first measured, 4,647 with main
 ///                    merged at 23fef33: kept at 4,213 so that Dyna-QPC's idle-time figures in
-///                    docs/results.md stay as measured)
+///                    docs/results/ stay as measured)
 ///   Dyna-Q           cortex-m4.bench.insn_paper_lab_dyna_q             389 (361 before that merge)
 ///   Dyna-Q-majority  cortex-m4.bench.insn_paper_lab_dyna_q_majority    388 (359 before it)
 /// Q-learning does not plan (its idle loop finds nothing to do); it is given Dyna-QPC's figure,

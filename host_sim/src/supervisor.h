@@ -27,7 +27,7 @@ std::uint64_t episode_limit_us(const robot_config_t &cfg);
 /// pose, at each real step's observation (the TLM_LEARN that follows the period's TLM_POSE):
 /// the robot then stands still waiting for its fix, so the comparison is fair on a real-time bus
 /// as in lock-step. A heading that drifts puts the robot in other states and its aligned moves
-/// off the grid; the closed loop's diagnosis (docs/results.md, issue 23) reads it.
+/// off the grid; the closed loop's diagnosis (docs/results/emulated-board.md) reads it.
 class PoseCheck {
 public:
     /// A frame from the firmware; `truth` is the world's pose now.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc: Dyna-Q with the majority rule, the fair baseline for Dyna-QPC (issue 25): table-based
+// dynaqpc: Dyna-Q with the majority rule, the fair baseline for Dyna-QPC: table-based
 // Dyna-Q (dyna_q.c, the paper's Fig. 5) whose table keeps, per (s, a), the outcome most
 // observations agreed on instead of the last one, by the rule Dyna-QPC's models use for tried
 // pairs (model.h; cmac_contradict() in cmac.c): an observation that agrees with the kept outcome

@@ -61,7 +61,7 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
         // (on the emulated board the motor command crossed a serial line, a Python bridge and
         // the bus: ~20-60 ms at 190 deg/s). Learning from those samples made the bias several
         // deg/s wrong after every turn, and the heading drifted by that much per second
-        // (85 degrees off on average over the board's first episode; docs/results.md, issue 23).
+        // (85 degrees off on average over the board's first episode; docs/results/emulated-board.md).
         const float off = rate - gyro->bias_deg_s;
         if (off <= (float)FW_CFG_GYRO_BIAS_GATE_DEG_S && off >= -(float)FW_CFG_GYRO_BIAS_GATE_DEG_S) {
             gyro->bias_deg_s += off / (float)(1u << FW_CFG_GYRO_BIAS_SHIFT);

@@ -147,7 +147,7 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         // Idle-time planning: the first updates before the next action is chosen, so that it
         // acts on what this step taught, as with N; the idle time after plans on. (Choosing
         // first, Dyna-QPC took 611 real steps to learn on the paper-lab tuning rooms against 520
-        // with these 64 first; 72 sets, docs/results.md.)
+        // with these 64 first; 72 sets, docs/results/paper-lab.md.)
         (void)agent_plan(c->agent, ROBOT_PLAN_BEFORE_ACT);
     }
     if (goal || c->step >= cfg->step_cap) {

@@ -86,7 +86,7 @@ bool robot_backs_off(const robot_config_t *cfg)
 // along both axes again its offset in the cell is one that aligned steps never leave. Whether a
 // step along a wall bumps, and what the rangers read, depend on that offset, which the state does
 // not show: in the lab robot's far-goal rooms, steps from such offsets bumped 3 to 9 times as
-// often as the others, and one unlucky bump could close a passage for good (docs/results.md).
+// often as the others, and one unlucky bump could close a passage for good (docs/results/lab-motion.md).
 // Backing off to where an aligned step into the cell stops restores the offset along the step.
 robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
                                     const robot_pose_t *pose)
@@ -129,7 +129,7 @@ static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pos
 // Why settle: a start leaves the robot anywhere in its first cell, facing anywhere, and until it
 // has stepped along both axes its offsets are ones aligned steps never leave. After the back-off
 // restored a bumped step's offset, starts were what remained of those offsets: settling took the
-// lab robot's far-goal tuning rooms from 346 to 354 of 360 sets (docs/results.md).
+// lab robot's far-goal tuning rooms from 346 to 354 of 360 sets (docs/results/lab-motion.md).
 robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose)
 {
     robot_motion_t m = {0.0f, 0.0f, 0u};

@@ -68,7 +68,7 @@ Window window(const std::vector<std::vector<EpisodeRow>> &rows, std::uint32_t fi
 // does not decide: by the last five episodes Dyna-QPC reaches the goal in at least 70 % of them,
 // in at most 65 % of the steps of the first five, and in at most 75 % of Q-learning's steps on the
 // same seeds. Six blocks of seeds (`test_scenario_learning SEED_BASE`) measured Dyna-QPC 126-158 ->
-// 55-92 steps, 78-94 % to the goal; Q-learning 134-156 steps late, 42-58 % (docs/results.md). An
+// 55-92 steps, 78-94 % to the goal; Q-learning 134-156 steps late, 42-58 % (docs/results/paper-lab.md). An
 // agent that does not learn fails every clause.
 void dyna_qpc_learns_to_reach_the_goal_on_paper_lab(void **state)
 {

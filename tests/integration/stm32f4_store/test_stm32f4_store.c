@@ -99,7 +99,7 @@ static int setup_(void **state)
     return 0;
 }
 
-// Issue 5: the paper-sim record (~140 KB) cannot live in slots of one 128 KB sector.
+// The paper-sim record (~140 KB) cannot live in slots of one 128 KB sector.
 static void paper_sim_record_does_not_fit_one_sector_slots(void **state)
 {
     (void)state;

@@ -153,7 +153,7 @@ static void test_gyro_learns_bias_while_stationary(void **state)
 
 // The wheels stop some time after the command: a robot told to stand still may still turn for a
 // few samples (on the emulated board, ~20-60 ms of a 190 deg/s turn). Those samples are not bias;
-// learning from them made the heading drift by degrees per turn (docs/results.md, issue 23).
+// learning from them made the heading drift by degrees per turn (docs/results/emulated-board.md).
 static void test_gyro_bias_ignores_a_turn_still_ending(void **state)
 {
     (void)state;

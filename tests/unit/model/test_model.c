@@ -519,7 +519,7 @@ static void clear_empties_every_table(void **state)
 }
 
 
-// ---- Pins (issue 25, deliverable 6): what a mutation of model.c changed without a test failing
+// ---- Pins: what a mutation of model.c changed without a test failing
 
 // The percept map answers whether a state was seen: both ends of every learned step, each with
 // the percept seen there; not the same place with another percept, not a place never visited.

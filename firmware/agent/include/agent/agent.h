@@ -35,7 +35,7 @@ typedef struct agent_params {
     float model_rate;  ///< CMAC learning rate (the gamma of the paper's Fig. 7), (0, 1]
     uint8_t tilings;   ///< CMAC tilings, a power of two up to FW_CFG_MAX_TILINGS
     uint8_t min_count; ///< plan only on predictions whose every cell was trained this often
-    /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results.md): a
+    /// Dyna-QPC's departures from the paper switched off, for the ablation (docs/results/ablation.md): a
     /// mask of AGENT_ABLATE_*; 0 (the default) keeps them all.
     uint8_t ablate;
     /// Dyna-QPC's world model: AGENT_MODEL_RELOCATABLE (ours, the default) or AGENT_MODEL_PAPER

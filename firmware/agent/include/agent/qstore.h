@@ -21,10 +21,10 @@ extern "C" {
 /// A profile chooses by the type of its array (agent_profiles.h): paper-lab and the gridworlds
 /// keep floats (they fit); paper-sim's 16-bit values hold twice the rows in the same RAM, so a
 /// floor with four times its cells runs in 192 KB (docs/agent.md, "Q store"; it learns reliably
-/// only with twice those rows again: docs/results.md, "What still fails"). 10 significant bits
+/// only with twice those rows again: docs/results/far-goal.md). 10 significant bits
 /// suffice there: the step between values is 2^-10 of them (0.1 at a robot's returns near
 /// -100) while an action's values differ by whole step costs, and a gridworld's far values
-/// (1e-6) are still normal numbers (measured: docs/results.md, "16-bit values"). (Fixed point
+/// (1e-6) are still normal numbers (measured: docs/results/far-goal.md). (Fixed point
 /// lost: a gridworld's values of 1e-4 vanish in 16 fixed-point bits; IEEE half's below 6e-5.)
 ///
 /// Dense when every state fits (2^state_bits <= capacity): row s is at s * n_actions, no keys.

@@ -31,8 +31,8 @@
 /// times the period), not over the frames' receive times, which a bus or a bridge bunches: the
 /// emulated board's receive times jitter by tens of ms on a loaded host, and its heading was
 /// 20-30 degrees off after bumps (spiky rates weighted by the wrong intervals); with the period,
-/// within a degree (docs/results.md, issue 23). The netduinoplus2 port sets 16000. 0 (the default
-/// elsewhere, for now): over the receive times, as every figure in docs/results.md was measured
+/// within a degree (docs/results/emulated-board.md). The netduinoplus2 port sets 16000. 0 (the default
+/// elsewhere, for now): over the receive times, as every figure in docs/results/ was measured
 /// (in lock-step they are the sample times but for idle planning's lead of up to ~3.5 ms; with
 /// 16000 the lock-step runs learn differently, not better or worse).
 #ifndef FW_CFG_GYRO_PERIOD_US

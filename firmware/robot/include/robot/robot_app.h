@@ -28,7 +28,7 @@ extern "C" {
 #endif
 
 /// Worst-case time of one planning update on the MCU, for fitting idle work before a deadline.
-/// Measured (issue 23, docs/realtime.md "On an emulated Cortex-M4"): the worst single Dyna-QPC
+/// Measured (docs/realtime.md "On an emulated Cortex-M4"): the worst single Dyna-QPC
 /// update is 8,556 Cortex-M4 instructions (`ctest --preset cortex-m4 -V -R single_update`: QEMU
 /// TCG plugin, one update per agent_plan() call, 9,076 calls of a learning run), 51 us at 168 MHz
 /// and one cycle per instruction: 100 us leaves 1.95x (it holds up to 1.96 cycles per

@@ -56,7 +56,7 @@ typedef enum robot_values {
 /// than the distance at which a path's value crosses zero (the sonar robot's floors, not the lab
 /// robot's), a state never written starts at this share of the value of wandering for ever,
 /// reward_step / (1 - gamma) (agent_params_t.q_prior; elsewhere 0, the paper's). Chosen on the
-/// far-goal tuning rooms (docs/results.md, "What an unknown state is worth"): 1 stops the robot
+/// far-goal tuning rooms (docs/results/far-goal.md): 1 stops the robot
 /// exploring (the lab robot's tuning rooms: 39 % of sets learned against 95 %), 0 leaves it
 /// straying from long paths (the sonar robot's tuning serpentine: 0/2 sets; 0.5: 2/2).
 #ifndef ROBOT_PRIOR_SHARE
@@ -65,15 +65,14 @@ typedef enum robot_values {
 
 /// 1: a robot narrower than its cells backs off after a step that bumped (robot_backs_off(),
 /// robot_motion.h); 0: it stays where the bump left it. Measured with 0 in host builds only
-/// (docs/results.md, "Backing off after a bump").
+/// (docs/results/lab-motion.md).
 #ifndef ROBOT_BUMP_BACKOFF
 #define ROBOT_BUMP_BACKOFF 1
 #endif
 
 /// 1: a robot that backs off after a bump also settles onto the grid of aligned stops at an
 /// episode's start, before its first state is observed (robot_settle_motion(), robot_motion.h);
-/// 0: it starts where it was put. Measured with 0 in host builds only (docs/results.md,
-/// "Settling onto the grid at a start").
+/// 0: it starts where it was put. Measured with 0 in host builds only (docs/results/lab-motion.md).
 #ifndef ROBOT_START_SETTLE
 #define ROBOT_START_SETTLE 1
 #endif

@@ -103,7 +103,7 @@ void HardFault_Handler(void)
 // each action's two 192 ms periods lasted 12 % longer in the world (turns and steps overshot) and
 // the gyro's integration, timed by the same clock, saw 11 % less rotation than there was: the
 // heading drifted and the robot learned three times more slowly than the lock-step build
-// (docs/results.md, issue 23). QEMU's stm32f2xx-timer computes CNT from its virtual clock at
+// (docs/results/emulated-board.md). QEMU's stm32f2xx-timer computes CNT from its virtual clock at
 // each read (1 GHz input by default: with PSC = 999 it counts microseconds), so nothing is lost
 // however late the vCPU runs; the 32-bit count (71 minutes) is extended to 64 bits here, read
 // at least every millisecond by the SysTick handler. With -icount the virtual clock counts
