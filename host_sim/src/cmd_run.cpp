@@ -17,6 +17,7 @@
 #include "commands.h"
 #include "lockstep.h"
 #include "options.h"
+#include "robot/robot_app.h"
 #include "scenario_bridge.h"
 
 namespace dynaqpc {
@@ -127,6 +128,16 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     if (!sim.restored()) {
         throw UsageError("--load: '" + load + "' holds no record this firmware can restore (" + agent + " on " +
                          sb.name + ")");
+    }
+    robot_app_stats_t restored;
+    robot_app_get_stats(&restored);
+    if (restored.restore_fell_back) {
+        // The firmware boots from the older record when the newest is damaged: say so, as
+        // dynaqpc-learned does, so that a replay is not mistaken for the latest learning.
+        std::fprintf(stderr,
+                     "%s run: warning: the newest record in '%s' is damaged or refused; running the older one "
+                     "(%u episodes), as the firmware would\n",
+                     program.c_str(), load.c_str(), restored.restored_episodes);
     }
     std::uint32_t current = 0;
     if (traj != nullptr) {

@@ -47,8 +47,12 @@ std::string quoted(const std::string &text)
 std::uint32_t parse_uint(const std::string &what, const std::string &text, std::uint32_t min,
                          std::uint32_t max)
 {
+    const std::string range = " from " + std::to_string(min) + " to " + std::to_string(max);
+    if (text.size() > 1 && text[0] == '-' && text.find_first_not_of("0123456789", 1) == std::string::npos) {
+        throw UsageError(what + ": " + quoted(text) + " is negative; it takes a whole number" + range);
+    }
     if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) {
-        throw UsageError(what + ": expected a whole number, got " + quoted(text));
+        throw UsageError(what + ": expected a whole number" + range + ", got " + quoted(text));
     }
     errno = 0;
     const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);

@@ -359,3 +359,33 @@ def test_a_simulator_error_is_one_line(tmp_path, capsys):
     assert experiment.main(["trajectory", "--scenario", "paper-lab", "--load", str(tmp_path / "none"),
                             "--sim", str(sim), "--out", str(tmp_path / "o")]) == 2
     assert "no such file" in capsys.readouterr().err
+
+
+def test_a_misspelt_scenario_names_the_shipped_ones_and_leaves_no_folder(tmp_path, capsys):
+    results = tmp_path / "results"
+    for extra in (["--sets", "1", "--episodes", "1"], []):
+        rc = experiment.main(["run", "--scenario", "paper-lob", "--results", str(results), "--agents", "q",
+                              "--sim", "/bin/false", *extra])
+        assert rc == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "did you mean paper-lab?" in err[0]
+        assert "the shipped scenarios are paper-lab, paper-lab-motion, paper-sim, paper-sim-motion" in err[0]
+        assert not results.exists()
+
+
+def test_a_failed_run_leaves_no_empty_folder(tmp_path):
+    # A scenario file the simulator refuses: the run fails in training, and the folders it made go.
+    scn = tmp_path / "bad.scn"
+    scn.write_text("not a scenario\n")
+    results = tmp_path / "results"
+    rc = experiment.main(["run", "--scenario", str(scn), "--results", str(results), "--agents", "q",
+                          "--sets", "1", "--episodes", "1", "--sim", "/bin/false", "--no-progress"])
+    assert rc == 2
+    assert not results.exists()
+    # A folder that was there before stays, with what it held.
+    results.mkdir()
+    (results / "notes.txt").write_text("mine\n")
+    rc = experiment.main(["run", "--scenario", str(scn), "--results", str(results), "--agents", "q",
+                          "--sets", "1", "--episodes", "1", "--sim", "/bin/false", "--no-progress"])
+    assert rc == 2
+    assert sorted(p.name for p in results.iterdir()) == ["notes.txt"]

@@ -168,3 +168,20 @@ def test_a_damaged_newest_record_falls_back_as_the_firmware_does(sim, image, tmp
     view = json.loads(p.stdout)
     assert view["record"]["fell_back"] and view["record"]["episodes"] == shown["record"]["episodes"] - 1
     assert "warning" in p.stderr and "older" in p.stderr
+
+
+def test_run_warns_when_it_replays_the_older_record(sim, image, tmp_path):
+    """`dynaqpc-sim run --load` boots as the firmware does: from the older record when the newest
+    is damaged. It says so on stderr, and says nothing when the newest is whole."""
+    shown = json.loads(learned(image, "--scenario", "paper-lab", "--sim", sim, "--json", "-").stdout)
+    slots = shown["record"]["slots"]
+    newest = max(range(2), key=lambda i: slots[i]["sequence"])
+    bad = tmp_path / "newest-damaged.flash"
+    corrupt(image, bad, [newest * SLOT + 64 + 100])
+    run = [str(sim), "run", "--scenario", "paper-lab", "--starts", "1", "--load"]
+    p = subprocess.run(run + [str(bad)], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert "warning: the newest record" in p.stderr and "running the older one" in p.stderr
+    assert f"({shown['record']['episodes'] - 1} episodes)" in p.stderr
+    p = subprocess.run(run + [str(image)], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and "warning" not in p.stderr

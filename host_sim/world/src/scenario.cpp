@@ -933,11 +933,54 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
     return "";
 }
 
+namespace {
+
+// The scenarios shipped in host_sim/scenarios, which --scenario takes by name.
+const char *const kShippedScenarios[] = {"paper-lab", "paper-lab-motion", "paper-sim", "paper-sim-motion"};
+
+// Edit distance (insertions, deletions, substitutions), for "did you mean".
+std::size_t edit_distance(const std::string &a, const std::string &b)
+{
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); j++) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); i++) {
+        std::size_t diag = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); j++) {
+            const std::size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+            diag = up;
+        }
+    }
+    return row[b.size()];
+}
+
+// What to say when NAME is neither a shipped scenario nor a file: the shipped names, and the
+// nearest of them when it is a letter or two away. A name with a '/' or a '.' was meant as a path.
+std::string unknown_scenario_message(const std::string &name)
+{
+    std::string names, nearest;
+    std::size_t best = 3;
+    for (const char *s : kShippedScenarios) {
+        names += names.empty() ? s : std::string(", ") + s;
+        const std::size_t d = edit_distance(name, s);
+        if (d < best) {
+            best = d;
+            nearest = s;
+        }
+    }
+    const bool a_path = name.find('/') != std::string::npos || name.find('.') != std::string::npos;
+    std::string msg = a_path ? std::string("cannot open: ") + std::strerror(ENOENT) : "not a shipped scenario";
+    if (!nearest.empty()) msg += " (did you mean " + nearest + "?)";
+    return msg + "; the shipped scenarios are " + names + (a_path ? "" : ", or give a scenario file's path");
+}
+
+}  // namespace
+
 std::string resolve_scenario_path(const std::string &name_or_path)
 {
-    if (name_or_path == "paper-sim" || name_or_path == "paper-lab" || name_or_path == "paper-sim-motion" ||
-        name_or_path == "paper-lab-motion") {
-        return std::string(DYNAQPC_SCENARIOS_DIR) + "/" + name_or_path + ".scn";
+    for (const char *s : kShippedScenarios) {
+        if (name_or_path == s) return std::string(DYNAQPC_SCENARIOS_DIR) + "/" + name_or_path + ".scn";
     }
     return name_or_path;
 }
@@ -950,7 +993,10 @@ bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *
         return false;
     };
     std::FILE *f = std::fopen(path.c_str(), "rb");
-    if (f == nullptr) return report(std::string("cannot open: ") + std::strerror(errno));
+    if (f == nullptr) {
+        if (errno == ENOENT) return report(unknown_scenario_message(name_or_path));
+        return report(std::string("cannot open: ") + std::strerror(errno));
+    }
     std::string text;
     char buf[65536];
     std::size_t n = 0;

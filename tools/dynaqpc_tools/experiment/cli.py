@@ -121,6 +121,7 @@ def protocol(args):
     if sets is None or episodes is None:
         proto = orchestrate.scenario_protocol(args.scenario)
         if proto is None:
+            orchestrate.check_scenario(args.scenario)
             raise ToolError(f"--scenario {args.scenario}: cannot read its protocol; give --sets and --episodes")
         sets = sets if sets is not None else proto[0]
         episodes = episodes if episodes is not None else proto[1]
@@ -137,10 +138,41 @@ def _complete(path: str, agent: str, sets: int, episodes: int) -> bool:
     return r is not None and len(r.sets) == sets and len(r.episodes) >= episodes
 
 
+def _new_dirs(path: str) -> list:
+    """The folders making `path` that do not exist yet, deepest first."""
+    made = []
+    p = os.path.abspath(path)
+    while not os.path.exists(p):
+        made.append(p)
+        parent = os.path.dirname(p)
+        if parent == p:
+            break
+        p = parent
+    return made
+
+
+def _remove_if_empty(dirs) -> None:
+    """Removes the folders a failed run made, deepest first, as long as they are empty."""
+    for d in dirs:
+        try:
+            os.rmdir(d)
+        except OSError:
+            return
+
+
 def cmd_run(args) -> int:
     settings = _settings(args)
     out_dir, plan = run_plan(args)
     sets, episodes = protocol(args)
+    made = _new_dirs(out_dir)
+    try:
+        return _run(args, settings, out_dir, plan, sets, episodes)
+    except BaseException:
+        _remove_if_empty(made)  # a failed run leaves no empty folder behind
+        raise
+
+
+def _run(args, settings, out_dir, plan, sets, episodes) -> int:
     extra = shlex.split(args.sim_args)
     if args.planning is not None and "--planning" in extra:
         raise ToolError("--sim-args: give the planning budget with --planning, not in --sim-args")
@@ -148,6 +180,7 @@ def cmd_run(args) -> int:
         if args.skip_existing and _complete(csv_path, agent, sets, episodes):
             print(f"{csv_path} is complete: skipped")
             continue
+        orchestrate.check_scenario(args.scenario)  # before the first training: a misspelt name
         desc = agent if budget is None else f"{agent} N={budget}" if budget else f"{agent} idle"
         orchestrate.run_sets(args.sim, args.scenario, agent, csv_path, sets, episodes, args.seed, args.jobs,
                              budget, extra, progress=not args.no_progress, desc=desc)
@@ -176,9 +209,15 @@ def _run_trajectory(args, out_dir: str):
 
 
 def cmd_trajectory(args) -> int:
+    orchestrate.check_scenario(args.scenario)
     out_dir = args.out or os.path.join(args.results, scenario_name(args.scenario))
+    made = _new_dirs(out_dir)
     os.makedirs(out_dir, exist_ok=True)
-    traj, arena = _run_trajectory(args, out_dir)
+    try:
+        traj, arena = _run_trajectory(args, out_dir)
+    except BaseException:
+        _remove_if_empty(made)
+        raise
     png = os.path.join(out_dir, "trajectories.png")
     plots.plot_trajectories(traj, arena, png, scenario_name(args.scenario))
     print(f"wrote {png}")

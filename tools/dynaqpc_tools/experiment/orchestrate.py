@@ -27,6 +27,28 @@ def default_sim() -> str:
     return str((root or Path.cwd()) / "build" / "host-release" / "bin" / "dynaqpc-sim")
 
 
+def shipped_scenarios() -> List[str]:
+    """The scenarios the simulator takes by name (host_sim/scenarios/*.scn), sorted."""
+    root = repo_root()
+    if root is None:
+        return []
+    return sorted(p.stem for p in (root / "host_sim" / "scenarios").glob("*.scn"))
+
+
+def check_scenario(scenario: str) -> None:
+    """Refuses, before anything is trained or written, a scenario that is neither a file nor a
+    shipped name; the message lists the shipped names and the nearest one."""
+    import difflib
+
+    shipped = shipped_scenarios()
+    if Path(scenario).is_file() or scenario in shipped or not shipped:
+        return
+    near = difflib.get_close_matches(scenario, shipped, n=1)
+    hint = f" (did you mean {near[0]}?)" if near else ""
+    raise ToolError(f"--scenario {scenario}: not a shipped scenario or a file{hint}; "
+                    f"the shipped scenarios are {', '.join(shipped)}")
+
+
 def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
     """(sets, episodes) of the scenario's `learning` line: a scenario file, or a built-in name
     read from host_sim/scenarios/NAME.scn. None when neither can be read."""
