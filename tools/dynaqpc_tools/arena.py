@@ -96,16 +96,38 @@ def draw_arena(ax, arena: Dict[str, Any]) -> None:
     elif goal:
         ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], facecolor="tab:green", alpha=0.35,
                             edgecolor="tab:green", label="goal"))
-    for b in arena.get("beacons", []):
-        ax.plot(b["x"], b["y"], marker="^", color="tab:purple", markersize=7)
-        # The label leans into the room, so a beacon on a wall or in a corner keeps it on the plot.
+    for k, b in enumerate(arena.get("beacons", []), 1):
+        ax.plot(b["x"], b["y"], marker="^", color="black", markerfacecolor="white", markersize=8,
+                markeredgewidth=1.2, zorder=4)
+        # B1, B2, ... (arena_key says what they are); the label leans into the room, so a beacon on a
+        # wall or in a corner keeps it on the plot.
         right, up = b["x"] < w / 2, b["y"] < h / 2
-        ax.annotate(str(b.get("id", "")), (b["x"], b["y"]), textcoords="offset points",
-                    xytext=(5 if right else -5, 5 if up else -5), ha="left" if right else "right",
-                    va="bottom" if up else "top", fontsize=7, color="tab:purple")
+        ax.annotate(f"B{k}", (b["x"], b["y"]), textcoords="offset points",
+                    xytext=(6 if right else -6, 6 if up else -6), ha="left" if right else "right",
+                    va="bottom" if up else "top", fontsize=7.5, color="black", zorder=4)
     margin = 0.05 * max(w, h)
     ax.set_xlim(-margin, w + margin)
     ax.set_ylim(-margin, h + margin)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
+
+
+def arena_key(arena: Dict[str, Any]) -> list:
+    """Legend entries for what draw_arena draws: walls and obstacles, the goal, the beacons."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    keys = [Patch(facecolor="0.6", edgecolor="0.3", label="obstacle (black frame: the walls)")]
+    goal = arena.get("goal") or {}
+    if goal.get("cells"):
+        keys.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green",
+                          label="goal: the state cells that end an episode"))
+        keys.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
+    elif goal:
+        keys.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
+    beacons = arena.get("beacons", [])
+    if beacons:
+        keys.append(Line2D([], [], marker="^", linestyle="", color="black", markerfacecolor="white",
+                           markersize=8, label=f"Cricket beacon, B1-B{len(beacons)} (on the ceiling)"))
+    return keys

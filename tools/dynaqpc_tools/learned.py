@@ -209,6 +209,65 @@ def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color
                 color=color, fontweight="bold")
 
 
+class _MarkHandler:
+    """Draws a key entry as the map draws it: a mark (an arrow or a turn symbol) on a cell."""
+
+    def __init__(self, mark: str, bg: Any):
+        self.mark, self.bg = mark, bg  # mark: "right", "left" (arrows) or a turn symbol
+
+    def legend_artist(self, legend, orig_handle, fontsize, handlebox):
+        from matplotlib.patches import FancyArrow, Rectangle
+        from matplotlib.text import Text
+
+        x0, y0, w, h = handlebox.xdescent, handlebox.ydescent, handlebox.width, handlebox.height
+        side = min(w, h * 1.6)
+        cx, cy = x0 + w / 2, y0 + h / 2
+        handlebox.add_artist(Rectangle((cx - side / 2, y0 - h * 0.3), side, h * 1.6, facecolor=self.bg,
+                                       edgecolor="none", transform=handlebox.get_transform()))
+        color = orig_handle.get_color()
+        if self.mark in ("right", "left"):
+            d = side * 0.8 * (1 if self.mark == "right" else -1)
+            a = FancyArrow(cx - d / 2, cy, d, 0, width=h * 0.1, head_width=h * 0.55, head_length=abs(d) * 0.35,
+                           length_includes_head=True, color=color, transform=handlebox.get_transform())
+        else:
+            a = Text(cx, cy, self.mark, ha="center", va="center", fontsize=fontsize * 1.3, fontweight="bold",
+                     color=color, transform=handlebox.get_transform())
+        handlebox.add_artist(a)
+        return a
+
+
+_KEY_HANDLERS: Dict[Any, Any] = {}
+
+
+def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
+    """Proxy artists for the key; _KEY_HANDLERS says how the arrows and turns are drawn."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    bg = cmap(norm(vmax * 0.3))
+    marks = [("right", "white", "step forward, along the heading"),
+             ("left", "white", "step backward (the arrow points\nagainst the heading)"),
+             ("\u21ba", "white", "turn left"),
+             ("\u21bb", "white", "turn right"),
+             ("right", "0.75", "grey mark: valued by planning only;\nthe robot never had this heading here")]
+    _KEY_HANDLERS.clear()
+    handles = []
+    for mark, color, label in marks:
+        h = Line2D([], [], color=color, label=label)
+        _KEY_HANDLERS[h] = _MarkHandler(mark, bg)
+        handles.append(h)
+    handles.append(Patch(facecolor="white", edgecolor="0.5", label="white cell: no value for this heading"))
+    handles.append(Patch(facecolor="0.6", edgecolor="0.3", label="obstacle"))
+    goal = arena.get("goal") or {}
+    if goal.get("cells"):
+        handles.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green",
+                             label="goal cells (the episode ends there:\nno action drawn)"))
+        handles.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
+    elif goal:
+        handles.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
+    return handles
+
+
 def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = "used", title: Optional[str] = None) -> None:
     import matplotlib
 
@@ -305,12 +364,28 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     ax.set_title("tables' fill", fontsize=9)
     for j in range(n_panels, nrows * ncols):
         axes[j // ncols][j % ncols].axis("off")
+    heading_axes = [axes[i // ncols][i % ncols] for i in range(len(hs))]
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=heading_axes, location="right",
+                 shrink=0.9, pad=0.01, aspect=30, label="V = max_a Q (cell colour)")
+    # The key: what every mark means, in the first free panel, else under the figure.
+    handles = _key_handles(arena, cmap, norm, vmax)
+    if n_panels < nrows * ncols:
+        key_ax = axes[n_panels // ncols][n_panels % ncols]
+        key_ax.legend(handles=handles, loc="center left", fontsize=8.5, frameon=False, title="key", handlelength=2.6,
+                      handleheight=1.4,
+                      title_fontsize=9, handler_map=_KEY_HANDLERS)
+    else:
+        fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False,
+                   handler_map=_KEY_HANDLERS)
     rec = view["record"]
-    fig.suptitle(title or (f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: per heading, the greedy "
-                           f"action (arrow: step, \u21ba \u21bb: turn; grey: the robot never had that heading there) "
-                           f"over V = max_a Q\n(several range codes in a cell: the {'largest V' if view['combine'] == 'max' else 'most experienced'})"),
+    shown = (f"all {nh} headings" if len(hs) == nh else
+             f"{len(hs)} of the {nh} headings: the {len(hs)} with the most cells (--headings all draws every one)"
+             if headings == "used" else f"{len(hs)} of the {nh} headings (--headings)")
+    codes = "the largest V" if view["combine"] == "max" else "the most experienced"
+    fig.suptitle(title or (f"What {view['agent']} learned on {view['scenario']} in {rec['episodes']} episodes, "
+                           f"read from its flash image\nper heading: the greedy action in each cell, on V = max_a Q; "
+                           f"{shown}; several range codes in a cell: {codes}"),
                  fontsize=10)
-    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.6, label="V = max_a Q")
     try:
         fig.savefig(out, dpi=110)
     except OSError as e:

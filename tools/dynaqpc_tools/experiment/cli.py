@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shlex
 import sys
 from pathlib import Path
@@ -88,7 +89,8 @@ def warn_table(summaries, settings: LearnSettings) -> None:
 
 
 def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: str = "",
-           trajectory: Optional[str] = None, arena: Optional[str] = None) -> str:
+           trajectory: Optional[str] = None, arena: Optional[str] = None, cap: Optional[int] = None,
+           image: Optional[str] = None, agent: Optional[str] = None) -> str:
     """fig13.png, table1.md and (given a trajectory) trajectories.png in out_dir; returns Table 1."""
     try:
         os.makedirs(out_dir, exist_ok=True)
@@ -97,10 +99,11 @@ def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: st
     summaries = stats.summarise_all(runs, settings)
     table = stats.table_markdown(summaries, settings, scenario)
     warn_table(summaries, settings)
-    plots.plot_fig13(runs, os.path.join(out_dir, "fig13.png"), title or scenario)
+    plots.plot_fig13(runs, os.path.join(out_dir, "fig13.png"), title or scenario, settings.learned_steps, cap)
     write_text(os.path.join(out_dir, "table1.md"), table)
     if trajectory:
-        plots.plot_trajectories(trajectory, arena, os.path.join(out_dir, "trajectories.png"), title or scenario)
+        plots.plot_trajectories(trajectory, arena, os.path.join(out_dir, "trajectories.png"), title or scenario,
+                                image=image, agent=agent)
     return table
 
 
@@ -184,15 +187,16 @@ def _run(args, settings, out_dir, plan, sets, episodes) -> int:
         desc = agent if budget is None else f"{agent} N={budget}" if budget else f"{agent} idle"
         orchestrate.run_sets(args.sim, args.scenario, agent, csv_path, sets, episodes, args.seed, args.jobs,
                              budget, extra, progress=not args.no_progress, desc=desc)
-    traj = arena = None
+    traj = arena = agent = None
     if args.load:
-        traj, arena = _run_trajectory(args, out_dir)
+        traj, arena, agent = _run_trajectory(args, out_dir)
     # Only this run's CSVs: the folder may hold others (tools/dev.sh demo's long run, a user's).
     runs = read_csvs([p for _, _, p in plan], out_dir, allow_repeats=True)
     default_budget = None if "--planning" in extra else orchestrate.scenario_planning(args.scenario)
     for r, (_, budget, _) in zip(runs, plan):
         r.budget = budget if budget is not None else default_budget  # None: not known (a file elsewhere)
-    table = report(runs, out_dir, settings, scenario_name(args.scenario), trajectory=traj, arena=arena)
+    table = report(runs, out_dir, settings, scenario_name(args.scenario), trajectory=traj, arena=arena,
+                   cap=orchestrate.scenario_step_cap(args.scenario), image=args.load, agent=agent)
     print(table)
     print(f"wrote {out_dir}/fig13.png, {out_dir}/table1.md")
     return 0
@@ -203,9 +207,11 @@ def _run_trajectory(args, out_dir: str):
         raise ToolError(f"--load {args.load}: no such file (a flash image from dynaqpc-sim train --save)")
     traj, arena = os.path.join(out_dir, "traj.csv"), os.path.join(out_dir, "arena.json")
     orchestrate.check_output_csv(traj, TRAJECTORY_COLUMNS, "trajectory")
-    orchestrate.run_command([args.sim, "run", "--scenario", args.scenario, "--load", args.load, "--starts",
-                             str(args.starts), "--trajectory", traj, "--arena", arena])
-    return traj, arena
+    said = orchestrate.run_command([args.sim, "run", "--scenario", args.scenario, "--load", args.load, "--starts",
+                                    str(args.starts), "--trajectory", traj, "--arena", arena])
+    # Its summary names the agent the image holds: "dyna-qpc on paper-lab (frozen): ...".
+    m = re.search(r"^(\S+) on \S+ \((?:frozen|learning)", said, re.M)
+    return traj, arena, m.group(1) if m else None
 
 
 def cmd_trajectory(args) -> int:
@@ -214,12 +220,12 @@ def cmd_trajectory(args) -> int:
     made = _new_dirs(out_dir)
     os.makedirs(out_dir, exist_ok=True)
     try:
-        traj, arena = _run_trajectory(args, out_dir)
+        traj, arena, agent = _run_trajectory(args, out_dir)
     except BaseException:
         _remove_if_empty(made)
         raise
     png = os.path.join(out_dir, "trajectories.png")
-    plots.plot_trajectories(traj, arena, png, scenario_name(args.scenario))
+    plots.plot_trajectories(traj, arena, png, scenario_name(args.scenario), image=args.load, agent=agent)
     print(f"wrote {png}")
     return 0
 
@@ -230,7 +236,8 @@ def cmd_plot(args) -> int:
     runs = read_csv_dir(args.csv_dir)
     traj, arena = plots.trajectory_inputs(args.csv_dir, args.trajectory, args.arena)
     name = args.scenario or os.path.basename(os.path.normpath(args.csv_dir))
-    table = report(runs, out_dir, settings, name, args.title or name, traj, arena)
+    cap = orchestrate.scenario_step_cap(args.scenario) if args.scenario else None
+    table = report(runs, out_dir, settings, name, args.title or name, traj, arena, cap=cap)
     print(table)
     print(f"wrote {out_dir}/fig13.png, {out_dir}/table1.md")
     return 0

@@ -70,6 +70,15 @@ def scenario_planning(scenario: str) -> Optional[int]:
         return None
 
 
+def scenario_step_cap(scenario: str) -> Optional[int]:
+    """The scenario's step cap (its `learning ... step_cap N`), if known."""
+    learning = _learning_line(scenario)
+    try:
+        return int(learning["step_cap"]) if learning is not None else None
+    except (KeyError, ValueError):
+        return None
+
+
 def _learning_line(scenario: str) -> Optional[dict]:
     candidates = [Path(scenario)]
     root = repo_root()
@@ -217,7 +226,7 @@ def run_sets(sim: str, scenario: str, agent: str, csv_path: str, sets: int, epis
     print(f"{desc or agent}: {sets} sets x {episodes} episodes in {time.monotonic() - started:.0f} s", flush=True)
 
 
-def run_command(cmd: List[str]) -> None:
+def run_command(cmd: List[str]) -> str:
     """Runs a simulator command in the foreground; a failure is a ToolError carrying the
     simulator's own last line (its stderr is passed on only when it succeeds)."""
     print("$ " + " ".join(shlex.quote(c) for c in cmd), flush=True)
@@ -231,3 +240,4 @@ def run_command(cmd: List[str]) -> None:
         last = (p.stderr.strip().splitlines() or [f"exited with status {p.returncode}"])[-1]
         raise ToolError(last if last.startswith(name) else f"{name}: {last}")
     sys.stderr.write(p.stderr)
+    return p.stderr

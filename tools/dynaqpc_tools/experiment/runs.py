@@ -171,7 +171,7 @@ def read_trajectory(path: str) -> Dict[int, List[dict]]:
                                 f"want {','.join(TRAJECTORY_COLUMNS)})")
             for row in reader:
                 try:
-                    p = {"start": int(row["start"]), "x": float(row["x"]), "y": float(row["y"]),
+                    p = {"start": int(row["start"]), "step": int(row["step"]), "x": float(row["x"]), "y": float(row["y"]),
                          "bump": int(row["bump"]) != 0, "in_goal": int(row["in_goal"]) != 0}
                 except (ValueError, TypeError) as e:
                     raise ToolError(f"{path}:{reader.line_num}: bad value ({e})") from None
