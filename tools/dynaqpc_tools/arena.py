@@ -131,3 +131,41 @@ def arena_key(arena: Dict[str, Any]) -> list:
         keys.append(Line2D([], [], marker="^", linestyle="", color="black", markerfacecolor="white",
                            markersize=8, label=f"Cricket beacon, B1-B{len(beacons)} (on the ceiling)"))
     return keys
+
+
+def ray_hit(arena: Dict[str, Any], x: float, y: float, angle: float, max_len: float) -> float:
+    """How far a ray from (x, y) at `angle` (rad) goes before it meets a wall or an obstacle, at
+    most max_len: where a drawn range ray must stop."""
+    dx, dy = math.cos(angle), math.sin(angle)
+    best = max_len
+
+    def segment(ax_, ay_, bx, by):
+        nonlocal best
+        ex, ey = bx - ax_, by - ay_
+        den = dx * ey - dy * ex
+        if abs(den) < 1e-12:
+            return
+        t = ((ax_ - x) * ey - (ay_ - y) * ex) / den  # along the ray
+        u = ((ax_ - x) * dy - (ay_ - y) * dx) / den  # along the segment
+        if 0.0 <= t < best and 0.0 <= u <= 1.0:
+            best = t
+
+    w, h = arena["width"], arena["height"]
+    for a, b in (((0, 0), (w, 0)), ((w, 0), (w, h)), ((w, h), (0, h)), ((0, h), (0, 0))):
+        segment(a[0], a[1], b[0], b[1])
+    for ob in arena.get("obstacles", []):
+        if ob["kind"] == "box":
+            cs = box_corners(ob)
+            for i in range(4):
+                segment(cs[i][0], cs[i][1], cs[(i + 1) % 4][0], cs[(i + 1) % 4][1])
+        else:
+            fx, fy = x - ob["cx"], y - ob["cy"]
+            bq = fx * dx + fy * dy
+            cq = fx * fx + fy * fy - ob["r"] ** 2
+            disc = bq * bq - cq
+            if disc >= 0:
+                for t in (-bq - math.sqrt(disc), -bq + math.sqrt(disc)):
+                    if 0.0 <= t < best:
+                        best = t
+                        break
+    return best

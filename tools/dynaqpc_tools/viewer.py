@@ -236,7 +236,8 @@ class PoseView:
 
         from .arena import draw_arena
 
-        self.fig, self.ax = plt.subplots(figsize=(7, 7))
+        self.fig, self.ax = plt.subplots(figsize=(10, 6.5), layout="constrained")
+        self.arena = arena
         if arena is not None:
             draw_arena(self.ax, arena)
         else:
@@ -259,11 +260,34 @@ class PoseView:
         self._break = True  # the next pose starts a trail
         self.ray_lines = []
         (self.bump_marks,) = self.ax.plot([], [], "x", color="tab:red", markersize=8, mew=2, linestyle="none")
+        self._key()
         #: With keep_history (a replay), what the view showed after each pose, for show_upto():
         #: (pose, a trail starts here, bumps so far, episode, step, mode, rays)
         self.keep_history = False
         self.history = []
         self.bumps_all = None  # a replay's every bump, kept once show_upto() first scrubs back
+
+    def _key(self) -> None:
+        """A legend of every mark, beside the room; the suptitle says what is drawn."""
+        from matplotlib.lines import Line2D
+
+        from .arena import arena_key
+
+        handles = [Line2D([], [], color="tab:blue", label="trail, this episode"),
+                   Line2D([], [], color="tab:cyan", alpha=0.7, label="trails, earlier episodes"),
+                   Line2D([], [], color="tab:red", marker=">", markersize=7, linewidth=2,
+                          label="the robot and its heading"),
+                   Line2D([], [], color="tab:orange", label="range ray: the reading\n(stops at the wall it meets)"),
+                   Line2D([], [], color="tab:orange", linestyle=":", label="range ray: no echo"),
+                   Line2D([], [], color="tab:red", marker="x", linestyle="", mew=2, label="a bump")]
+        if self.arena is not None:
+            handles += arena_key(self.arena)
+        self.ax.legend(handles=handles, fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                       borderaxespad=0)
+
+    def set_source(self, text: str) -> None:
+        """What the picture shows, above the readout: the frame, the room, a recording."""
+        self.fig.suptitle(text, fontsize=10)
 
     def new_episode(self, late: bool = False) -> None:
         """The next pose starts a trail. `late`: known only from TLM_LEARN's episode number, which
@@ -362,6 +386,10 @@ class PoseView:
             for ang, r in self.state.rays.values():
                 a = p.heading + ang
                 length = r if r is not None else 0.15
+                if self.arena is not None:  # a ray ends at what it meets, even if the reading says more
+                    from .arena import ray_hit
+
+                    length = ray_hit(self.arena, p.x, p.y, a, length)
                 (ln,) = self.ax.plot([p.x, p.x + length * math.cos(a)], [p.y, p.y + length * math.sin(a)],
                                      "-" if r is not None else ":", color="tab:orange", linewidth=1)
                 self.ray_lines.append(ln)
@@ -431,6 +459,13 @@ def run(args) -> PoseView:
         raise ToolError("--at: only with --replay (a live bus has no past to scrub)")
     view = PoseView(load_arena(args.arena) if args.arena else None, jump=args.jump)
     view.state = BusState(db, angles)
+    room = ""
+    if view.arena is not None:
+        room = f" over {view.arena.get('name') or os.path.basename(args.arena)}"
+    source = f"recording {os.path.basename(args.replay)}" if args.replay else "the bus"
+    est = {"TLM_POSE": "the firmware's estimate", "GPS_POSE": "the simulator's true pose"}.get(args.frame, "")
+    view.set_source(f"dynaqpc-viewer: the robot's pose from {args.frame}{' (' + est + ')' if est else ''}"
+                    f"{room}, {source}")
     view.keep_history = bool(args.replay)
 
     def feed(msg) -> None:

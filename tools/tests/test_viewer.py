@@ -161,3 +161,33 @@ def test_without_a_display_it_says_so_and_exits_2(tmp_path, test_dbc, monkeypatc
     err = captured.err.strip().splitlines()
     assert len(err) == 1 and "no display" in err[0] and "--png" in err[0], err
     assert "poses" not in captured.out  # it did not pretend to show anything
+
+
+def test_rays_stop_at_what_they_hit_and_the_picture_has_a_key(tmp_path):
+    """A reading longer than the room (a far echo, or the firmware's pose a little off) is drawn
+    only up to the wall or obstacle the ray meets; the legend names every mark and the room's."""
+    db = cantools.database.load_file(DBC)
+    log = tmp_path / "run.asc"
+    with can.Logger(str(log)) as w:
+        w(_frame(db, "TLM_POSE", 0.1, X=3800, Y=500, Heading=0, FixState=0))  # 0.2 m from the east wall
+        w(_frame(db, "IR_RANGES", 0.1, RangeLeft=900, RangeFront=900, RangeRight=100,
+                 ValidLeft=1, ValidFront=1, ValidRight=1))
+        w(_frame(db, "TLM_POSE", 0.3, X=3800, Y=500, Heading=0, FixState=0))
+    arena = tmp_path / "arena.json"
+    arena.write_text(json.dumps({"name": "box-room", "width": 4.0, "height": 3.0,
+                                 "obstacles": [{"kind": "circle", "cx": 3.8, "cy": 1.0, "r": 0.2}],
+                                 "goal": {"cx": 1.0, "cy": 1.0, "r": 0.3}, "beacons": []}))
+    png = tmp_path / "v.png"
+    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(log), "--arena", str(arena),
+                                                        "--png", str(png)]))
+    lengths = {}
+    for ln in view.ray_lines:
+        (x0, x1), (y0, y1) = ln.get_xdata(), ln.get_ydata()
+        lengths[round(math.degrees(math.atan2(y1 - y0, x1 - x0)))] = math.hypot(x1 - x0, y1 - y0)
+    assert lengths[0] == pytest.approx(0.2, abs=1e-3)  # front: the wall, not 0.9 m
+    assert lengths[45] == pytest.approx(0.2 * math.sqrt(2), abs=1e-3)  # left: the wall at 45 degrees
+    assert lengths[-45] == pytest.approx(0.1, abs=1e-3)  # right: its own reading, nothing nearer
+    labels = [t.get_text() for t in view.ax.get_legend().get_texts()]
+    assert any("range ray" in s for s in labels) and any("bump" in s for s in labels)
+    assert any("obstacle" in s for s in labels) and "goal" in labels
+    assert "TLM_POSE" in view.fig._suptitle.get_text() and "box-room" in view.fig._suptitle.get_text()
