@@ -31,6 +31,7 @@ import json
 import os
 from typing import Iterator, Optional
 
+from .bus_decode import PoseDecoder
 from .common import ToolError
 
 RAW_TOPIC = "/can/raw"
@@ -75,8 +76,6 @@ class McapLog:
 
     def __init__(self, path: str, db, arena: Optional[dict] = None, speed: float = 1.0):
         from mcap.writer import Writer
-
-        from .viewer import PoseDecoder
 
         try:
             self._file = open(path, "wb")

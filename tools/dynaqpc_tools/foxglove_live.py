@@ -34,8 +34,8 @@ import math
 import time
 from typing import Dict, Optional
 
+from .bus_decode import NO_POSE, BusState, PoseDecoder
 from .common import ToolError
-from .viewer import NO_POSE, BusState, PoseDecoder
 
 #: The fixed topics (besides /can/<MESSAGE>, one per DBC message).
 TOPICS = ("/tf", "/robot/pose", "/robot/true_pose", "/robot/rays", "/robot/bumps", "/robot/trail", "/arena",

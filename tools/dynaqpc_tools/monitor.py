@@ -294,8 +294,8 @@ def run(args, out=None) -> Monitor:
         raise ToolError(f"--log {args.log}: that is the file being replayed")
     ray_angles, grid = None, None
     if args.scenario:
+        from .bus_decode import scenario_ray_angles
         from .foxglove_live import scenario_grid
-        from .viewer import scenario_ray_angles
 
         grid = scenario_grid(args.scenario)
         ray_angles = scenario_ray_angles(args.scenario)

@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: interrupt masking (a recursive mutex), the watchdog, the reset cause, and
-// hal_host_reset().
+// dynaqpc host port: the CPU contract (hal_cpu.h): interrupt masking (a recursive mutex), the
+// idle wait with its wake latch, the watchdog and the reset cause. Uses the clock (host_time.c);
+// the peripherals (host_can.c, host_uart.c) use it to mask and to wake it.
 //
 // "Masking interrupts" on a PC means: while the main loop holds the lock, no receiver thread
 // can run a handler, and while a handler runs, the main loop cannot enter a critical section.
 // Recursive, because a handler (which runs with the lock held) calls sched_post(), which saves
 // and restores again, exactly as nested masking works on the MCU.
+//
+// The wait is a condition variable on the monotonic clock, so that a receiver thread can cut it
+// short, and a wake that arrives before the wait is remembered (wake_pending_) rather than lost,
+// as WFI remembers a pending interrupt.
+#include <errno.h>
 #include <pthread.h>
+#include <time.h>
 
 #include "fw/fw_base.h"
 #include "hal/hal_cpu.h"
@@ -50,7 +57,11 @@ void hal_irq_restore(hal_irq_state_t state)
     pthread_mutex_unlock(&irq_mutex_);
 }
 
-uint32_t host_irq_release(void)
+// hal_cpu_wait_until() called with "interrupts masked": the calling thread lets go of the irq
+// mutex (all its nesting, returned) so that receiver threads can deliver while it sleeps, and
+// takes it back after. Safe because the wake latch remembers any delivery since the caller's
+// last check.
+static uint32_t irq_release_(void)
 {
     const uint32_t depth = my_depth_;
     for (uint32_t i = 0; i < depth; i++) {
@@ -59,13 +70,73 @@ uint32_t host_irq_release(void)
     return depth;
 }
 
-void host_irq_reacquire(uint32_t depth)
+static void irq_reacquire_(uint32_t depth)
 {
     for (uint32_t i = 0; i < depth; i++) {
         (void)hal_irq_save();
     }
 }
 
+// ---- The idle wait and its wake latch ------------------------------------------------------------
+static pthread_mutex_t wait_lock_ = PTHREAD_MUTEX_INITIALIZER;
+static pthread_cond_t wake_cond_;
+static pthread_once_t wait_once_ = PTHREAD_ONCE_INIT;
+static bool wake_pending_; // protected by wait_lock_
+static bool last_wait_masked_;
+
+static void wait_init_once(void)
+{
+    pthread_condattr_t attr;
+    pthread_condattr_init(&attr);
+    pthread_condattr_setclock(&attr, CLOCK_MONOTONIC);
+    pthread_cond_init(&wake_cond_, &attr);
+    pthread_condattr_destroy(&attr);
+}
+
+static void wait_lock(void)
+{
+    pthread_once(&wait_once_, wait_init_once);
+    pthread_mutex_lock(&wait_lock_);
+}
+
+void hal_host_cpu_wake(void)
+{
+    wait_lock();
+    host_time_idle_end();
+    wake_pending_ = true;
+    pthread_cond_broadcast(&wake_cond_);
+    pthread_mutex_unlock(&wait_lock_);
+}
+
+bool hal_host_last_wait_masked(void)
+{
+    return last_wait_masked_;
+}
+
+void hal_cpu_wait_until(uint64_t deadline_us)
+{
+    const uint32_t masked = irq_release_();
+    wait_lock();
+    last_wait_masked_ = masked > 0u;
+    // Lock-step: the wait is recorded for the simulator and returns at once. Real time: sleep
+    // until the deadline unless a wake is pending or comes.
+    uint64_t until = 0;
+    if (host_time_idle_begin(deadline_us, &until)) {
+        struct timespec ts;
+        ts.tv_sec = (time_t)(until / 1000000000u);
+        ts.tv_nsec = (long)(until % 1000000000u);
+        while (!wake_pending_) {
+            if (pthread_cond_timedwait(&wake_cond_, &wait_lock_, &ts) == ETIMEDOUT) {
+                break;
+            }
+        }
+    }
+    wake_pending_ = false;
+    pthread_mutex_unlock(&wait_lock_);
+    irq_reacquire_(masked);
+}
+
+// ---- Watchdog and reset cause ------------------------------------------------------------------------
 int hal_cpu_watchdog_start(uint32_t timeout_ms)
 {
     if (timeout_ms == 0u) {
@@ -140,13 +211,8 @@ void host_cpu_reset(void)
     wd_last_kick_us_ = 0;
     reset_cause_ = HAL_RESET_POWER_ON;
     pthread_mutex_unlock(&wd_lock_);
-}
-
-void hal_host_reset(void)
-{
-    host_uart_reset(); // first: it stops the reader thread
-    host_can_reset();
-    host_cpu_reset();
-    host_flash_reset();
-    host_time_reset();
+    wait_lock();
+    wake_pending_ = false;
+    last_wait_masked_ = false;
+    pthread_mutex_unlock(&wait_lock_);
 }

@@ -1,22 +1,27 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: what the port's files share with each other (not a public header).
+// dynaqpc host port: what the port's files offer each other (not a public header). The files
+// use each other in one direction only: host_time.c (the clock) <- host_cpu.c (masking, the
+// wait, its wake latch) <- host_can.c, host_uart.c; host_flash.c alone; host_reset.c, the hub
+// of hal_host_reset(), uses them all.
 #ifndef HOST_INTERNAL_H
 #define HOST_INTERNAL_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
-/// Each part's share of hal_host_reset().
+/// Each part's share of hal_host_reset() (host_reset.c).
 void host_time_reset(void);
 void host_cpu_reset(void);
 void host_can_reset(void);
 void host_uart_reset(void);
 void host_flash_reset(void);
 
-/// hal_cpu_wait_until() called with "interrupts masked": the calling thread lets go of the irq
-/// mutex (all its nesting, returned) so that receiver threads can deliver while it sleeps, and
-/// takes it back after. Safe because the wait's wake latch (hal_host_cpu_wake) remembers any
-/// delivery since the caller's last check, as WFI remembers a pending interrupt.
-uint32_t host_irq_release(void);
-void host_irq_reacquire(uint32_t depth);
+/// The clock's side of hal_cpu_wait_until(deadline_us) (host_time.c, for host_cpu.c). Lock-step:
+/// records the wait for the simulator (hal_host_wait_deadline) and returns false: the wait
+/// returns at once. Real time: true, with the CLOCK_MONOTONIC instant to sleep until (at most a
+/// wall-clock second ahead), when the deadline is still ahead; false when it has passed.
+bool host_time_idle_begin(uint64_t deadline_us, uint64_t *until_ns);
+/// A wake arrived: the recorded lock-step wait is over.
+void host_time_idle_end(void);
 
 #endif // HOST_INTERNAL_H

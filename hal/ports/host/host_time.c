@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc host port: the clock (lock-step or real-time), idle waiting and cycle accounting.
+// dynaqpc host port: the clock (lock-step or real-time), where an idle wait would end, and cycle
+// accounting. The bottom of the port: it uses no other file of it.
 //
 // Lock-step time is a plain counter that only the simulator (and hal_cpu_account()) moves, so a
-// run depends on nothing the OS does. Real-time mode maps CLOCK_MONOTONIC through a speed factor;
-// the wait is a condition variable on the monotonic clock so that a receiver thread can cut it
-// short, and a wake that arrives before the wait is remembered (wake_pending) rather than lost.
-#include <errno.h>
+// run depends on nothing the OS does; the firmware's idle wait is recorded here for the simulator
+// (hal_host_wait_deadline) and ends when time moves or a wake arrives. Real-time mode maps
+// CLOCK_MONOTONIC through a speed factor; host_time_idle_begin() turns a wait's deadline into the
+// monotonic instant the CPU's wait (host_cpu.c, with its wake latch) sleeps until.
 #include <pthread.h>
 #include <time.h>
 
@@ -16,8 +17,6 @@
 #include "host_internal.h"
 
 static pthread_mutex_t lock_ = PTHREAD_MUTEX_INITIALIZER;
-static pthread_cond_t wake_cond_;
-static pthread_once_t once_ = PTHREAD_ONCE_INIT;
 
 static hal_host_clock_mode_t mode_ = HAL_HOST_CLOCK_LOCKSTEP;
 // Lock-step
@@ -32,20 +31,9 @@ static uint64_t origin_ns_;       // CLOCK_MONOTONIC at the (re)base
 static uint64_t base_us_;         // firmware time at the (re)base
 static uint64_t last_us_;         // never return less than this
 static double speed_ = 1.0;
-static bool wake_pending_;
-
-static void init_once(void)
-{
-    pthread_condattr_t attr;
-    pthread_condattr_init(&attr);
-    pthread_condattr_setclock(&attr, CLOCK_MONOTONIC);
-    pthread_cond_init(&wake_cond_, &attr);
-    pthread_condattr_destroy(&attr);
-}
 
 static void lock(void)
 {
-    pthread_once(&once_, init_once);
     pthread_mutex_lock(&lock_);
 }
 
@@ -84,7 +72,6 @@ static void restart_locked(void)
     origin_ns_ = mono_ns();
     base_us_ = 0;
     last_us_ = 0;
-    wake_pending_ = false;
 }
 
 void host_time_reset(void)
@@ -213,54 +200,33 @@ uint64_t hal_host_wait_deadline(void)
     return t;
 }
 
-void hal_host_cpu_wake(void)
+bool host_time_idle_begin(uint64_t deadline_us, uint64_t *until_ns)
 {
     lock();
-    waiting_ = false;
-    wake_pending_ = true;
-    pthread_cond_broadcast(&wake_cond_);
-    unlock();
-}
-
-static bool last_wait_masked_;
-
-bool hal_host_last_wait_masked(void)
-{
-    return last_wait_masked_;
-}
-
-void hal_cpu_wait_until(uint64_t deadline_us)
-{
-    const uint32_t masked = host_irq_release();
-    lock();
-    last_wait_masked_ = masked > 0u;
+    bool sleep = false;
     if (mode_ == HAL_HOST_CLOCK_LOCKSTEP) {
         waiting_ = true;
         wait_deadline_us_ = deadline_us;
-        wake_pending_ = false;
-        unlock();
-        host_irq_reacquire(masked);
-        return;
-    }
-    uint64_t now = now_us_locked();
-    if (!wake_pending_ && deadline_us > now) {
-        // At most one wall-clock second per wait: spurious returns are allowed, and this keeps
-        // the arithmetic far from overflow for a deadline of UINT64_MAX.
-        double wait_ns = (double)(deadline_us - now) * 1000.0 / speed_;
-        if (wait_ns > 1e9) {
-            wait_ns = 1e9;
-        }
-        uint64_t until = mono_ns() + (uint64_t)wait_ns + 1u;
-        struct timespec ts;
-        ts.tv_sec = (time_t)(until / 1000000000u);
-        ts.tv_nsec = (long)(until % 1000000000u);
-        while (!wake_pending_) {
-            if (pthread_cond_timedwait(&wake_cond_, &lock_, &ts) == ETIMEDOUT) {
-                break;
+    } else {
+        const uint64_t now = now_us_locked();
+        if (deadline_us > now) {
+            // At most one wall-clock second per wait: spurious returns are allowed, and this
+            // keeps the arithmetic far from overflow for a deadline of UINT64_MAX.
+            double wait_ns = (double)(deadline_us - now) * 1000.0 / speed_;
+            if (wait_ns > 1e9) {
+                wait_ns = 1e9;
             }
+            *until_ns = mono_ns() + (uint64_t)wait_ns + 1u;
+            sleep = true;
         }
     }
-    wake_pending_ = false;
     unlock();
-    host_irq_reacquire(masked);
+    return sleep;
+}
+
+void host_time_idle_end(void)
+{
+    lock();
+    waiting_ = false;
+    unlock();
 }
