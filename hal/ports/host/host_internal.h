@@ -24,4 +24,4 @@ bool host_time_idle_begin(uint64_t deadline_us, uint64_t *until_ns);
 /// A wake arrived: the recorded lock-step wait is over.
 void host_time_idle_end(void);
 
-#endif // HOST_INTERNAL_H
+#endif  // HOST_INTERNAL_H

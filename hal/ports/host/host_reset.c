@@ -6,7 +6,7 @@
 
 void hal_host_reset(void)
 {
-    host_uart_reset(); // first: it stops the reader thread
+    host_uart_reset();  // first: it stops the reader thread
     host_can_reset();
     host_cpu_reset();
     host_flash_reset();

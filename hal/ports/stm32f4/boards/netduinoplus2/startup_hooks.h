@@ -11,15 +11,15 @@
 #include "netduinoplus2/board.h"
 #include "stm32f4/semihost.h"
 
-#define STM32F4_STARTUP_BEFORE_FPU()                                \
-    do {                                                            \
-        uint32_t sp_;                                               \
-        __asm__ volatile("mov %0, sp" : "=r"(sp_));                 \
+#define STM32F4_STARTUP_BEFORE_FPU()                                          \
+    do {                                                                      \
+        uint32_t sp_;                                                         \
+        __asm__ volatile("mov %0, sp" : "=r"(sp_));                           \
         for (volatile uint32_t *w_ = &_sstack; (uintptr_t)w_ < sp_ - 256u;) { \
-            *w_++ = ND2_STACK_PAINT;                                \
-        }                                                           \
+            *w_++ = ND2_STACK_PAINT;                                          \
+        }                                                                     \
     } while (0)
 #define STM32F4_STARTUP_MAIN_RETURNED() semihost_exit(ND2_EXIT_INIT)
 #define STM32F4_STARTUP_FAULT(what) nd2_fault(what)
 
-#endif // NETDUINOPLUS2_STARTUP_HOOKS_H
+#endif  // NETDUINOPLUS2_STARTUP_HOOKS_H

@@ -26,4 +26,4 @@ __attribute__((noreturn)) void semihost_exit(uint32_t status);
 }
 #endif
 
-#endif // STM32F4_SEMIHOST_H
+#endif  // STM32F4_SEMIHOST_H
