@@ -61,6 +61,7 @@ struct Lockstep::Impl {
         : cfg(c), opt(o), world(sc, o.seed), devices(world, o.seed)
     {
         cfg.name = world.scenario().name.c_str();
+        if (sc.actions.aligned != 0) pose_check.set_heading_grid(sc.actions.turn);
         dt_us = static_cast<std::uint64_t>(std::llround(sc.timing.physics_dt * 1e6));
         hal_host_reset();
         hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);

@@ -58,20 +58,28 @@ void PoseCheck::on_frame(const hal_can_frame_t &f, const world::Pose &truth)
         heading_sum_ += e;
         heading_max_ = std::max(heading_max_, e);
         position_sum_ += std::hypot(fw_x_ - truth.x, fw_y_ - truth.y);
+        if (grid_rad_ > 0.0) {
+            // How far the true heading is from the nearest heading of the turn grid.
+            const double k = std::round(truth.heading / grid_rad_);
+            if (std::fabs(truth.heading - k * grid_rad_) * kDegPerRad > 10.0) off_grid_++;
+        }
         n_++;
     }
 }
 
 void PoseCheck::reset()
 {
+    const double grid = grid_rad_;
     *this = PoseCheck{};
+    grid_rad_ = grid;
 }
 
 std::string PoseCheck::summary() const
 {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "head_err_mean_deg=%.1f head_err_max_deg=%.1f pos_err_mean_m=%.3f",
-                  heading_err_mean_deg(), heading_err_max_deg(), position_err_mean_m());
+    char buf[192];
+    std::snprintf(buf, sizeof buf,
+                  "head_err_mean_deg=%.1f head_err_max_deg=%.1f pos_err_mean_m=%.3f off_grid_10deg=%u/%u",
+                  heading_err_mean_deg(), heading_err_max_deg(), position_err_mean_m(), off_grid_, n_);
     return buf;
 }
 

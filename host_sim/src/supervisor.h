@@ -37,7 +37,11 @@ public:
     double heading_err_mean_deg() const { return n_ ? heading_sum_ / n_ : 0.0; }
     double heading_err_max_deg() const { return heading_max_; }
     double position_err_mean_m() const { return n_ ? position_sum_ / n_ : 0.0; }
-    /// "head_err_mean_deg=.. head_err_max_deg=.. pos_err_mean_m=.."
+    /// The grid of headings a step should start on (the scenario's turn, rad; 0: none). With
+    /// it, steps() counts also the steps whose true heading is more than 10 degrees off it.
+    void set_heading_grid(double turn_rad) { grid_rad_ = turn_rad; }
+    std::uint32_t off_grid_steps() const { return off_grid_; }
+    /// "head_err_mean_deg=.. head_err_max_deg=.. pos_err_mean_m=.. off_grid_10deg=K/N"
     std::string summary() const;
 
 private:
@@ -45,6 +49,8 @@ private:
     double fw_x_ = 0.0, fw_y_ = 0.0, fw_heading_deg_ = 0.0;
     std::uint32_t n_ = 0;
     double heading_sum_ = 0.0, heading_max_ = 0.0, position_sum_ = 0.0;
+    double grid_rad_ = 0.0;
+    std::uint32_t off_grid_ = 0;
 };
 
 }  // namespace dynaqpc

@@ -11,6 +11,7 @@ void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
     c->agent = agent;
     c->mode = ROBOT_MODE_IDLE;
     c->learning = true;
+    robot_run_init(&c->run);
 }
 
 static void wheels_(robot_ctrl_t *c, float vl, float vr)
@@ -28,6 +29,7 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->have_s = false;
     c->bump_latched = false;
     c->settle_phase = 0u;
+    c->run_check = false;
     c->episode_start_us = UINT64_MAX;  // set at the first period
     c->stopped_at_us = 0;
     c->safe_stop_held = false;
@@ -55,17 +57,31 @@ void robot_ctrl_safe_stop(robot_ctrl_t *c)
     wheels_(c, 0.0f, 0.0f);
 }
 
-static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_pose_t *pose)
+// Starts a motion (an action's, the back-off's, settling's): its wheel speeds held for its
+// periods, or in closed loop (robot_closes_loop()), a drive holding `hold` unless on the grid.
+static void motion_start_(robot_ctrl_t *c, const robot_motion_t *m, const robot_sense_t *in, float hold)
 {
+    c->periods_left = m->periods;
+    c->mode = ROBOT_MODE_ACTING;
+    if (robot_closes_loop(c->cfg)) {
+        float vl, vr;
+        robot_run_start(&c->run, c->cfg, m, in->pose.heading, hold, in->odom_m, in->odom_ok, &vl, &vr);
+        wheels_(c, vl, vr);
+    } else {
+        wheels_(c, m->v_left, m->v_right);
+    }
+}
+
+static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_sense_t *in)
+{
+    const robot_pose_t *pose = &in->pose;
     c->s = s;
     c->a = c->learning ? agent_act(c->agent, s) : agent_act_greedy(c->agent, s);
     c->have_s = true;
     c->bump_latched = false;
     c->act_heading = pose->heading;
     const robot_motion_t m = robot_action_motion(c->cfg, c->a, pose);
-    c->periods_left = m.periods;
-    c->mode = ROBOT_MODE_ACTING;
-    wheels_(c, m.v_left, m.v_right);
+    motion_start_(c, &m, in, pose->heading);
 }
 
 static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
@@ -86,18 +102,16 @@ static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
 // Before the first state of an episode (or after a stop cut a step short), the robot settles
 // onto the grid of aligned stops (robot_motion.h), one phase at a time, each from the pose the
 // last one ended at. Returns whether a settling motion started.
-static bool settle_(robot_ctrl_t *c, const robot_pose_t *pose)
+static bool settle_(robot_ctrl_t *c, const robot_sense_t *in)
 {
     if (!robot_settles(c->cfg)) {
         return false;
     }
     while (c->settle_phase < ROBOT_SETTLE_PHASES) {
-        const robot_motion_t m = robot_settle_motion(c->cfg, c->settle_phase, pose);
+        const robot_motion_t m = robot_settle_motion(c->cfg, c->settle_phase, &in->pose);
         c->settle_phase++;
         if (m.periods > 0u) {
-            c->periods_left = m.periods;
-            c->mode = ROBOT_MODE_ACTING;
-            wheels_(c, m.v_left, m.v_right);
+            motion_start_(c, &m, in, in->pose.heading);
             return true;
         }
     }
@@ -114,20 +128,19 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         const robot_motion_t m = robot_backoff_motion(cfg, c->a, c->act_heading, &in->pose);
         if (m.periods > 0u) {
             c->backing_off = true;
-            c->periods_left = m.periods;
-            c->mode = ROBOT_MODE_ACTING;
-            wheels_(c, m.v_left, m.v_right);
+            // In closed loop it holds the heading the bumped step held.
+            motion_start_(c, &m, in, c->run.hold);
             return;
         }
     }
     c->backing_off = false;
-    if (!c->have_s && settle_(c, &in->pose)) {
+    if (!c->have_s && settle_(c, in)) {
         return;
     }
     const agent_state_t s_next =
         robot_encode_state(cfg, &in->pose, robot_range_code(cfg, in->range_m, in->n_ranges));
     if (!c->have_s) {
-        start_action_(c, s_next, &in->pose);  // the episode's first state: nothing to learn yet
+        start_action_(c, s_next, in);  // the episode's first state: nothing to learn yet
         c->last_step = (robot_step_report_t){s_next, c->a, 0.0f, 0};
         c->step_done = true;
         return;
@@ -156,7 +169,7 @@ static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
         end_episode_(c, in->now_us, goal);
         return;
     }
-    start_action_(c, s_next, &in->pose);
+    start_action_(c, s_next, in);
     c->last_step = (robot_step_report_t){s_next, c->a, r, c->step};
     c->step_done = true;
 }
@@ -202,11 +215,18 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
         if (c->periods_left > 0u) {
             c->periods_left--;
         }
+        if (robot_closes_loop(c->cfg)) {
+            float vl, vr;
+            if (robot_run_period(&c->run, c->cfg, in->pose.heading, in->odom_m, &vl, &vr)) {
+                wheels_(c, vl, vr);
+            }
+        }
         if (c->periods_left == 0u) {
             if (c->cfg->wait_for_fix) {
                 wheels_(c, 0.0f, 0.0f);
                 c->stopped_at_us = in->now_us;
                 c->mode = ROBOT_MODE_WAIT_FIX;
+                c->run_check = robot_closes_loop(c->cfg);
             } else if (pose_usable_(c, in)) {
                 observe_(c, in);
             } else {
@@ -217,6 +237,19 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
         }
         break;
     case ROBOT_MODE_WAIT_FIX:
+        if (c->run_check) {
+            // The robot stands: a motion that ended off its heading or distance is corrected
+            // (robot_run_correction()); not after a step that bumped, unless this is its back-off.
+            c->run_check = false;
+            float vl, vr;
+            if ((!c->bump_latched || c->backing_off) &&
+                robot_run_correction(&c->run, c->cfg, in->pose.heading, in->odom_m, !c->bump_latched, &vl, &vr)) {
+                c->periods_left = c->run.periods_left;
+                c->mode = ROBOT_MODE_ACTING;
+                wheels_(c, vl, vr);
+                break;
+            }
+        }
         if (pose_usable_(c, in) && in->pose_time_us >= c->stopped_at_us) {
             observe_(c, in);
         }

@@ -46,6 +46,10 @@ typedef struct robot_app {
     robot_health_t health;    // counters at the last status period
     bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
     bool moved_last_period;   // the wheels were commanded to move in the last period
+    float odom_m;             // the wheels' odometer (robot_sense_t.odom_m), from MOTOR_STATUS speeds
+    float odom_speed;         // the mean wheel speed of the last MOTOR_STATUS, m/s
+    uint64_t odom_us;         // when it came
+    bool odom_ok;             // a MOTOR_STATUS has come: the odometer counts
     uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
     uint8_t status_counter;
     hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
@@ -288,6 +292,22 @@ static void answer_refused_frame_(const hal_can_frame_t *f, int err)
     }
 }
 
+// The odometer: the mean of the two wheels' measured speeds, integrated between MOTOR_STATUS
+// frames (trapezoid; a gap over 200 ms, a silent controller, is not bridged).
+#define ODOM_MAX_GAP_US 200000u
+
+static void odometer_(uint64_t now)
+{
+    const motor_status_t *st = &app_.dev.motor.status;
+    const float v = 0.0005f * (float)((int32_t)st->speed_left_mm_s + (int32_t)st->speed_right_mm_s);
+    if (app_.odom_ok && now > app_.odom_us && now - app_.odom_us <= ODOM_MAX_GAP_US) {
+        app_.odom_m += 0.5f * (v + app_.odom_speed) * ((float)(now - app_.odom_us) * 1e-6f);
+    }
+    app_.odom_speed = v;
+    app_.odom_us = now;
+    app_.odom_ok = true;
+}
+
 static void on_can_event_(const sched_event_t *ev, void *ctx)
 {
     (void)ctx;
@@ -299,6 +319,9 @@ static void on_can_event_(const sched_event_t *ev, void *ctx)
         return;
     }
     app_.stats.frames_rx++;
+    if (r == CANDEV_RX_MOTOR) {
+        odometer_(hal_time_us());
+    }
     if (r == CANDEV_RX_MOTOR && (app_.dev.motor.status.bump_front || app_.dev.motor.status.bump_rear)) {
         app_.bump_latch = true;
     } else if (r == CANDEV_RX_TOOL_CMD) {
@@ -334,6 +357,8 @@ static uint8_t sense_(robot_sense_t *in, uint64_t now)
     in->bus_ok = !can_link_rx_silent(&app_.dev.motor.rx, now, cfg->bus_timeout_us);
     in->bump = app_.bump_latch;
     app_.bump_latch = false;
+    in->odom_m = app_.odom_m;
+    in->odom_ok = app_.odom_ok;
     uint8_t fix_state = TLM_FIX_LOST;
     if (cfg->pose_source == ROBOT_POSE_GPS) {
         const gps_t *g = &app_.dev.gps;

@@ -196,3 +196,171 @@ robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, co
     default: return (robot_motion_t){0.0f, 0.0f, periods};
     }
 }
+
+// ---- Closed loop --------------------------------------------------------------------------------
+
+// How much of what one motion measured goes into the trim and the turn gain: a gain mismatch is
+// the robot's own and stays, a command's noise is not and averages out.
+#define RUN_LEARN_RATE 0.3f
+// The trim and the turn gain stay within what a working robot could need.
+#define RUN_TRIM_MAX 0.3f
+#define RUN_TURN_GAIN_MIN 0.7f
+#define RUN_TURN_GAIN_MAX 1.3f
+
+bool robot_closes_loop(const robot_config_t *cfg)
+{
+    return ROBOT_CLOSED_LOOP != 0 && cfg->pose_source == ROBOT_POSE_CRICKET;
+}
+
+void robot_run_init(robot_run_t *r)
+{
+    *r = (robot_run_t){0};
+    r->turn_gain = 1.0f;
+}
+
+// Radians in (-pi, pi].
+static float wrap_pi_(float a)
+{
+    a = wrap_2pi_(a);
+    return a > FW_PI_F ? a - 2.0f * FW_PI_F : a;
+}
+
+static float period_s_(const robot_config_t *cfg)
+{
+    return (float)cfg->period_us * 1e-6f;
+}
+
+// The heading a drive holds: the nearest grid heading when it is within an eighth of a turn of
+// one and the grid is one of quarter turns (robot_settles(): the robot keeps to it), else `hold`.
+static float drive_hold_(const robot_config_t *cfg, float hold)
+{
+    if (!robot_settles(cfg)) {
+        return hold;
+    }
+    const float k = roundf(wrap_2pi_(hold) / cfg->turn_rad);
+    const float grid = k * cfg->turn_rad;
+    return fabsf(wrap_pi_(grid - hold)) < 0.25f * cfg->turn_rad ? grid : hold;
+}
+
+// The next period of a drive along r->m's speed: the differential turns the robot back onto its
+// heading over the periods left, and the trim cancels the wheels' mismatch.
+static void drive_period_(robot_run_t *r, const robot_config_t *cfg, float heading, float *vl, float *vr)
+{
+    const float t = period_s_(cfg);
+    const float w = wrap_pi_(r->hold - heading) / ((float)r->periods_left * t);
+    const float v = 0.5f * (r->m.v_left + r->m.v_right);
+    const float h = 0.5f * cfg->track_m;
+    r->commanded_turn += w * t;
+    *vl = v * (1.0f - r->trim) - w * h;
+    *vr = v * (1.0f + r->trim) + w * h;
+}
+
+// A turn at `w` rad/s (as an exact robot would turn at these wheel speeds... before the gain).
+static void turn_period_(robot_run_t *r, const robot_config_t *cfg, float w, float *vl, float *vr)
+{
+    const float wc = w / r->turn_gain;
+    r->commanded_turn += wc * period_s_(cfg);
+    *vr = wc * 0.5f * cfg->track_m;
+    *vl = -*vr;
+}
+
+static bool is_turn_(const robot_motion_t *m)
+{
+    return m->v_left != m->v_right;
+}
+
+void robot_run_start(robot_run_t *r, const robot_config_t *cfg, const robot_motion_t *m, float heading,
+                     float hold, float odom, bool odom_ok, float *vl, float *vr)
+{
+    r->m = *m;
+    r->turn = is_turn_(m);
+    r->periods_left = m->periods;
+    r->corrections = 0u;
+    r->start_heading = heading;
+    r->odom0 = odom;
+    r->odom_ok = odom_ok;
+    r->commanded_turn = 0.0f;
+    const float t = period_s_(cfg) * (float)m->periods;
+    if (r->turn) {
+        const float w = (m->v_right - m->v_left) / cfg->track_m;  // an exact robot's turn rate
+        r->hold = heading + w * t;
+        r->dist = 0.0f;
+        turn_period_(r, cfg, w, vl, vr);
+    } else {
+        r->hold = drive_hold_(cfg, hold);
+        r->dist = 0.5f * (m->v_left + m->v_right) * t;
+        drive_period_(r, cfg, heading, vl, vr);
+    }
+}
+
+bool robot_run_period(robot_run_t *r, const robot_config_t *cfg, float heading, float odom, float *vl, float *vr)
+{
+    (void)odom;  // a drive's distance is checked when it stands (robot_run_t)
+    if (r->periods_left > 0u) {
+        r->periods_left--;
+    }
+    if (r->periods_left == 0u) {
+        return false;
+    }
+    if (is_turn_(&r->m)) {
+        // The rest of the turn as commanded: mid-turn the gyro lags what the turn still does.
+        turn_period_(r, cfg, (r->m.v_right - r->m.v_left) / cfg->track_m, vl, vr);
+    } else {
+        drive_period_(r, cfg, heading, vl, vr);
+    }
+    return true;
+}
+
+// What the planned motion that just ended says about the robot's wheels.
+static void learn_(robot_run_t *r, const robot_config_t *cfg, float heading, float odom)
+{
+    const float turned = wrap_pi_(heading - r->start_heading);
+    if (r->turn) {
+        if (fabsf(r->commanded_turn) > 0.3f) {
+            const float k = turned / r->commanded_turn;  // the gyro's turn per commanded turn
+            if (k > RUN_TURN_GAIN_MIN && k < RUN_TURN_GAIN_MAX) {
+                r->turn_gain += RUN_LEARN_RATE * (k - r->turn_gain);
+            }
+        }
+        return;
+    }
+    const float d = r->odom_ok ? odom - r->odom0 : r->dist;
+    if (fabsf(d) > 0.05f) {
+        // The turn the commands did not ask for, as the share of the speed by which the wheels
+        // differ: what is left of the mismatch after the trim.
+        const float left = (turned - r->commanded_turn) * cfg->track_m / (2.0f * d);
+        r->trim = fminf(fmaxf(r->trim - RUN_LEARN_RATE * left, -RUN_TRIM_MAX), RUN_TRIM_MAX);
+    }
+}
+
+bool robot_run_correction(robot_run_t *r, const robot_config_t *cfg, float heading, float odom, bool learn,
+                          float *vl, float *vr)
+{
+    if (r->corrections == 0u && learn) {
+        learn_(r, cfg, heading, odom);
+    }
+    if (r->corrections >= ROBOT_RUN_MAX_CORRECTIONS) {
+        return false;
+    }
+    const float e = wrap_pi_(r->hold - heading);
+    const float t = period_s_(cfg);
+    float rest = 0.0f;
+    if (fabsf(e) > ROBOT_RUN_HEADING_TOL) {
+        r->m = turn_motion_(cfg, e, 1u);
+        r->periods_left = 1u;
+        r->corrections++;
+        turn_period_(r, cfg, e / t, vl, vr);
+        return true;
+    }
+    if (!r->turn && r->odom_ok) {
+        rest = r->dist - (odom - r->odom0);
+    }
+    if (fabsf(rest) > ROBOT_RUN_DIST_TOL) {
+        r->m = drive_motion_(cfg, rest, 1u);
+        r->periods_left = 1u;
+        r->corrections++;
+        drive_period_(r, cfg, heading, vl, vr);
+        return true;
+    }
+    return false;
+}

@@ -42,6 +42,8 @@ typedef struct robot_sense {
     uint8_t n_ranges;
     bool bump;               ///< a bumper touched something during the last period
     bool bus_ok;             ///< the motor controller has been heard within cfg->bus_timeout_us
+    float odom_m;            ///< the wheels' odometer: metres the axle's midpoint travelled along the body (signed, summed)
+    bool odom_ok;            ///< the odometer counts (the motor controller reports its wheel speeds)
 } robot_sense_t;
 
 typedef enum robot_mode {
@@ -83,6 +85,8 @@ typedef struct robot_ctrl {
     bool backing_off;          ///< the pending step bumped, and the robot is backing off (robot_backs_off())
     float act_heading;         ///< the heading the pending step started with
     uint8_t settle_phase;      ///< the next robot_settle_phase_t of settling onto the grid (robot_settles())
+    robot_run_t run;           ///< the motion in closed loop (robot_closes_loop())
+    bool run_check;            ///< a closed-loop motion's periods are over: check it once the robot stands
     uint64_t stopped_at_us;    // when the wheels stopped after the last action
     uint32_t step, episode, bumps;
     float episode_reward;

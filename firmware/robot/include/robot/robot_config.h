@@ -77,6 +77,13 @@ typedef enum robot_values {
 #define ROBOT_START_SETTLE 1
 #endif
 
+/// 1: a robot whose heading comes from its gyro (the lab robot) closes its motions on the gyro and
+/// its wheels' odometer (robot_run_t, robot_motion.h); 0: every motion is open loop, its wheel
+/// speeds set once at its start. Measured with 0 in host builds only (docs/results/realistic-robot.md).
+#ifndef ROBOT_CLOSED_LOOP
+#define ROBOT_CLOSED_LOOP 1
+#endif
+
 /// Where the pose comes from.
 typedef enum robot_pose_source {
     ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle
