@@ -121,17 +121,35 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     }
     o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
       << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << "},\n";
-    float cw, ch;
-    robot_cell_size(&cfg, &cw, &ch);
-    o << "\"grid\":{\"cells_x\":" << (1u << cfg.bits_x) << ",\"cells_y\":" << (1u << cfg.bits_y)
+    const std::uint32_t nx = robot_grid_cells(&cfg, ROBOT_AXIS_X), ny = robot_grid_cells(&cfg, ROBOT_AXIS_Y);
+    float x0, cw, y0, ch;
+    robot_grid_span(&cfg, ROBOT_AXIS_X, 0, &x0, &cw);
+    robot_grid_span(&cfg, ROBOT_AXIS_Y, 0, &y0, &ch);
+    o << "\"grid\":{\"cells_x\":" << nx << ",\"cells_y\":" << ny
       << ",\"headings\":" << (1u << cfg.bits_heading) << ",\"codes\":" << (1u << cfg.bits_code)
-      << ",\"cell_w\":" << num(cw) << ",\"cell_h\":" << num(ch) << ",\"goal_cells\":[";
+      << ",\"cell_w\":" << num(cw) << ",\"cell_h\":" << num(ch);
+    // The edges of every cell, from 0 to the arena's side (a grid fitted to the room has
+    // cells of different sizes; cell_w and cell_h are then the first cells').
+    for (std::uint32_t axis = 0; axis < 2u; axis++) {
+        o << (axis == 0 ? ",\"x_edges\":[" : "],\"y_edges\":[");
+        const std::uint32_t n = axis == 0 ? nx : ny;
+        for (std::uint32_t k = 0; k < n; k++) {
+            float lo, side;
+            robot_grid_span(&cfg, axis, k, &lo, &side);
+            o << num(lo) << ",";
+            if (k + 1 == n) o << num(lo + side);
+        }
+    }
+    o << "],\"goal_cells\":[";
     bool first = true;
-    for (std::uint32_t y = 0; y < (1u << cfg.bits_y); y++) {
-        for (std::uint32_t x = 0; x < (1u << cfg.bits_x); x++) {
+    for (std::uint32_t y = 0; y < ny; y++) {
+        for (std::uint32_t x = 0; x < nx; x++) {
             robot_pose_t p{};
-            p.x = (static_cast<float>(x) + 0.5f) * cw;
-            p.y = (static_cast<float>(y) + 0.5f) * ch;
+            float lo, side;
+            robot_grid_span(&cfg, ROBOT_AXIS_X, x, &lo, &side);
+            p.x = lo + 0.5f * side;
+            robot_grid_span(&cfg, ROBOT_AXIS_Y, y, &lo, &side);
+            p.y = lo + 0.5f * side;
             if (robot_in_goal(&cfg, &p)) {
                 o << (first ? "" : ",") << "[" << x << "," << y << "]";
                 first = false;

@@ -78,6 +78,15 @@ std::string robot_config_c(const robot_config_t &c, const std::string &var)
       << ", .goal_cells = " << unsigned(c.goal_cells) << ",\n";
     o << "    .bits_x = " << unsigned(c.bits_x) << ", .bits_y = " << unsigned(c.bits_y)
       << ", .bits_heading = " << unsigned(c.bits_heading) << ", .bits_code = " << unsigned(c.bits_code) << ",\n";
+    if (c.grid[0].cells != 0u || c.grid[1].cells != 0u) {  // encode auto: the fitted cells' edges
+        o << "    .grid = {";
+        for (unsigned axis = 0; axis < 2; axis++) {
+            const robot_grid_axis_t &g = c.grid[axis];
+            o << (axis ? ",\n             " : "") << "{.cells = " << unsigned(g.cells) << ", .edge = "
+              << list_c(g.edge, g.cells + 1u, f) << "}";
+        }
+        o << "},\n";
+    }
     o << "    .rays_of_bit = " << list_c(c.rays_of_bit, ROBOT_MAX_CODE_BITS, [](std::uint32_t v) { return hex_c(v, 4); })
       << ",\n";
     o << "    .code_threshold_m = " << list_c(c.code_threshold_m, ROBOT_MAX_CODE_BITS, f) << ",\n";

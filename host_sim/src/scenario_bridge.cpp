@@ -72,6 +72,14 @@ ScenarioBundle load_scenario(const std::string &arg)
     r.bits_y = static_cast<uint8_t>(sc->encoding.y_bits);
     r.bits_heading = static_cast<uint8_t>(sc->encoding.heading_bits);
     r.bits_code = static_cast<uint8_t>(sc->code_bits.size());
+    if (sc->encoding.fitted) {  // the cells fitted to the room (world/grid_fit.h)
+        const std::vector<double> *edges[2] = {&sc->encoding.x_edges, &sc->encoding.y_edges};
+        for (int axis = 0; axis < 2; axis++) {
+            robot_grid_axis_t &g = r.grid[axis];
+            g.cells = static_cast<uint8_t>(edges[axis]->size() - 1);
+            for (std::size_t k = 0; k < edges[axis]->size(); k++) g.edge[k] = static_cast<float>((*edges[axis])[k]);
+        }
+    }
     for (std::size_t k = 0; k < sc->code_bits.size(); k++) {
         for (int ray : sc->code_bits[k].rays) {
             r.rays_of_bit[k] |= 1u << ray;
@@ -154,6 +162,15 @@ ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::stri
     if (!problem.empty()) {
         throw UsageError("--changed: " + (b.path.empty() ? arg : b.path) + " is not a change of " +
                          (base.path.empty() ? base.name : base.path) + ": " + problem);
+    }
+    if (base.world->encoding.fitted) {
+        // The firmware is not told of the change and keeps the grid it was fitted to; so do the
+        // world's goal cells.
+        auto same_grid = std::make_shared<world::Scenario>(*b.world);
+        same_grid->encoding = base.world->encoding;
+        b.world = same_grid;
+        b.robot.grid[0] = base.robot.grid[0];
+        b.robot.grid[1] = base.robot.grid[1];
     }
     return b;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc robot application: the configuration every scenario starts from.
 #include "robot/robot_config.h"
+#include "robot/robot_geometry.h"
 
 void robot_config_defaults(robot_config_t *cfg)
 {
@@ -64,7 +65,7 @@ agent_params_t robot_config_agent_params(const robot_config_t *cfg)
         // the longest shortest path of a room is a few times its sides in cells (a serpentine
         // more, an open floor less), and the e^-1 at H steps still leaves a usable gradient
         // beyond.
-        const uint32_t side_cells = (1u << cfg->bits_x) + (1u << cfg->bits_y);
+        const uint32_t side_cells = robot_grid_cells(cfg, ROBOT_AXIS_X) + robot_grid_cells(cfg, ROBOT_AXIS_Y);
         p.gamma = 1.0f - 1.0f / (ROBOT_HORIZON_PER_SIDE_CELL * (float)side_cells);
         float scale = magnitude_(cfg->reward_goal);
         scale = magnitude_(cfg->reward_bump) > scale ? magnitude_(cfg->reward_bump) : scale;

@@ -2,6 +2,7 @@
 // dynaqpc robot application: what robot_config_check() refuses, and why.
 #include "robot/robot_config.h"
 
+#include <math.h>
 #include <stddef.h>
 
 #include "fw/fw_base.h"
@@ -10,6 +11,48 @@
 static bool finite_positive_(float v)
 {
     return v > 0.0f && v < 1e30f;  // false for NaN and infinities
+}
+
+// A fitted axis: 1..min(2^bits, ROBOT_MAX_GRID_CELLS) cells whose edges rise from 0 to the side.
+static bool grid_axis_ok_(const robot_grid_axis_t *g, float side, uint8_t bits)
+{
+    if (g->cells == 0u) {
+        return true;
+    }
+    if (g->cells > ROBOT_MAX_GRID_CELLS || bits > 16u || g->cells > (1u << bits) || g->edge[0] != 0.0f ||
+        !(fabsf(g->edge[g->cells] - side) <= 1e-3f * side)) {
+        return false;
+    }
+    for (uint32_t k = 0; k < g->cells; k++) {
+        if (!(g->edge[k + 1u] > g->edge[k])) {  // NaN fails too
+            return false;
+        }
+    }
+    return true;
+}
+
+// Some cell of the grid has its centre in the goal circle.
+static bool goal_has_a_cell_(const robot_config_t *c)
+{
+    if (c->grid[0].cells == 0u && c->grid[1].cells == 0u) {
+        // Equal cells: the cell centre nearest the goal's is the centre of the cell holding it;
+        // if that one is outside the circle, so is every other.
+        const robot_pose_t goal_centre = {c->goal_x, c->goal_y, 0.0f};
+        return robot_in_goal(c, &goal_centre);
+    }
+    const uint32_t nx = robot_grid_cells(c, ROBOT_AXIS_X), ny = robot_grid_cells(c, ROBOT_AXIS_Y);
+    for (uint32_t j = 0; j < ny; j++) {
+        for (uint32_t i = 0; i < nx; i++) {
+            float x0, w, y0, h;
+            robot_grid_span(c, ROBOT_AXIS_X, i, &x0, &w);
+            robot_grid_span(c, ROBOT_AXIS_Y, j, &y0, &h);
+            const robot_pose_t centre = {x0 + 0.5f * w, y0 + 0.5f * h, 0.0f};
+            if (robot_in_goal(c, &centre)) {
+                return true;
+            }
+        }
+    }
+    return false;
 }
 
 int robot_config_check(const robot_config_t *c)
@@ -29,10 +72,12 @@ int robot_config_check(const robot_config_t *c)
     if (c->bits_code > ROBOT_MAX_CODE_BITS || space_validate(&sp) != FW_OK) {
         return FW_ERR_INVAL;
     }
-    // Goal cells: the cell centre nearest the goal's is the centre of the cell holding it; if
-    // that one is outside the circle, so is every other, and the goal could never be reached.
-    const robot_pose_t goal_centre = {c->goal_x, c->goal_y, 0.0f};
-    if (c->goal_cells > 1u || (c->goal_cells && !robot_in_goal(c, &goal_centre))) {
+    // A fitted grid cuts each side from 0 to its end, in rising edges.
+    if (!grid_axis_ok_(&c->grid[0], c->arena_w, c->bits_x) || !grid_axis_ok_(&c->grid[1], c->arena_h, c->bits_y)) {
+        return FW_ERR_INVAL;
+    }
+    // Goal cells: some cell must have its centre in the circle, or the goal is never reached.
+    if (c->goal_cells > 1u || (c->goal_cells && !goal_has_a_cell_(c))) {
         return FW_ERR_INVAL;
     }
     // Each code bit looks at existing sensors with a real threshold.
@@ -53,9 +98,7 @@ int robot_config_check(const robot_config_t *c)
         return FW_ERR_INVAL;
     }
     // An aligned step ends inside the next cell, not beyond it.
-    float cell_w, cell_h;
-    robot_cell_size(c, &cell_w, &cell_h);
-    const float cell = cell_w < cell_h ? cell_w : cell_h;
+    const float cell = robot_grid_min_side(c);
     if (c->aligned_actions && (!finite_positive_(c->step_past_m) || !(c->step_past_m < cell))) {
         return FW_ERR_INVAL;
     }

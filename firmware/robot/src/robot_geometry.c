@@ -23,12 +23,6 @@ uint32_t robot_range_code(const robot_config_t *cfg, const float *range_m, uint3
     return code;
 }
 
-void robot_cell_size(const robot_config_t *cfg, float *w, float *h)
-{
-    *w = cfg->arena_w / (float)(1u << cfg->bits_x);
-    *h = cfg->arena_h / (float)(1u << cfg->bits_y);
-}
-
 uint32_t robot_cell_of(float v, float extent, uint8_t bits)
 {
     const uint32_t cells = 1u << bits;
@@ -42,12 +36,84 @@ uint32_t robot_cell_of(float v, float extent, uint8_t bits)
     return (uint32_t)c;
 }
 
+// The arena's side and the state bits along an axis.
+static float extent_(const robot_config_t *cfg, uint32_t axis)
+{
+    return axis == ROBOT_AXIS_X ? cfg->arena_w : cfg->arena_h;
+}
+
+static uint8_t bits_(const robot_config_t *cfg, uint32_t axis)
+{
+    return axis == ROBOT_AXIS_X ? cfg->bits_x : cfg->bits_y;
+}
+
+uint32_t robot_grid_cells(const robot_config_t *cfg, uint32_t axis)
+{
+    const robot_grid_axis_t *g = &cfg->grid[axis & 1u];
+    return g->cells != 0u ? g->cells : 1u << bits_(cfg, axis);
+}
+
+uint32_t robot_grid_cell(const robot_config_t *cfg, uint32_t axis, float v)
+{
+    const robot_grid_axis_t *g = &cfg->grid[axis & 1u];
+    if (g->cells == 0u) {
+        return robot_cell_of(v, extent_(cfg, axis), bits_(cfg, axis));
+    }
+    // The last edge at or below v, by bisection over at most 32 cells (NaN: cell 0).
+    uint32_t lo = 0u, hi = g->cells;  // the answer lies in [lo, hi)
+    if (!(v > 0.0f)) {
+        return 0u;
+    }
+    while (hi - lo > 1u) {
+        const uint32_t mid = (lo + hi) / 2u;
+        if (v >= g->edge[mid]) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+void robot_grid_span(const robot_config_t *cfg, uint32_t axis, uint32_t k, float *lo, float *side)
+{
+    const robot_grid_axis_t *g = &cfg->grid[axis & 1u];
+    if (g->cells == 0u) {
+        *side = extent_(cfg, axis) / (float)(1u << bits_(cfg, axis));
+        *lo = (float)k * *side;
+        return;
+    }
+    k = k < g->cells ? k : g->cells - 1u;
+    *lo = g->edge[k];
+    *side = g->edge[k + 1u] - g->edge[k];
+}
+
+float robot_grid_min_side(const robot_config_t *cfg)
+{
+    float best = 0.0f;
+    for (uint32_t axis = 0; axis < 2u; axis++) {
+        const robot_grid_axis_t *g = &cfg->grid[axis];
+        if (g->cells == 0u) {
+            const float side = extent_(cfg, axis) / (float)(1u << bits_(cfg, axis));
+            best = best == 0.0f || side < best ? side : best;
+            continue;
+        }
+        for (uint32_t k = 0; k < g->cells; k++) {
+            const float side = g->edge[k + 1u] - g->edge[k];
+            if (side >= cfg->step_past_m && (best == 0.0f || side < best)) {
+                best = side;
+            }
+        }
+    }
+    return best;
+}
+
 agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *pose,
                                  uint32_t range_code)
 {
     uint32_t comp[4];
-    comp[0] = robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x);
-    comp[1] = robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y);
+    comp[0] = robot_grid_cell(cfg, ROBOT_AXIS_X, pose->x);
+    comp[1] = robot_grid_cell(cfg, ROBOT_AXIS_Y, pose->y);
     // Sector 0 is centred on +x: shift by half a sector, wrap into [0, 2 pi).
     const uint32_t sectors = 1u << cfg->bits_heading;
     const float sector = 2.0f * FW_PI_F / (float)sectors;
@@ -63,15 +129,26 @@ agent_state_t robot_encode_state(const robot_config_t *cfg, const robot_pose_t *
     return space_pack(&sp, comp);
 }
 
+// The centre of the cell of v along `axis`.
+static float cell_centre_(const robot_config_t *cfg, uint32_t axis, float v)
+{
+    const uint32_t k = robot_grid_cell(cfg, axis, v);
+    if (cfg->grid[axis].cells == 0u) {
+        const float side = extent_(cfg, axis) / (float)(1u << bits_(cfg, axis));
+        return ((float)k + 0.5f) * side;
+    }
+    float lo, side;
+    robot_grid_span(cfg, axis, k, &lo, &side);
+    return lo + 0.5f * side;
+}
+
 bool robot_in_goal(const robot_config_t *cfg, const robot_pose_t *pose)
 {
     float x = pose->x;
     float y = pose->y;
     if (cfg->goal_cells) {  // the centre of the pose's cell stands for the pose
-        float cell_w, cell_h;
-        robot_cell_size(cfg, &cell_w, &cell_h);
-        x = ((float)robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x) + 0.5f) * cell_w;
-        y = ((float)robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y) + 0.5f) * cell_h;
+        x = cell_centre_(cfg, ROBOT_AXIS_X, pose->x);
+        y = cell_centre_(cfg, ROBOT_AXIS_Y, pose->y);
     }
     const float dx = x - cfg->goal_x;
     const float dy = y - cfg->goal_y;

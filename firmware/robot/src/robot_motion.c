@@ -26,12 +26,11 @@ static float aligned_turn_(float heading, float turn, bool left)
 // Distance along `dir` (radians) from the pose to step_past_m beyond the edge of its cell.
 static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
-    float cw, ch;
-    robot_cell_size(cfg, &cw, &ch);
     const float c = cosf(dir), s = sinf(dir);
-    // The cell the state encodes (robot_cell_of() also clamps a pose just outside the arena).
-    const float x0 = (float)robot_cell_of(pose->x, cfg->arena_w, cfg->bits_x) * cw;
-    const float y0 = (float)robot_cell_of(pose->y, cfg->arena_h, cfg->bits_y) * ch;
+    // The cell the state encodes (robot_grid_cell() also clamps a pose just outside the arena).
+    float x0, cw, y0, ch;
+    robot_grid_span(cfg, ROBOT_AXIS_X, robot_grid_cell(cfg, ROBOT_AXIS_X, pose->x), &x0, &cw);
+    robot_grid_span(cfg, ROBOT_AXIS_Y, robot_grid_cell(cfg, ROBOT_AXIS_Y, pose->y), &y0, &ch);
     float t = 1e9f;
     if (c > 1e-3f) {
         t = (x0 + cw - pose->x) / c;
@@ -77,9 +76,7 @@ static robot_motion_t turn_motion_(const robot_config_t *cfg, float turn, uint8_
 
 bool robot_backs_off(const robot_config_t *cfg)
 {
-    float cw, ch;
-    robot_cell_size(cfg, &cw, &ch);
-    return ROBOT_BUMP_BACKOFF != 0 && cfg->aligned_actions && cfg->track_m < fminf(cw, ch);
+    return ROBOT_BUMP_BACKOFF != 0 && cfg->aligned_actions && cfg->track_m < robot_grid_min_side(cfg);
 }
 
 // Why back off: a bump leaves the robot wherever the contact stopped it, and until it has stepped

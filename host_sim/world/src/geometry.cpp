@@ -60,6 +60,17 @@ double cell_centre(double v, double extent, int bits)
     return (c + 0.5) * extent / cells;
 }
 
+// The same on the grid along `axis`, fitted or not.
+double cell_centre(const Scenario &s, int axis, double v)
+{
+    if (!s.encoding.fitted) {
+        return axis == 0 ? cell_centre(v, s.arena_w, s.encoding.x_bits) : cell_centre(v, s.arena_h, s.encoding.y_bits);
+    }
+    double lo = 0.0, hi = 0.0;
+    grid_span(s, axis, grid_cell(s, axis, v), &lo, &hi);
+    return 0.5 * (lo + hi);
+}
+
 }  // namespace
 
 namespace {
@@ -71,6 +82,18 @@ namespace {
 template <typename F>
 void for_cells_under_goal(const Scenario &s, F f)
 {
+    if (s.encoding.fitted) {  // at most 32 x 32 cells: all of them
+        const Goal &g = s.goal;
+        for (int j = 0; j < grid_cells(s, 1); j++) {
+            for (int i = 0; i < grid_cells(s, 0); i++) {
+                CellBox c{};
+                grid_span(s, 0, i, &c.x0, &c.x1);
+                grid_span(s, 1, j, &c.y0, &c.y1);
+                f(c, std::hypot(0.5 * (c.x0 + c.x1) - g.cx, 0.5 * (c.y0 + c.y1) - g.cy));
+            }
+        }
+        return;
+    }
     const double nx = std::ldexp(1.0, s.encoding.x_bits);
     const double ny = std::ldexp(1.0, s.encoding.y_bits);
     const double cw = s.arena_w / nx, ch = s.arena_h / ny;
@@ -119,11 +142,57 @@ double goal_cell_centre_margin(const Scenario &s)
     return margin;
 }
 
+int grid_cells(const Scenario &s, int axis)
+{
+    const Encoding &e = s.encoding;
+    if (e.fitted) return static_cast<int>((axis == 0 ? e.x_edges : e.y_edges).size()) - 1;
+    return 1 << (axis == 0 ? e.x_bits : e.y_bits);
+}
+
+int grid_cell(const Scenario &s, int axis, double v)
+{
+    const Encoding &e = s.encoding;
+    const int n = grid_cells(s, axis);
+    if (!e.fitted) {
+        const double extent = axis == 0 ? s.arena_w : s.arena_h;
+        return static_cast<int>(std::floor(std::clamp(v / extent * n, 0.0, n - 1.0)));
+    }
+    const std::vector<double> &edges = axis == 0 ? e.x_edges : e.y_edges;
+    if (!(v > 0.0)) return 0;
+    const auto it = std::upper_bound(edges.begin() + 1, edges.end() - 1, v);
+    return static_cast<int>(it - (edges.begin() + 1));
+}
+
+void grid_span(const Scenario &s, int axis, int k, double *lo, double *hi)
+{
+    const Encoding &e = s.encoding;
+    if (!e.fitted) {
+        const double side = (axis == 0 ? s.arena_w : s.arena_h) / grid_cells(s, axis);
+        *lo = k * side;
+        *hi = (k + 1) * side;
+        return;
+    }
+    const std::vector<double> &edges = axis == 0 ? e.x_edges : e.y_edges;
+    *lo = edges[static_cast<std::size_t>(k)];
+    *hi = edges[static_cast<std::size_t>(k) + 1];
+}
+
+double grid_max_side(const Scenario &s, int axis)
+{
+    double best = 0.0;
+    for (int k = 0; k < grid_cells(s, axis); k++) {
+        double lo = 0.0, hi = 0.0;
+        grid_span(s, axis, k, &lo, &hi);
+        best = std::max(best, hi - lo);
+    }
+    return best;
+}
+
 bool in_goal(const Scenario &s, double x, double y)
 {
     if (s.goal.cells) {
-        x = cell_centre(x, s.arena_w, s.encoding.x_bits);
-        y = cell_centre(y, s.arena_h, s.encoding.y_bits);
+        x = cell_centre(s, 0, x);
+        y = cell_centre(s, 1, y);
     }
     return std::hypot(x - s.goal.cx, y - s.goal.cy) <= s.goal.radius;
 }
@@ -140,8 +209,7 @@ bool start_position_ok(const Scenario &s, double x, double y)
         // A goal cell has its centre in the circle, so none is nearer than this: most points
         // are decided without the walk over up to 64 x 64 cells (the parser's search for room
         // asks up to a million points; that walk for each kept a bad file busy for 21 s).
-        const double cw = s.arena_w / std::ldexp(1.0, s.encoding.x_bits);
-        const double ch = s.arena_h / std::ldexp(1.0, s.encoding.y_bits);
+        const double cw = grid_max_side(s, 0), ch = grid_max_side(s, 1);
         const double nearest = to_goal - s.goal.radius - 0.5 * std::hypot(cw, ch);
         if (nearest <= m && (!clear_by(s, x, y, need) || goal_cells_distance(s, x, y) <= m)) {
             return false;  // the walk last: a point too near a wall needs none

@@ -946,9 +946,10 @@ PathReport longest_path(const Scenario &s)
     PassageReport counts;
     const FreeGrid g = free_grid(s, &counts);
     const long nx = g.nx, ny = g.ny, n = nx * ny;
-    const int cx = rep.nx = 1 << s.encoding.x_bits, cy = rep.ny = 1 << s.encoding.y_bits;
+    const int cx = rep.nx = grid_cells(s, 0), cy = rep.ny = grid_cells(s, 1);
     const double cw = s.arena_w / cx, ch = s.arena_h / cy;
     auto cell_of = [&](long k) {
+        if (s.encoding.fitted) return grid_cell(s, 1, g.y(k / nx)) * cx + grid_cell(s, 0, g.x(k % nx));
         const int i = std::min(cx - 1, static_cast<int>(g.x(k % nx) / cw));
         const int j = std::min(cy - 1, static_cast<int>(g.y(k / nx) / ch));
         return j * cx + i;

@@ -15,6 +15,8 @@
 #include <map>
 
 #include "world/scenario.h"
+
+#include "world/grid_fit.h"
 #include "fw/fw_util.h"
 
 #ifndef DYNAQPC_SCENARIOS_DIR
@@ -111,6 +113,7 @@ private:
     bool key_solver(const Tokens &t, Scenario *s);
     bool key_start(const Tokens &t, Scenario *s);
     bool key_encode(const Tokens &t, Scenario *s);
+    bool fit_encoding(Scenario *s);
     bool key_actions(const Tokens &t, Scenario *s);
     bool key_rewards(const Tokens &t, Scenario *s);
     bool key_learning(const Tokens &t, Scenario *s);
@@ -563,6 +566,20 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
 {
     using T = Field::Type;
     Encoding &e = s->encoding;
+    // `encode auto [cell M] [heading H] [sensor S]`: x and y cells fitted to the room.
+    if (t.size() > 1 && t[1] == "auto") {
+        Tokens rest(t.begin() + 1, t.end());
+        rest[0] = t[0];
+        std::vector<Field> f = {
+            {"cell", T::Real, &e.max_cell, 0.05, 100.0},
+            {"heading", T::Int, &e.heading_bits, 1, 16},
+            {"sensor", T::Int, &e.sensor_bits, 0, kMaxCodeBits},
+        };
+        if (!fields(rest, f)) return false;
+        e.fitted = true;
+        sensor_bits_given_ = seen_field(f, "sensor");
+        return true;
+    }
     std::vector<Field> f = {
         {"x", T::Int, &e.x_bits, 1, 16},
         {"y", T::Int, &e.y_bits, 1, 16},
@@ -571,6 +588,33 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
     };
     if (!fields(t, f)) return false;
     sensor_bits_given_ = seen_field(f, "sensor");
+    return true;
+}
+
+// `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
+// and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
+// every cell a step stops in.
+bool Parser::fit_encoding(Scenario *s)
+{
+    Encoding &e = s->encoding;
+    const double max_side = e.max_cell > 0.0 ? e.max_cell : fit_cell_side(*s);
+    if (s->actions.past == 0.0) s->actions.past = 0.2 * max_side;
+    if (s->actions.past >= max_side) {
+        return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
+                                          " is not inside the next cell (encode auto's cells are at most " +
+                                          fmt_num(max_side) + " m)");
+    }
+    std::string problem;
+    if (!fit_axis(*s, 0, max_side, &e.x_edges, &problem) || !fit_axis(*s, 1, max_side, &e.y_edges, &problem)) {
+        return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
+    }
+    auto bits_for = [](std::size_t cells) {
+        int b = 1;
+        while ((std::size_t{1} << b) < cells) b++;
+        return b;
+    };
+    e.x_bits = bits_for(e.x_edges.size() - 1);
+    e.y_bits = bits_for(e.y_edges.size() - 1);
     return true;
 }
 
@@ -692,17 +736,21 @@ bool Parser::validate(Scenario *s)
                                          " code_bit lines");
     }
     e.sensor_bits = n_bits;
+    if (e.fitted) {
+        if (!fit_encoding(s)) return false;
+    } else {
+        const double cell_side = std::min(s->arena_w / (1 << e.x_bits), s->arena_h / (1 << e.y_bits));
+        if (s->actions.past == 0.0) {  // not given
+            s->actions.past = 0.2 * cell_side;
+        } else if (s->actions.past >= cell_side) {
+            return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
+                                              " is not inside the next cell (cells are " + fmt_num(cell_side) +
+                                              " m on their smaller side)");
+        }
+    }
     if (e.x_bits + e.y_bits + e.heading_bits + e.sensor_bits > 32) {
         return fail_at(encode_line_ != 0 ? encode_line_ : last_line_,
                        "encode: more than 32 state bits in all");
-    }
-    const double cell_side = std::min(s->arena_w / (1 << e.x_bits), s->arena_h / (1 << e.y_bits));
-    if (s->actions.past == 0.0) {  // not given
-        s->actions.past = 0.2 * cell_side;
-    } else if (s->actions.past >= cell_side) {
-        return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
-                                          " is not inside the next cell (cells are " + fmt_num(cell_side) +
-                                          " m on their smaller side)");
     }
     for (const Obstacle &o : s->obstacles) {
         double ex = 0.0, ey = 0.0;  // half extents of the bounding box
@@ -738,7 +786,7 @@ bool Parser::validate(Scenario *s)
         // Bounded work for every start drawn later: at most 64 x 64 cells under the circle.
         const double cw = s->arena_w / std::ldexp(1.0, s->encoding.x_bits);
         const double ch = s->arena_h / std::ldexp(1.0, s->encoding.y_bits);
-        if (2.0 * g.radius / cw > 63.0 || 2.0 * g.radius / ch > 63.0) {
+        if (!s->encoding.fitted && (2.0 * g.radius / cw > 63.0 || 2.0 * g.radius / ch > 63.0)) {
             return fail_at(goal_line_, "goal ... cells: the circle spans more than 64 cells of the "
                                        "state grid (fewer bits, or drop 'cells')");
         }
@@ -914,6 +962,7 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
          "the solver"},
         {a.start.margin == b.start.margin, "the start margin"},
         {a.encoding.x_bits == b.encoding.x_bits && a.encoding.y_bits == b.encoding.y_bits &&
+             a.encoding.fitted == b.encoding.fitted && a.encoding.max_cell == b.encoding.max_cell &&
              a.encoding.heading_bits == b.encoding.heading_bits && a.encoding.sensor_bits == b.encoding.sensor_bits,
          "the encoding"},
         {a.actions.step == b.actions.step && a.actions.turn == b.actions.turn && a.actions.aligned == b.actions.aligned &&

@@ -300,6 +300,67 @@ static void test_aligned_steps_cross_into_the_next_cell(void **state)
     assert_int_not_equal(robot_encode_state(&cfg, &pose, 0), robot_encode_state(&cfg, &end, 0));
 }
 
+// A grid fitted to the room (`encode auto`): cells of any width along each side. Positions fall
+// in the cell between its edges, aligned steps end past the fitted edge, a thin cell (inside a
+// partition) is stepped over, the goal is a fitted cell's centre, and bad edges are refused.
+static void test_fitted_grid(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;  // 4.3 x 3.2 m, step_past_m 0.16
+    cfg.goal_cells = 0;          // the lab's goal cells are the equal grid's (below: a fitted one)
+    cfg.grid[0].cells = 4;       // x: 0, 1.0, 1.9, 2.0 (a 0.1 m partition), 4.3
+    const float ex[5] = {0.0f, 1.0f, 1.9f, 2.0f, 4.3f};
+    for (int k = 0; k < 5; k++) {
+        cfg.grid[0].edge[k] = ex[k];
+    }
+    assert_int_equal(robot_config_check(&cfg), FW_OK);
+    assert_int_equal(robot_grid_cells(&cfg, ROBOT_AXIS_X), 4);
+    assert_int_equal(robot_grid_cells(&cfg, ROBOT_AXIS_Y), 8);  // y stays 2^3 equal cells
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, 0.5f), 0);
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, 1.0f), 1);
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, 1.95f), 2);
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, 9.0f), 3);
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, -1.0f), 0);
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, NAN), 0);
+    float lo, side;
+    robot_grid_span(&cfg, ROBOT_AXIS_X, 1, &lo, &side);
+    assert_float_equal(lo, 1.0f, 1e-6);
+    assert_float_equal(side, 0.9f, 1e-6);
+    // The thin cell is not a place a step stops: the smallest side is the 0.4 m y cells.
+    assert_float_equal(robot_grid_min_side(&cfg), 0.4f, 1e-6);
+    cfg.aligned_actions = 1;
+    // From x 1.5 heading +x: to the fitted edge at 1.9 and the margin past it, over the thin cell.
+    robot_pose_t pose = {1.5f, 1.0f, 0.0f};
+    const float d = travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose));
+    assert_float_equal(d, 0.4f + cfg.step_past_m, 1e-4);
+    const robot_pose_t end = {pose.x + d, pose.y, 0.0f};
+    assert_int_equal(robot_grid_cell(&cfg, ROBOT_AXIS_X, end.x), 3);
+    // The state packs the fitted cell.
+    uint32_t comp[4];
+    unpack_(&cfg, robot_encode_state(&cfg, &end, 0), comp);
+    assert_int_equal(comp[0], 3);
+    // Goal cells: a fitted cell's centre stands for the pose.
+    cfg.goal_cells = 1;
+    cfg.goal_x = 3.15f;
+    cfg.goal_y = 1.0f;
+    cfg.goal_r = 0.05f;  // only the centre of x cell 3 (3.15) with y cell 2 (1.0)
+    assert_int_equal(robot_config_check(&cfg), FW_OK);
+    const robot_pose_t in_cell = {2.1f, 0.81f, 0.0f};
+    assert_true(robot_in_goal(&cfg, &in_cell));
+    cfg.goal_x = 1.9f;  // no fitted cell's centre within 5 cm
+    assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
+    cfg.goal_x = 3.15f;
+    // Refused: edges that fall, that do not end at the side, more cells than the bits hold.
+    cfg.grid[0].edge[2] = 0.9f;
+    assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
+    cfg.grid[0].edge[2] = 1.9f;
+    cfg.grid[0].edge[4] = 4.0f;
+    assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
+    cfg.grid[0].edge[4] = 4.3f;
+    cfg.bits_x = 1;
+    assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
+}
+
 static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
 {
     (void)state;
@@ -910,6 +971,7 @@ int main(void)
         cmocka_unit_test(test_action_wheels_realise_the_step),
         cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),
         cmocka_unit_test(test_aligned_steps_cross_into_the_next_cell),
+        cmocka_unit_test(test_fitted_grid),
         cmocka_unit_test(test_backoff_returns_to_where_an_aligned_step_stops),
         cmocka_unit_test(test_settling_ends_on_the_grid_of_aligned_stops),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),

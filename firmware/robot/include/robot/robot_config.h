@@ -23,6 +23,8 @@ extern "C" {
 #define ROBOT_MAX_CODE_BITS 4u
 /// Cricket beacons the firmware knows the positions of.
 #define ROBOT_MAX_BEACONS 8u
+/// Most cells along one side of a grid fitted to the room (`encode auto`, robot_config_t.grid).
+#define ROBOT_MAX_GRID_CELLS 32u
 
 /// The actions, in the agent's numbering.
 typedef enum robot_action {
@@ -90,6 +92,15 @@ typedef enum robot_pose_source {
     ROBOT_POSE_CRICKET = 1,  ///< paper-lab: x, y trilaterated from Cricket ranges; heading from the gyro
 } robot_pose_source_t;
 
+/// The state grid along one axis when it is fitted to the room (`encode auto`: docs/agent.md,
+/// "A grid that fits the room"): cell k spans [edge[k], edge[k + 1]), edge[0] = 0 and
+/// edge[cells] = the arena's side. Cells narrower than step_past_m lie inside an obstacle (a thin
+/// partition): an aligned step crosses them and never stops in one.
+typedef struct robot_grid_axis {
+    uint8_t cells;  ///< 0: the axis is cut into 2^bits equal cells instead
+    float edge[ROBOT_MAX_GRID_CELLS + 1u];
+} robot_grid_axis_t;
+
 typedef struct robot_beacon {
     uint64_t id;     ///< the beacon's 8-byte ID as the listener prints it, first byte most significant
     float x, y, z;   ///< metres, arena frame
@@ -108,6 +119,9 @@ typedef struct robot_config {
 
     // State encoding: x, y, heading and the range code, in this many bits each (component 0 is x).
     uint8_t bits_x, bits_y, bits_heading, bits_code;
+    /// x (grid[0]) and y (grid[1]) cells fitted to the room; cells 0: 2^bits equal cells. A
+    /// fitted axis has at most 2^bits cells (bits_x, bits_y still size the state).
+    robot_grid_axis_t grid[2];
     /// Code bit k is set when any range in rays_of_bit[k] (a bit mask of sensors) reads below
     /// code_threshold_m[k]: an obstacle is near on that side.
     uint32_t rays_of_bit[ROBOT_MAX_CODE_BITS];

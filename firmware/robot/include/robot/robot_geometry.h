@@ -19,12 +19,28 @@ typedef struct robot_pose {
     float x, y, heading;
 } robot_pose_t;
 
-/// The size (m) of one cell of the state grid: the arena cut into 2^bits_x by 2^bits_y cells.
-void robot_cell_size(const robot_config_t *cfg, float *w, float *h);
-
 /// The cell of v in [0, extent) cut into 2^bits equal cells; values outside (NaN too) clamp to
 /// the edge cells.
 uint32_t robot_cell_of(float v, float extent, uint8_t bits);
+
+/// Axes of the state grid (robot_config_t.grid).
+#define ROBOT_AXIS_X 0u
+#define ROBOT_AXIS_Y 1u
+
+/// Cells along `axis`: 2^bits, or the fitted grid's count.
+uint32_t robot_grid_cells(const robot_config_t *cfg, uint32_t axis);
+
+/// The cell of coordinate v along `axis`; values outside the arena (NaN too) clamp to the edge
+/// cells.
+uint32_t robot_grid_cell(const robot_config_t *cfg, uint32_t axis, float v);
+
+/// Where cell k along `axis` lies: from *lo (m), *side wide.
+void robot_grid_span(const robot_config_t *cfg, uint32_t axis, uint32_t k, float *lo, float *side);
+
+/// The smallest side of a cell a step can stop in (m): min over both axes of the cells at least
+/// step_past_m wide (narrower fitted cells lie inside obstacles and are stepped over); with equal
+/// cells, the smaller of the two cell sides.
+float robot_grid_min_side(const robot_config_t *cfg);
 
 /// The agent's state space for this robot: x, y, heading (circular), range code (absolute).
 void robot_config_space(const robot_config_t *cfg, agent_space_t *out);

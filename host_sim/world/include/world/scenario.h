@@ -131,6 +131,13 @@ struct StartSpec {
 struct Encoding {
     int x_bits = 5, y_bits = 5, heading_bits = 4;
     int sensor_bits = 0;  ///< = code_bits.size()
+    /// `encode auto`: the x and y cells are fitted to the room (fit_grid()); x_bits and y_bits
+    /// then hold the bits their counts need. Otherwise 2^bits equal cells along each side.
+    bool fitted = false;
+    /// `encode auto cell M`: the largest cell side (m); 0: the robot's (fit_cell_side()).
+    double max_cell = 0.0;
+    /// fitted: cell k along x spans [x_edges[k], x_edges[k + 1]); from 0 to the arena's side
+    std::vector<double> x_edges, y_edges;
 };
 
 struct ActionSpec {
@@ -212,6 +219,15 @@ std::string resolve_scenario_path(const std::string &name_or_path);
 /// resolve_scenario_path, read (at most kMaxFileBytes), parse_scenario. Errors as parse_scenario,
 /// or "<path>: cannot open: <reason>" / "<path>: file too large".
 bool load_scenario(const std::string &name_or_path, Scenario *out, std::string *error);
+
+/// Cells of the state grid along x (axis 0) or y (axis 1): 2^bits, or the fitted count.
+int grid_cells(const Scenario &s, int axis);
+/// The cell along `axis` holding v, clamped to the edge cells as the firmware's encoder does.
+int grid_cell(const Scenario &s, int axis, double v);
+/// Where cell k along `axis` lies: [*lo, *hi), m.
+void grid_span(const Scenario &s, int axis, int k, double *lo, double *hi);
+/// The largest cell side along `axis`, m.
+double grid_max_side(const Scenario &s, int axis);
 
 /// Whether a robot centred at (x, y) is in the goal: inside the circle, or with `goal ... cells`
 /// in a cell of the state grid (the encoding's x and y bits over the arena) whose centre is.

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc world: a state grid fitted to the room (grid_fit.h: the rule and why).
+#include "world/grid_fit.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace world {
+
+namespace {
+
+// The obstacle's extent along `axis`: its bounding box's [lo, hi].
+void extent(const Obstacle &o, int axis, double *lo, double *hi)
+{
+    double half = o.radius;
+    if (o.shape == Obstacle::Shape::Box) {
+        const double c = std::fabs(std::cos(o.angle)), sn = std::fabs(std::sin(o.angle));
+        half = axis == 0 ? (o.w * c + o.h * sn) / 2.0 : (o.w * sn + o.h * c) / 2.0;
+    }
+    const double mid = axis == 0 ? o.cx : o.cy;
+    *lo = mid - half;
+    *hi = mid + half;
+}
+
+// Whether [a, b] lies inside one obstacle's extent along `axis`.
+bool inside_an_obstacle(const Scenario &s, int axis, double a, double b)
+{
+    for (const Obstacle &o : s.obstacles) {
+        double lo = 0.0, hi = 0.0;
+        extent(o, axis, &lo, &hi);
+        if (lo <= a + 1e-9 && b <= hi + 1e-9) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+double fit_cell_side(const Scenario &s)
+{
+    return 2.0 * s.actions.step;
+}
+
+bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> *edges, std::string *error)
+{
+    const double side = axis == 0 ? s.arena_w : s.arena_h;
+    // 1. The faces, sorted; near ones merged, none next to a wall.
+    std::vector<double> faces;
+    for (const Obstacle &o : s.obstacles) {
+        double lo = 0.0, hi = 0.0;
+        extent(o, axis, &lo, &hi);
+        for (double f : {lo, hi}) {
+            if (f > kFaceMerge && f < side - kFaceMerge) faces.push_back(f);
+        }
+    }
+    std::sort(faces.begin(), faces.end());
+    std::vector<double> cuts = {0.0};
+    for (double f : faces) {
+        if (f - cuts.back() >= kFaceMerge) cuts.push_back(f);
+    }
+    if (side - cuts.back() < kFaceMerge) cuts.pop_back();
+    cuts.push_back(side);
+    // 2. Gaps narrower than `past`: a thin obstacle keeps its own cell; free space closes it.
+    const double past = s.actions.past;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t i = 0; i + 1 < cuts.size(); i++) {
+            const double a = cuts[i], b = cuts[i + 1];
+            if (b - a >= past || inside_an_obstacle(s, axis, a, b)) continue;
+            if (i == 0) {
+                cuts.erase(cuts.begin() + 1);  // next to the wall: the wall's cut stays
+            } else if (i + 2 == cuts.size()) {
+                cuts.erase(cuts.begin() + static_cast<long>(i));
+            } else {
+                cuts[i] = 0.5 * (a + b);
+                cuts.erase(cuts.begin() + static_cast<long>(i) + 1);
+            }
+            changed = true;
+            break;
+        }
+    }
+    // 3. Wide gaps into equal cells.
+    edges->assign(1, 0.0);
+    for (std::size_t i = 0; i + 1 < cuts.size(); i++) {
+        const double a = cuts[i], b = cuts[i + 1];
+        const int n = std::max(1, static_cast<int>(std::ceil((b - a) / max_side - 1e-9)));
+        for (int k = 1; k < n; k++) edges->push_back(a + (b - a) * k / n);
+        edges->push_back(b);
+    }
+    edges->back() = side;
+    // 4. The firmware's bound.
+    const int cells = static_cast<int>(edges->size()) - 1;
+    if (cells > kMaxGridCells) {
+        *error = std::string("encode auto: the room needs ") + std::to_string(cells) + " cells along " +
+                 (axis == 0 ? "x" : "y") + ", more than " + std::to_string(kMaxGridCells) +
+                 " (a larger 'cell', or fewer obstacles)";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace world
