@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc STM32F4 port: the hal_* contract on the real peripherals, and their interrupt handlers.
+// dynaqpc STM32F4 family: the hal_* contract on the robot boards' peripherals (the UART's is
+// hal_stm32f4_uart.c, every board's), and their interrupt handlers.
 //
 // The register-level work is in the drivers (stm32f4_*.c, tested on the host with fake
 // registers); this file passes them the real addresses, owns the static state (rings, counters,
@@ -10,8 +11,8 @@
 #include "hal/hal_cpu.h"
 #include "hal/hal_flash.h"
 #include "hal/hal_time.h"
-#include "hal/hal_uart.h"
 #include "stm32f4/stm32f4_board.h"
+#include "stm32f4/stm32f4_cpu.h"
 #include "stm32f4/stm32f4_drivers.h"
 
 #define RCC ((stm32f4_rcc_t *)STM32F4_RCC_BASE)
@@ -20,26 +21,16 @@
 #define GPIOA ((stm32f4_gpio_t *)STM32F4_GPIOA_BASE)
 #define GPIOB ((stm32f4_gpio_t *)STM32F4_GPIOB_BASE)
 #define CAN1 ((stm32f4_can_t *)STM32F4_CAN1_BASE)
-#define USART2 ((stm32f4_usart_t *)STM32F4_USART2_BASE)
 #define IWDG ((stm32f4_iwdg_t *)STM32F4_IWDG_BASE)
 #define SYSTICK ((stm32f4_systick_t *)STM32F4_SYSTICK_BASE)
 #define SCB_ICSR (*(volatile uint32_t *)STM32F4_SCB_ICSR)
 #define SCB_SHPR3 (*(volatile uint32_t *)0xE000ED20u)
-#define NVIC_ISER ((volatile uint32_t *)STM32F4_NVIC_ISER_BASE)
-#define NVIC_IPR ((volatile uint8_t *)STM32F4_NVIC_IPR_BASE)
 
 void SysTick_Handler(void);
 void CAN1_RX0_IRQHandler(void);
 void CAN1_SCE_IRQHandler(void);
-void USART2_IRQHandler(void);
 
 static hal_reset_cause_t reset_cause_ = HAL_RESET_OTHER;
-
-static void nvic_enable_(uint32_t irq, uint32_t prio)
-{
-    NVIC_IPR[irq] = (uint8_t)(prio << 4);  // 4 priority bits, in the high nibble
-    NVIC_ISER[irq / 32u] = 1u << (irq % 32u);
-}
 
 static void gpio_af_(stm32f4_gpio_t *g, uint32_t pin, uint32_t af, bool pull_up)
 {
@@ -86,7 +77,7 @@ void SysTick_Handler(void)
 
 uint64_t hal_time_us(void)
 {
-    const hal_irq_state_t s = hal_irq_save();
+    const uint32_t s = stm32f4_irq_save();
     uint64_t ms = ms_;
     uint32_t val = SYSTICK->VAL;
     if (SCB_ICSR & SCB_ICSR_PENDSTSET) {
@@ -95,36 +86,11 @@ uint64_t hal_time_us(void)
         ms += 1u;
         val = SYSTICK->VAL;
     }
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
     return stm32f4_time_us(ms, SYSTICK->LOAD, val, STM32F4_SYSCLK_HZ / 1000000u);
 }
 
-// ---- CPU ------------------------------------------------------------------------------------------
-hal_irq_state_t hal_irq_save(void)
-{
-    uint32_t primask;
-    __asm__ volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
-    return primask;
-}
-
-void hal_irq_restore(hal_irq_state_t state)
-{
-    __asm__ volatile("msr primask, %0" ::"r"(state) : "memory");
-}
-
-void hal_cpu_wait_until(uint64_t deadline_us)
-{
-    // Called with PRIMASK set from the scheduler's last look at its event queue (hal_cpu.h): an
-    // interrupt that becomes pending after that look still wakes WFI (ARMv7-M B1.5.19: a pending
-    // interrupt that PRIMASK keeps from being taken ends the wait), and its handler runs as soon
-    // as the caller restores the mask: nothing waits for the next SysTick. As QP/C's QV does
-    // (QV_CPU_SLEEP: WFI, then unmask). SysTick wakes the core every millisecond, so one WFI
-    // never oversleeps by more than 1 ms; the contract allows the early return.
-    if (hal_time_us() < deadline_us) {
-        __asm__ volatile("dsb\n\twfi\n\tisb" ::: "memory");
-    }
-}
-
+// ---- CPU: masking, the idle wait and cost accounting are the family's (hal_stm32f4_cpu.c) ---------
 static bool watchdog_running_;
 
 int hal_cpu_watchdog_start(uint32_t timeout_ms)
@@ -160,25 +126,25 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
     memset(&can_.stats, 0, sizeof can_.stats);
     const int rc = stm32f4_can_setup(CAN1, STM32F4_APB1_HZ, bitrate, accept_ids, n_ids);
     if (rc == FW_OK) {
-        nvic_enable_(STM32F4_IRQ_CAN1_RX0, STM32F4_CFG_IRQ_PRIO_CAN);
-        nvic_enable_(STM32F4_IRQ_CAN1_SCE, STM32F4_CFG_IRQ_PRIO_CAN);
+        stm32f4_nvic_enable(STM32F4_IRQ_CAN1_RX0, STM32F4_CFG_IRQ_PRIO_CAN);
+        stm32f4_nvic_enable(STM32F4_IRQ_CAN1_SCE, STM32F4_CFG_IRQ_PRIO_CAN);
     }
     return rc;
 }
 
 int hal_can_send(const hal_can_frame_t *frame)
 {
-    const hal_irq_state_t s = hal_irq_save();  // thread and interrupt senders share the mailboxes
+    const uint32_t s = stm32f4_irq_save();  // thread and interrupt senders share the mailboxes
     const int rc = stm32f4_can_send(&can_, frame);
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
     return rc;
 }
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
-    const hal_irq_state_t s = hal_irq_save();
+    const uint32_t s = stm32f4_irq_save();
     *out = can_.stats;
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
 }
 
 void CAN1_RX0_IRQHandler(void)
@@ -189,53 +155,6 @@ void CAN1_RX0_IRQHandler(void)
 void CAN1_SCE_IRQHandler(void)
 {
     stm32f4_can_sce_irq(&can_);
-}
-
-// ---- UART ------------------------------------------------------------------------------------------
-// The interrupt handler's work is in stm32f4_usart.c (host-tested with a fake USART).
-static uint8_t uart_rx_buf_[STM32F4_CFG_UART_RX_BYTES];
-static uint8_t uart_tx_buf_[STM32F4_CFG_UART_TX_BYTES];
-static stm32f4_usart_port_t uart_;
-
-int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
-{
-    RCC->APB1ENR |= RCC_APB1ENR_USART2EN;
-    (void)RCC->APB1ENR;
-    uart_.regs = USART2;
-    stm32f4_ring_init(&uart_.rx, uart_rx_buf_, sizeof uart_rx_buf_);
-    stm32f4_ring_init(&uart_.tx, uart_tx_buf_, sizeof uart_tx_buf_);
-    uart_.on_rx = on_rx;
-    uart_.ctx = ctx;
-    const int rc = stm32f4_usart_setup(&uart_, STM32F4_APB1_HZ, baud);
-    if (rc == FW_OK) {
-        nvic_enable_(STM32F4_IRQ_USART2, STM32F4_CFG_IRQ_PRIO_UART);
-    }
-    return rc;
-}
-
-void USART2_IRQHandler(void)
-{
-    (void)stm32f4_usart_irq(&uart_);
-}
-
-size_t hal_uart_read(uint8_t *buf, size_t cap)
-{
-    return stm32f4_usart_read(&uart_, buf, cap);
-}
-
-size_t hal_uart_write(const uint8_t *data, size_t len)
-{
-    const hal_irq_state_t s = hal_irq_save();  // CR1 is also changed by the interrupt
-    const size_t n = stm32f4_usart_queue(&uart_, data, len);
-    hal_irq_restore(s);
-    return n;
-}
-
-void hal_uart_get_stats(hal_uart_stats_t *out)
-{
-    const hal_irq_state_t s = hal_irq_save();
-    *out = uart_.stats;
-    hal_irq_restore(s);
 }
 
 // ---- Flash -------------------------------------------------------------------------------------------
@@ -299,11 +218,4 @@ int hal_flash_erase(uint32_t sector)
 int hal_flash_write(uint32_t offset, const void *data, size_t len)
 {
     return stm32f4_flash_program(flash_dev_(), offset, data, len);
-}
-
-// Real time passes by itself on the MCU: the scheduler's cost accounting is for the host's
-// lock-step model only.
-void hal_cpu_account(uint32_t cycles)
-{
-    (void)cycles;
 }

@@ -4,7 +4,7 @@
 # what stands in for them). Built alone (-DDYNAQPC_BOARD=netduinoplus2); the cortex-m4 preset
 # builds it so in <build>/netduinoplus2 (targets/CMakeLists.txt), for its closed-loop tests.
 #
-# From the family: the drivers (the USART with its ring), the startup (with this board's hooks,
+# From the family: the drivers (the USART with its ring), hal_uart and PRIMASK/WFI, the startup (with this board's hooks,
 # startup_hooks.h), the output sections and region checks (ld/), semihosting, dynaqpc_image().
 # Its own: the hal_* contract on what QEMU models (hal_netduinoplus2.c), the SLCAN codec that
 # stands in for bxCAN, the memory map (netduinoplus2.ld).
@@ -18,10 +18,14 @@ target_link_libraries(dynaqpc_slcan PUBLIC dynaqpc_hal PRIVATE dynaqpc_c_flags)
 # jitter by tens of ms, so the gyro integrates over its samples' own period (drivers_config.h).
 target_compile_definitions(dynaqpc_c_flags INTERFACE FW_CFG_GYRO_PERIOD_US=16000u)
 
+# QEMU's USART never raises TXE's interrupt: the family's hal_uart writes DR directly.
+target_compile_definitions(dynaqpc_stm32f4_hal_common PRIVATE STM32F4_CFG_UART_TX_POLLED=1)
+
 add_library(dynaqpc_hal_netduinoplus2 STATIC ${DYNAQPC_BOARD_DIR}/hal_netduinoplus2.c)
 target_include_directories(dynaqpc_hal_netduinoplus2 PUBLIC ${DYNAQPC_BOARD_DIR}/include)
 target_link_libraries(dynaqpc_hal_netduinoplus2
-    PUBLIC dynaqpc_hal dynaqpc_slcan dynaqpc_stm32f4_drivers dynaqpc_stm32f4_semihost
+    PUBLIC dynaqpc_hal dynaqpc_slcan dynaqpc_stm32f4_drivers dynaqpc_stm32f4_hal_common
+        dynaqpc_stm32f4_semihost
     PRIVATE dynaqpc_c_flags)
 
 set(board_startup_hooks ${DYNAQPC_BOARD_DIR}/startup_hooks.h)

@@ -1,52 +1,39 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc netduinoplus2 board: the hal_* contract on what QEMU's netduinoplus2 models (board.h).
 //
-// Interrupts and the Cricket USART are the STM32F4 family's drivers on the same registers
-// (stm32f4_usart.c); time is TIM2's counter (below: why not SysTick's interrupts, as on the
-// robot). CAN is SLCAN over USART1. Two facts of QEMU 7.2's
-// stm32f2xx-usart shape the serial code: its interrupt is raised for RXNE only (TXE never
-// interrupts), and a write to DR is sent at once (TXE always reads 1). So received bytes come by
-// interrupt, one per interrupt, through the driver's ring; transmitted bytes are written to DR
-// directly, with interrupts masked, each after a bounded wait for TXE.
+// Interrupts and the USARTs are the STM32F4 family's drivers on the same registers
+// (stm32f4_usart.c), and the Cricket listener's hal_uart is the family's (hal_stm32f4_uart.c);
+// time is TIM2's counter (below: why not SysTick's interrupts, as on the robot). CAN is SLCAN
+// over USART1. Two facts of QEMU 7.2's stm32f2xx-usart shape the serial code: its interrupt is
+// raised for RXNE only (TXE never interrupts), and a write to DR is sent at once (TXE always
+// reads 1). So received bytes come by interrupt, one per interrupt, through the driver's ring;
+// transmitted bytes are written to DR directly, with interrupts masked, each after a bounded wait
+// for TXE (STM32F4_CFG_UART_TX_POLLED, set by board.cmake).
 #include <string.h>
 
 #include "hal/hal_can.h"
 #include "hal/hal_cpu.h"
 #include "hal/hal_flash.h"
 #include "hal/hal_time.h"
-#include "hal/hal_uart.h"
 #include "netduinoplus2/board.h"
 #include "netduinoplus2/slcan.h"
 #include "stm32f4/semihost.h"
+#include "stm32f4/stm32f4_cpu.h"
 #include "stm32f4/stm32f4_drivers.h"
 
 #define USART1 ((stm32f4_usart_t *)STM32F4_USART1_BASE)
-#define USART2 ((stm32f4_usart_t *)STM32F4_USART2_BASE)
 #define SYSTICK ((stm32f4_systick_t *)STM32F4_SYSTICK_BASE)
 #define SCB_ICSR (*(volatile uint32_t *)STM32F4_SCB_ICSR)
 #define SCB_SHPR3 (*(volatile uint32_t *)0xE000ED20u)
-#define NVIC_ISER ((volatile uint32_t *)STM32F4_NVIC_ISER_BASE)
-#define NVIC_IPR ((volatile uint8_t *)STM32F4_NVIC_IPR_BASE)
-
-/// Polls of TXE before a byte is given up (QEMU sets it at once; a real USART at 115200 baud
-/// would need ~87 us a byte, which this board does not pretend to be).
-#define TXE_POLLS 1000u
 
 void HardFault_Handler(void);
 void SysTick_Handler(void);
 void USART1_IRQHandler(void);
-void USART2_IRQHandler(void);
-
-static void nvic_enable_(uint32_t irq, uint32_t prio)
-{
-    NVIC_IPR[irq] = (uint8_t)(prio << 4);
-    NVIC_ISER[irq / 32u] = 1u << (irq % 32u);
-}
 
 // Writes bytes to a USART's DR; returns how many went out. Caller masks interrupts.
 static size_t usart_put_(stm32f4_usart_t *u, const uint8_t *data, size_t len)
 {
-    return stm32f4_usart_put_polled(u, data, len, TXE_POLLS);
+    return stm32f4_usart_put_polled(u, data, len, STM32F4_CFG_UART_TX_POLLS);
 }
 
 // ---- Board ------------------------------------------------------------------------------------
@@ -156,39 +143,18 @@ void SysTick_Handler(void)
 
 uint64_t hal_time_us(void)
 {
-    const hal_irq_state_t s = hal_irq_save();
+    const uint32_t s = stm32f4_irq_save();
     const uint32_t cnt = TIM2_CNT;
     if (cnt < tim_last_) {
         tim_high_ += 1u;  // the 32-bit count wrapped since the last read (< 71 minutes ago)
     }
     tim_last_ = cnt;
     const uint64_t us = ((tim_high_ << 32) | cnt) * speed_;
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
     return us;
 }
 
-// ---- CPU ------------------------------------------------------------------------------------------
-hal_irq_state_t hal_irq_save(void)
-{
-    uint32_t primask;
-    __asm__ volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
-    return primask;
-}
-
-void hal_irq_restore(hal_irq_state_t state)
-{
-    __asm__ volatile("msr primask, %0" ::"r"(state) : "memory");
-}
-
-void hal_cpu_wait_until(uint64_t deadline_us)
-{
-    // As on the robot (hal_stm32f4.c): WFI with PRIMASK set still wakes on a pending
-    // interrupt; SysTick bounds the sleep to 1 ms. QEMU halts the vCPU until then.
-    if (hal_time_us() < deadline_us) {
-        __asm__ volatile("dsb\n\twfi\n\tisb" ::: "memory");
-    }
-}
-
+// ---- CPU: masking, the idle wait and cost accounting are the family's (hal_stm32f4_cpu.c) ---------
 int hal_cpu_watchdog_start(uint32_t timeout_ms)
 {
     (void)timeout_ms;
@@ -202,11 +168,6 @@ void hal_cpu_watchdog_kick(void)
 hal_reset_cause_t hal_cpu_reset_cause(void)
 {
     return HAL_RESET_POWER_ON;  // QEMU models no RCC_CSR: every start is a power-on
-}
-
-void hal_cpu_account(uint32_t cycles)
-{
-    (void)cycles;  // real (emulated) time passes by itself
 }
 
 // ---- CAN: SLCAN lines on USART1 -----------------------------------------------------------------------
@@ -279,7 +240,7 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
     can_uart_.ctx = NULL;
     const int rc = stm32f4_usart_setup(&can_uart_, STM32F4_APB2_HZ, 115200u);
     if (rc == FW_OK) {
-        nvic_enable_(STM32F4_IRQ_USART1, STM32F4_CFG_IRQ_PRIO_CAN);
+        stm32f4_nvic_enable(STM32F4_IRQ_USART1, STM32F4_CFG_IRQ_PRIO_CAN);
     }
     return rc;
 }
@@ -291,24 +252,24 @@ int hal_can_send(const hal_can_frame_t *frame)
     if (n == 0u) {
         return FW_ERR_INVAL;
     }
-    const hal_irq_state_t s = hal_irq_save();  // one line at a time on the wire
+    const uint32_t s = stm32f4_irq_save();  // one line at a time on the wire
     const size_t sent = usart_put_(USART1, line, n);
     if (sent == n) {
         can_stats_.tx_frames++;
     } else {
         can_stats_.tx_dropped++;
     }
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
     return sent == n ? FW_OK : FW_ERR_FULL;
 }
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
-    const hal_irq_state_t s = hal_irq_save();
+    const uint32_t s = stm32f4_irq_save();
     *out = can_stats_;
     out->rx_overruns = can_uart_.stats.rx_overruns;
     out->bus_errors = can_uart_.stats.rx_errors;
-    hal_irq_restore(s);
+    stm32f4_irq_restore(s);
 }
 
 uint32_t nd2_slcan_errors(void)
@@ -319,52 +280,6 @@ uint32_t nd2_slcan_errors(void)
 void USART1_IRQHandler(void)
 {
     (void)stm32f4_usart_irq(&can_uart_);
-}
-
-// ---- UART: the Cricket listener on USART2 ---------------------------------------------------------------
-static uint8_t uart_rx_buf_[STM32F4_CFG_UART_RX_BYTES];
-static stm32f4_usart_port_t uart_;
-
-int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
-{
-    uart_.regs = USART2;
-    stm32f4_ring_init(&uart_.rx, uart_rx_buf_, sizeof uart_rx_buf_);
-    stm32f4_ring_init(&uart_.tx, NULL, 0u);
-    uart_.on_rx = on_rx;
-    uart_.ctx = ctx;
-    const int rc = stm32f4_usart_setup(&uart_, STM32F4_APB1_HZ, baud);
-    if (rc == FW_OK) {
-        nvic_enable_(STM32F4_IRQ_USART2, STM32F4_CFG_IRQ_PRIO_UART);
-    }
-    return rc;
-}
-
-void USART2_IRQHandler(void)
-{
-    (void)stm32f4_usart_irq(&uart_);
-}
-
-size_t hal_uart_read(uint8_t *buf, size_t cap)
-{
-    return stm32f4_usart_read(&uart_, buf, cap);
-}
-
-size_t hal_uart_write(const uint8_t *data, size_t len)
-{
-    if (uart_.regs == NULL) {
-        return 0u;
-    }
-    const hal_irq_state_t s = hal_irq_save();
-    const size_t n = usart_put_(USART2, data, len);
-    hal_irq_restore(s);
-    return n;
-}
-
-void hal_uart_get_stats(hal_uart_stats_t *out)
-{
-    const hal_irq_state_t s = hal_irq_save();
-    *out = uart_.stats;
-    hal_irq_restore(s);
 }
 
 // ---- Flash: the region in SRAM, NOR semantics --------------------------------------------------------

@@ -26,6 +26,17 @@
 #ifndef STM32F4_CFG_UART_TX_BYTES
 #define STM32F4_CFG_UART_TX_BYTES 128u
 #endif
+/// 1: hal_uart_write() writes DR directly, each byte after at most STM32F4_CFG_UART_TX_POLLS
+/// reads of TXE, with no transmit ring (a USART whose TXE never interrupts: QEMU's); 0: a ring
+/// fed by the TXE interrupt.
+#ifndef STM32F4_CFG_UART_TX_POLLED
+#define STM32F4_CFG_UART_TX_POLLED 0
+#endif
+/// Polls of TXE before a polled byte is given up (QEMU sets it at once; a real USART at 115200
+/// baud would need ~87 us a byte).
+#ifndef STM32F4_CFG_UART_TX_POLLS
+#define STM32F4_CFG_UART_TX_POLLS 1000u
+#endif
 /// Polls of a flag before a short wait (peripheral mode changes, clock ready) gives up.
 #ifndef STM32F4_CFG_SHORT_WAIT_POLLS
 #define STM32F4_CFG_SHORT_WAIT_POLLS 1000000u
