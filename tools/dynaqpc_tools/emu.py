@@ -51,6 +51,7 @@ class Bridge:
         self.to_bus = 0     # frames from the firmware put on the bus
         self.to_board = 0   # frames from the bus written to the board
         self.errors = 0
+        self.last_error = ""
         self._stop = threading.Event()
         self._threads = [threading.Thread(target=self._board_to_bus, daemon=True),
                          threading.Thread(target=self._bus_to_board, daemon=True)]
@@ -64,9 +65,9 @@ class Bridge:
         while not self._stop.is_set():
             try:
                 msg = self.slcan.recv(timeout=0.05)
-            except Exception:  # the pty closed: QEMU ended
+            except Exception as e:  # the pty closed: QEMU ended
                 if not self._stop.is_set():
-                    self.errors += 1
+                    self._error("reading the board's SLCAN line", e)
                     time.sleep(0.05)
                 continue
             if msg is None:
@@ -74,23 +75,33 @@ class Bridge:
             try:
                 self.vcan.send(msg)
                 self.to_bus += 1
-            except Exception:
-                self.errors += 1
+            except Exception as e:
+                self._error("sending to the bus", e)
 
     def _bus_to_board(self) -> None:
         while not self._stop.is_set():
             try:
                 msg = self.vcan.recv(timeout=0.05)
-            except Exception:
-                self.errors += 1
+            except Exception as e:
+                if not self._stop.is_set():
+                    self._error("reading the bus", e)
                 continue
             if msg is None or msg.is_extended_id or msg.arbitration_id in self.fw_ids:
                 continue
             try:
                 self.slcan.send(msg)
                 self.to_board += 1
-            except Exception:
-                self.errors += 1
+            except Exception as e:
+                if not self._stop.is_set():
+                    self._error("writing to the board's SLCAN line", e)
+
+    def _error(self, doing: str, e: Exception) -> None:
+        self.errors += 1
+        self.last_error = f"{doing}: {e}"
+
+    def closing(self) -> None:
+        """The run is ending: QEMU and the devices are about to stop; what fails now is not an error."""
+        self._stop.set()
 
     def stop(self) -> None:
         self._stop.set()
@@ -195,6 +206,7 @@ class Lines:
     def __init__(self, proc: subprocess.Popen, prefix: str, echo: bool):
         self.proc, self.prefix, self.echo = proc, prefix, echo
         self.lines: List[str] = []
+        self.times: List[float] = []  # time.monotonic() at each line's arrival
         self._cv = threading.Condition()
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
@@ -204,6 +216,7 @@ class Lines:
             line = raw.decode(errors="replace").rstrip("\n")
             with self._cv:
                 self.lines.append(line)
+                self.times.append(time.monotonic())
                 self._cv.notify_all()
             if self.echo:
                 print(f"{self.prefix}{line}", flush=True)
@@ -237,6 +250,92 @@ def _stop(proc: Optional[subprocess.Popen]) -> Optional[int]:
     return proc.returncode
 
 
+class HostProbe:
+    """How late the host wakes a sleeping thread: a 5 ms sleep, again and again, and how much
+    longer each took. A host that cannot keep this process's timers cannot keep QEMU's vCPU or
+    the devices on time either."""
+
+    PERIOD_S = 0.005
+
+    def __init__(self):
+        self.late_ms: List[float] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def start(self) -> "HostProbe":
+        self._thread.start()
+        return self
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            t0 = time.monotonic()
+            time.sleep(self.PERIOD_S)
+            self.late_ms.append(max(0.0, (time.monotonic() - t0 - self.PERIOD_S) * 1000.0))
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=1.0)
+
+    def percentile(self, q: float) -> float:
+        if not self.late_ms:
+            return 0.0
+        s = sorted(self.late_ms)
+        return s[min(len(s) - 1, int(q / 100.0 * len(s)))]
+
+
+#: The control period (ms of firmware time) and the lateness a period tolerates (10 %).
+CONTROL_PERIOD_MS = 192.0
+TOLERANCE_MS = 19.2
+
+
+def speeds() -> List[int]:
+    """The speeds the board takes: the divisors of 168 (its MHz)."""
+    return [s for s in range(1, 169) if 168 % s == 0]
+
+
+def emulated_rate(board: "Lines") -> Optional[float]:
+    """Firmware seconds per wall second between the board's first and last report lines, or None
+    with fewer than two."""
+    pts = [(board.times[i], r["t_ms"]) for i, r in ((i, parse_report(l)) for i, l in enumerate(board.lines))
+           if r and "t_ms" in r and i < len(board.times)]
+    if len(pts) < 2 or pts[-1][0] - pts[0][0] < 1.0:
+        return None
+    return (pts[-1][1] - pts[0][1]) / 1000.0 / (pts[-1][0] - pts[0][0])
+
+
+def behind(speed: int, rate: Optional[float], late_ms: float, misses: int) -> Optional[str]:
+    """Whether the emulation fell behind the requested speed, and what to try: the host's time
+    against the emulated time (with -icount QEMU's clock slows when its vCPU is starved), or the
+    host waking this process (late_ms: its worst wake-up) later than a control period tolerates
+    at that speed while the board missed deadlines."""
+    slow_clock = rate is not None and rate < 0.9 * speed
+    # At speed X a control period lasts 192/X ms of wall time and tolerates 19.2/X ms of lateness.
+    late_host = misses > 0 and late_ms > TOLERANCE_MS / speed
+    late_p99_ms = late_ms
+    if not (slow_clock or late_host):
+        return None
+    fits = [s for s in speeds() if s <= speed and (not late_host or late_p99_ms <= TOLERANCE_MS / s)
+            and (rate is None or not slow_clock or s <= 0.8 * rate)]
+    suggest = max(fits) if fits else None
+    parts = []
+    if slow_clock:
+        parts.append(f"the board's clock ran {rate:.2f} s per wall second, not the {speed} asked for "
+                     f"(QEMU's vCPU got too little of the host)")
+    if late_host:
+        parts.append(f"the host woke this process's 5 ms timers up to {late_p99_ms:.0f} ms late, "
+                     f"more than the {TOLERANCE_MS / speed:.1f} ms a control period tolerates at --speed {speed}")
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
+    msg = ("the emulation fell behind: " + "; ".join(parts) +
+           f" (load average {load:.1f} on {os.cpu_count()} cores): the host, not the firmware, was late")
+    if misses:
+        msg += f", and the board's {misses} deadline misses follow from that"
+    if suggest is not None and suggest < speed:
+        msg += f"; try --speed {suggest}, or a quieter host"
+    else:
+        msg += "; run it on a quieter host (nothing else busy: docs/results/emulated-board.md)"
+    return msg
+
+
 def cmd_run(args) -> int:
     if not os.path.isfile(args.elf):
         raise ToolError(f"--elf {args.elf}: no such image (build the cortex-m4 preset)")
@@ -268,6 +367,7 @@ def cmd_run(args) -> int:
             raise ToolError("dynaqpc-sim devices did not name its seed")
         board_seed = int(m.group(1))
         watch = BusWatch(dbc).start()
+        probe = args.probe = HostProbe().start()
 
         append = f"seed={board_seed} report_s={args.report_s} speed={args.speed}"
         if args.step_cap:
@@ -308,6 +408,8 @@ def cmd_run(args) -> int:
         time.sleep(0.5)  # the last frames and report line
         args.wall_s = time.monotonic() - wall0
     finally:
+        if bridge is not None:
+            bridge.closing()
         for p in (devices,):
             _stop(p)
         qrc = _stop(qemu)
@@ -315,6 +417,8 @@ def cmd_run(args) -> int:
             bridge.stop()
         if watch is not None:
             watch.stop()
+        if getattr(args, "probe", None) is not None:
+            args.probe.stop()
     return summarise(args, board, qrc, watch, bridge)
 
 
@@ -334,13 +438,28 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         # -icount's instruction rate (a loaded host): the devices then see a slow firmware.
         print(f"emu: firmware clock {last['t_ms'] / 1000:.1f} s at the last report, wall {wall_s:.1f} s "
               f"(the report lags by up to --report-s)")
-    print(f"emu: bridge board->bus {bridge.to_bus} frames, bus->board {bridge.to_board}, errors {bridge.errors}")
+    why = f" (last: {bridge.last_error})" if getattr(bridge, "errors", 0) and getattr(bridge, "last_error", "") else ""
+    print(f"emu: bridge board->bus {bridge.to_bus} frames, bus->board {bridge.to_board}, errors {bridge.errors}{why}")
     print(f"emu: bus TLM_SCHED {watch.sched} frames ({watch.sched_planning} with PlanUpdates > 0, "
           f"{watch.plan_updates} planning updates), DeadlineMisses {watch.deadline_misses}, "
           f"IdlePercent mean {idle_pct:.1f} %, FW_STATUS {watch.status}, TLM_EPISODE {len(watch.episodes)}")
     for e in watch.episodes:
         print(f"emu: episode {e.get('Episode')}: steps {e.get('Steps')} reached_goal {e.get('ReachedGoal')} "
               f"bumps {e.get('Bumps')} reward {e.get('TotalReward')}")
+    goals = sum(1 for e in watch.episodes if e.get("ReachedGoal"))
+    print(f"emu: the robot reached the goal in {goals} of {len(watch.episodes)} episodes; the board planned "
+          f"{idle_loop} updates in its idle loop ({idle_per:.1f} per real step) and {max(0, plan - idle_loop)} "
+          f"before acting, over {steps} real steps", flush=True)
+    probe = getattr(args, "probe", None)
+    late = probe.percentile(100) if probe is not None else 0.0
+    if probe is not None and probe.late_ms:
+        load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
+        print(f"emu: host: 5 ms timers woke up to {late:.1f} ms late (99th percentile {probe.percentile(99):.1f} ms); "
+              f"load average {load:.1f} on {os.cpu_count()} cores", flush=True)
+    misses = max(watch.deadline_misses, last.get("misses", 0))
+    fell_behind = behind(args.speed, emulated_rate(board), late, misses)
+    if fell_behind:
+        print(f"emu: {fell_behind}", flush=True)
     print(f"emu: board: real_steps={steps} planning_updates={plan} per_real_step={per:.1f} "
           f"idle_loop_updates={idle_loop} idle_loop_per_real_step={idle_per:.1f} "
           f"control_worst_run_us={last.get('control_worst_run_us', 0)} misses={last.get('misses', 0)} "
@@ -354,7 +473,9 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         problems.append("no frame from the devices reached the board")
     if watch.plan_updates == 0 or plan == 0:
         problems.append("no planning update")
-    if watch.deadline_misses or last.get("misses", 0):
+    if fell_behind:
+        problems.append("the emulation fell behind the requested speed (above): not a measurement of the firmware")
+    elif watch.deadline_misses or last.get("misses", 0):
         problems.append(f"deadline misses: bus {watch.deadline_misses}, board {last.get('misses', 0)}")
     if fault:
         problems.append("hard fault (or an unexpected exception) on the board")
@@ -364,6 +485,8 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         problems.append(f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}")
     if len(watch.episodes) < args.min_episodes:
         problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
+    if goals < args.min_goals:
+        problems.append(f"the goal reached in {goals} episodes, expected at least {args.min_goals}")
     for p in problems:
         print(f"FAIL: {p}", flush=True)
     if not problems:
@@ -397,6 +520,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=float, default=60.0, help="wall seconds at most (default 60)")
     r.add_argument("--episodes", type=int, default=0, help="stop after N episodes (the supervisor's count)")
     r.add_argument("--min-episodes", type=int, default=0, help="fail with fewer finished episodes")
+    r.add_argument("--min-goals", type=int, default=0, help="fail with fewer episodes that reached the goal")
     r.add_argument("--min-idle-loop-updates", type=int, default=0,
                    help="fail with fewer planning updates made in the idle loop (the board's count)")
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
