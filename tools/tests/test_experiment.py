@@ -369,7 +369,7 @@ def test_a_misspelt_scenario_names_the_shipped_ones_and_leaves_no_folder(tmp_pat
         assert rc == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "did you mean paper-lab?" in err[0]
-        assert "the shipped scenarios are paper-lab, paper-lab-motion, paper-sim, paper-sim-motion" in err[0]
+        assert "the shipped scenarios are paper-lab, paper-lab-motion, paper-lab-real, paper-sim, paper-sim-motion, paper-sim-real" in err[0]
         assert not results.exists()
 
 

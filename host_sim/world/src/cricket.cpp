@@ -36,7 +36,19 @@ void CricketListener::advance(double t_s, double x, double y, std::vector<Cricke
         const double when = next_s_[b];
         const double dz = bc.z - spec_.listener_height;
         const double truth = std::sqrt((bc.x - x) * (bc.x - x) + (bc.y - y) * (bc.y - y) + dz * dz);
-        const double range = std::max(0.0, truth + spec_.noise_sd * rng_.normal());
+        // A missed transmission or a reflection (drawn only when the scenario asks for them, so
+        // that a listener without them draws as before).
+        const bool missed = spec_.dropout > 0.0 && rng_.uniform() < spec_.dropout;
+        double detour = 0.0;
+        if (spec_.outlier > 0.0 && rng_.uniform() < spec_.outlier) {
+            detour = spec_.outlier_max * (1.0 - rng_.uniform());  // in (0, outlier_max]
+        }
+        if (missed) {
+            prev_s_[b] = when;
+            next_s_[b] = when + interval();
+            continue;
+        }
+        const double range = std::max(0.0, truth + detour + spec_.noise_sd * rng_.normal());
         const long db = std::lround(range * 100.0);
         const long dr = std::lround(range / spec_.speed_of_sound * 1e6);
         const long tm = std::lround((when - prev_s_[b]) * 1000.0);

@@ -453,6 +453,8 @@ bool Parser::key_actuation(const Tokens &t, Scenario *s)
     std::vector<Field> f = {
         {"gain", T::Real, &a.gain, 0.0, 0.5},
         {"noise", T::Real, &a.noise, 0.0, 0.5},
+        {"deadband", T::Real, &a.deadband, 0.0, 1.0},
+        {"slip_mu", T::Real, &a.slip_mu, 0.0, 2.0},
     };
     return fields(t, f);
 }
@@ -463,6 +465,7 @@ bool Parser::key_gyro(const Tokens &t, Scenario *s)
     std::vector<Field> f = {
         {"bias", T::Real, &s->gyro.bias, -1.0, 1.0},
         {"noise_sd", T::Real, &s->gyro.noise_sd, 0.0, 10.0},
+        {"scale", T::Real, &s->gyro.scale, 0.0, 0.2},
     };
     return fields(t, f);
 }
@@ -489,6 +492,9 @@ bool Parser::key_cricket(const Tokens &t, Scenario *s)
         {"noise_sd", T::Real, &c.noise_sd, 0.0, 1.0},
         {"listener_height", T::Real, &c.listener_height, 0.0, 10.0},
         {"speed_of_sound", T::Real, &c.speed_of_sound, 300.0, 400.0},
+        {"dropout", T::Real, &c.dropout, 0.0, 0.9},
+        {"outlier", T::Real, &c.outlier, 0.0, 0.9},
+        {"outlier_max", T::Real, &c.outlier_max, 0.01, 10.0},
     };
     if (!fields(t, f)) return false;
     if (c.space.empty() || c.space.size() > 16 ||
@@ -945,15 +951,18 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
          "the ranger or its rays"},
         {bits_same(a.code_bits, b.code_bits), "the code bits"},
         {a.actuation.enabled == b.actuation.enabled && a.actuation.gain == b.actuation.gain &&
-             a.actuation.noise == b.actuation.noise,
+             a.actuation.noise == b.actuation.noise && a.actuation.deadband == b.actuation.deadband &&
+             a.actuation.slip_mu == b.actuation.slip_mu,
          "the actuation"},
-        {a.gyro.bias == b.gyro.bias && a.gyro.noise_sd == b.gyro.noise_sd, "the gyro"},
+        {a.gyro.bias == b.gyro.bias && a.gyro.noise_sd == b.gyro.noise_sd && a.gyro.scale == b.gyro.scale,
+         "the gyro"},
         {a.gps.enabled == b.gps.enabled && a.gps.xy_sd == b.gps.xy_sd && a.gps.heading_sd == b.gps.heading_sd,
          "the gps"},
         {beacons_same(a.cricket.beacons, b.cricket.beacons) && a.cricket.space == b.cricket.space &&
              a.cricket.min_interval == b.cricket.min_interval && a.cricket.max_interval == b.cricket.max_interval &&
              a.cricket.noise_sd == b.cricket.noise_sd && a.cricket.listener_height == b.cricket.listener_height &&
-             a.cricket.speed_of_sound == b.cricket.speed_of_sound,
+             a.cricket.speed_of_sound == b.cricket.speed_of_sound && a.cricket.dropout == b.cricket.dropout &&
+             a.cricket.outlier == b.cricket.outlier && a.cricket.outlier_max == b.cricket.outlier_max,
          "the Cricket system or its beacons"},
         {a.timing.control_period == b.timing.control_period && a.timing.physics_dt == b.timing.physics_dt,
          "the timing"},
@@ -985,7 +994,8 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
 namespace {
 
 // The scenarios shipped in host_sim/scenarios, which --scenario takes by name.
-const char *const kShippedScenarios[] = {"paper-lab", "paper-lab-motion", "paper-sim", "paper-sim-motion"};
+const char *const kShippedScenarios[] = {"paper-lab", "paper-lab-motion", "paper-lab-real", "paper-sim", "paper-sim-motion",
+                                         "paper-sim-real"};
 
 // Edit distance (insertions, deletions, substitutions), for "did you mean".
 std::size_t edit_distance(const std::string &a, const std::string &b)

@@ -31,8 +31,9 @@ constexpr double kPi = FW_PI;
 // A contact the solver resisted with less than this impulse (N*s) is not a push: Box2D leaves
 // round-off sized impulses on resting contacts.
 constexpr float kPushImpulse = 1e-5f;
+constexpr double kGravity = 9.81;  // m/s^2, for the tyres' friction
 
-enum Stream : std::uint32_t { kStart = 1, kRange = 2, kGyro = 3, kGps = 4, kActuation = 6 };  // 5: Cricket
+enum Stream : std::uint32_t { kStart = 1, kRange = 2, kGyro = 3, kGps = 4, kActuation = 6, kGyroScale = 7 };  // 5: Cricket
 
 // Sets the bump flag when the robot begins touching anything, or when the solver has to push
 // the robot back (it drove or turned into something). PostSolve reports each touching contact
@@ -99,6 +100,7 @@ struct World::Impl {
     // wheel's gain, drawn once here, is the same robot for the World's whole life.
     RandomStream actuation_rng;
     double gain_l = 1.0, gain_r = 1.0;
+    double gyro_scale = 1.0;  // `gyro scale`: drawn once, from a stream of its own
     double target_l = 0.0, target_r = 0.0;
     double half_track = 0.0;
     double mass = 0.0, inertia = 0.0, max_force = 0.0;
@@ -113,6 +115,10 @@ struct World::Impl {
             const double g = sc.actuation.gain;
             gain_l = actuation_rng.uniform(1.0 - g, 1.0 + g);
             gain_r = actuation_rng.uniform(1.0 - g, 1.0 + g);
+        }
+        if (sc.gyro.scale > 0.0) {
+            RandomStream scale_rng(seed, kGyroScale);
+            gyro_scale = scale_rng.uniform(1.0 - sc.gyro.scale, 1.0 + sc.gyro.scale);
         }
         build();
     }
@@ -204,9 +210,15 @@ void World::Impl::drive()
     const double cmd_l = speed_l + std::clamp(target_l - speed_l, -dv, dv);
     const double cmd_r = speed_r + std::clamp(target_r - speed_r, -dv, dv);
 
-    // 2. No sideways slip: cancel the sideways velocity (both wheels' share at once).
+    // 2. No sideways slip: cancel the sideways velocity (both wheels' share at once); with
+    //    `actuation slip_mu`, only as far as the tyres' friction allows (the rest slides).
     const float lateral = b2Dot(v, side);
-    robot->ApplyLinearImpulseToCenter(static_cast<float>(-mass * lateral) * side, true);
+    double grip = -mass * lateral;
+    if (sc.actuation.slip_mu > 0.0) {
+        const double most = sc.actuation.slip_mu * mass * kGravity * dt;
+        grip = std::clamp(grip, -most, most);
+    }
+    robot->ApplyLinearImpulseToCenter(static_cast<float>(grip) * side, true);
 
     // 3. Forces that bring both contact points to the command in one step.
     const double err_l = cmd_l - speed_l;
@@ -318,6 +330,11 @@ void World::set_wheel_targets(double left, double right)
             right *= 1.0 + a.noise * m.actuation_rng.normal();
         }
     }
+    if (a.deadband > 0.0) {
+        // Below its breakaway the motor does not turn.
+        if (std::fabs(left) < a.deadband) left = 0.0;
+        if (std::fabs(right) < a.deadband) right = 0.0;
+    }
     const double vmax = m.sc.robot.max_speed;
     impl_->target_l = std::clamp(left, -vmax, vmax);
     impl_->target_r = std::clamp(right, -vmax, vmax);
@@ -394,7 +411,7 @@ void World::range_readings(float out[])
 double World::gyro_rate()
 {
     const GyroSpec &g = impl_->sc.gyro;
-    double rate = yaw_rate() + g.bias;
+    double rate = g.scale > 0.0 ? yaw_rate() * impl_->gyro_scale + g.bias : yaw_rate() + g.bias;
     if (g.noise_sd > 0.0) rate += g.noise_sd * impl_->gyro_rng.normal();
     return rate;
 }

@@ -259,6 +259,22 @@ void test_name_resolution(void **state)
     assert_true(p.size() > 14 && p.compare(p.size() - 14, 14, "/paper-lab.scn") == 0);
     assert_string_equal(world::resolve_scenario_path("my/own.scn").c_str(), "my/own.scn");
     assert_string_equal(world::resolve_scenario_path("other").c_str(), "other");
+    // The realistic profile: paper-lab / paper-sim with every imperfection at its default, and
+    // otherwise the same robot and room.
+    for (const char *name : {"paper-lab", "paper-sim"}) {
+        world::Scenario exact, real;
+        std::string err;
+        assert_true(world::load_scenario(name, &exact, &err));
+        assert_true(world::load_scenario(std::string(name) + "-real", &real, &err));
+        assert_false(exact.actuation.enabled);
+        assert_true(real.actuation.enabled && real.actuation.gain == 0.05 && real.actuation.noise == 0.05 &&
+                    real.actuation.deadband == 0.02 && real.actuation.slip_mu == 0.6);
+        assert_true(real.gyro.scale == 0.03 && exact.gyro.scale == 0.0);
+        assert_true(real.obstacles.size() == exact.obstacles.size() && real.robot.track == exact.robot.track);
+        if (!real.cricket.beacons.empty()) {
+            assert_true(real.cricket.dropout == 0.05 && real.cricket.outlier == 0.02);
+        }
+    }
 }
 
 // The full example in docs/scenarios.md is a valid scenario.
@@ -389,6 +405,12 @@ void test_text_rules(void **state)
     assert_true(starts_with(err, "t.scn:6: 'x' is not a number (actuation gain)"));
     assert_false(world::parse_scenario(base + "actuation slip 1\n", "t.scn", &s, &err));
     assert_true(starts_with(err, "t.scn:6: unknown field 'slip' for 'actuation'"));
+    assert_true(world::parse_scenario(base + "actuation deadband 0.03 slip_mu 0.6\ngyro scale 0.03\n", "t.scn", &s, &err));
+    assert_true(s.actuation.deadband == 0.03 && s.actuation.slip_mu == 0.6 && s.gyro.scale == 0.03);
+    assert_false(world::parse_scenario(base + "gyro scale 0.3\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: gyro scale 0.3 out of range [0, 0.2]"));
+    assert_false(world::parse_scenario(base + "actuation deadband 2\n", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:6: actuation deadband 2 out of range [0, 1]"));
     assert_false(world::parse_scenario(base + "actuation gain 0.1\nactuation noise 0.1\n", "t.scn", &s, &err));
     assert_true(starts_with(err, "t.scn:7: duplicate 'actuation' (first on line 6)"));
     // encode sensor must match the code bits.

@@ -25,6 +25,7 @@ int run_scenario_tests(void);
 namespace {
 
 constexpr double kPi = FW_PI;
+constexpr double s_dt_ = 0.016;  // the default physics step, s
 
 // An empty 10 m x 10 m arena with a 0.6 x 0.5 robot (track 0.4) and the given extra lines.
 world::Scenario open_arena(const std::string &extra,
@@ -433,6 +434,86 @@ void test_actuation(void **state)
     assert_true(w.wheel_targets().left == 2.0 && w.wheel_targets().right == -2.0);
 }
 
+// The other imperfections of a real base: a motor deadband, tyres that slide sideways past their
+// friction, a gyro scale error drawn once per robot, Cricket transmissions missed or reflected.
+void test_imperfections(void **state)
+{
+    (void)state;
+    // Deadband: a target below it does not turn the wheel.
+    {
+        world::World w(open_arena("actuation deadband 0.05\n"), 1);
+        w.set_wheel_targets(0.03, -0.2);
+        assert_true(w.wheel_targets().left == 0.0 && w.wheel_targets().right == -0.2);
+        w.set_wheel_targets(-0.049, 0.05);
+        assert_true(w.wheel_targets().left == 0.0 && w.wheel_targets().right == 0.05);
+    }
+    // Sideways grip: a fast arc needs 3.75 m/s^2 of centripetal force; at mu 0.2 (1.96 m/s^2)
+    // the robot slides out of it, with ideal tyres it does not.
+    for (const char *extra : {"", "actuation slip_mu 0.2\n"}) {
+        world::World w(open_arena(extra), 1);
+        w.reset({3.0, 5.0, 0.0});
+        w.set_wheel_targets(1.0, 2.0);
+        double slide = 0.0;
+        for (int i = 0; i < 40; ++i) {
+            const world::Pose a = w.pose();
+            w.step();
+            const world::Pose b = w.pose();
+            const double mid = a.heading + 0.5 * world::wrap_angle(b.heading - a.heading);
+            const double sideways = -(b.x - a.x) * std::sin(mid) + (b.y - a.y) * std::cos(mid);
+            if (i >= 10) slide = std::max(slide, std::fabs(sideways) / s_dt_);
+        }
+        if (extra[0] == '\0') {
+            assert_true(slide < 0.05);
+        } else {
+            assert_true(slide > 0.1);
+        }
+    }
+    // Gyro scale: the rate times a factor drawn once per robot within [0.97, 1.03]; none without.
+    {
+        const world::Scenario g = open_arena("gyro scale 0.03\n");
+        double lo = 2.0, hi = 0.0;
+        for (std::uint32_t seed = 1; seed <= 50; ++seed) {
+            world::World w(g, seed);
+            w.reset({5.0, 5.0, 0.0});
+            w.set_wheel_targets(-0.4, 0.4);
+            for (int i = 0; i < 12; ++i) w.step();
+            const double k = w.gyro_rate() / w.yaw_rate();
+            assert_true(k >= 0.97 && k <= 1.03);
+            lo = std::min(lo, k);
+            hi = std::max(hi, k);
+        }
+        assert_true(lo < 0.98 && hi > 1.02);
+        world::World exact(open_arena(""), 1);
+        exact.reset({5.0, 5.0, 0.0});
+        exact.set_wheel_targets(-0.4, 0.4);
+        for (int i = 0; i < 12; ++i) exact.step();
+        assert_true(exact.gyro_rate() == exact.yaw_rate());
+    }
+    // Cricket: half the transmissions missed; of the rest, a fifth reflected, up to 1 m long.
+    {
+        world::Scenario lab = shipped("paper-lab");
+        const std::size_t all = [&] {
+            world::CricketListener l(lab, 9);
+            std::vector<world::CricketLine> lines;
+            for (int k = 1; k <= 600; ++k) l.advance(k * 0.1, 1.2, 2.1, &lines);
+            return lines.size();
+        }();
+        lab.cricket.dropout = 0.5;
+        lab.cricket.outlier = 0.2;
+        world::CricketListener l(lab, 9);
+        std::vector<world::CricketLine> lines;
+        for (int k = 1; k <= 600; ++k) l.advance(k * 0.1, 1.2, 2.1, &lines);
+        assert_true(lines.size() > all * 4 / 10 && lines.size() < all * 6 / 10);
+        std::size_t long_ones = 0;
+        for (const world::CricketLine &c : lines) {
+            const double extra = c.range_m - c.true_range_m;
+            assert_true(extra > -0.06 && extra < 1.06);
+            long_ones += extra > 0.06 ? 1u : 0u;
+        }
+        assert_true(long_ones > lines.size() / 10 && long_ones < lines.size() * 3 / 10);
+    }
+}
+
 void test_determinism(void **state)
 {
     (void)state;
@@ -632,6 +713,7 @@ int main(void)
         cmocka_unit_test(test_start_poses),
         cmocka_unit_test(test_goal),
         cmocka_unit_test(test_actuation),
+        cmocka_unit_test(test_imperfections),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_gyro_gps_noise),
         cmocka_unit_test(test_sensor_code),

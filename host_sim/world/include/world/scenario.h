@@ -77,6 +77,9 @@ struct CodeBit {
 struct GyroSpec {
     double bias = 0.0;      ///< rad/s, constant
     double noise_sd = 0.0;  ///< rad/s, per reading
+    /// The gyro's scale factor error: drawn once per World, uniform in [1 - scale, 1 + scale],
+    /// multiplying the true rate (0: exact).
+    double scale = 0.0;
 };
 
 /// How the motors carry out the wheel speed targets (`actuation`, docs/scenarios.md). Without the
@@ -89,6 +92,12 @@ struct ActuationSpec {
     /// Each motor command's target of each wheel is multiplied by 1 + noise x N(0, 1), drawn per
     /// command and wheel.
     double noise = 0.0;
+    /// m/s: a wheel whose target (after gain and noise) is smaller than this does not turn (the
+    /// motor's static friction: it stalls below its breakaway torque).
+    double deadband = 0.0;
+    /// Tyre friction coefficient against the floor: the wheels' sideways grip is limited to
+    /// slip_mu x the robot's weight (0: no limit, the ideal no-slip tyres).
+    double slip_mu = 0.0;
 };
 
 struct GpsSpec {
@@ -110,6 +119,12 @@ struct CricketSpec {
     double noise_sd = 0.01;         ///< m, on each range
     double listener_height = 0.1;   ///< m, the listener's height above the floor
     double speed_of_sound = 343.0;  ///< m/s, turns ranges into the DR time of flight
+    /// Share of transmissions the listener misses (no line): a beacon blocked or out of its cone.
+    double dropout = 0.0;
+    /// Share of lines whose range is a reflection's: longer than the true range by a distance
+    /// uniform in (0, outlier_max].
+    double outlier = 0.0;
+    double outlier_max = 1.0;  ///< m
 };
 
 struct Timing {
@@ -212,7 +227,7 @@ bool parse_scenario(std::string_view text, const std::string &file, Scenario *ou
 std::string layout_change_problem(const Scenario &base, const Scenario &changed);
 
 /// The path a scenario argument names: a bare name without '/' and without ".scn" that matches a
-/// shipped scenario ("paper-sim", "paper-lab", "paper-sim-motion", "paper-lab-motion") gives host_sim/scenarios/<name>.scn of this
+/// shipped scenario ("paper-sim", "paper-lab", their "-motion" and "-real" variants) gives host_sim/scenarios/<name>.scn of this
 /// source tree; anything else is returned unchanged as a path.
 std::string resolve_scenario_path(const std::string &name_or_path);
 
