@@ -28,6 +28,7 @@ target_link_libraries(dynaqpc_hal_netduinoplus2
         dynaqpc_stm32f4_semihost
     PRIVATE dynaqpc_c_flags)
 
+set(DYNAQPC_NETDUINOPLUS2_LD ${DYNAQPC_BOARD_DIR}/netduinoplus2.ld CACHE INTERNAL "the emulated board's memory map")
 set(board_startup_hooks ${DYNAQPC_BOARD_DIR}/startup_hooks.h)
 set(board_startup_include ${DYNAQPC_BOARD_DIR}/include)
 list(APPEND board_targets netduinoplus2-robot)
