@@ -6,6 +6,8 @@
 #   tools/dev.sh test    set up, build, and run every test (host, host-asan, cortex-m4, fuzz)
 #   tools/dev.sh bench   set up, build optimised, print the agent's benchmark figures
 #   tools/dev.sh fuzz    set up, build the fuzz targets, run a campaign (tests/fuzz/campaign.sh args)
+#   tools/dev.sh docs-check  set up, build optimised, re-run the cheap figures README and docs/results/
+#                        quote and fail when one drifted (a few minutes)
 #   tools/dev.sh setup   only install what is missing
 set -euo pipefail
 
@@ -111,14 +113,21 @@ bench() {
     build/host-release/bin/dynaqpc-bench
 }
 
+docs_check() {
+    setup
+    build host-release
+    .venv/bin/python tools/docs_check.py "$@"
+}
+
 case "${1:-}" in
 setup) setup ;;
 demo) demo ;;
 test) run_tests ;;
 bench) bench ;;
 fuzz) shift; fuzz "$@" ;;
+docs-check) shift; docs_check "$@" ;;
 *)
-    sed -n '3,10p' "$0"
+    sed -n '3,12p' "$0"
     exit 2
     ;;
 esac
