@@ -289,7 +289,10 @@ def _plot(bars, path: Path, grid: Grid) -> None:
     ax.set_xticks(range(len(labels)))
     ax.set_xticklabels(labels, rotation=20, ha="right", fontsize=8)
     ax.set_ylabel("real steps to learn (mean ± sd over all sets; k/n learned)")
-    ax.set_title(f"Sweep on {grid.scenario}: {grid.sets} sets x {grid.episodes} episodes")
+    learned = (f"trailing 5-episode mean <= {grid.threshold:g} steps" if grid.threshold is not None
+               else "within 1.5 x each set's final mean")
+    ax.set_title(f"Sweep on {grid.scenario}: {grid.sets} sets x {grid.episodes} episodes, seed {grid.seed}; "
+                 f"learned: {learned}", fontsize=9)
     ax.grid(True, axis="y", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
