@@ -93,3 +93,24 @@ def test_the_summary_says_goals_and_idle_planning(capsys):
     args = emu.build_parser().parse_args(["run", "--min-goals", "2"])
     assert emu.summarise(args, board, 0, Watch(), Bridge()) == 1
     assert "the goal reached in 1 episodes, expected at least 2" in capsys.readouterr().out
+
+
+def test_a_slow_clock_without_misses_is_reported_not_failed(capsys):
+    class Watch:
+        frames, sched, sched_planning, plan_updates, deadline_misses, status = 10, 5, 3, 40, 0, 2
+        idle_percent = [99.0]
+        episodes = [{"Episode": 1, "Steps": 6, "ReachedGoal": 0}]
+
+    class Bridge:
+        to_bus, to_board, errors = 100, 100, 0
+
+    args = emu.build_parser().parse_args(["run", "--icount", "3"])
+    board = _FakeLines(["report: t_ms=2000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0",
+                        "report: t_ms=6000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0"],
+                       [1.0, 9.0])  # 4 s of firmware time in 8 s of wall
+    assert emu.summarise(args, board, 0, Watch(), Bridge()) == 0
+    out = capsys.readouterr().out
+    assert "fell behind" in out and "emu: PASS" in out
+    Watch.deadline_misses = 7
+    assert emu.summarise(args, board, 0, Watch(), Bridge()) == 1
+    assert "FAIL: deadline misses: bus 7, board 0 — the emulation fell behind" in capsys.readouterr().out
