@@ -2,6 +2,7 @@
 // dynaqpc robot application: episodes and real steps.
 #include "robot/controller.h"
 
+#include <math.h>
 #include <stddef.h>
 
 void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
@@ -30,6 +31,7 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->bump_latched = false;
     c->settle_phase = 0u;
     c->run_check = false;
+    c->heading_offset = 0.0f;  // the operator gives the heading at a start
     c->episode_start_us = UINT64_MAX;  // set at the first period
     c->stopped_at_us = 0;
     c->safe_stop_held = false;
@@ -80,6 +82,8 @@ static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_sense_t 
     c->have_s = true;
     c->bump_latched = false;
     c->act_heading = pose->heading;
+    c->step_x0 = pose->x;
+    c->step_y0 = pose->y;
     const robot_motion_t m = robot_action_motion(c->cfg, c->a, pose);
     motion_start_(c, &m, in, pose->heading);
 }
@@ -119,9 +123,45 @@ static bool settle_(robot_ctrl_t *c, const robot_sense_t *in)
 }
 
 // The outcome of the pending step (or, at an episode's start, the first state) is observable.
-static void observe_(robot_ctrl_t *c, const robot_sense_t *in)
+// Why the heading takes the Cricket's word: the gyro integrates its rate, and a scale error
+// (a few per cent on a MEMS gyro) turns every turn into a heading error that nothing else
+// removes. A straight step in closed loop goes along the heading the gyro held, so the line from
+// the still fix before it to the still fix after it is the true heading the gyro called `hold`;
+// a share of the difference goes into the heading (ROBOT_HEADING_FROM_FIX). Only steps of at
+// least ROBOT_HEADING_FIX_MIN_M, which did not bump: over 30 cm two fixes 1-2 cm off give the
+// line within ~4 degrees.
+#ifndef ROBOT_HEADING_FROM_FIX
+#define ROBOT_HEADING_FROM_FIX 0.2f
+#endif
+#define ROBOT_HEADING_FIX_MIN_M 0.3f
+
+static float heading_from_fix_(robot_ctrl_t *c, const robot_sense_t *in)
+{
+    if (!(ROBOT_HEADING_FROM_FIX > 0.0f) || !robot_closes_loop(c->cfg) || !c->have_s || c->bump_latched ||
+        (c->a != ROBOT_FORWARD && c->a != ROBOT_BACKWARD)) {
+        return 0.0f;
+    }
+    const float dx = in->pose.x - c->step_x0, dy = in->pose.y - c->step_y0;
+    if (dx * dx + dy * dy < ROBOT_HEADING_FIX_MIN_M * ROBOT_HEADING_FIX_MIN_M) {
+        return 0.0f;
+    }
+    float line = atan2f(dy, dx) + (c->a == ROBOT_BACKWARD ? FW_PI_F : 0.0f);
+    float e = fmodf(line - c->run.hold, 2.0f * FW_PI_F);
+    e = e > FW_PI_F ? e - 2.0f * FW_PI_F : e < -FW_PI_F ? e + 2.0f * FW_PI_F : e;
+    if (fabsf(e) > 0.5f) {
+        return 0.0f;  // not a straight step after all (a fix far off): no word on the heading
+    }
+    const float d = ROBOT_HEADING_FROM_FIX * e;
+    c->heading_offset += d;
+    return d;
+}
+
+static void observe_(robot_ctrl_t *c, const robot_sense_t *sensed)
 {
     const robot_config_t *cfg = c->cfg;
+    robot_sense_t adjusted = *sensed;
+    adjusted.pose.heading += heading_from_fix_(c, sensed);
+    const robot_sense_t *in = &adjusted;
     // A step that bumped backs off first (robot_motion.h): its outcome is observed where the
     // back-off ends, in the same cell, at the offset an aligned step leaves.
     if (c->have_s && c->bump_latched && !c->backing_off && robot_backs_off(cfg)) {
@@ -179,8 +219,12 @@ static bool pose_usable_(const robot_ctrl_t *c, const robot_sense_t *in)
     return in->pose_ok && in->now_us - in->pose_time_us <= c->cfg->pose_timeout_us;
 }
 
-void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, float *v_right)
+void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *sensed, float *v_left, float *v_right)
 {
+    // The gyro's heading with what the Cricket fixes have said of it (heading_from_fix_()).
+    robot_sense_t adjusted = *sensed;
+    adjusted.pose.heading += c->heading_offset;
+    const robot_sense_t *in = &adjusted;
     c->step_done = false;
     c->episode_done = false;
     if (c->mode != ROBOT_MODE_IDLE) {

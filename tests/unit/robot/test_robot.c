@@ -957,6 +957,39 @@ static void test_closed_loop_motion_on_mismatched_wheels(void **state)
     assert_int_equal(exact.corrections, 0);
 }
 
+// The lab robot's heading takes the Cricket's word after a straight step: fixes that put the
+// step's line 10 degrees left of the heading the gyro held move the heading 2 degrees left.
+static void test_heading_follows_the_fixes_of_a_straight_step(void **state)
+{
+    (void)state;
+    bench_init_lab_aligned_();
+    agent_paper_sim.params.epsilon = 0.0f;
+    const float cw = 0.5375f;
+    bench_.sense.pose = (robot_pose_t){2.0f * cw + bench_.cfg.step_past_m, 0.8f + bench_.cfg.step_past_m, 0.0f};
+    const agent_state_t s0 = robot_encode_state(&bench_.cfg, &bench_.sense.pose, 0);
+    qstore_set(&agent_paper_sim.q, qstore_row_for_update(&agent_paper_sim.q, s0), ROBOT_FORWARD, 10.0f);
+    robot_ctrl_start_episode(&bench_.ctrl);
+    for (int i = 0; i < 20 && !(bench_.ctrl.step_done && bench_.ctrl.have_s); i++) {
+        bench_period_();  // settling (nothing to do along x), then the first state: forward
+    }
+    assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
+    const float x0 = bench_.ctrl.step_x0, y0 = bench_.ctrl.step_y0;
+    for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING; i++) {
+        bench_period_();
+    }
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    assert_float_equal(bench_.ctrl.heading_offset, 0.0f, 0);
+    const float d = bench_.sense.pose.x - x0;
+    assert_true(d > 0.3f);
+    bench_.sense.pose.y = y0 + d * tanf(10.0f * 3.14159265f / 180.0f);
+    bench_period_();  // the fix after the step: observed
+    assert_true(bench_.ctrl.step_done);
+    assert_float_equal(bench_.ctrl.heading_offset, 0.2f * 10.0f * 3.14159265f / 180.0f, 1e-3);
+    // A new episode starts from the heading the operator gives.
+    robot_ctrl_start_episode(&bench_.ctrl);
+    assert_float_equal(bench_.ctrl.heading_offset, 0.0f, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -988,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_idle_planning_when_planning_is_zero),
         cmocka_unit_test(test_idle_planning_plans_before_the_next_action),
         cmocka_unit_test(test_closed_loop_motion_on_mismatched_wheels),
+        cmocka_unit_test(test_heading_follows_the_fixes_of_a_straight_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -87,6 +87,8 @@ typedef struct robot_ctrl {
     uint8_t settle_phase;      ///< the next robot_settle_phase_t of settling onto the grid (robot_settles())
     robot_run_t run;           ///< the motion in closed loop (robot_closes_loop())
     bool run_check;            ///< a closed-loop motion's periods are over: check it once the robot stands
+    float heading_offset;      ///< rad added to the sensed heading: what Cricket fixes said of the gyro's (controller.c)
+    float step_x0, step_y0;    ///< the fix the pending step started from
     uint64_t stopped_at_us;    // when the wheels stopped after the last action
     uint32_t step, episode, bumps;
     float episode_reward;
