@@ -36,6 +36,7 @@
 #include "hal/hal_uart.h"
 #include "hal_host/hal_host.h"
 #include "options.h"
+#include "robot/pose_trust.h"
 #include "robot/robot_app.h"
 #include "scenario_bridge.h"
 #include "sched/sched.h"
@@ -336,6 +337,9 @@ int run(const std::vector<std::string> &args)
                 st.restore_fell_back ? 1 : 0, st.tool_refused, st.tool_answers, st.tool_malformed, st.resets,
                 st.restores, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
                 cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
+    std::printf("trust: losses=%u gyro_gap=%u fix_jump=%u stall=%u legs=%u legs_failed=%u episodes_interrupted=%u\n",
+                st.trust_losses, st.trust_losses_by[POSE_TRUST_WHY_GYRO_GAP], st.trust_losses_by[POSE_TRUST_WHY_FIX_JUMP],
+                st.trust_losses_by[POSE_TRUST_WHY_STALL], st.trust_legs, st.trust_legs_failed, st.episodes_interrupted);
     std::printf("cricket: lines=%u ranges=%u overlong=%u garbage=%u malformed=%u no_range=%u unknown_beacon=%u "
                 "bad_range=%u bad_geometry=%u inconsistent=%u\n",
                 ck.lines, ck.ranges, ck.overlong, ck.garbage, ck.malformed, ck.no_range, ck.unknown_beacon,

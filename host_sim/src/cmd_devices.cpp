@@ -173,7 +173,9 @@ private:
 
     void send_start()
     {
-        (void)bus_.send(start_episode_frame(cfg_, start_pose_, &counter_));
+        // The robot's heading now, as the operator measures it (a retry after a reboot finds the
+        // robot where it drove to, not at the start).
+        (void)bus_.send(start_episode_frame(cfg_, world_.pose(), &counter_));
     }
 
     world::World &world_;
@@ -296,8 +298,10 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
         return wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(t) * 1000.0 / s.speed));
     };
     bool finished = false;
+    PoseCheck pose_check;  // the firmware's heading at its learned steps against the world's, whole run
     auto on_frame = [&](const hal_can_frame_t &f) {
         devices.receive(f, t_us);
+        pose_check.on_frame(f, world.pose());
         if (s.supervise && sup.on_frame(f, t_us) && s.episodes != 0 && sup.episodes_done() >= s.episodes) {
             finished = true;
         }
@@ -332,6 +336,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
                 wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
                 sup.safe_stops(), sup.safe_stop_restarts(),
                 devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
+    std::printf("pose: learned_steps=%u %s\n", pose_check.steps(), pose_check.summary().c_str());
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
                 bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());
     std::fflush(stdout);

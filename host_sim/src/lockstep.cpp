@@ -235,6 +235,7 @@ struct Lockstep::Impl {
         o << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
+          << " trust_losses=" << st.trust_losses << " episodes_interrupted=" << st.episodes_interrupted
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
           << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary();
         return o.str();

@@ -86,9 +86,9 @@ static void decode(const hal_can_frame_t *f)
     case DYNAQPC_CAN_TLM_EPISODE_FRAME_ID: {
         tlm_episode_t e;
         if ((rc = tlm_decode_episode(f, &e)) == FW_OK) {
-            printf("OK TLM_EPISODE Episode=%u Steps=%u TotalReward=%d ReachedGoal=%d Bumps=%u\n",
+            printf("OK TLM_EPISODE Episode=%u Steps=%u TotalReward=%d ReachedGoal=%d Bumps=%u Interrupted=%d\n",
                    (unsigned)e.episode, (unsigned)e.steps, (int)e.total_reward, e.reached_goal,
-                   (unsigned)e.bumps);
+                   (unsigned)e.bumps, e.interrupted);
             return;
         }
         break;
@@ -114,12 +114,13 @@ static void decode(const hal_can_frame_t *f)
         tlm_status_t s;
         if ((rc = tlm_decode_status(f, &s)) == FW_OK) {
             printf("OK FW_STATUS Mode=%u ErrMotorSilent=%d ErrGyroSilent=%d ErrRangeSilent=%d "
-                   "ErrPoseLost=%d ErrCanBus=%d ErrUart=%d ErrFlash=%d ErrDeadlineMiss=%d Uptime=%u\n",
+                   "ErrPoseLost=%d ErrCanBus=%d ErrUart=%d ErrFlash=%d ErrDeadlineMiss=%d Uptime=%u "
+                   "PoseTrusted=%d TrustReason=%u ResetCause=%u\n",
                    s.mode, !!(s.errors & TLM_ERR_MOTOR_SILENT), !!(s.errors & TLM_ERR_GYRO_SILENT),
                    !!(s.errors & TLM_ERR_RANGE_SILENT), !!(s.errors & TLM_ERR_POSE_LOST),
                    !!(s.errors & TLM_ERR_CAN_BUS), !!(s.errors & TLM_ERR_UART),
                    !!(s.errors & TLM_ERR_FLASH), !!(s.errors & TLM_ERR_DEADLINE_MISS),
-                   (unsigned)s.uptime_s);
+                   (unsigned)s.uptime_s, s.pose_trusted, s.trust_reason, s.reset_cause);
             return;
         }
         break;
@@ -263,14 +264,15 @@ static void encode(const char *name, int argc, char **argv)
         rc = FW_OK;
     } else if (strcmp(name, "TLM_EPISODE") == 0) {
         tlm_episode_t e = {(uint32_t)A("Episode"), (uint32_t)A("Steps"), (int32_t)A("TotalReward"),
-                           A("ReachedGoal") != 0, (uint32_t)A("Bumps")};
+                           A("ReachedGoal") != 0, (uint32_t)A("Bumps"), A("Interrupted") != 0};
         tlm_encode_episode(&e, &f);
         rc = FW_OK;
     } else if (strcmp(name, "FW_STATUS") == 0) {
         static const char *const flags[8] = {"ErrMotorSilent", "ErrGyroSilent", "ErrRangeSilent",
                                              "ErrPoseLost", "ErrCanBus", "ErrUart", "ErrFlash",
                                              "ErrDeadlineMiss"};
-        tlm_status_t s = {(uint8_t)A("Mode"), 0, (uint32_t)A("Uptime")};
+        tlm_status_t s = {(uint8_t)A("Mode"), 0, (uint32_t)A("Uptime"), A("PoseTrusted") != 0,
+                          (uint8_t)A("TrustReason"), (uint8_t)A("ResetCause")};
         for (unsigned i = 0; i < 8u; i++) {
             s.errors |= (uint8_t)(A(flags[i]) != 0 ? 1u << i : 0u);
         }

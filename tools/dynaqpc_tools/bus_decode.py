@@ -132,6 +132,7 @@ class BusState:
         self.episode: Optional[int] = None
         self.step: Optional[int] = None
         self.mode: Optional[str] = None
+        self.trust: Optional[str] = None  # FW_STATUS PoseTrusted and TrustReason: "trusted (LEG)"
         self.episodes_ended = 0
         self._ended = False  # an episode's end was seen since TLM_LEARN's number last changed
         self.rays = {}  # signal name -> (angle rad relative to heading, range m or None)
@@ -165,6 +166,11 @@ class BusState:
             sig = m.get_signal_by_name("Mode")
             mode = int(v["Mode"])
             self.mode = str(sig.choices.get(mode, mode)) if sig.choices else str(mode)
+            if "PoseTrusted" in v:
+                why = m.get_signal_by_name("TrustReason")
+                r = int(v.get("TrustReason", 0))
+                self.trust = (("trusted" if int(v["PoseTrusted"]) else "NOT trusted") + " (" +
+                              (str(why.choices.get(r, r)) if why.choices else str(r)) + ")")
             return ""
         if m is self.motor:
             bump = bool(v.get("BumpFront", 0)) or bool(v.get("BumpRear", 0))

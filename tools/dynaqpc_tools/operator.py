@@ -96,7 +96,9 @@ def decode_status(db, data: bytes) -> Dict[str, object]:
     m = db.get_message_by_name("FW_STATUS")
     v = m.decode(data, decode_choices=True)
     errors = {k[3:]: int(val) for k, val in v.items() if k.startswith("Err")}
-    return {"mode": str(v["Mode"]), "uptime_s": int(v["Uptime"]), "errors": errors}
+    return {"mode": str(v["Mode"]), "uptime_s": int(v["Uptime"]), "errors": errors,
+            "pose_trusted": int(v.get("PoseTrusted", 0)), "trust_reason": str(v.get("TrustReason", "")),
+            "reset_cause": str(v.get("ResetCause", ""))}
 
 
 def decode_ack(db, data: bytes) -> Dict[str, object]:
@@ -137,7 +139,9 @@ def ack_text(ack: Dict[str, object]) -> str:
 def status_text(st: Dict[str, object]) -> str:
     errs = st["errors"]
     raised = [k for k, val in errs.items() if val]
-    return (f"mode {st['mode']}, uptime {st['uptime_s']} s, errors: "
+    trust = "trusted" if st.get("pose_trusted") else "NOT trusted"
+    return (f"mode {st['mode']}, uptime {st['uptime_s']} s, pose {trust} ({st.get('trust_reason', '?')}), "
+            f"reset cause {st.get('reset_cause', '?')}, errors: "
             f"{', '.join(raised) if raised else 'none'}\n  "
             + " ".join(f"{k}={val}" for k, val in errs.items()))
 

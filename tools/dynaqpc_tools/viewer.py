@@ -161,6 +161,8 @@ class PoseView:
             parts.append(f"step {st.step}")
         if st is not None and st.mode is not None:
             parts.append(f"mode {st.mode}")
+        if st is not None and st.trust is not None:
+            parts.append(f"pose {st.trust}")
         if p.fix is not None:
             parts.append(f"fix {p.fix_name or p.fix}")
         pose = f"x {p.x:.3f} m  y {p.y:.3f} m  heading {math.degrees(p.heading):.1f} deg  ({self.poses} poses)"

@@ -89,6 +89,10 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
             gyro->heading_deg = wrap_deg(gyro->heading_deg + mean * dt);
         } else {
             gyro->gaps++;
+            // What the heading may have missed, if the rate stayed within its two ends.
+            const float r0 = gyro->prev_rate_deg_s - gyro->bias_deg_s, r1 = rate - gyro->bias_deg_s;
+            const float r0a = r0 < 0.0f ? -r0 : r0, r1a = r1 < 0.0f ? -r1 : r1;
+            gyro->gap_bound_deg = (r0a > r1a ? r0a : r1a) * ((float)rx_dt_us * 1e-6f);
         }
     }
     gyro->have_prev = true;

@@ -86,7 +86,8 @@ void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
 {
     struct dynaqpc_can_tlm_episode_t m;
     m.episode = (uint16_t)(episode->episode & 0xFFFFu);
-    m.steps = (uint16_t)min_u32(episode->steps, 0xFFFFu);
+    m.steps = (uint16_t)min_u32(episode->steps, 0x7FFFu);
+    m.interrupted = episode->interrupted ? 1u : 0u;
     m.total_reward = fw_clamp_i32(episode->total_reward, -524288, 524287);
     m.reached_goal = episode->reached_goal ? 1u : 0u;
     m.bumps = (uint16_t)min_u32(episode->bumps, 2047u);
@@ -108,6 +109,9 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
     m.err_flash = (e & TLM_ERR_FLASH) ? 1u : 0u;
     m.err_deadline_miss = (e & TLM_ERR_DEADLINE_MISS) ? 1u : 0u;
     m.uptime = status->uptime_s;
+    m.pose_trusted = status->pose_trusted ? 1u : 0u;
+    m.trust_reason = (uint8_t)min_u32(status->trust_reason, TLM_TRUST_ABSOLUTE);
+    m.reset_cause = (uint8_t)min_u32(status->reset_cause, 4u);
     m.counter = can_link_tx_counter_next(&tlm->status_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH);
     (void)dynaqpc_can_fw_status_pack(out->data, &m, sizeof out->data);
@@ -222,6 +226,7 @@ int tlm_decode_episode(const hal_can_frame_t *frame, tlm_episode_t *out)
     out->total_reward = m.total_reward;
     out->reached_goal = m.reached_goal != 0u;
     out->bumps = m.bumps;
+    out->interrupted = m.interrupted != 0u;
     return FW_OK;
 }
 
@@ -230,7 +235,9 @@ int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
     struct dynaqpc_can_fw_status_t m;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH) ||
         dynaqpc_can_fw_status_unpack(&m, frame->data, frame->dlc) != 0 ||
-        !dynaqpc_can_fw_status_mode_is_in_range(m.mode)) {
+        !dynaqpc_can_fw_status_mode_is_in_range(m.mode) ||
+        !dynaqpc_can_fw_status_trust_reason_is_in_range(m.trust_reason) ||
+        !dynaqpc_can_fw_status_reset_cause_is_in_range(m.reset_cause)) {
         return FW_ERR_INVAL;
     }
     out->mode = m.mode;
@@ -242,6 +249,9 @@ int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
                             (m.err_flash ? TLM_ERR_FLASH : 0u) |
                             (m.err_deadline_miss ? TLM_ERR_DEADLINE_MISS : 0u));
     out->uptime_s = m.uptime;
+    out->pose_trusted = m.pose_trusted != 0u;
+    out->trust_reason = m.trust_reason;
+    out->reset_cause = m.reset_cause;
     return FW_OK;
 }
 

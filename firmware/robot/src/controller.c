@@ -103,6 +103,20 @@ static void end_episode_(robot_ctrl_t *c, uint64_t now, bool reached_goal)
     robot_ctrl_stop(c);
 }
 
+bool robot_ctrl_interrupt(robot_ctrl_t *c, uint64_t now_us)
+{
+    if (c->mode == ROBOT_MODE_IDLE) {
+        return false;
+    }
+    if (c->episode_start_us == UINT64_MAX) {
+        c->episode_start_us = now_us;  // cut before its first period
+    }
+    c->step_done = false;
+    end_episode_(c, now_us, false);
+    c->last_episode.interrupted = true;
+    return true;
+}
+
 // Before the first state of an episode (or after a stop cut a step short), the robot settles
 // onto the grid of aligned stops (robot_motion.h), one phase at a time, each from the pose the
 // last one ended at. Returns whether a settling motion started.

@@ -16,6 +16,7 @@
 #include "hal/hal_flash.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
+#include "robot/pose_trust.h"
 
 #define EV_CAN 1u   // a received frame, in u.can
 #define EV_UART 2u  // Cricket bytes are waiting in the UART's ring buffer
@@ -61,6 +62,14 @@ typedef struct robot_app {
     uint64_t boot_us;
     uint64_t period_start_idle_us;
     uint32_t tlm_planning_updates;  ///< the agent's planning updates at the last TLM_SCHED
+    // Pose trust (robot/pose_trust.h): whether the heading may be used, and what watches it.
+    pose_trust_t trust;
+    bool start_pending;        ///< an episode is to start once the heading is trusted
+    uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
+    uint64_t last_control_us;  ///< the last control period's start (0: none yet)
+    bool have_fix_ref;         ///< fix_ref_* hold the last fresh Cricket fix
+    float fix_ref_x, fix_ref_y;
+    uint64_t fix_ref_us;
 } robot_app_t;
 
 static robot_app_t app_;
@@ -134,6 +143,31 @@ static void answer_(tlm_ack_t *ack)
     send_(&app_.last_ack);
 }
 
+static void send_episode_(const robot_episode_report_t *ep)
+{
+    hal_can_frame_t f;
+    const tlm_episode_t e = {ep->episode, ep->steps, (int32_t)lrintf(ep->reward), ep->reached_goal, ep->bumps,
+                             ep->interrupted};
+    tlm_encode_episode(&e, &f);
+    send_(&f);
+}
+
+// A command ends the running episode (START_EPISODE, STOP): it is reported as interrupted, with
+// the steps it had; its last step is not learned from.
+static void interrupt_episode_(void)
+{
+    if (robot_ctrl_interrupt(&app_.ctrl, hal_time_us())) {
+        app_.stats.episodes_interrupted++;
+        send_episode_(&app_.ctrl.last_episode);
+        app_.ctrl.episode_done = false;  // reported here, not again by the control task
+    }
+}
+
+static bool heading_absolute_(void)
+{
+    return app_.opt.cfg->pose_source != ROBOT_POSE_CRICKET;
+}
+
 static uint8_t save_reason_(int err)
 {
     return err == FW_ERR_NOSYS ? TLM_WHY_NO_STORE : err == FW_ERR_NOMEM ? TLM_WHY_NO_ROOM : TLM_WHY_FLASH_ERROR;
@@ -151,16 +185,35 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     case TLM_CMD_START_EPISODE:
         // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
         // source has no heading of its own (a gyro only integrates), 0xFFFFFFFF to keep it.
+        // A heading from the operator makes it trusted (the operator put the robot down: the
+        // last fix's position is no reference for a jump). Without one an untrusted robot first
+        // finds its heading (pose_trust.h), then starts.
         if (cmd->argument <= 35999u) {
             gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
+            if (!heading_absolute_()) {
+                pose_trust_grant(&app_.trust, POSE_TRUST_WHY_OPERATOR);
+                app_.have_fix_ref = false;
+                app_.fix_ref_us = hal_time_us(); // the next reference: a fix all taken from now on
+            }
         }
-        robot_ctrl_start_episode(&app_.ctrl);
+        interrupt_episode_();
+        if (app_.trust.trusted) {
+            app_.start_pending = false;
+            robot_ctrl_start_episode(&app_.ctrl);
+        } else {
+            app_.start_pending = true;
+        }
         break;
     case TLM_CMD_STOP:
+        interrupt_episode_();
         robot_ctrl_stop(&app_.ctrl);
+        app_.start_pending = false;
+        pose_trust_cancel(&app_.trust);
         break;
     case TLM_CMD_SAFE_STOP:
         robot_ctrl_safe_stop(&app_.ctrl);  // FW_STATUS shows SAFE_STOP until START or STOP
+        app_.start_pending = false;
+        pose_trust_cancel(&app_.trust);
         break;
     // Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-8 and a new counter make a
     // command; but evaluate mode is a lock on what was learned, and wiping it takes a robot the
@@ -168,7 +221,8 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     case TLM_CMD_SAVE_LEARNED:
         if (app_.opt.evaluate) {
             REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if (app_.ctrl.mode == ROBOT_MODE_ACTING && app_.opt.cfg->wait_for_fix) {
+        } else if ((app_.ctrl.mode == ROBOT_MODE_ACTING || app_.trust.phase == POSE_TRUST_LEG_DRIVE) &&
+                   app_.opt.cfg->wait_for_fix) {
             // A robot that stands still between actions saves while it stands, as at an episode's
             // end: erasing flash stalls the MCU for longer than the motor timeout. (One that never
             // stands mid-episode, the simulated robot, saves at once.)
@@ -188,7 +242,7 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     case TLM_CMD_RESET_LEARNING:
         if (app_.opt.evaluate) {
             REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE) {
+        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
             REFUSE(TLM_WHY_NOT_IDLE);
         } else if ((app_.stats.saves > 0u || app_.stats.restore_result == FW_OK) &&
                    cmd->argument != TLM_RESET_CONFIRM) {
@@ -222,7 +276,7 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     case TLM_CMD_RESTORE_PREVIOUS:
         if (app_.opt.evaluate) {
             REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE) {
+        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
             REFUSE(TLM_WHY_NOT_IDLE);
         } else if (!app_.store_ok) {
             ack.result = TLM_ACK_FAILED;
@@ -460,10 +514,66 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
     tlm_encode_sched(&app_.dev.tlm, &sch, &f);
     send_(&f);
     if (app_.ctrl.episode_done) {
-        const robot_episode_report_t *ep = &app_.ctrl.last_episode;
-        const tlm_episode_t e = {ep->episode, ep->steps, (int32_t)lrintf(ep->reward), ep->reached_goal, ep->bumps};
-        tlm_encode_episode(&e, &f);
-        send_(&f);
+        send_episode_(&app_.ctrl.last_episode);
+    }
+}
+
+// What makes a gyro-integrated heading untrusted (pose_trust.h): a gap in the gyro's samples (or
+// its silence, or a sample it flags), a control task that stalled (the samples that bunched up
+// behind it are integrated over the wrong times), a fresh fix farther from the last one than the
+// wheels could have driven (the robot was moved).
+static void watch_trust_(const robot_sense_t *in, uint64_t now)
+{
+    const robot_config_t *cfg = app_.opt.cfg;
+    if (heading_absolute_()) {
+        return;
+    }
+    const gyro_t *g = &app_.dev.gyro;
+    if (app_.last_control_us != 0u && now - app_.last_control_us > (uint64_t)cfg->period_us + POSE_TRUST_STALL_US) {
+        pose_trust_lose(&app_.trust, POSE_TRUST_WHY_STALL);
+    }
+    app_.last_control_us = now;
+    // (Not heard yet: silent once the bus timeout has passed since boot.)
+    const bool silent = g->rx.seen ? can_link_rx_silent(&g->rx, now, cfg->bus_timeout_us)
+                                   : now - app_.boot_us > cfg->bus_timeout_us;
+    // A gap in the samples of a robot that stood still (both ends' rates near zero) cost nothing.
+    const bool gap = g->gaps != app_.gyro_gaps && g->gap_bound_deg > POSE_TRUST_GAP_DEG;
+    if (gap || (g->rx.seen && g->status != GYRO_STATUS_OK) || silent) {
+        pose_trust_lose(&app_.trust, POSE_TRUST_WHY_GYRO_GAP);
+    }
+    app_.gyro_gaps = g->gaps;
+    if (in->pose_ok && in->pose_time_us > app_.fix_ref_us) {
+        if (app_.have_fix_ref) {
+            const float dx = in->pose.x - app_.fix_ref_x, dy = in->pose.y - app_.fix_ref_y;
+            const float dt = (float)(in->pose_time_us - app_.fix_ref_us) * 1e-6f;
+            const float reach = POSE_TRUST_JUMP_M + POSE_TRUST_MAX_SPEED_M_S * dt;
+            if (dx * dx + dy * dy > reach * reach) {
+                pose_trust_lose(&app_.trust, POSE_TRUST_WHY_FIX_JUMP);
+            }
+        }
+        app_.have_fix_ref = true;
+        app_.fix_ref_x = in->pose.x;
+        app_.fix_ref_y = in->pose.y;
+        app_.fix_ref_us = in->pose_time_us;
+    }
+}
+
+// While an episode waits for the heading: the straight leg that finds it (pose_trust.h).
+static void find_heading_(const robot_sense_t *in, float *vl, float *vr)
+{
+    if (!in->bus_ok) {
+        pose_trust_cancel(&app_.trust);  // no motor controller: stand, and start the leg again
+        return;
+    }
+    gyro_t *g = &app_.dev.gyro;
+    const pose_trust_in_t ti = {in->now_us, in->pose_ok, in->pose.x, in->pose.y, in->pose_time_us,
+                                gyro_heading_deg(g), in->n_ranges > 0u ? in->range_m[0] : RANGE_NOTHING_M,
+                                in->bump};
+    float correction = 0.0f;
+    if (pose_trust_leg_period(&app_.trust, app_.opt.cfg, &ti, vl, vr, &correction)) {
+        gyro_set_heading(g, gyro_heading_deg(g) + correction);
+        app_.start_pending = false;
+        robot_ctrl_start_episode(&app_.ctrl);
     }
 }
 
@@ -476,8 +586,20 @@ static void control_task_(void *ctx)
     const uint64_t now = hal_time_us();
     robot_sense_t in;
     const uint8_t fix_state = sense_(&in, now);
-    float vl, vr;
-    robot_ctrl_period(&app_.ctrl, &in, &vl, &vr);
+    watch_trust_(&in, now);
+    float vl = 0.0f, vr = 0.0f;
+    if (!app_.trust.trusted && app_.ctrl.mode != ROBOT_MODE_IDLE) {
+        // The heading is lost: the episode ends here, before its pending step is observed, and
+        // the next starts once the heading is found again.
+        (void)robot_ctrl_interrupt(&app_.ctrl, now);
+        app_.stats.episodes_interrupted++;
+        app_.start_pending = app_.start_pending || app_.opt.auto_start;
+    } else {
+        robot_ctrl_period(&app_.ctrl, &in, &vl, &vr);
+        if (app_.start_pending && app_.ctrl.mode == ROBOT_MODE_IDLE) {
+            find_heading_(&in, &vl, &vr);
+        }
+    }
     const bool moving = vl != 0.0f || vr != 0.0f;
     app_.moved_last_period = moving;
     gyro_set_stationary(&app_.dev.gyro, !moving && in.bus_ok);
@@ -493,8 +615,10 @@ static void control_task_(void *ctx)
         if (app_.opt.persist && app_.store_ok && !app_.opt.evaluate) {
             note_save_(learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode));
         }
-        if (app_.opt.auto_start) {
+        if (app_.opt.auto_start && app_.trust.trusted) {
             robot_ctrl_start_episode(&app_.ctrl);
+        } else if (app_.opt.auto_start) {
+            app_.start_pending = true;
         }
     }
     hal_cpu_watchdog_kick();
@@ -560,10 +684,16 @@ static void status_task_(void *ctx)
     const uint64_t now = hal_time_us();
     const uint8_t errors = health_(now);
     app_.stats.status_errors = errors;
-    const uint8_t mode = app_.ctrl.mode == ROBOT_MODE_IDLE        ? TLM_MODE_IDLE
-                         : app_.ctrl.mode == ROBOT_MODE_SAFE_STOP ? TLM_MODE_SAFE_STOP
-                                                                  : TLM_MODE_RUNNING;
-    const tlm_status_t st = {mode, errors, (uint32_t)((now - app_.boot_us) / 1000000u)};
+    // An episode waiting for the heading (start_pending) runs: the robot drives its leg.
+    const uint8_t mode = app_.ctrl.mode == ROBOT_MODE_IDLE && !app_.start_pending ? TLM_MODE_IDLE
+                         : app_.ctrl.mode == ROBOT_MODE_SAFE_STOP                 ? TLM_MODE_SAFE_STOP
+                                                                                  : TLM_MODE_RUNNING;
+    const tlm_status_t st = {mode,
+                             errors,
+                             (uint32_t)((now - app_.boot_us) / 1000000u),
+                             app_.trust.trusted,
+                             app_.trust.reason,
+                             (uint8_t)hal_cpu_reset_cause()};
     hal_can_frame_t f;
     tlm_encode_status(&app_.dev.tlm, &st, &f);
     send_(&f);
@@ -615,6 +745,7 @@ int robot_app_init(const robot_app_options_t *opt)
         }
     }
     robot_ctrl_init(&app_.ctrl, cfg, opt->agent);
+    pose_trust_init(&app_.trust, cfg->pose_source != ROBOT_POSE_CRICKET);
     app_.tlm_planning_updates = opt->agent->stats.planning_updates;
     app_.ctrl.learning = !opt->evaluate;
     app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
@@ -662,7 +793,12 @@ int robot_app_init(const robot_app_options_t *opt)
         }
     }
     if (opt->auto_start) {
-        robot_ctrl_start_episode(&app_.ctrl);
+        // Untrusted at boot (a gyro-integrated heading starts at 0): the robot first finds it.
+        if (app_.trust.trusted) {
+            robot_ctrl_start_episode(&app_.ctrl);
+        } else {
+            app_.start_pending = true;
+        }
     }
     return FW_OK;
 }
@@ -706,6 +842,10 @@ void robot_app_get_stats(robot_app_stats_t *out)
 {
     *out = app_.stats;
     out->safe_stops = app_.ctrl.safe_stops;
+    out->trust_losses = app_.trust.losses;
+    memcpy(out->trust_losses_by, app_.trust.losses_by, sizeof out->trust_losses_by);
+    out->trust_legs = app_.trust.legs;
+    out->trust_legs_failed = app_.trust.legs_failed;
 }
 
 void robot_app_get_cricket_stats(cricket_stats_t *out)

@@ -135,6 +135,8 @@ static uint32_t n_acks_;
 // TLM_LEARN and TLM_VALUE in the order sent: kind 'L' or 'V'.
 static struct { char kind; tlm_learn_t learn; tlm_value_t value; } tlm_seen_[512];
 static uint32_t n_tlm_;
+static tlm_episode_t last_episode_;  // the last TLM_EPISODE
+static uint32_t n_episodes_;
 
 static void devices_talk_(void)
 {
@@ -191,6 +193,9 @@ static void live_for_(uint32_t ms)
                 } else if (f.id == DYNAQPC_CAN_TLM_VALUE_FRAME_ID && n_tlm_ < 512u) {
                     tlm_seen_[n_tlm_].kind = 'V';
                     assert_int_equal(tlm_decode_value(&f, &tlm_seen_[n_tlm_++].value), FW_OK);
+                } else if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID) {
+                    assert_int_equal(tlm_decode_episode(&f, &last_episode_), FW_OK);
+                    n_episodes_++;
                 } else if (f.id == DYNAQPC_CAN_TOOL_ACK_FRAME_ID && n_acks_ < 32u) {
                     assert_int_equal(tlm_decode_ack(&f, &acks_[n_acks_]), FW_OK);
                     ack_frames_[n_acks_++] = f;
@@ -228,6 +233,7 @@ static void boot_opt_(const robot_config_t *cfg, agent_t *ag, const agent_storag
     memset(ctr_, 0, sizeof ctr_);
     n_acks_ = 0;
     n_tlm_ = 0;
+    n_episodes_ = 0;
     motor_on_ = gyro_on_ = ranges_on_ = gps_on_ = cricket_on_ = true;
 }
 
@@ -530,6 +536,58 @@ static void test_value_frames_follow_the_steps(void **state)
     }
 }
 
+// Pose trust (robot/pose_trust.h) on the lab robot, whose heading is the gyro's: untrusted at boot,
+// so a start without a heading waits for it (FW_STATUS RUNNING, no step); a start with one is
+// trusted; a gyro that falls silent ends the episode as interrupted, and a STOP reports the
+// episode it cuts.
+static void test_pose_trust_gates_episodes(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab);
+    cmd_counter_ = 1;
+    live_for_(1500);
+    assert_false(last_status_.pose_trusted);
+    assert_int_equal(last_status_.trust_reason, TLM_TRUST_BOOT);
+    assert_int_equal(last_status_.reset_cause, 0);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(1500);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);  // no episode: finding the heading
+    assert_int_equal(last_status_.mode, TLM_MODE_RUNNING);
+    assert_false(last_status_.pose_trusted);
+    assert_int_equal(n_tlm_, 0);
+    // The operator's heading: trusted, the episode starts.
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(1500);
+    assert_true(last_status_.pose_trusted);
+    assert_int_equal(last_status_.trust_reason, TLM_TRUST_OPERATOR);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    assert_int_equal(n_episodes_, 0);
+    // The gyro falls silent: the heading is lost, the episode ends as interrupted.
+    gyro_on_ = false;
+    live_for_(1500);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    assert_int_equal(n_episodes_, 1);
+    assert_true(last_episode_.interrupted);
+    assert_false(last_episode_.reached_goal);
+    assert_false(last_status_.pose_trusted);
+    assert_int_equal(last_status_.trust_reason, TLM_TRUST_GYRO_GAP);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.trust_losses, 1);
+    assert_int_equal(st.trust_losses_by[TLM_TRUST_GYRO_GAP], 1);
+    assert_int_equal(st.episodes_interrupted, 1);
+    // Back, trusted by the operator again; a STOP mid-episode reports the episode as interrupted.
+    gyro_on_ = true;
+    live_for_(200);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(500);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    ASSERT_ANSWER(command_(TLM_CMD_STOP, 0u), TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(n_episodes_, 2);
+    assert_true(last_episode_.interrupted);
+    assert_int_equal(last_episode_.episode, robot_app_ctrl()->episode);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -540,6 +598,7 @@ int main(void)
         cmocka_unit_test(test_tool_cmd_authority),
         cmocka_unit_test(test_every_command_is_answered),
         cmocka_unit_test(test_value_frames_follow_the_steps),
+        cmocka_unit_test(test_pose_trust_gates_episodes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -40,6 +40,7 @@ typedef struct gyro {
     float prev_rate_deg_s;  ///< last integrated rate (bias not removed)
     uint64_t prev_us;
     uint32_t gaps;          ///< intervals longer than FW_CFG_GYRO_MAX_DT_US not integrated
+    float gap_bound_deg;    ///< the most the last such gap can have turned: its length times the larger end rate
     uint32_t bias_rejected; ///< stationary samples beyond the bias gate (still turning): not learnt
 } gyro_t;
 

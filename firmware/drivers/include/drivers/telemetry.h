@@ -27,6 +27,10 @@ enum tlm_fix_state { TLM_FIX_FRESH = 0, TLM_FIX_STALE = 1, TLM_FIX_MOVING = 2, T
 enum tlm_mode { TLM_MODE_BOOT = 0, TLM_MODE_IDLE = 1, TLM_MODE_RUNNING = 2, TLM_MODE_SAFE_STOP = 3,
                 TLM_MODE_FAULT = 4 };
 
+/// FW_STATUS TrustReason: the values of pose_trust_reason_t (robot/pose_trust.h).
+enum tlm_trust_reason { TLM_TRUST_BOOT = 0, TLM_TRUST_GYRO_GAP = 1, TLM_TRUST_FIX_JUMP = 2, TLM_TRUST_STALL = 3,
+                        TLM_TRUST_OPERATOR = 4, TLM_TRUST_LEG = 5, TLM_TRUST_ABSOLUTE = 6 };
+
 /// FW_STATUS error flags (tlm_status_t.errors).
 #define TLM_ERR_MOTOR_SILENT 0x01u
 #define TLM_ERR_GYRO_SILENT 0x02u
@@ -92,16 +96,20 @@ typedef struct tlm_sched {
 
 typedef struct tlm_episode {
     uint32_t episode;       ///< sent modulo 65536
-    uint32_t steps;         ///< saturated to 65535
+    uint32_t steps;         ///< saturated to 32767
     int32_t total_reward;   ///< saturated to -524288..524287
     bool reached_goal;
     uint32_t bumps;         ///< saturated to 2047
+    bool interrupted;       ///< cut before the goal or the step cap (its last step not learned)
 } tlm_episode_t;
 
 typedef struct tlm_status {
     uint8_t mode;           ///< enum tlm_mode
     uint8_t errors;         ///< TLM_ERR_* bits
     uint32_t uptime_s;
+    bool pose_trusted;      ///< the firmware trusts its heading (robot/pose_trust.h)
+    uint8_t trust_reason;   ///< enum tlm_trust_reason (saturated to ABSOLUTE)
+    uint8_t reset_cause;    ///< hal_reset_cause_t (saturated to OTHER)
 } tlm_status_t;
 
 typedef struct tlm_tool_cmd {

@@ -1287,11 +1287,11 @@ int dynaqpc_can_fw_status_pack(
     const struct dynaqpc_can_fw_status_t *src_p,
     size_t size)
 {
-    if (size < 6u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 6);
+    memset(&dst_p[0], 0, 8);
 
     dst_p[0] |= pack_left_shift_u8(src_p->mode, 0u, 0x0fu);
     dst_p[0] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
@@ -1307,8 +1307,11 @@ int dynaqpc_can_fw_status_pack(
     dst_p[3] |= pack_right_shift_u32(src_p->uptime, 8u, 0xffu);
     dst_p[4] |= pack_right_shift_u32(src_p->uptime, 16u, 0xffu);
     dst_p[5] |= pack_right_shift_u32(src_p->uptime, 24u, 0xffu);
+    dst_p[6] |= pack_left_shift_u8(src_p->pose_trusted, 0u, 0x01u);
+    dst_p[6] |= pack_left_shift_u8(src_p->trust_reason, 1u, 0x0eu);
+    dst_p[6] |= pack_left_shift_u8(src_p->reset_cause, 4u, 0x70u);
 
-    return (6);
+    return (8);
 }
 
 int dynaqpc_can_fw_status_unpack(
@@ -1316,7 +1319,7 @@ int dynaqpc_can_fw_status_unpack(
     const uint8_t *src_p,
     size_t size)
 {
-    if (size < 6u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
@@ -1334,6 +1337,9 @@ int dynaqpc_can_fw_status_unpack(
     dst_p->uptime |= unpack_left_shift_u32(src_p[3], 8u, 0xffu);
     dst_p->uptime |= unpack_left_shift_u32(src_p[4], 16u, 0xffu);
     dst_p->uptime |= unpack_left_shift_u32(src_p[5], 24u, 0xffu);
+    dst_p->pose_trusted = unpack_right_shift_u8(src_p[6], 0u, 0x01u);
+    dst_p->trust_reason = unpack_right_shift_u8(src_p[6], 1u, 0x0eu);
+    dst_p->reset_cause = unpack_right_shift_u8(src_p[6], 4u, 0x70u);
 
     return (0);
 }
@@ -1457,6 +1463,36 @@ bool dynaqpc_can_fw_status_uptime_is_in_range(uint32_t value)
 bool dynaqpc_can_fw_status_uptime_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 4294967295.0));
+}
+
+bool dynaqpc_can_fw_status_pose_trusted_is_in_range(uint8_t value)
+{
+    return (value <= 1u);
+}
+
+bool dynaqpc_can_fw_status_pose_trusted_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 1.0));
+}
+
+bool dynaqpc_can_fw_status_trust_reason_is_in_range(uint8_t value)
+{
+    return (value <= 6u);
+}
+
+bool dynaqpc_can_fw_status_trust_reason_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 6.0));
+}
+
+bool dynaqpc_can_fw_status_reset_cause_is_in_range(uint8_t value)
+{
+    return (value <= 4u);
+}
+
+bool dynaqpc_can_fw_status_reset_cause_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 4.0));
 }
 
 int dynaqpc_can_tlm_pose_pack(
@@ -1925,7 +1961,8 @@ int dynaqpc_can_tlm_episode_pack(
     dst_p[0] |= pack_left_shift_u16(src_p->episode, 0u, 0xffu);
     dst_p[1] |= pack_right_shift_u16(src_p->episode, 8u, 0xffu);
     dst_p[2] |= pack_left_shift_u16(src_p->steps, 0u, 0xffu);
-    dst_p[3] |= pack_right_shift_u16(src_p->steps, 8u, 0xffu);
+    dst_p[3] |= pack_right_shift_u16(src_p->steps, 8u, 0x7fu);
+    dst_p[3] |= pack_left_shift_u8(src_p->interrupted, 7u, 0x80u);
     total_reward = (uint32_t)src_p->total_reward;
     dst_p[4] |= pack_left_shift_u32(total_reward, 0u, 0xffu);
     dst_p[5] |= pack_right_shift_u32(total_reward, 8u, 0xffu);
@@ -1951,7 +1988,8 @@ int dynaqpc_can_tlm_episode_unpack(
     dst_p->episode = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
     dst_p->episode |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
     dst_p->steps = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
-    dst_p->steps |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
+    dst_p->steps |= unpack_left_shift_u16(src_p[3], 8u, 0x7fu);
+    dst_p->interrupted = unpack_right_shift_u8(src_p[3], 7u, 0x80u);
     total_reward = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
     total_reward |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
     total_reward |= unpack_left_shift_u32(src_p[6], 16u, 0x0fu);
@@ -1991,14 +2029,22 @@ bool dynaqpc_can_tlm_episode_episode_is_in_phys_range(double value)
 
 bool dynaqpc_can_tlm_episode_steps_is_in_range(uint16_t value)
 {
-    (void)value;
-
-    return (true);
+    return (value <= 32767u);
 }
 
 bool dynaqpc_can_tlm_episode_steps_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 65535.0));
+    return ((value >= 0.0) && (value <= 32767.0));
+}
+
+bool dynaqpc_can_tlm_episode_interrupted_is_in_range(uint8_t value)
+{
+    return (value <= 1u);
+}
+
+bool dynaqpc_can_tlm_episode_interrupted_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 1.0));
 }
 
 bool dynaqpc_can_tlm_episode_total_reward_is_in_range(int32_t value)

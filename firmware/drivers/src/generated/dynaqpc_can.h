@@ -71,7 +71,7 @@ extern "C" {
 #define DYNAQPC_CAN_SONAR_RANGES_A_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_LENGTH (8u)
 #define DYNAQPC_CAN_GPS_POSE_LENGTH (7u)
-#define DYNAQPC_CAN_FW_STATUS_LENGTH (6u)
+#define DYNAQPC_CAN_FW_STATUS_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_LEARN_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_SCHED_LENGTH (8u)
@@ -186,6 +186,20 @@ extern "C" {
 #define DYNAQPC_CAN_FW_STATUS_MODE_SAFE_STOP_CHOICE (3u)
 #define DYNAQPC_CAN_FW_STATUS_MODE_FAULT_CHOICE (4u)
 
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_BOOT_CHOICE (0u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_GYRO_GAP_CHOICE (1u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_FIX_JUMP_CHOICE (2u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_STALL_CHOICE (3u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_OPERATOR_CHOICE (4u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_LEG_CHOICE (5u)
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_ABSOLUTE_CHOICE (6u)
+
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_POWER_ON_CHOICE (0u)
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_PIN_CHOICE (1u)
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_WATCHDOG_CHOICE (2u)
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_SOFTWARE_CHOICE (3u)
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_OTHER_CHOICE (4u)
+
 #define DYNAQPC_CAN_TLM_POSE_FIX_STATE_FRESH_CHOICE (0u)
 #define DYNAQPC_CAN_TLM_POSE_FIX_STATE_STALE_CHOICE (1u)
 #define DYNAQPC_CAN_TLM_POSE_FIX_STATE_MOVING_CHOICE (2u)
@@ -279,6 +293,9 @@ extern "C" {
 #define DYNAQPC_CAN_FW_STATUS_ERR_FLASH_NAME "ErrFlash"
 #define DYNAQPC_CAN_FW_STATUS_ERR_DEADLINE_MISS_NAME "ErrDeadlineMiss"
 #define DYNAQPC_CAN_FW_STATUS_UPTIME_NAME "Uptime"
+#define DYNAQPC_CAN_FW_STATUS_POSE_TRUSTED_NAME "PoseTrusted"
+#define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_NAME "TrustReason"
+#define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_NAME "ResetCause"
 #define DYNAQPC_CAN_TLM_POSE_X_NAME "X"
 #define DYNAQPC_CAN_TLM_POSE_Y_NAME "Y"
 #define DYNAQPC_CAN_TLM_POSE_HEADING_NAME "Heading"
@@ -301,6 +318,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_VALUE_VALUE_NAME "Value"
 #define DYNAQPC_CAN_TLM_EPISODE_EPISODE_NAME "Episode"
 #define DYNAQPC_CAN_TLM_EPISODE_STEPS_NAME "Steps"
+#define DYNAQPC_CAN_TLM_EPISODE_INTERRUPTED_NAME "Interrupted"
 #define DYNAQPC_CAN_TLM_EPISODE_TOTAL_REWARD_NAME "TotalReward"
 #define DYNAQPC_CAN_TLM_EPISODE_REACHED_GOAL_NAME "ReachedGoal"
 #define DYNAQPC_CAN_TLM_EPISODE_BUMPS_NAME "Bumps"
@@ -919,6 +937,33 @@ struct dynaqpc_can_fw_status_t {
      * Offset: 0
      */
     uint32_t uptime;
+
+    /**
+     * 1 while the firmware trusts its heading and position; 0: it starts no episode and learns from no step (docs/can-protocol.md, Pose trust).
+     *
+     * Range: 0..1 (0..1 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t pose_trusted;
+
+    /**
+     * Untrusted: why (BOOT, GYRO_GAP, FIX_JUMP, STALL); trusted: how (OPERATOR: START_EPISODE carried the heading; LEG: a straight leg's Cricket track; ABSOLUTE: the pose source measures the heading).
+     *
+     * Range: 0..6 (0..6 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t trust_reason;
+
+    /**
+     * Why the CPU last started (hal_cpu_reset_cause).
+     *
+     * Range: 0..4 (0..4 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t reset_cause;
 };
 
 /**
@@ -1137,11 +1182,22 @@ struct dynaqpc_can_tlm_episode_t {
     uint16_t episode;
 
     /**
-     * Range: 0..65535 (0..65535 -)
+     * Real steps in the episode, saturated.
+     *
+     * Range: 0..32767 (0..32767 -)
      * Scale: 1
      * Offset: 0
      */
     uint16_t steps;
+
+    /**
+     * 1: the episode was cut (the heading became untrusted, or a START_EPISODE, STOP or reboot ended it) before the goal or the step cap; its last step was not learned from.
+     *
+     * Range: 0..1 (0..1 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t interrupted;
 
     /**
      * Sum of the episode's rewards, saturated.
@@ -3080,6 +3136,72 @@ bool dynaqpc_can_fw_status_uptime_is_in_range(uint32_t value);
 bool dynaqpc_can_fw_status_uptime_is_in_phys_range(double value);
 
 /**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_pose_trusted_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_pose_trusted_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_trust_reason_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_trust_reason_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_reset_cause_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_reset_cause_is_in_phys_range(double value);
+
+/**
  * Pack message TLM_POSE.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -3747,6 +3869,28 @@ bool dynaqpc_can_tlm_episode_steps_is_in_range(uint16_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_tlm_episode_steps_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_episode_interrupted_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_episode_interrupted_is_in_phys_range(double value);
 
 /**
  * Check that given signal is in allowed range.

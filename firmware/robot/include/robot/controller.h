@@ -62,6 +62,7 @@ typedef struct robot_episode_report {
     bool reached_goal;
     uint32_t bumps;
     uint64_t start_us, end_us;
+    bool interrupted;       ///< ended by robot_ctrl_interrupt(): neither the goal nor the step cap
 } robot_episode_report_t;
 
 /// The last real step, for telemetry.
@@ -114,6 +115,12 @@ void robot_ctrl_start_episode(robot_ctrl_t *c);
 
 /// Ends any episode without learning from its last step and stops the wheels.
 void robot_ctrl_stop(robot_ctrl_t *c);
+
+/// Ends a running episode as interrupted (the heading became untrusted, or the operator's command
+/// cut it): its pending step is not learned from, the wheels stop, and the report says interrupted
+/// with the real steps it had (last_episode; episode_done until the next period). Returns whether
+/// an episode was running. Context: thread.
+bool robot_ctrl_interrupt(robot_ctrl_t *c, uint64_t now_us);
 
 /// The operator's safe stop: the wheels stop and the mode is ROBOT_MODE_SAFE_STOP until the next
 /// robot_ctrl_start_episode() or robot_ctrl_stop(), whatever the sensors say; the running

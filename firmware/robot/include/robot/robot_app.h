@@ -73,6 +73,11 @@ typedef struct robot_app_stats {
     bool restore_fell_back;     ///< the boot restored an older record past a damaged one
     uint8_t status_errors;      ///< the TLM_ERR_* flags of the last FW_STATUS
     uint32_t safe_stops;        ///< safe stops entered (the controller's count)
+    uint32_t episodes_interrupted;  ///< episodes cut: the heading lost, or a START or STOP mid-episode
+    uint32_t trust_losses;      ///< times the heading stopped being trusted (robot/pose_trust.h)
+    uint32_t trust_losses_by[4];///< of them, by pose_trust_reason_t (GYRO_GAP, FIX_JUMP, STALL)
+    uint32_t trust_legs;        ///< straight legs that found the heading
+    uint32_t trust_legs_failed; ///< straight legs cut short (a bump) or without room
 } robot_app_stats_t;
 
 /// Initialises the HAL's time, CAN and UART, the agent (restoring what was learned when
