@@ -337,6 +337,7 @@ int run(const std::vector<std::string> &args)
                 st.restore_fell_back ? 1 : 0, st.tool_refused, st.tool_answers, st.tool_malformed, st.resets,
                 st.restores, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
                 cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
+    std::printf("boot: count=%u cut_episode=%u cut_steps=%u\n", st.boot_count, st.boot_cut_episode, st.boot_cut_steps);
     std::printf("trust: losses=%u gyro_gap=%u fix_jump=%u stall=%u legs=%u legs_failed=%u episodes_interrupted=%u\n",
                 st.trust_losses, st.trust_losses_by[POSE_TRUST_WHY_GYRO_GAP], st.trust_losses_by[POSE_TRUST_WHY_FIX_JUMP],
                 st.trust_losses_by[POSE_TRUST_WHY_STALL], st.trust_legs, st.trust_legs_failed, st.episodes_interrupted);

@@ -93,6 +93,17 @@ public:
             tlm_status_t st;
             if (tlm_decode_status(&f, &st) == 0) {
                 fw_idle_ = st.mode == TLM_MODE_IDLE;
+                if (have_boot_ && st.boot_count != boot_) {
+                    // A new boot: the episode it cut comes as an interrupted TLM_EPISODE (the
+                    // firmware's flash journal); a retried start sends the robot's heading now.
+                    reboots_++;
+                    std::printf("supervisor: the firmware rebooted (boot %u, reset cause %u, pose %s)\n", st.boot_count,
+                                st.reset_cause, st.pose_trusted ? "trusted" : "not trusted");
+                    std::fflush(stdout);
+                    sent_us_ = t_us;  // give its report a moment before a retry
+                }
+                have_boot_ = true;
+                boot_ = st.boot_count;
                 last_status_us_ = t_us;
                 if (silent_) {
                     std::printf("supervisor: the firmware is heard again\n");
@@ -113,9 +124,9 @@ public:
             running_ = false;
             done_++;
             const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
-            std::printf("episode=%u steps=%u reward=%d reached_goal=%d bumps=%u robot_time_s=%.3f wall_s=%.3f "
-                        "start=%.3f,%.3f,%.1f %s\n",
-                        e.episode, e.steps, e.total_reward, e.reached_goal ? 1 : 0, e.bumps,
+            std::printf("episode=%u steps=%u reward=%d reached_goal=%d bumps=%u interrupted=%d robot_time_s=%.3f "
+                        "wall_s=%.3f start=%.3f,%.3f,%.1f %s\n",
+                        e.episode, e.steps, e.total_reward, e.reached_goal ? 1 : 0, e.bumps, e.interrupted ? 1 : 0,
                         static_cast<double>(t_us - start_us_) * 1e-6, wall, start_pose_.x, start_pose_.y,
                         start_pose_.heading * 57.29577951308232, check_.summary().c_str());
             std::fflush(stdout);
@@ -157,6 +168,7 @@ public:
     std::uint32_t start_retries() const { return retries_; }
     std::uint32_t safe_stops() const { return safe_stops_; }
     std::uint32_t safe_stop_restarts() const { return restarts_; }
+    std::uint32_t reboots() const { return reboots_; }
 
 private:
     void start(std::uint64_t t_us)
@@ -189,6 +201,8 @@ private:
     Clock::time_point wall_start_;
     std::uint8_t counter_ = 0;
     std::uint32_t done_ = 0, retries_ = 0;
+    bool have_boot_ = false;
+    std::uint32_t boot_ = 0, reboots_ = 0;
 };
 
 // Waits until `until` reading the bus; hands every frame to `on_frame`.
@@ -330,11 +344,11 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     receive_until(bus, Clock::now() + std::chrono::milliseconds(kDrainMs), [&](const hal_can_frame_t &) {});
     if (cricket) pty_close(&pty);
     std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
-                "safe_stops=%u safe_stop_restarts=%u "
+                "safe_stops=%u safe_stop_restarts=%u reboots=%u "
                 "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
                 " pty_dropped=%" PRIu64 "\n",
                 wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
-                sup.safe_stops(), sup.safe_stop_restarts(),
+                sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(),
                 devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
     std::printf("pose: learned_steps=%u %s\n", pose_check.steps(), pose_check.summary().c_str());
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",

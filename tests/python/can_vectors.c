@@ -115,12 +115,13 @@ static void decode(const hal_can_frame_t *f)
         if ((rc = tlm_decode_status(f, &s)) == FW_OK) {
             printf("OK FW_STATUS Mode=%u ErrMotorSilent=%d ErrGyroSilent=%d ErrRangeSilent=%d "
                    "ErrPoseLost=%d ErrCanBus=%d ErrUart=%d ErrFlash=%d ErrDeadlineMiss=%d Uptime=%u "
-                   "PoseTrusted=%d TrustReason=%u ResetCause=%u\n",
+                   "PoseTrusted=%d TrustReason=%u ResetCause=%u BootCount=%u\n",
                    s.mode, !!(s.errors & TLM_ERR_MOTOR_SILENT), !!(s.errors & TLM_ERR_GYRO_SILENT),
                    !!(s.errors & TLM_ERR_RANGE_SILENT), !!(s.errors & TLM_ERR_POSE_LOST),
                    !!(s.errors & TLM_ERR_CAN_BUS), !!(s.errors & TLM_ERR_UART),
                    !!(s.errors & TLM_ERR_FLASH), !!(s.errors & TLM_ERR_DEADLINE_MISS),
-                   (unsigned)s.uptime_s, s.pose_trusted, s.trust_reason, s.reset_cause);
+                   (unsigned)s.uptime_s, s.pose_trusted, s.trust_reason, s.reset_cause,
+                   (unsigned)s.boot_count);
             return;
         }
         break;
@@ -272,7 +273,7 @@ static void encode(const char *name, int argc, char **argv)
                                              "ErrPoseLost", "ErrCanBus", "ErrUart", "ErrFlash",
                                              "ErrDeadlineMiss"};
         tlm_status_t s = {(uint8_t)A("Mode"), 0, (uint32_t)A("Uptime"), A("PoseTrusted") != 0,
-                          (uint8_t)A("TrustReason"), (uint8_t)A("ResetCause")};
+                          (uint8_t)A("TrustReason"), (uint8_t)A("ResetCause"), (uint32_t)A("BootCount")};
         for (unsigned i = 0; i < 8u; i++) {
             s.errors |= (uint8_t)(A(flags[i]) != 0 ? 1u << i : 0u);
         }

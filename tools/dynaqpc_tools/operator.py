@@ -98,7 +98,7 @@ def decode_status(db, data: bytes) -> Dict[str, object]:
     errors = {k[3:]: int(val) for k, val in v.items() if k.startswith("Err")}
     return {"mode": str(v["Mode"]), "uptime_s": int(v["Uptime"]), "errors": errors,
             "pose_trusted": int(v.get("PoseTrusted", 0)), "trust_reason": str(v.get("TrustReason", "")),
-            "reset_cause": str(v.get("ResetCause", ""))}
+            "reset_cause": str(v.get("ResetCause", "")), "boot_count": int(v.get("BootCount", 0))}
 
 
 def decode_ack(db, data: bytes) -> Dict[str, object]:
@@ -141,7 +141,7 @@ def status_text(st: Dict[str, object]) -> str:
     raised = [k for k, val in errs.items() if val]
     trust = "trusted" if st.get("pose_trusted") else "NOT trusted"
     return (f"mode {st['mode']}, uptime {st['uptime_s']} s, pose {trust} ({st.get('trust_reason', '?')}), "
-            f"reset cause {st.get('reset_cause', '?')}, errors: "
+            f"boot {st.get('boot_count', '?')}, reset cause {st.get('reset_cause', '?')}, errors: "
             f"{', '.join(raised) if raised else 'none'}\n  "
             + " ".join(f"{k}={val}" for k, val in errs.items()))
 

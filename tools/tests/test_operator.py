@@ -43,13 +43,13 @@ def test_status_is_decoded_by_name():
     db = cantools.database.load_file(DBC)
     m = db.get_message_by_name("FW_STATUS")
     sigs = {s.name: 0 for s in m.signals}
-    sigs.update(Mode=3, Uptime=42, ErrFlash=1, ErrPoseLost=1, TrustReason=2)
+    sigs.update(Mode=3, Uptime=42, ErrFlash=1, ErrPoseLost=1, TrustReason=2, BootCount=7)
     st = operator.decode_status(db, m.encode(sigs))
     assert st["mode"] == "SAFE_STOP" and st["uptime_s"] == 42
     assert len(st["errors"]) == 8 and st["errors"]["Flash"] == 1
     text = operator.status_text(st)
     assert "mode SAFE_STOP" in text and "errors: PoseLost, Flash" in text and "DeadlineMiss=0" in text
-    assert st["pose_trusted"] == 0 and "pose NOT trusted (FIX_JUMP)" in text and "reset cause POWER_ON" in text
+    assert st["pose_trusted"] == 0 and "pose NOT trusted (FIX_JUMP)" in text and "boot 7, reset cause POWER_ON" in text
 
 
 def test_answers_are_one_line_by_name():

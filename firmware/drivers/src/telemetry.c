@@ -112,6 +112,7 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
     m.pose_trusted = status->pose_trusted ? 1u : 0u;
     m.trust_reason = (uint8_t)min_u32(status->trust_reason, TLM_TRUST_ABSOLUTE);
     m.reset_cause = (uint8_t)min_u32(status->reset_cause, 4u);
+    m.boot_count = (uint8_t)(status->boot_count & 0xFFu);
     m.counter = can_link_tx_counter_next(&tlm->status_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_FW_STATUS_FRAME_ID, DYNAQPC_CAN_FW_STATUS_LENGTH);
     (void)dynaqpc_can_fw_status_pack(out->data, &m, sizeof out->data);
@@ -252,6 +253,7 @@ int tlm_decode_status(const hal_can_frame_t *frame, tlm_status_t *out)
     out->pose_trusted = m.pose_trusted != 0u;
     out->trust_reason = m.trust_reason;
     out->reset_cause = m.reset_cause;
+    out->boot_count = m.boot_count;
     return FW_OK;
 }
 

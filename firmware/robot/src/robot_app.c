@@ -16,6 +16,7 @@
 #include "hal/hal_flash.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
+#include "robot/boot_journal.h"
 #include "robot/pose_trust.h"
 
 #define EV_CAN 1u   // a received frame, in u.can
@@ -70,6 +71,11 @@ typedef struct robot_app {
     bool have_fix_ref;         ///< fix_ref_* hold the last fresh Cricket fix
     float fix_ref_x, fix_ref_y;
     uint64_t fix_ref_us;
+    uint64_t trusted_at_us;    ///< when the heading was last given (operator, leg)
+    // Across reboots (robot/boot_journal.h).
+    boot_journal_t journal;
+    bool boot_report;               ///< report the episode a reboot cut, at the first control period
+    robot_episode_report_t boot_cut;
 } robot_app_t;
 
 static robot_app_t app_;
@@ -115,6 +121,7 @@ static void on_uart_isr_(void *ctx)
 static void note_save_(int err)
 {
     if (err == FW_OK) {
+        boot_journal_follow(&app_.journal, &app_.store);  // the journal goes on after the new record
         app_.wiped_unsaved = false;
         app_.stats.saves++;
         app_.flash_fault = false;
@@ -158,6 +165,7 @@ static void interrupt_episode_(void)
 {
     if (robot_ctrl_interrupt(&app_.ctrl, hal_time_us())) {
         app_.stats.episodes_interrupted++;
+        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_episode.steps, false);
         send_episode_(&app_.ctrl.last_episode);
         app_.ctrl.episode_done = false;  // reported here, not again by the control task
     }
@@ -166,6 +174,13 @@ static void interrupt_episode_(void)
 static bool heading_absolute_(void)
 {
     return app_.opt.cfg->pose_source != ROBOT_POSE_CRICKET;
+}
+
+// Starts an episode and notes it in flash: a reboot before its end reports it as interrupted.
+static void start_episode_(void)
+{
+    robot_ctrl_start_episode(&app_.ctrl);
+    (void)boot_journal_append(&app_.journal, app_.ctrl.episode, 0u, true);
 }
 
 static uint8_t save_reason_(int err)
@@ -192,14 +207,15 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
             gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
             if (!heading_absolute_()) {
                 pose_trust_grant(&app_.trust, POSE_TRUST_WHY_OPERATOR);
+                app_.trusted_at_us = hal_time_us();
                 app_.have_fix_ref = false;
-                app_.fix_ref_us = hal_time_us(); // the next reference: a fix all taken from now on
+                app_.fix_ref_us = hal_time_us();  // the next reference: a fix all taken from now on
             }
         }
         interrupt_episode_();
         if (app_.trust.trusted) {
             app_.start_pending = false;
-            robot_ctrl_start_episode(&app_.ctrl);
+            start_episode_();
         } else {
             app_.start_pending = true;
         }
@@ -533,9 +549,9 @@ static void watch_trust_(const robot_sense_t *in, uint64_t now)
         pose_trust_lose(&app_.trust, POSE_TRUST_WHY_STALL);
     }
     app_.last_control_us = now;
-    // (Not heard yet: silent once the bus timeout has passed since boot.)
+    // (Not heard yet: silent once the bus timeout has passed since the heading was given.)
     const bool silent = g->rx.seen ? can_link_rx_silent(&g->rx, now, cfg->bus_timeout_us)
-                                   : now - app_.boot_us > cfg->bus_timeout_us;
+                                   : now - app_.trusted_at_us > cfg->bus_timeout_us;
     // A gap in the samples of a robot that stood still (both ends' rates near zero) cost nothing.
     const bool gap = g->gaps != app_.gyro_gaps && g->gap_bound_deg > POSE_TRUST_GAP_DEG;
     if (gap || (g->rx.seen && g->status != GYRO_STATUS_OK) || silent) {
@@ -572,8 +588,9 @@ static void find_heading_(const robot_sense_t *in, float *vl, float *vr)
     float correction = 0.0f;
     if (pose_trust_leg_period(&app_.trust, app_.opt.cfg, &ti, vl, vr, &correction)) {
         gyro_set_heading(g, gyro_heading_deg(g) + correction);
+        app_.trusted_at_us = in->now_us;
         app_.start_pending = false;
-        robot_ctrl_start_episode(&app_.ctrl);
+        start_episode_();
     }
 }
 
@@ -596,9 +613,16 @@ static void control_task_(void *ctx)
         app_.start_pending = app_.start_pending || app_.opt.auto_start;
     } else {
         robot_ctrl_period(&app_.ctrl, &in, &vl, &vr);
+        if (app_.ctrl.step_done && app_.ctrl.last_step.step >= 1u && !app_.ctrl.episode_done) {
+            (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_step.step, true);
+        }
         if (app_.start_pending && app_.ctrl.mode == ROBOT_MODE_IDLE) {
             find_heading_(&in, &vl, &vr);
         }
+    }
+    if (app_.boot_report) {
+        app_.boot_report = false;  // the episode the last reboot cut, with the steps it had
+        send_episode_(&app_.boot_cut);
     }
     const bool moving = vl != 0.0f || vr != 0.0f;
     app_.moved_last_period = moving;
@@ -615,8 +639,9 @@ static void control_task_(void *ctx)
         if (app_.opt.persist && app_.store_ok && !app_.opt.evaluate) {
             note_save_(learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode));
         }
+        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_episode.steps, false);
         if (app_.opt.auto_start && app_.trust.trusted) {
-            robot_ctrl_start_episode(&app_.ctrl);
+            start_episode_();
         } else if (app_.opt.auto_start) {
             app_.start_pending = true;
         }
@@ -693,7 +718,8 @@ static void status_task_(void *ctx)
                              (uint32_t)((now - app_.boot_us) / 1000000u),
                              app_.trust.trusted,
                              app_.trust.reason,
-                             (uint8_t)hal_cpu_reset_cause()};
+                             (uint8_t)hal_cpu_reset_cause(),
+                             app_.journal.boot};
     hal_can_frame_t f;
     tlm_encode_status(&app_.dev.tlm, &st, &f);
     send_(&f);
@@ -749,6 +775,24 @@ int robot_app_init(const robot_app_options_t *opt)
     app_.tlm_planning_updates = opt->agent->stats.planning_updates;
     app_.ctrl.learning = !opt->evaluate;
     app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
+    if (app_.store_ok) {
+        // What the robot did when it last stopped: an episode still running was cut by this boot.
+        boot_journal_entry_t last;
+        if (boot_journal_open(&app_.journal, &app_.store, &last)) {
+            if (last.running) {
+                app_.boot_report = true;
+                app_.boot_cut = (robot_episode_report_t){.episode = last.episode, .steps = last.steps,
+                                                         .interrupted = true};
+                app_.stats.episodes_interrupted++;
+                app_.stats.boot_cut_episode = last.episode;
+                app_.stats.boot_cut_steps = last.steps;
+            }
+            // Numbers go on after the cut episode's (the record holds only the finished ones).
+            app_.ctrl.episode = last.episode > app_.ctrl.episode ? last.episode : app_.ctrl.episode;
+        }
+        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, 0u, false);
+    }
+    app_.stats.boot_count = app_.journal.boot;
 
     candev_init(&app_.dev);
     if (cfg->pose_source == ROBOT_POSE_CRICKET) {
@@ -795,7 +839,7 @@ int robot_app_init(const robot_app_options_t *opt)
     if (opt->auto_start) {
         // Untrusted at boot (a gyro-integrated heading starts at 0): the robot first finds it.
         if (app_.trust.trusted) {
-            robot_ctrl_start_episode(&app_.ctrl);
+            start_episode_();
         } else {
             app_.start_pending = true;
         }

@@ -588,6 +588,47 @@ static void test_pose_trust_gates_episodes(void **state)
     assert_int_equal(last_episode_.episode, robot_app_ctrl()->episode);
 }
 
+// A reboot mid-episode (power cut: the same flash image, RAM lost): the next boot counts one more
+// (FW_STATUS BootCount) and reports the episode it cut as interrupted, with the steps it had.
+static void test_reboot_reports_the_cut_episode(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 1;
+    live_for_(1500);
+    assert_int_equal(last_status_.boot_count, 1);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_DONE, TLM_WHY_NONE);  // a record: the journal goes after it
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(6000);
+    const uint32_t episode = robot_app_ctrl()->episode;
+    const uint32_t steps = robot_app_ctrl()->step;
+    assert_true(steps >= 2u);
+    assert_int_equal(n_episodes_, 0);
+    // Power cut: boot again on the same flash.
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+    live_for_(1500);
+    assert_int_equal(n_episodes_, 1);
+    assert_true(last_episode_.interrupted);
+    assert_int_equal(last_episode_.episode, episode);
+    assert_int_equal(last_episode_.steps, steps);
+    assert_int_equal(last_status_.boot_count, 2);
+    assert_int_equal(last_status_.mode, TLM_MODE_IDLE);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.boot_cut_episode, episode);
+    assert_int_equal(st.boot_cut_steps, steps);
+    // The next episode is numbered after the cut one; a third boot cuts nothing.
+    cmd_counter_ = 1;
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(robot_app_ctrl()->episode, episode + 1u);
+    ASSERT_ANSWER(command_(TLM_CMD_STOP, 0), TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(n_episodes_, 2);
+    boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+    live_for_(1500);
+    assert_int_equal(n_episodes_, 0);
+    assert_int_equal(last_status_.boot_count, 3);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -599,6 +640,7 @@ int main(void)
         cmocka_unit_test(test_every_command_is_answered),
         cmocka_unit_test(test_value_frames_follow_the_steps),
         cmocka_unit_test(test_pose_trust_gates_episodes),
+        cmocka_unit_test(test_reboot_reports_the_cut_episode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -110,6 +110,7 @@ typedef struct tlm_status {
     bool pose_trusted;      ///< the firmware trusts its heading (robot/pose_trust.h)
     uint8_t trust_reason;   ///< enum tlm_trust_reason (saturated to ABSOLUTE)
     uint8_t reset_cause;    ///< hal_reset_cause_t (saturated to OTHER)
+    uint32_t boot_count;    ///< sent modulo 256
 } tlm_status_t;
 
 typedef struct tlm_tool_cmd {

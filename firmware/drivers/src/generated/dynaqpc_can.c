@@ -1310,6 +1310,7 @@ int dynaqpc_can_fw_status_pack(
     dst_p[6] |= pack_left_shift_u8(src_p->pose_trusted, 0u, 0x01u);
     dst_p[6] |= pack_left_shift_u8(src_p->trust_reason, 1u, 0x0eu);
     dst_p[6] |= pack_left_shift_u8(src_p->reset_cause, 4u, 0x70u);
+    dst_p[7] |= pack_left_shift_u8(src_p->boot_count, 0u, 0xffu);
 
     return (8);
 }
@@ -1340,6 +1341,7 @@ int dynaqpc_can_fw_status_unpack(
     dst_p->pose_trusted = unpack_right_shift_u8(src_p[6], 0u, 0x01u);
     dst_p->trust_reason = unpack_right_shift_u8(src_p[6], 1u, 0x0eu);
     dst_p->reset_cause = unpack_right_shift_u8(src_p[6], 4u, 0x70u);
+    dst_p->boot_count = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
 
     return (0);
 }
@@ -1493,6 +1495,18 @@ bool dynaqpc_can_fw_status_reset_cause_is_in_range(uint8_t value)
 bool dynaqpc_can_fw_status_reset_cause_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 4.0));
+}
+
+bool dynaqpc_can_fw_status_boot_count_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_fw_status_boot_count_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_tlm_pose_pack(

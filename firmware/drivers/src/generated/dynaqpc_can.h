@@ -296,6 +296,7 @@ extern "C" {
 #define DYNAQPC_CAN_FW_STATUS_POSE_TRUSTED_NAME "PoseTrusted"
 #define DYNAQPC_CAN_FW_STATUS_TRUST_REASON_NAME "TrustReason"
 #define DYNAQPC_CAN_FW_STATUS_RESET_CAUSE_NAME "ResetCause"
+#define DYNAQPC_CAN_FW_STATUS_BOOT_COUNT_NAME "BootCount"
 #define DYNAQPC_CAN_TLM_POSE_X_NAME "X"
 #define DYNAQPC_CAN_TLM_POSE_Y_NAME "Y"
 #define DYNAQPC_CAN_TLM_POSE_HEADING_NAME "Heading"
@@ -964,6 +965,15 @@ struct dynaqpc_can_fw_status_t {
      * Offset: 0
      */
     uint8_t reset_cause;
+
+    /**
+     * This boot's number modulo 256, kept in flash beside the learned record (0: no record in flash yet). A change tells listeners the firmware rebooted.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t boot_count;
 };
 
 /**
@@ -3200,6 +3210,28 @@ bool dynaqpc_can_fw_status_reset_cause_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_fw_status_reset_cause_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_boot_count_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_fw_status_boot_count_is_in_phys_range(double value);
 
 /**
  * Pack message TLM_POSE.

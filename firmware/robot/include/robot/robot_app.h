@@ -78,6 +78,9 @@ typedef struct robot_app_stats {
     uint32_t trust_losses_by[4];///< of them, by pose_trust_reason_t (GYRO_GAP, FIX_JUMP, STALL)
     uint32_t trust_legs;        ///< straight legs that found the heading
     uint32_t trust_legs_failed; ///< straight legs cut short (a bump) or without room
+    uint32_t boot_count;        ///< this boot's number (robot/boot_journal.h; 1: none in flash before)
+    uint32_t boot_cut_episode;  ///< the episode the last reboot cut (0: none), and its steps
+    uint32_t boot_cut_steps;
 } robot_app_stats_t;
 
 /// Initialises the HAL's time, CAN and UART, the agent (restoring what was learned when
