@@ -339,8 +339,9 @@ int run(const std::vector<std::string> &args)
                 cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
     std::printf("boot: count=%u cut_episode=%u cut_steps=%u\n", st.boot_count, st.boot_cut_episode, st.boot_cut_steps);
     std::printf("trust: losses=%u gyro_gap=%u fix_jump=%u stall=%u legs=%u legs_failed=%u episodes_interrupted=%u\n",
-                st.trust_losses, st.trust_losses_by[POSE_TRUST_WHY_GYRO_GAP], st.trust_losses_by[POSE_TRUST_WHY_FIX_JUMP],
-                st.trust_losses_by[POSE_TRUST_WHY_STALL], st.trust_legs, st.trust_legs_failed, st.episodes_interrupted);
+                st.trust_losses, unsigned{st.trust_losses_by[POSE_TRUST_WHY_GYRO_GAP]},
+                unsigned{st.trust_losses_by[POSE_TRUST_WHY_FIX_JUMP]}, unsigned{st.trust_losses_by[POSE_TRUST_WHY_STALL]},
+                unsigned{st.trust_legs}, unsigned{st.trust_legs_failed}, st.episodes_interrupted);
     std::printf("cricket: lines=%u ranges=%u overlong=%u garbage=%u malformed=%u no_range=%u unknown_beacon=%u "
                 "bad_range=%u bad_geometry=%u inconsistent=%u\n",
                 ck.lines, ck.ranges, ck.overlong, ck.garbage, ck.malformed, ck.no_range, ck.unknown_beacon,

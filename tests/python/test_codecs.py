@@ -10,6 +10,7 @@
 """
 import pathlib
 import random
+import zlib
 import subprocess
 import sys
 
@@ -59,6 +60,21 @@ def crc8(frame_id, data):
     return Crc8SaeJ1850.calc(bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data))
 
 
+def crc32(frame_id, data):
+    """TOOL_CMD's Crc: CRC-32 (zlib's) over the id's two bytes and the data before it."""
+    return zlib.crc32(bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data))
+
+
+def with_crc(msg, data):
+    """The command frame `data` with its Crc: 32 bits on TOOL_CMD, 8 on MOTOR_CMD."""
+    data = bytearray(data)
+    if msg.name == "TOOL_CMD":
+        data[-4:] = crc32(msg.frame_id, data[:-4]).to_bytes(4, "little")
+    else:
+        data[-1] = crc8(msg.frame_id, data[:-1])
+    return bytes(data)
+
+
 def raw_limits(sig):
     lo = round((sig.minimum - sig.offset) / sig.scale)
     hi = round((sig.maximum - sig.offset) / sig.scale)
@@ -78,7 +94,7 @@ def random_raw(msg, rng):
 def encode_raw(msg, raw, strict=True):
     data = bytearray(msg.encode(raw, scaling=False, strict=strict))
     if msg.name in COMMAND_FRAMES:
-        data[-1] = crc8(msg.frame_id, data[:-1])
+        return with_crc(msg, data)
     return bytes(data)
 
 
@@ -115,7 +131,8 @@ def test_dbc_rules(db):
             assert counter.length == 4 and not counter.is_signed, msg.name
         if msg.name in COMMAND_FRAMES:
             crc = msg.get_signal_by_name("Crc")
-            assert crc.length == 8 and crc.start == 8 * msg.length - 8, msg.name
+            width = 32 if msg.name == "TOOL_CMD" else 8
+            assert crc.length == width and crc.start == 8 * msg.length - width, msg.name
     cycles = {m.name: m.cycle_time for m in db.messages}
     assert cycles == {
         "TOOL_CMD": None, "TOOL_ACK": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
@@ -180,7 +197,7 @@ def test_cantools_decodes_what_c_encodes(db, vectors, name):
         data = bytes.fromhex(answer[2])
         assert len(data) == msg.length
         if name in COMMAND_FRAMES:
-            assert data[-1] == crc8(msg.frame_id, data[:-1])
+            assert data == with_crc(msg, data)
         got = expected_decoded(msg, data)
         for key, value in phys.items():
             assert got[key] == pytest.approx(value, abs=1e-9), f"{name}.{key}: sent {args}"

@@ -7,6 +7,7 @@ import argparse
 import math
 import os
 import sys
+import zlib
 from pathlib import Path
 from typing import Iterable, Optional
 
@@ -162,7 +163,7 @@ def _range_text(lo, hi, lo_open: bool = False) -> str:
 
 
 def crc8_sae_j1850(data: bytes) -> int:
-    """CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, xorout 0xFF), the Crc of MOTOR_CMD and TOOL_CMD over
+    """CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, xorout 0xFF), the Crc of MOTOR_CMD over
     the id (low byte, high byte) and the data bytes before it (docs/can-protocol.md)."""
     crc = 0xFF
     for b in data:
@@ -170,3 +171,9 @@ def crc8_sae_j1850(data: bytes) -> int:
         for _ in range(8):
             crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
     return crc ^ 0xFF
+
+
+def tool_cmd_crc(frame_id: int, data: bytes) -> int:
+    """TOOL_CMD's Crc: CRC-32 (IEEE 802.3, as zlib) over the identifier (low byte, then high byte)
+    and the four data bytes before it (docs/can-protocol.md)."""
+    return zlib.crc32(bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data))

@@ -48,7 +48,7 @@ import sys
 import time
 from typing import Dict, Optional
 
-from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, crc8_sae_j1850,
+from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, tool_cmd_crc,
                      default_dbc_path, float_in, load_dbc, run_main)
 
 COMMANDS = {"start": "START_EPISODE", "stop": "STOP", "safe-stop": "SAFE_STOP", "save": "SAVE_LEARNED",
@@ -56,7 +56,7 @@ COMMANDS = {"start": "START_EPISODE", "stop": "STOP", "safe-stop": "SAFE_STOP", 
 #: The mode a command leaves the firmware in, as FW_STATUS names it (None: any).
 EXPECT = {"start": "RUNNING", "stop": "IDLE", "safe-stop": "SAFE_STOP", "save": None, "reset": "IDLE",
           "restore-previous": None, "ping": None}
-KEEP_HEADING = 0xFFFFFFFF
+KEEP_HEADING = 0xFFFFFF
 RESET_CONFIRM = 1  # RESET_LEARNING's Argument: wipe even learning saved since boot or restored at boot
 RESEND_S = 1.0     # no answer for this long: the command frame again (same counter)
 
@@ -80,8 +80,9 @@ REASONS = {
 def tool_cmd_frame(db, command: str, argument: int, counter: int):
     """One TOOL_CMD frame with its CRC, as (id, data)."""
     m = db.get_message_by_name("TOOL_CMD")
-    data = bytearray(m.encode({"Command": command, "Argument": argument, "Counter": counter % 16, "Crc": 0}))
-    data[-1] = crc8_sae_j1850(bytes([m.frame_id & 0xFF, m.frame_id >> 8]) + bytes(data[:-1]))
+    data = bytearray(m.encode({"Command": command, "Argument": min(argument, 0xFFFFFF), "Counter": counter % 16,
+                               "Crc": 0}))
+    data[4:8] = tool_cmd_crc(m.frame_id, bytes(data[:4])).to_bytes(4, "little")
     return m.frame_id, bytes(data)
 
 

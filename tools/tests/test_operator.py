@@ -11,7 +11,7 @@ import pytest
 
 from conftest import REPO, TOOLS, c_binary, netns_available
 from dynaqpc_tools import operator
-from dynaqpc_tools.common import crc8_sae_j1850
+import zlib
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
 
@@ -26,7 +26,7 @@ def test_every_command_is_a_nop_then_the_command_with_the_next_counter():
         assert (a["Command"], b["Command"]) == (0, 3)
         assert (a["Counter"], b["Counter"]) == (k, (k + 1) % 16)
         for data in (nop, cmd):
-            assert data[-1] == crc8_sae_j1850(bytes([0x40, 0x00]) + data[:-1])
+            assert len(data) == 8 and data[4:] == zlib.crc32(bytes([0x40, 0x00]) + data[:4]).to_bytes(4, "little")
     # The firmware's rule (telemetry.c tlm_rx_tool_cmd): refuse a counter equal to the last one.
     # Whatever the last counter was, the command is accepted exactly once.
     for last in range(16):

@@ -20,6 +20,12 @@ uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len)
     return fw_crc8(fw_crc8(0u, id_bytes, 2u), data, (uint32_t)len);
 }
 
+uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len)
+{
+    const uint8_t id_bytes[2] = {(uint8_t)(id & 0xFFu), (uint8_t)((id >> 8) & 0xFFu)};
+    return fw_crc32(fw_crc32(0u, id_bytes, 2u), data, (uint32_t)len);
+}
+
 void can_link_rx_init(can_link_rx_t *rx)
 {
     memset(rx, 0, sizeof *rx);

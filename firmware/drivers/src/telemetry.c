@@ -136,7 +136,7 @@ int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, t
     struct dynaqpc_can_tool_cmd_t m;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH) ||
         dynaqpc_can_tool_cmd_unpack(&m, frame->data, frame->dlc) != 0 ||
-        m.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
+        m.crc != can_link_crc32(frame->id, frame->data, frame->dlc - 4u) ||
         !dynaqpc_can_tool_cmd_command_is_in_range(m.command)) {
         return can_link_rx_reject(&tlm->tool_rx);
     }
@@ -161,12 +161,16 @@ int tlm_encode_tool_cmd(uint8_t *counter, const tlm_tool_cmd_t *cmd, hal_can_fra
         return FW_ERR_INVAL;
     }
     m.command = cmd->command;
-    m.argument = cmd->argument;
+    m.argument = cmd->argument > 0xFFFFFFu ? 0xFFFFFFu : cmd->argument;  // 0xFFFFFF: "none"
     m.counter = can_link_tx_counter_next(counter);
     m.crc = 0u;
     can_link_frame_prepare(out, DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH);
     (void)dynaqpc_can_tool_cmd_pack(out->data, &m, sizeof out->data);
-    out->data[out->dlc - 1u] = can_link_crc8(out->id, out->data, out->dlc - 1u);
+    const uint32_t crc = can_link_crc32(out->id, out->data, out->dlc - 4u);
+    out->data[4] = (uint8_t)crc;
+    out->data[5] = (uint8_t)(crc >> 8);
+    out->data[6] = (uint8_t)(crc >> 16);
+    out->data[7] = (uint8_t)(crc >> 24);
     return FW_OK;
 }
 

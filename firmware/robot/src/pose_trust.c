@@ -127,8 +127,7 @@ bool pose_trust_leg_period(pose_trust_t *t, const robot_config_t *cfg, const pos
         }
         const float dx = in->x_m - t->ax_m;
         const float dy = in->y_m - t->ay_m;
-        t->track_m = sqrtf(dx * dx + dy * dy);
-        if (t->track_m < POSE_TRUST_MIN_TRACK_M) {
+        if (sqrtf(dx * dx + dy * dy) < POSE_TRUST_MIN_TRACK_M) {
             t->legs_failed++;
             t->turns = 0u;
             turn_(t, cfg, v_left, v_right);

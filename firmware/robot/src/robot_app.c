@@ -48,6 +48,7 @@ typedef struct robot_app {
     robot_health_t health;    // counters at the last status period
     bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
     bool moved_last_period;   // the wheels were commanded to move in the last period
+    uint8_t still_periods;    // control periods since the wheels were last commanded to move (saturating)
     float odom_m;             // the wheels' odometer (robot_sense_t.odom_m), from MOTOR_STATUS speeds
     float odom_speed;         // the mean wheel speed of the last MOTOR_STATUS, m/s
     uint64_t odom_us;         // when it came
@@ -65,17 +66,16 @@ typedef struct robot_app {
     uint32_t tlm_planning_updates;  ///< the agent's planning updates at the last TLM_SCHED
     // Pose trust (robot/pose_trust.h): whether the heading may be used, and what watches it.
     pose_trust_t trust;
-    bool start_pending;        ///< an episode is to start once the heading is trusted
-    uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
     uint64_t last_control_us;  ///< the last control period's start (0: none yet)
-    bool have_fix_ref;         ///< fix_ref_* hold the last fresh Cricket fix
-    float fix_ref_x, fix_ref_y;
-    uint64_t fix_ref_us;
+    uint64_t fix_ref_us;       ///< fix_ref_*: the last fresh Cricket fix (have_fix_ref)
     uint64_t trusted_at_us;    ///< when the heading was last given (operator, leg)
+    float fix_ref_x, fix_ref_y;
+    uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
     // Across reboots (robot/boot_journal.h).
     boot_journal_t journal;
-    bool boot_report;               ///< report the episode a reboot cut, at the first control period
-    robot_episode_report_t boot_cut;
+    bool start_pending;        ///< an episode is to start once the heading is trusted
+    bool have_fix_ref;
+    bool boot_report;          ///< report the episode a reboot cut (stats.boot_cut_*), at the first control period
 } robot_app_t;
 
 static robot_app_t app_;
@@ -199,7 +199,7 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     switch (cmd->command) {
     case TLM_CMD_START_EPISODE:
         // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
-        // source has no heading of its own (a gyro only integrates), 0xFFFFFFFF to keep it.
+        // source has no heading of its own (a gyro only integrates), 0xFFFFFF to keep it.
         // A heading from the operator makes it trusted (the operator put the robot down: the
         // last fix's position is no reference for a jump). Without one an untrusted robot first
         // finds its heading (pose_trust.h), then starts.
@@ -231,7 +231,7 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
         app_.start_pending = false;
         pose_trust_cancel(&app_.trust);
         break;
-    // Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-8 and a new counter make a
+    // Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-32 and a new counter make a
     // command; but evaluate mode is a lock on what was learned, and wiping it takes a robot the
     // operator has stopped first, so no single stray frame erases it mid-run.
     case TLM_CMD_SAVE_LEARNED:
@@ -552,8 +552,9 @@ static void watch_trust_(const robot_sense_t *in, uint64_t now)
     // (Not heard yet: silent once the bus timeout has passed since the heading was given.)
     const bool silent = g->rx.seen ? can_link_rx_silent(&g->rx, now, cfg->bus_timeout_us)
                                    : now - app_.trusted_at_us > cfg->bus_timeout_us;
-    // A gap in the samples of a robot that stood still (both ends' rates near zero) cost nothing.
-    const bool gap = g->gaps != app_.gyro_gaps && g->gap_bound_deg > POSE_TRUST_GAP_DEG;
+    // A gap in the samples of a robot that stood still (wheels off for two periods, both ends'
+    // rates near zero) cost nothing; while the wheels drive, a whole turn can hide in it.
+    const bool gap = g->gaps != app_.gyro_gaps && (g->gap_bound_deg > POSE_TRUST_GAP_DEG || app_.still_periods < 2u);
     if (gap || (g->rx.seen && g->status != GYRO_STATUS_OK) || silent) {
         pose_trust_lose(&app_.trust, POSE_TRUST_WHY_GYRO_GAP);
     }
@@ -622,10 +623,14 @@ static void control_task_(void *ctx)
     }
     if (app_.boot_report) {
         app_.boot_report = false;  // the episode the last reboot cut, with the steps it had
-        send_episode_(&app_.boot_cut);
+        const robot_episode_report_t cut = {.episode = app_.stats.boot_cut_episode,
+                                            .steps = app_.stats.boot_cut_steps,
+                                            .interrupted = true};
+        send_episode_(&cut);
     }
     const bool moving = vl != 0.0f || vr != 0.0f;
     app_.moved_last_period = moving;
+    app_.still_periods = moving ? 0u : app_.still_periods < 255u ? (uint8_t)(app_.still_periods + 1u) : 255u;
     gyro_set_stationary(&app_.dev.gyro, !moving && in.bus_ok);
     const motor_cmd_t cmd = {mm_s_(vl), mm_s_(vr), true};
     hal_can_frame_t f;
@@ -781,8 +786,6 @@ int robot_app_init(const robot_app_options_t *opt)
         if (boot_journal_open(&app_.journal, &app_.store, &last)) {
             if (last.running) {
                 app_.boot_report = true;
-                app_.boot_cut = (robot_episode_report_t){.episode = last.episode, .steps = last.steps,
-                                                         .interrupted = true};
                 app_.stats.episodes_interrupted++;
                 app_.stats.boot_cut_episode = last.episode;
                 app_.stats.boot_cut_steps = last.steps;
@@ -887,7 +890,9 @@ void robot_app_get_stats(robot_app_stats_t *out)
     *out = app_.stats;
     out->safe_stops = app_.ctrl.safe_stops;
     out->trust_losses = app_.trust.losses;
-    memcpy(out->trust_losses_by, app_.trust.losses_by, sizeof out->trust_losses_by);
+    for (uint32_t i = 0; i < 4u; i++) {
+        out->trust_losses_by[i] = app_.trust.losses_by[i];
+    }
     out->trust_legs = app_.trust.legs;
     out->trust_legs_failed = app_.trust.legs_failed;
 }

@@ -3,6 +3,8 @@
 // frames, CRC, saturation, and refusal of malformed frames.
 #include "test_common.h"
 
+#include <stdio.h>
+
 #include <string.h>
 
 #include "drivers/candev.h"
@@ -202,11 +204,12 @@ static void test_tool_cmd_crc_and_repeats(void **state)
     uint8_t counter = 5;
     hal_can_frame_t f;
     tlm_tool_cmd_t got;
-    const tlm_tool_cmd_t cmd = {.command = TLM_CMD_SAFE_STOP, .argument = 0xDEADBEEFu};
+    const tlm_tool_cmd_t cmd = {.command = TLM_CMD_SAFE_STOP, .argument = 0xBEEFu};
     assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
+    assert_int_equal(f.dlc, 8);
     assert_int_equal(candev_rx(&bus, &f, 1u, &got), CANDEV_RX_TOOL_CMD);
     assert_int_equal(got.command, TLM_CMD_SAFE_STOP);
-    assert_int_equal(got.argument, 0xDEADBEEFu);
+    assert_int_equal(got.argument, 0xBEEFu);
     // The same frame again is a repeat, not a second command.
     assert_int_equal(candev_rx(&bus, &f, 2u, &got), FW_ERR_NOENT);
     assert_int_equal(bus.tlm.tool_rx.repeated, 1);
@@ -215,13 +218,48 @@ static void test_tool_cmd_crc_and_repeats(void **state)
     f.data[6] ^= 0x01u;
     assert_int_equal(candev_rx(&bus, &f, 3u, &got), FW_ERR_INVAL);
     assert_int_equal(bus.tlm.tool_rx.malformed, 1);
+    // Arguments beyond 24 bits go as 0xFFFFFF, "none" (START_EPISODE: keep the heading).
+    const tlm_tool_cmd_t keep = {.command = TLM_CMD_START_EPISODE, .argument = 0xFFFFFFFFu};
+    assert_int_equal(tlm_encode_tool_cmd(&counter, &keep, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 3u, &got), CANDEV_RX_TOOL_CMD);
+    assert_int_equal(got.argument, 0xFFFFFFu);
     // An unknown command is refused on both sides.
     const tlm_tool_cmd_t unknown = {.command = 7, .argument = 0};
     assert_int_equal(tlm_encode_tool_cmd(&counter, &unknown, &f), FW_ERR_INVAL);
     assert_int_equal(tlm_encode_tool_cmd(&counter, &cmd, &f), FW_OK);
-    f.data[0] = 7;
-    f.data[6] = can_link_crc8(f.id, f.data, 6);
+    f.data[0] = (uint8_t)((f.data[0] & 0xF0u) | 7u);
+    const uint32_t crc = can_link_crc32(f.id, f.data, 4);
+    for (unsigned i = 0; i < 4u; i++) {
+        f.data[4 + i] = (uint8_t)(crc >> (8u * i));
+    }
     assert_int_equal(candev_rx(&bus, &f, 4u, &got), FW_ERR_INVAL);
+}
+
+// Noise cannot forge a command (docs/can-protocol.md): of 10^7 random TOOL_CMD frames (random
+// bytes, the length right) none is accepted. The arithmetic: a random frame passes the 32-bit Crc
+// with probability 2^-32, a known Command 7/16 of those and a new Counter 15/16: ~1e-10 a frame.
+static void test_random_tool_cmds_are_never_accepted(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    uint64_t x = 0x9E3779B97F4A7C15ull;
+    uint32_t accepted = 0;
+    tlm_tool_cmd_t got;
+    hal_can_frame_t f = {.id = DYNAQPC_CAN_TOOL_CMD_FRAME_ID, .dlc = DYNAQPC_CAN_TOOL_CMD_LENGTH, .flags = 0, .data = {0}};
+    for (uint32_t n = 0; n < 10000000u; n++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        for (unsigned i = 0; i < 8u; i++) {
+            f.data[i] = (uint8_t)(x >> (8u * i));
+        }
+        accepted += tlm_rx_tool_cmd(&bus.tlm, &f, n, &got) == FW_OK ? 1u : 0u;
+    }
+    printf("random TOOL_CMD frames: %u accepted of 10000000, %u refused as malformed\n", accepted,
+           bus.tlm.tool_rx.malformed);
+    assert_int_equal(accepted, 0);
+    assert_int_equal(bus.tlm.tool_rx.malformed, 10000000u);
 }
 
 static void test_malformed_frames_are_refused_and_counted(void **state)
@@ -315,6 +353,7 @@ int main(void)
         cmocka_unit_test(test_gyro_gps_ranges_round_trip),
         cmocka_unit_test(test_telemetry_saturates_and_round_trips),
         cmocka_unit_test(test_tool_cmd_crc_and_repeats),
+        cmocka_unit_test(test_random_tool_cmds_are_never_accepted),
         cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
         cmocka_unit_test(test_every_byte_pattern_is_survived),
     };

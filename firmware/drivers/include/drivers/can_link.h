@@ -35,6 +35,11 @@ typedef struct can_link_rx {
 /// byte, followed by `len` data bytes. The command frames carry it in their Crc signal.
 uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len);
 
+/// CRC-32 (IEEE 802.3, reflected, as zlib's crc32()) over the identifier, low byte then high
+/// byte, then `len` data bytes: TOOL_CMD's 32-bit Crc, which no random frame passes with a
+/// probability above 2^-32 (docs/can-protocol.md).
+uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len);
+
 /// Clears `rx` (nothing seen).
 void can_link_rx_init(can_link_rx_t *rx);
 

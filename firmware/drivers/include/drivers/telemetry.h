@@ -115,7 +115,7 @@ typedef struct tlm_status {
 
 typedef struct tlm_tool_cmd {
     uint8_t command;        ///< enum tlm_tool_command
-    uint32_t argument;
+    uint32_t argument;      ///< 24 bits on the bus: larger values are sent as 0xFFFFFF ("none")
 } tlm_tool_cmd_t;
 
 /// TOOL_ACK: the answer to one TOOL_CMD.

@@ -134,21 +134,23 @@ int dynaqpc_can_tool_cmd_pack(
     const struct dynaqpc_can_tool_cmd_t *src_p,
     size_t size)
 {
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 7);
+    memset(&dst_p[0], 0, 8);
 
-    dst_p[0] |= pack_left_shift_u8(src_p->command, 0u, 0xffu);
+    dst_p[0] |= pack_left_shift_u8(src_p->command, 0u, 0x0fu);
+    dst_p[0] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
     dst_p[1] |= pack_left_shift_u32(src_p->argument, 0u, 0xffu);
     dst_p[2] |= pack_right_shift_u32(src_p->argument, 8u, 0xffu);
     dst_p[3] |= pack_right_shift_u32(src_p->argument, 16u, 0xffu);
-    dst_p[4] |= pack_right_shift_u32(src_p->argument, 24u, 0xffu);
-    dst_p[5] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
-    dst_p[6] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
+    dst_p[4] |= pack_left_shift_u32(src_p->crc, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(src_p->crc, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(src_p->crc, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(src_p->crc, 24u, 0xffu);
 
-    return (7);
+    return (8);
 }
 
 int dynaqpc_can_tool_cmd_unpack(
@@ -156,17 +158,19 @@ int dynaqpc_can_tool_cmd_unpack(
     const uint8_t *src_p,
     size_t size)
 {
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
-    dst_p->command = unpack_right_shift_u8(src_p[0], 0u, 0xffu);
+    dst_p->command = unpack_right_shift_u8(src_p[0], 0u, 0x0fu);
+    dst_p->counter = unpack_right_shift_u8(src_p[0], 4u, 0xf0u);
     dst_p->argument = unpack_right_shift_u32(src_p[1], 0u, 0xffu);
     dst_p->argument |= unpack_left_shift_u32(src_p[2], 8u, 0xffu);
     dst_p->argument |= unpack_left_shift_u32(src_p[3], 16u, 0xffu);
-    dst_p->argument |= unpack_left_shift_u32(src_p[4], 24u, 0xffu);
-    dst_p->counter = unpack_right_shift_u8(src_p[5], 0u, 0x0fu);
-    dst_p->crc = unpack_right_shift_u8(src_p[6], 0u, 0xffu);
+    dst_p->crc = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    dst_p->crc |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    dst_p->crc |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    dst_p->crc |= unpack_left_shift_u32(src_p[7], 24u, 0xffu);
 
     return (0);
 }
@@ -190,18 +194,6 @@ bool dynaqpc_can_tool_cmd_command_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 6.0));
 }
 
-bool dynaqpc_can_tool_cmd_argument_is_in_range(uint32_t value)
-{
-    (void)value;
-
-    return (true);
-}
-
-bool dynaqpc_can_tool_cmd_argument_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 4294967295.0));
-}
-
 bool dynaqpc_can_tool_cmd_counter_is_in_range(uint8_t value)
 {
     return (value <= 15u);
@@ -212,7 +204,17 @@ bool dynaqpc_can_tool_cmd_counter_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 15.0));
 }
 
-bool dynaqpc_can_tool_cmd_crc_is_in_range(uint8_t value)
+bool dynaqpc_can_tool_cmd_argument_is_in_range(uint32_t value)
+{
+    return (value <= 16777215u);
+}
+
+bool dynaqpc_can_tool_cmd_argument_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 16777215.0));
+}
+
+bool dynaqpc_can_tool_cmd_crc_is_in_range(uint32_t value)
 {
     (void)value;
 
@@ -221,7 +223,7 @@ bool dynaqpc_can_tool_cmd_crc_is_in_range(uint8_t value)
 
 bool dynaqpc_can_tool_cmd_crc_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 255.0));
+    return ((value >= 0.0) && (value <= 4294967295.0));
 }
 
 int dynaqpc_can_tool_ack_pack(

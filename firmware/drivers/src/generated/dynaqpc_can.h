@@ -62,7 +62,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_EPISODE_FRAME_ID (0x183u)
 
 /* Frame lengths in bytes. */
-#define DYNAQPC_CAN_TOOL_CMD_LENGTH (7u)
+#define DYNAQPC_CAN_TOOL_CMD_LENGTH (8u)
 #define DYNAQPC_CAN_TOOL_ACK_LENGTH (8u)
 #define DYNAQPC_CAN_MOTOR_CMD_LENGTH (6u)
 #define DYNAQPC_CAN_MOTOR_STATUS_LENGTH (6u)
@@ -224,8 +224,8 @@ extern "C" {
 
 /* Signal Names. */
 #define DYNAQPC_CAN_TOOL_CMD_COMMAND_NAME "Command"
-#define DYNAQPC_CAN_TOOL_CMD_ARGUMENT_NAME "Argument"
 #define DYNAQPC_CAN_TOOL_CMD_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_TOOL_CMD_ARGUMENT_NAME "Argument"
 #define DYNAQPC_CAN_TOOL_CMD_CRC_NAME "Crc"
 #define DYNAQPC_CAN_TOOL_ACK_COMMAND_NAME "Command"
 #define DYNAQPC_CAN_TOOL_ACK_COUNTER_NAME "Counter"
@@ -327,7 +327,7 @@ extern "C" {
 /**
  * Signals in message TOOL_CMD.
  *
- * Operator command. Sent on demand; the firmware acts on a new Counter value with a valid Crc only, so a repeated frame is harmless.
+ * Operator command. Sent on demand; the firmware acts on a new Counter value with a valid 32-bit Crc only, so a repeated frame is harmless and a random one passes with probability 2^-32.
  *
  * All signal values are as on the CAN bus.
  */
@@ -342,15 +342,6 @@ struct dynaqpc_can_tool_cmd_t {
     uint8_t command;
 
     /**
-     * START_EPISODE: the robot's heading in 0.01 deg (0..35999), 0xFFFFFFFF keeps the firmware's; RESET_LEARNING: 1 confirms a wipe of learning saved since boot or restored at boot (else refused, Reason CONFIRM); otherwise 0.
-     *
-     * Range: 0..4294967295 (0..4294967295 -)
-     * Scale: 1
-     * Offset: 0
-     */
-    uint32_t argument;
-
-    /**
      * Range: 0..15 (0..15 -)
      * Scale: 1
      * Offset: 0
@@ -358,17 +349,26 @@ struct dynaqpc_can_tool_cmd_t {
     uint8_t counter;
 
     /**
-     * Range: 0..255 (0..255 -)
+     * START_EPISODE: the robot's heading in 0.01 deg (0..35999), 0xFFFFFF keeps the firmware's; RESET_LEARNING: 1 confirms a wipe of learning saved since boot or restored at boot (else refused, Reason CONFIRM); otherwise 0.
+     *
+     * Range: 0..16777215 (0..16777215 -)
      * Scale: 1
      * Offset: 0
      */
-    uint8_t crc;
+    uint32_t argument;
+
+    /**
+     * Range: 0..4294967295 (0..4294967295 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t crc;
 };
 
 /**
  * Signals in message TOOL_ACK.
  *
- * The firmware's answer to a TOOL_CMD: one per command it took (a repeated frame gets the last answer again; a TOOL_CMD of 7 bytes whose Crc or Command is wrong is answered REFUSED MALFORMED with its Command and Counter as read). Event frame, no counter of its own: Counter is the command's.
+ * The firmware's answer to a TOOL_CMD: one per command it took (a repeated frame gets the last answer again; a TOOL_CMD of 8 bytes whose Crc or Command is wrong is answered REFUSED MALFORMED with its Command and Counter as read). Event frame, no counter of its own: Counter is the command's.
  *
  * All signal values are as on the CAN bus.
  */
@@ -1301,28 +1301,6 @@ bool dynaqpc_can_tool_cmd_command_is_in_phys_range(double value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_tool_cmd_argument_is_in_range(uint32_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool dynaqpc_can_tool_cmd_argument_is_in_phys_range(double value);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
 bool dynaqpc_can_tool_cmd_counter_is_in_range(uint8_t value);
 
 /**
@@ -1345,7 +1323,29 @@ bool dynaqpc_can_tool_cmd_counter_is_in_phys_range(double value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_tool_cmd_crc_is_in_range(uint8_t value);
+bool dynaqpc_can_tool_cmd_argument_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_cmd_argument_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tool_cmd_crc_is_in_range(uint32_t value);
 
 /**
  * Check that given physical value is in allowed range before encoding.

@@ -40,11 +40,11 @@ typedef struct boot_journal_entry {
 } boot_journal_entry_t;
 
 typedef struct boot_journal {
-    bool ok;            ///< there is a journal to append to
     uint32_t next;      ///< flash offset of the next entry
     uint32_t end;       ///< end of the journal's space
     uint32_t boot;      ///< this boot's count: the largest in flash plus one
-    uint32_t appended, full, damaged;  ///< entries written; refused for want of room; found damaged
+    uint16_t appended, full, damaged;  ///< entries written; refused for want of room; found damaged
+    bool ok;            ///< there is a journal to append to
 } boot_journal_t;
 
 /// Finds the journal after the newest record of `st`, reads the newest entry into *last (false

@@ -43,7 +43,8 @@ extern "C" {
 /// The quarter turn before a new try, in control periods.
 #define POSE_TRUST_TURN_PERIODS 4u
 /// A gyro gap that can have hidden more turn than this (its length times the larger of the rates
-/// at its ends), degrees: the heading is lost. Gaps of a robot standing still cost nothing.
+/// at its ends), degrees, or any gap while the wheels drive: the heading is lost. Gaps of a robot
+/// standing still cost nothing.
 #define POSE_TRUST_GAP_DEG 2.0f
 /// A control task that ran this much later than its period: the gyro's samples bunched behind it.
 #define POSE_TRUST_STALL_US 500000u
@@ -84,19 +85,18 @@ typedef struct pose_trust_in {
 } pose_trust_in_t;
 
 typedef struct pose_trust {
+    uint64_t stopped_us;       ///< when the wheels last stopped: a fix must be younger
+    float ax_m, ay_m, a_heading_deg;  ///< fix A and the gyro then
+    float correction_deg;      ///< the last leg's change to the gyro's heading
+    uint32_t losses;           ///< times the trust was lost
+    uint16_t losses_by[4];     ///< of them, by reason (BOOT never: it is untrusted from the start)
+    uint16_t legs;             ///< legs that gave a heading
+    uint16_t legs_failed;      ///< legs cut short (a bump) or without room
     bool trusted;
     uint8_t reason;            ///< pose_trust_reason_t
     uint8_t phase;             ///< pose_trust_phase_t
     uint8_t periods_left;      ///< of the current drive or turn
     uint8_t turns;             ///< quarter turns in a row for want of room
-    uint64_t stopped_us;       ///< when the wheels last stopped: a fix must be younger
-    float ax_m, ay_m, a_heading_deg;  ///< fix A and the gyro then
-    float track_m;             ///< the last leg's track
-    float correction_deg;      ///< the last leg's change to the gyro's heading
-    uint32_t losses;           ///< times the trust was lost
-    uint32_t losses_by[4];     ///< of them, by reason (BOOT never: it is untrusted from the start)
-    uint32_t legs;             ///< legs that gave a heading
-    uint32_t legs_failed;      ///< legs cut short (a bump) or without room
 } pose_trust_t;
 
 /// Untrusted (reason BOOT) unless `absolute` (the pose source measures the heading).

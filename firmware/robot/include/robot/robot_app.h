@@ -75,9 +75,9 @@ typedef struct robot_app_stats {
     uint32_t safe_stops;        ///< safe stops entered (the controller's count)
     uint32_t episodes_interrupted;  ///< episodes cut: the heading lost, or a START or STOP mid-episode
     uint32_t trust_losses;      ///< times the heading stopped being trusted (robot/pose_trust.h)
-    uint32_t trust_losses_by[4];///< of them, by pose_trust_reason_t (GYRO_GAP, FIX_JUMP, STALL)
-    uint32_t trust_legs;        ///< straight legs that found the heading
-    uint32_t trust_legs_failed; ///< straight legs cut short (a bump) or without room
+    uint16_t trust_losses_by[4];///< of them, by pose_trust_reason_t (GYRO_GAP, FIX_JUMP, STALL)
+    uint16_t trust_legs;        ///< straight legs that found the heading
+    uint16_t trust_legs_failed; ///< straight legs cut short (a bump) or without room
     uint32_t boot_count;        ///< this boot's number (robot/boot_journal.h; 1: none in flash before)
     uint32_t boot_cut_episode;  ///< the episode the last reboot cut (0: none), and its steps
     uint32_t boot_cut_steps;
