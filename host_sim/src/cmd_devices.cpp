@@ -118,9 +118,22 @@ public:
                 }
                 fw_safe_ = safe;
             }
+        } else if (f.id == DYNAQPC_CAN_TOOL_ACK_FRAME_ID) {
+            tlm_ack_t a;
+            if (tlm_decode_ack(&f, &a) == 0 && a.command == TLM_CMD_START_EPISODE) awaiting_ack_ = false;
+        } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID) {
+            awaiting_ack_ = false;  // an episode runs: the start was taken
         } else if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID && running_) {
             tlm_episode_t e;
             if (tlm_decode_episode(&f, &e) != 0) return false;
+            if (awaiting_ack_ && e.interrupted) {
+                // The episode our START cut (an --auto-start one, or one before a reboot): the
+                // firmware reports it before it answers the START; ours has yet to run.
+                std::printf("supervisor: the start cut the firmware's episode %u (%u steps)\n", e.episode, e.steps);
+                std::fflush(stdout);
+                cut_++;
+                return false;
+            }
             running_ = false;
             done_++;
             const double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
@@ -169,6 +182,7 @@ public:
     std::uint32_t safe_stops() const { return safe_stops_; }
     std::uint32_t safe_stop_restarts() const { return restarts_; }
     std::uint32_t reboots() const { return reboots_; }
+    std::uint32_t episodes_cut_by_start() const { return cut_; }
 
 private:
     void start(std::uint64_t t_us)
@@ -185,6 +199,7 @@ private:
 
     void send_start()
     {
+        awaiting_ack_ = true;
         // The robot's heading now, as the operator measures it (a retry after a reboot finds the
         // robot where it drove to, not at the start).
         (void)bus_.send(start_episode_frame(cfg_, world_.pose(), &counter_));
@@ -202,6 +217,8 @@ private:
     std::uint8_t counter_ = 0;
     std::uint32_t done_ = 0, retries_ = 0;
     bool have_boot_ = false;
+    bool awaiting_ack_ = false;  // a START_EPISODE sent and not answered yet
+    std::uint32_t cut_ = 0;      // firmware episodes our starts cut
     std::uint32_t boot_ = 0, reboots_ = 0;
 };
 
@@ -344,13 +361,14 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     receive_until(bus, Clock::now() + std::chrono::milliseconds(kDrainMs), [&](const hal_can_frame_t &) {});
     if (cricket) pty_close(&pty);
     std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
-                "safe_stops=%u safe_stop_restarts=%u reboots=%u "
+                "safe_stops=%u safe_stop_restarts=%u reboots=%u cut_by_start=%u "
                 "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
                 " pty_dropped=%" PRIu64 "\n",
                 wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
-                sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(),
+                sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(), sup.episodes_cut_by_start(),
                 devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
-    std::printf("pose: learned_steps=%u %s\n", pose_check.steps(), pose_check.summary().c_str());
+    std::printf("pose: learned_steps=%u %s learned_over_20deg=%u\n", pose_check.steps(), pose_check.summary().c_str(),
+                pose_check.learned_over_20deg());
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
                 bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());
     std::fflush(stdout);

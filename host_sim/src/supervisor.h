@@ -41,6 +41,8 @@ public:
     /// it, steps() counts also the steps whose true heading is more than 10 degrees off it.
     void set_heading_grid(double turn_rad) { grid_rad_ = turn_rad; }
     std::uint32_t off_grid_steps() const { return off_grid_; }
+    /// Steps learned from (TLM_LEARN Step >= 1) with the firmware's heading over 20 degrees off.
+    std::uint32_t learned_over_20deg() const { return over20_; }
     /// "head_err_mean_deg=.. head_err_max_deg=.. pos_err_mean_m=.. off_grid_10deg=K/N"
     std::string summary() const;
 
@@ -51,6 +53,7 @@ private:
     double heading_sum_ = 0.0, heading_max_ = 0.0, position_sum_ = 0.0;
     double grid_rad_ = 0.0;
     std::uint32_t off_grid_ = 0;
+    std::uint32_t over20_ = 0;  // learned steps (TLM_LEARN Step >= 1) with the heading over 20 degrees off
 };
 
 }  // namespace dynaqpc
