@@ -11,7 +11,9 @@
 
 #include "commands.h"
 #include "options.h"
+#include "world/grid_fit.h"
 #include "world/rooms.h"
+#include "world/user_rooms.h"
 #include "world/scenario.h"
 
 namespace dynaqpc {
@@ -46,7 +48,7 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, base, out, check, far, floor, changed;
+    std::string robot, base, out, check, far, floor, changed, users;
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
@@ -63,6 +65,11 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
                  "far-goal rooms instead: hall, open (goal in a corner), culdesac, serpentine, or mixed "
                  "(room i: hall, open, culdesac, serpentine, hall, ...)",
                  &far, {"hall", "open", "culdesac", "serpentine", "mixed"});
+    o.add_choice("--users", "FAMILY",
+                 "rooms like users' rooms instead: partitions (with doorways anywhere), s-floor, u-floor, pillars, "
+                 "furniture (at an angle), or mixed (room i: each in turn); floors of any size, thin "
+                 "partitions, doorways from the robot's diagonal up, encode auto (docs/scenarios.md)",
+                 &users, {"partitions", "s-floor", "u-floor", "pillars", "furniture", "mixed"});
     o.add_string("--floor", "WxH",
                  "with --far: the floor in m, each side the base's times 1/4, 1/2, 1, 2 or 4 (the state "
                  "cells keep their size; default: the base's)",
@@ -89,7 +96,7 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         return kExitOk;
     }
     if (o.seen("--check")) {
-        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor"}) {
+        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor", "--users"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
         auto load = [](const std::string &file, world::Scenario &s) {
@@ -102,6 +109,12 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
             std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
                         "passages at least the robot's diagonal (%.3f m) wide\n",
                         s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
+            if (const int faces = world::faces_inside_cells(s)) {
+                std::printf("%s: warning: %d wall face(s) lie inside state cells of the equal grid (encode x/y): "
+                            "a step beside them passes or bumps by where in its cell the robot stands, which the "
+                            "state cannot show; 'encode auto' fits the cells to the room (docs/agent.md)\n",
+                            s.path.c_str(), faces);
+            }
             const world::PathReport p = world::longest_path(s);
             if (p.longest >= 0) {
                 std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "
@@ -136,6 +149,7 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     }
     if (!o.seen("--out") || out.empty()) throw UsageError("--out: required (a directory)");
     if (o.seen("--floor") && !o.seen("--far")) throw UsageError("--floor: needs --far");
+    if (o.seen("--users") && o.seen("--far")) throw UsageError("--users: cannot be combined with --far");
     if (o.seen("--changed")) throw UsageError("--changed: only with --check");
 
     const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(robot) : base;
@@ -190,11 +204,29 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
             room_command = at + " --far " + world::far_family_name(spec.family) + " --floor " +
                            world::floor_name(floor_w, floor_h) + command.substr(command.rfind(" --seed "));
         }
-        const std::string name = world::room_file_name(prefix, spec, floor_w, floor_h, seed, i);
         world::Room room;
         std::string error;
-        if (!world::generate_room(base_text, label, room_command, seed, i, spec, name, &room, &error)) {
-            throw std::runtime_error(error);
+        std::string name;
+        if (o.seen("--users")) {
+            world::UserFamily family{};
+            if (users == "mixed") {
+                family = world::user_family_of_index(i);
+            } else {
+                world::user_family_from_name(users, &family);
+            }
+            const std::string at = command.substr(0, command.rfind(" --seed "));
+            room_command = at + " --users " + world::user_family_name(family) + command.substr(command.rfind(" --seed "));
+            char idx[16];
+            std::snprintf(idx, sizeof idx, "%03u", i);
+            name = prefix + "-" + world::user_family_name(family) + "-" + std::to_string(seed) + "-" + idx + ".scn";
+            if (!world::generate_user_room(base_text, label, room_command, seed, i, family, name, &room, &error)) {
+                throw std::runtime_error(error);
+            }
+        } else {
+            name = world::room_file_name(prefix, spec, floor_w, floor_h, seed, i);
+            if (!world::generate_room(base_text, label, room_command, seed, i, spec, name, &room, &error)) {
+                throw std::runtime_error(error);
+            }
         }
         rooms.emplace_back(name, std::move(room));
     }

@@ -21,6 +21,7 @@
 #include "commands.h"
 #include "hal_host/hal_host_config.h"
 #include "learning_record.h"
+#include "world/grid_fit.h"
 #include "lockstep.h"
 #include "options.h"
 #include "scenario_bridge.h"
@@ -259,6 +260,15 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
         throw UsageError("--agent: required (" + agent_kind_list() + ")");
     }
     const ScenarioBundle sb = load_scenario(s.scenario);
+    // A user's room (a file, not a shipped name) on equal cells that its walls cut.
+    if (!s.quiet && s.scenario.find('/') != std::string::npos) {
+        if (const int faces = world::faces_inside_cells(*sb.world)) {
+            std::fprintf(stderr,
+                         "%s train: warning: %s: %d wall face(s) lie inside state cells of the equal grid; 'encode "
+                         "auto' fits the cells to the room (dynaqpc-sim rooms --check says more)\n",
+                         program.c_str(), s.scenario.c_str(), faces);
+        }
+    }
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma, &s.model, &s.model_tiles,
                         &s.explore, &s.kappa},

@@ -22,6 +22,15 @@ void extent(const Obstacle &o, int axis, double *lo, double *hi)
     *hi = mid + half;
 }
 
+// A box turned by a multiple of 90 degrees: its faces are straight lines of the grid's kind.
+bool axis_aligned(const Obstacle &o)
+{
+    if (o.shape != Obstacle::Shape::Box) return false;
+    const double quarter = 1.57079632679489661923;
+    const double turns = o.angle / quarter;
+    return std::fabs(turns - std::round(turns)) < 1e-6;
+}
+
 // Whether [a, b] lies inside one obstacle's extent along `axis`.
 bool inside_an_obstacle(const Scenario &s, int axis, double a, double b)
 {
@@ -46,6 +55,7 @@ bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> 
     // 1. The faces, sorted; near ones merged, none next to a wall.
     std::vector<double> faces;
     for (const Obstacle &o : s.obstacles) {
+        if (!axis_aligned(o)) continue;  // a round or turned face crosses cells whatever the cuts
         double lo = 0.0, hi = 0.0;
         extent(o, axis, &lo, &hi);
         for (double f : {lo, hi}) {
@@ -82,7 +92,7 @@ bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> 
     edges->assign(1, 0.0);
     for (std::size_t i = 0; i + 1 < cuts.size(); i++) {
         const double a = cuts[i], b = cuts[i + 1];
-        const int n = std::max(1, static_cast<int>(std::ceil((b - a) / max_side - 1e-9)));
+        const int n = std::max(1, static_cast<int>(std::lround((b - a) / max_side)));
         for (int k = 1; k < n; k++) edges->push_back(a + (b - a) * k / n);
         edges->push_back(b);
     }
@@ -96,6 +106,27 @@ bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> 
         return false;
     }
     return true;
+}
+
+int faces_inside_cells(const Scenario &s)
+{
+    if (s.encoding.fitted) return 0;
+    int n = 0;
+    for (const Obstacle &o : s.obstacles) {
+        if (!axis_aligned(o)) continue;
+        for (int axis = 0; axis < 2; axis++) {
+            const double side = axis == 0 ? s.arena_w : s.arena_h;
+            const double cell = side / (1 << (axis == 0 ? s.encoding.x_bits : s.encoding.y_bits));
+            double lo = 0.0, hi = 0.0;
+            extent(o, axis, &lo, &hi);
+            for (double f : {lo, hi}) {
+                if (f <= kFaceMerge || f >= side - kFaceMerge) continue;
+                const double in = f - std::floor(f / cell) * cell;
+                n += std::min(in, cell - in) > s.actions.past;
+            }
+        }
+    }
+    return n;
 }
 
 }  // namespace world

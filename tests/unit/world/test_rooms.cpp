@@ -18,6 +18,7 @@ extern "C" {
 #include "test_common.h"
 }
 #include "world/rooms.h"
+#include "world/user_rooms.h"
 #include "world/scenario.h"
 
 #ifndef WORLD_TEST_ROOMS
@@ -517,6 +518,51 @@ void test_committed_rooms(void **state)
     }
 }
 
+// Rooms like users' rooms (world/user_rooms.h): every family for both robots parses again from its
+// text, passes the passage check, reaches the goal on its fitted grid (encode auto), keeps the
+// base's robot, and is the same text for the same seed and index.
+world::Room make_user(const std::string &robot, world::UserFamily f, std::uint32_t seed, std::uint32_t index)
+{
+    const std::string name = robot + "-" + world::user_family_name(f) + "-" + std::to_string(seed) + ".scn";
+    world::Room room;
+    std::string err;
+    const bool ok = world::generate_user_room(base_text(robot), label(robot), command(robot, seed), seed, index, f,
+                                              name, &room, &err);
+    if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
+    assert_true(ok);
+    return room;
+}
+
+void test_user_rooms(void **state)
+{
+    (void)state;
+    for (const char *robot : kRobots) {
+        world::Scenario base;
+        std::string err;
+        assert_true(world::load_scenario(robot, &base, &err));
+        for (int f = 0; f < world::kUserFamilies; f++) {
+            const auto family = static_cast<world::UserFamily>(f);
+            for (std::uint32_t index = 1; index <= 2; index++) {
+                const world::Room room = make_user(robot, family, 5, index);
+                world::Scenario s;
+                assert_true(world::parse_scenario(room.text, "again.scn", &s, &err));
+                assert_true(s.encoding.fitted);
+                assert_true(world::check_passages(s).ok);
+                assert_true(world::longest_path(s).longest > 0);
+                assert_true(s.robot.length == base.robot.length && s.code_bits.size() == base.code_bits.size());
+                assert_true(!s.obstacles.empty());
+                assert_true(room.text == make_user(robot, family, 5, index).text);
+                assert_true(room.text != make_user(robot, family, 6, index).text);
+            }
+        }
+        world::UserFamily f{};
+        assert_true(world::user_family_from_name("s-floor", &f) && f == world::UserFamily::SFloor);
+        assert_false(world::user_family_from_name("s_floor", &f));
+        assert_true(world::user_family_of_index(1) == world::UserFamily::Partitions);
+        assert_true(world::user_family_of_index(6) == world::UserFamily::Partitions);
+    }
+}
+
 }  // namespace
 
 int main(void)
@@ -526,6 +572,7 @@ int main(void)
         cmocka_unit_test(test_narrow_door_refused),
         cmocka_unit_test(test_unreachable_goal_refused),
         cmocka_unit_test(test_generated_rooms),
+        cmocka_unit_test(test_user_rooms),
         cmocka_unit_test(test_same_seed_same_room),
         cmocka_unit_test(test_committed_rooms),
         cmocka_unit_test(test_longest_path_corridor),

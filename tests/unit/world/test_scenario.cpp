@@ -124,14 +124,13 @@ void test_gamma_auto(void **state)
 // `encode auto`: the cells fitted to the room (world/grid_fit.h). A 4 x 2 m floor with a 0.1 m
 // partition at x 1.95-2.05 (y 0-1.4: a 0.6 m doorway above it) and 0.5 m steps: along x a cut at
 // each face of the partition, the partition its own thin cell, the gaps on either side cut into
-// cells at most 1 m (twice the step) wide; along y a cut at the doorway's jamb, the 1.4 m below it
-// in two. Cells and goal
+// the nearest whole number of cells of 1 m (twice the step); along y a cut at the doorway's jamb. Cells and goal
 // cells follow the fit; a room that needs more than 32 cells is refused with the count.
 void test_encode_auto(void **state)
 {
     (void)state;
     const std::string head = "arena 4 2\nrobot length 0.3 width 0.2 track 0.18\n"
-                             "ranger kind ir min 0.1 max 0.8\nray 0\ngoal 3.5 1.5 0.3 cells\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\ngoal 3.5 1.7 0.3 cells\n"
                              "actions step 0.5 turn_deg 90 aligned 1 past 0.2\n"
                              "obstacle box 2.0 0.7 0.1 1.4\n";
     world::Scenario s;
@@ -142,16 +141,16 @@ void test_encode_auto(void **state)
     assert_int_equal(x.size(), 6u);  // 0, 0.975, 1.95, 2.05, 3.025, 4
     assert_true(std::fabs(x[0]) < 1e-12 && std::fabs(x[2] - 1.95) < 1e-9 && std::fabs(x[3] - 2.05) < 1e-9);
     assert_true(std::fabs(x[1] - 0.975) < 1e-9 && std::fabs(x.back() - 4.0) < 1e-12);
-    assert_int_equal(y.size(), 4u);  // 0, 0.7, 1.4, 2
-    assert_true(std::fabs(y[2] - 1.4) < 1e-9);
+    assert_int_equal(y.size(), 3u);  // 0, 1.4, 2
+    assert_true(std::fabs(y[1] - 1.4) < 1e-9);
     assert_int_equal(s.encoding.x_bits, 3);  // 5 cells
-    assert_int_equal(s.encoding.y_bits, 2);
+    assert_int_equal(s.encoding.y_bits, 1);
     assert_int_equal(world::grid_cells(s, 0), 5);
     assert_int_equal(world::grid_cell(s, 0, 2.0), 2);  // inside the partition's own cell
     assert_int_equal(world::grid_cell(s, 0, 3.9), 4);
     assert_int_equal(world::grid_cell(s, 0, -1.0), 0);
-    assert_int_equal(world::grid_cell(s, 1, 1.5), 2);
-    // The goal cell: x [3.025, 4], y [1.4, 2], centre (3.51, 1.7) inside the 0.3 m circle.
+    assert_int_equal(world::grid_cell(s, 1, 1.5), 1);
+    // The goal cell: x [3.025, 4], y [1.4, 2], centre (3.51, 1.7) inside the 0.3 m circle at (3.5, 1.7).
     assert_true(world::in_goal(s, 3.1, 1.45));
     assert_false(world::in_goal(s, 2.9, 1.45));
     // A largest cell side given: 0.5 m cells.
@@ -163,9 +162,9 @@ void test_encode_auto(void **state)
     assert_false(world::parse_scenario(head + "encode auto cell 0.1\n", "a.scn", &s, &err));
     assert_non_null(std::strstr(err.c_str(), "past"));
     std::string longer = head;
-    longer.replace(0, std::strlen("arena 4 2"), "arena 8 2");  // 10 + 1 + 29 cells of 0.21 m along x
+    longer.replace(0, std::strlen("arena 4 2"), "arena 8 2");  // 9 + 1 + 28 cells of about 0.21 m along x
     assert_false(world::parse_scenario(longer + "encode auto cell 0.21\n", "a.scn", &s, &err));
-    assert_non_null(std::strstr(err.c_str(), "needs 40 cells"));
+    assert_non_null(std::strstr(err.c_str(), "needs 38 cells"));
     assert_non_null(std::strstr(err.c_str(), "cells along x"));
 }
 
