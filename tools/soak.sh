@@ -1,0 +1,135 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Soak: the firmware on the host (dynaqpc-fw, paper-lab, --auto-start, flash image) against the
+# simulated robot (dynaqpc-sim devices --supervise) at 10x in a private network namespace, under
+# a schedule of faults; one table row per run (docs/reliability.md):
+#   cuts     power cuts: dynaqpc-fw killed (SIGKILL) and started again on the same flash image
+#   stalls   the firmware stopped (SIGSTOP) for 1 s of wall time, then continued
+#   frames   random well-formed frames on the firmware's receive ids and others, per second
+#   garbage  random UDP datagrams on the bus's group, per second
+#   commands random TOOL_CMD frames, per second
+#
+#   tools/soak.sh                       # the issue's table: 240 s a run, each fault, then all at once
+#   tools/soak.sh --seconds 60 --only all --cuts 2 --stalls 3   # one short run
+# Columns: episodes; the last quarter's mean steps and bumps per episode; interrupted episodes;
+# the firmware's heading error at its learned steps (mean over episodes' means, and the steps
+# learned with it over 20 deg); boots that restored the flash's record of the cuts; frames the
+# firmware refused (final boot); episodes the firmware's trust logic ended and legs it drove.
+set -u
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+BIN=$REPO/build/host-release/bin
+PY=$REPO/.venv/bin/python
+SECS=240
+SPEED=10
+ONLY=""
+CUTS=5; STALLS=10; GARBAGE=100; FRAMES=100; COMMANDS=1000
+INSIDE=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+    --seconds) SECS=$2; shift ;;
+    --speed) SPEED=$2; shift ;;
+    --bin) BIN=$2; shift ;;
+    --only) ONLY=$2; shift ;;
+    --cuts) CUTS=$2; shift ;;
+    --stalls) STALLS=$2; shift ;;
+    --garbage) GARBAGE=$2; shift ;;
+    --frames) FRAMES=$2; shift ;;
+    --commands) COMMANDS=$2; shift ;;
+    --inside) INSIDE=1 ;;
+    *) echo "soak: unknown argument $1" >&2; exit 2 ;;
+    esac
+    shift
+done
+for f in "$BIN/dynaqpc-fw" "$BIN/dynaqpc-sim" "$PY"; do
+    [ -x "$f" ] || { echo "soak: $f missing (build host-release; tools/dev.sh setup)" >&2; exit 77; }
+done
+if [ $INSIDE -eq 0 ]; then
+    unshare -n true 2>/dev/null || { echo "soak: cannot create a private network namespace (unshare -n)" >&2; exit 77; }
+    exec unshare -n sh "$0" --inside --seconds "$SECS" --speed "$SPEED" --bin "$BIN" --only "${ONLY:-table}" \
+        --cuts "$CUTS" --stalls "$STALLS" --garbage "$GARBAGE" --frames "$FRAMES" --commands "$COMMANDS"
+fi
+ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "soak: cannot route multicast over lo" >&2; exit 1; }
+TMP=$(mktemp -d) || exit 1
+trap 'kill $(jobs -p) 2>/dev/null; kill -CONT $FWPID 2>/dev/null; [ -n "${KEEP:-}" ] && cp -r "$TMP"/* "$KEEP"/; rm -rf "$TMP"' EXIT
+FWPID=""
+
+# run NAME CUTS STALLS GARBAGE FRAMES COMMANDS
+run() {
+    name=$1; cuts=$2; stalls=$3; garbage=$4; frames=$5; commands=$6
+    D=$TMP/$name; mkdir -p "$D"
+    "$BIN/dynaqpc-sim" devices --scenario paper-lab --speed "$SPEED" --supervise --wait-firmware \
+        --duration "$SECS" > "$D/devices.out" 2>&1 &
+    DEV=$!
+    n=0
+    until grep -q ready "$D/devices.out" 2>/dev/null; do
+        n=$((n + 1)); [ $n -gt 100 ] && { echo "soak: devices did not start" >&2; cat "$D/devices.out" >&2; return 1; }
+        sleep 0.1
+    done
+    TTY=$(sed -n 's/^cricket_tty=//p' "$D/devices.out" | head -n 1)
+    boot=0
+    start_fw() {
+        boot=$((boot + 1))
+        "$BIN/dynaqpc-fw" --scenario paper-lab --speed "$SPEED" --cricket-tty "$TTY" --flash "$D/fw.flash" \
+            --auto-start --duration $((SECS + 10)) > "$D/fw.$boot.out" 2>&1 &
+        FWPID=$!
+    }
+    start_fw
+    INJ=""
+    if [ "$garbage$frames$commands" != "000" ]; then
+        "$PY" "$REPO/tools/soak_inject.py" --garbage "$garbage" --frames "$frames" --commands "$commands" \
+            --duration "$SECS" > "$D/inject.out" 2>&1 &
+        INJ=$!
+    fi
+    # The schedule, in tenths of a second of wall time: cut k at k/(cuts+1) of the run, stall k at
+    # (k-1/2)/stalls of it.
+    t=0; end=$((SECS * 10)); k=1; s=1
+    while [ $t -lt $end ] && kill -0 $DEV 2>/dev/null; do
+        if [ $k -le "$cuts" ] && [ $t -ge $((end * k / (cuts + 1))) ]; then
+            kill -9 $FWPID 2>/dev/null; wait $FWPID 2>/dev/null
+            start_fw
+            k=$((k + 1))
+        fi
+        if [ $s -le "$stalls" ] && [ $t -ge $((end * (2 * s - 1) / (2 * stalls))) ]; then
+            kill -STOP $FWPID 2>/dev/null; sleep 1; kill -CONT $FWPID 2>/dev/null
+            t=$((t + 10)); s=$((s + 1))
+        fi
+        sleep 0.1; t=$((t + 1))
+    done
+    wait $DEV
+    kill $FWPID 2>/dev/null; wait $FWPID 2>/dev/null
+    [ -n "$INJ" ] && wait $INJ
+    restored=$(cat "$D"/fw.*.out | grep -c 'restored yes')
+    last=$D/fw.$boot.out
+    field() { sed -n "s/.*[ ]$2=\([0-9]*\).*/\1/p" "$1" | tail -n 1; }
+    bad=$(field "$last" frames_bad); malformed=$(field "$last" tool_malformed)
+    over20=$(field "$D/devices.out" learned_over_20deg)
+    trust=$(sed -n 's/^trust: //p' "$last" | tail -n 1)
+    grep '^episode=' "$D/devices.out" | awk -v name="$name" -v cuts="$cuts" -v restored="$restored" \
+        -v bad="${bad:-?}" -v malformed="${malformed:-?}" -v over20="${over20:-?}" -v trust="$trust" '
+        { for (i = 1; i <= NF; i++) { split($i, kv, "="); v[NR, kv[1]] = kv[2] } }
+        END {
+            n = NR; q = int(n * 3 / 4) + 1; m = 0; st = 0; bu = 0; he = 0; it = 0
+            for (i = 1; i <= n; i++) { he += v[i, "head_err_mean_deg"]; it += v[i, "interrupted"] }
+            for (i = q; i <= n; i++) { st += v[i, "steps"]; bu += v[i, "bumps"]; m++ }
+            printf "| %s | %d | %.1f | %.1f | %d | %.1f | %s | %s/%d | %s | %s | %s |\n", name, n,
+                m ? st / m : 0, m ? bu / m : 0, it, n ? he / n : 0, over20, restored, cuts, bad, malformed, trust
+        }'
+}
+
+echo "| faults | episodes | last-quarter steps | last-quarter bumps | interrupted | heading error, deg | learned steps > 20 deg | restored | frames refused | TOOL_CMD refused | firmware trust (last boot) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+case "$ONLY" in
+table)
+    run none 0 0 0 0 0
+    run cuts "$CUTS" 0 0 0 0
+    run stalls 0 "$STALLS" 0 0 0
+    run frames 0 0 0 "$FRAMES" 0
+    run garbage 0 0 "$GARBAGE" 0 0
+    run commands 0 0 0 0 "$COMMANDS"
+    run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0
+    ;;
+none) run none 0 0 0 0 0 ;;
+all) run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0 ;;
+commands) run commands 0 0 0 0 "$COMMANDS" ;;
+*) echo "soak: --only none|all|commands (or leave it out for the whole table)" >&2; exit 2 ;;
+esac
