@@ -563,6 +563,48 @@ void test_user_rooms(void **state)
     }
 }
 
+// The committed rooms like users' rooms: at least 12 per robot in each of users-tune and
+// users-eval, each what its command generates now, the two sets on different seeds.
+void test_committed_user_rooms(void **state)
+{
+    (void)state;
+    std::map<std::string, std::set<std::uint32_t>> seeds;
+    for (const char *set : {"users-tune", "users-eval"}) {
+        std::map<std::string, int> per_robot;
+        const std::string dir = std::string(WORLD_TEST_ROOMS) + "/" + set;
+        assert_true(std::filesystem::is_directory(dir));
+        for (const auto &entry : std::filesystem::directory_iterator(dir)) {
+            if (entry.path().extension() != ".scn") continue;
+            const std::string file = entry.path().filename().string();
+            // paper-<robot>-<family>-<seed>-<index>.scn, the family itself may hold dashes
+            const std::string stem = file.substr(0, file.size() - 4);
+            const std::size_t i2 = stem.rfind('-'), i1 = stem.rfind('-', i2 - 1);
+            const std::uint32_t index = static_cast<std::uint32_t>(std::stoul(stem.substr(i2 + 1)));
+            const std::uint32_t seed = static_cast<std::uint32_t>(std::stoul(stem.substr(i1 + 1, i2 - i1 - 1)));
+            const std::string r = stem.substr(0, 9);  // paper-lab, paper-sim
+            const std::string fam = stem.substr(10, i1 - 10);
+            world::UserFamily f{};
+            assert_true(world::user_family_from_name(fam, &f));
+            world::Room room;
+            std::string err;
+            const std::string cmd = "dynaqpc-sim rooms --robot " + r + " --users " + fam + " --seed " + std::to_string(seed);
+            assert_true(world::generate_user_room(base_text(r), label(r), cmd, seed, index, f, file, &room, &err));
+            if (room.text != read(entry.path().string())) {
+                std::fprintf(stderr, "%s/%s differs from what its command generates now\n", set, file.c_str());
+            }
+            assert_true(room.text == read(entry.path().string()));
+            per_robot[r]++;
+            seeds[std::string(set) + "/" + r].insert(seed);
+        }
+        for (const char *robot : kRobots) assert_true(per_robot[robot] >= 12);
+    }
+    for (const char *robot : kRobots) {
+        for (std::uint32_t s : seeds[std::string("users-tune/") + robot]) {
+            assert_int_equal(seeds[std::string("users-eval/") + robot].count(s), 0);
+        }
+    }
+}
+
 }  // namespace
 
 int main(void)
@@ -573,6 +615,7 @@ int main(void)
         cmocka_unit_test(test_unreachable_goal_refused),
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_user_rooms),
+        cmocka_unit_test(test_committed_user_rooms),
         cmocka_unit_test(test_same_seed_same_room),
         cmocka_unit_test(test_committed_rooms),
         cmocka_unit_test(test_longest_path_corridor),
