@@ -21,7 +21,7 @@ from crccheck.crc import Crc8SaeJ1850
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DBC = ROOT / "docs" / "dynaqpc.dbc"
 GENERATED = ROOT / "firmware" / "drivers" / "src" / "generated"
-COMMAND_FRAMES = {"MOTOR_CMD", "TOOL_CMD"}
+COMMAND_FRAMES = {"MOTOR_CMD", "TOOL_CMD", "GYRO_RATE"}  # the frames with a Crc
 SAMPLES = 60
 
 

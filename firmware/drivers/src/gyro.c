@@ -37,6 +37,7 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     struct dynaqpc_can_gyro_rate_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH) ||
         dynaqpc_can_gyro_rate_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        msg.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
         !dynaqpc_can_gyro_rate_yaw_rate_is_in_range(msg.yaw_rate) ||
         !dynaqpc_can_gyro_rate_temperature_is_in_range(msg.temperature) ||
         !dynaqpc_can_gyro_rate_status_is_in_range(msg.status)) {
@@ -133,8 +134,11 @@ int gyro_encode_rate(uint8_t *counter, int16_t rate_cdeg_s, int8_t temperature_c
         return FW_ERR_INVAL;
     }
     msg.counter = can_link_tx_counter_next(counter);
+    msg.crc = 0u;
     can_link_frame_prepare(out, DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH);
-    return dynaqpc_can_gyro_rate_pack(out->data, &msg, sizeof out->data) == (int)out->dlc
-               ? FW_OK
-               : FW_ERR_INVAL;
+    if (dynaqpc_can_gyro_rate_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    out->data[out->dlc - 1u] = can_link_crc8(out->id, out->data, out->dlc - 1u);  // the end-to-end check
+    return FW_OK;
 }

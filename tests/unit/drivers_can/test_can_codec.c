@@ -235,6 +235,39 @@ static void test_tool_cmd_crc_and_repeats(void **state)
     assert_int_equal(candev_rx(&bus, &f, 4u, &got), FW_ERR_INVAL);
 }
 
+// GYRO_RATE's end-to-end Crc: a flipped bit is refused and counted, never integrated; of random
+// frames of the right length about 1 in 256 passes the Crc (and its range checks and counter).
+static void test_gyro_rate_crc_refuses_corruption_and_most_noise(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    uint8_t counter = 0;
+    hal_can_frame_t f;
+    assert_int_equal(gyro_encode_rate(&counter, 1234, 25, GYRO_STATUS_OK, &f), FW_OK);
+    assert_int_equal(f.dlc, 5);
+    for (unsigned bit = 0; bit < 40u; bit++) {
+        hal_can_frame_t bad = f;
+        bad.data[bit / 8u] ^= (uint8_t)(1u << (bit % 8u));
+        assert_int_equal(gyro_rx_rate(&g, &bad, 1000u), FW_ERR_INVAL);
+    }
+    assert_int_equal(g.rx.malformed, 40);
+    assert_int_equal(gyro_rx_rate(&g, &f, 1000u), FW_OK);
+    uint32_t x = 2463534242u, accepted = 0;
+    const uint32_t n = 1000000u;
+    for (uint32_t i = 0; i < n; i++) {
+        for (unsigned b = 0; b < 5u; b++) {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            f.data[b] = (uint8_t)x;
+        }
+        accepted += gyro_rx_rate(&g, &f, 2000u + i) == FW_OK ? 1u : 0u;
+    }
+    printf("random GYRO_RATE frames: %u accepted of %u (%.2f %%)\n", accepted, n, 100.0 * accepted / n);
+    assert_true(accepted < n / 200u);  // under 0.5 %: the Crc's 1/256, times the range checks and the counter
+}
+
 // Noise cannot forge a command (docs/can-protocol.md): of 10^7 random TOOL_CMD frames (random
 // bytes, the length right) none is accepted. The arithmetic: a random frame passes the 32-bit Crc
 // with probability 2^-32, a known Command 7/16 of those and a new Counter 15/16: ~1e-10 a frame.
@@ -354,6 +387,7 @@ int main(void)
         cmocka_unit_test(test_telemetry_saturates_and_round_trips),
         cmocka_unit_test(test_tool_cmd_crc_and_repeats),
         cmocka_unit_test(test_random_tool_cmds_are_never_accepted),
+        cmocka_unit_test(test_gyro_rate_crc_refuses_corruption_and_most_noise),
         cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
         cmocka_unit_test(test_every_byte_pattern_is_survived),
     };

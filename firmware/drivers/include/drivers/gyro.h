@@ -48,7 +48,8 @@ typedef struct gyro {
 void gyro_init(gyro_t *gyro);
 
 /// Decodes GYRO_RATE received at `now_us` and integrates. Returns FW_OK, FW_ERR_INVAL (malformed:
-/// wrong id/dlc, rate beyond ±300 deg/s, unknown status; counted, nothing changes) or
+/// wrong id/dlc, a Crc that fails (the end-to-end check over the data id and the data, counter
+/// included), rate beyond ±300 deg/s, unknown status; counted, nothing changes) or
 /// FW_ERR_NOENT (counter repeated: ignored).
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
 

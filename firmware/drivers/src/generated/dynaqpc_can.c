@@ -637,11 +637,11 @@ int dynaqpc_can_gyro_rate_pack(
     uint16_t yaw_rate;
     uint8_t temperature;
 
-    if (size < 4u) {
+    if (size < 5u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 4);
+    memset(&dst_p[0], 0, 5);
 
     yaw_rate = (uint16_t)src_p->yaw_rate;
     dst_p[0] |= pack_left_shift_u16(yaw_rate, 0u, 0xffu);
@@ -650,8 +650,9 @@ int dynaqpc_can_gyro_rate_pack(
     dst_p[2] |= pack_left_shift_u8(temperature, 0u, 0xffu);
     dst_p[3] |= pack_left_shift_u8(src_p->status, 0u, 0x03u);
     dst_p[3] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[4] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
-    return (4);
+    return (5);
 }
 
 int dynaqpc_can_gyro_rate_unpack(
@@ -662,7 +663,7 @@ int dynaqpc_can_gyro_rate_unpack(
     uint16_t yaw_rate;
     uint8_t temperature;
 
-    if (size < 4u) {
+    if (size < 5u) {
         return (-EINVAL);
     }
 
@@ -673,6 +674,7 @@ int dynaqpc_can_gyro_rate_unpack(
     dst_p->temperature = (int8_t)temperature;
     dst_p->status = unpack_right_shift_u8(src_p[3], 0u, 0x03u);
     dst_p->counter = unpack_right_shift_u8(src_p[3], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[4], 0u, 0xffu);
 
     return (0);
 }
@@ -724,6 +726,18 @@ bool dynaqpc_can_gyro_rate_counter_is_in_range(uint8_t value)
 bool dynaqpc_can_gyro_rate_counter_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_gyro_rate_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_gyro_rate_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_ir_ranges_pack(

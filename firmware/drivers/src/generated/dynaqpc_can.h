@@ -66,7 +66,7 @@ extern "C" {
 #define DYNAQPC_CAN_TOOL_ACK_LENGTH (8u)
 #define DYNAQPC_CAN_MOTOR_CMD_LENGTH (6u)
 #define DYNAQPC_CAN_MOTOR_STATUS_LENGTH (6u)
-#define DYNAQPC_CAN_GYRO_RATE_LENGTH (4u)
+#define DYNAQPC_CAN_GYRO_RATE_LENGTH (5u)
 #define DYNAQPC_CAN_IR_RANGES_LENGTH (7u)
 #define DYNAQPC_CAN_SONAR_RANGES_A_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_LENGTH (8u)
@@ -252,6 +252,7 @@ extern "C" {
 #define DYNAQPC_CAN_GYRO_RATE_TEMPERATURE_NAME "Temperature"
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_NAME "Status"
 #define DYNAQPC_CAN_GYRO_RATE_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_GYRO_RATE_CRC_NAME "Crc"
 #define DYNAQPC_CAN_IR_RANGES_RANGE_LEFT_NAME "RangeLeft"
 #define DYNAQPC_CAN_IR_RANGES_RANGE_FRONT_NAME "RangeFront"
 #define DYNAQPC_CAN_IR_RANGES_RANGE_RIGHT_NAME "RangeRight"
@@ -602,6 +603,15 @@ struct dynaqpc_can_gyro_rate_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the four data bytes before it, Counter included. A frame that fails is counted and not integrated.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -2057,6 +2067,28 @@ bool dynaqpc_can_gyro_rate_counter_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_gyro_rate_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_gyro_rate_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_gyro_rate_crc_is_in_phys_range(double value);
 
 /**
  * Pack message IR_RANGES.
