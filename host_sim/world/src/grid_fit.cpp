@@ -49,7 +49,8 @@ double fit_cell_side(const Scenario &s)
     return 2.0 * s.actions.step;
 }
 
-bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> *edges, std::string *error)
+bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
+              std::string *error)
 {
     const double side = axis == 0 ? s.arena_w : s.arena_h;
     // 1. The faces, sorted; near ones merged, none next to a wall.
@@ -59,6 +60,12 @@ bool fit_axis(const Scenario &s, int axis, double max_side, std::vector<double> 
         double lo = 0.0, hi = 0.0;
         extent(o, axis, &lo, &hi);
         for (double f : {lo, hi}) {
+            if (f > kFaceMerge && f < side - kFaceMerge) faces.push_back(f);
+        }
+    }
+    if (goal_square) {
+        const double g = axis == 0 ? s.goal.cx : s.goal.cy;
+        for (double f : {g - s.goal.radius, g + s.goal.radius}) {
             if (f > kFaceMerge && f < side - kFaceMerge) faces.push_back(f);
         }
     }

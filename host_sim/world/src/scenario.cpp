@@ -611,8 +611,12 @@ bool Parser::fit_encoding(Scenario *s)
                                           fmt_num(max_side) + " m)");
     }
     std::string problem;
-    if (!fit_axis(*s, 0, max_side, &e.x_edges, &problem) || !fit_axis(*s, 1, max_side, &e.y_edges, &problem)) {
-        return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
+    for (bool goal_square : {false, true}) {
+        if (!fit_axis(*s, 0, max_side, goal_square, &e.x_edges, &problem) ||
+            !fit_axis(*s, 1, max_side, goal_square, &e.y_edges, &problem)) {
+            return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
+        }
+        if (!s->goal.cells || !goal_cells(*s).empty()) break;  // else: a cell centred on the goal
     }
     auto bits_for = [](std::size_t cells) {
         int b = 1;

@@ -156,6 +156,12 @@ void test_encode_auto(void **state)
     // A largest cell side given: 0.5 m cells.
     assert_true(world::parse_scenario(head + "encode auto cell 0.5\n", "a.scn", &s, &err));
     assert_int_equal(world::grid_cells(s, 0), 9);  // 4 + the partition + 4
+    // A goal no fitted cell centre reaches gets a cell centred on it (its square cuts too).
+    std::string off = head;
+    off.replace(off.find("goal 3.5 1.7 0.3 cells"), std::strlen("goal 3.5 1.7 0.3 cells"), "goal 2.6 0.4 0.25 cells");
+    assert_true(world::parse_scenario(off + "encode auto\n", "a.scn", &s, &err));
+    assert_true(world::in_goal(s, 2.6, 0.4));
+    assert_int_equal(world::goal_cells(s).size(), 1u);
     // Refused: bits with auto, past not inside a cell, more than 32 cells.
     assert_false(world::parse_scenario(head + "encode auto x 3\n", "a.scn", &s, &err));
     assert_non_null(std::strstr(err.c_str(), "unknown field 'x'"));
