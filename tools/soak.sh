@@ -131,5 +131,9 @@ table)
 none) run none 0 0 0 0 0 ;;
 all) run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0 ;;
 commands) run commands 0 0 0 0 "$COMMANDS" ;;
-*) echo "soak: --only none|all|commands (or leave it out for the whole table)" >&2; exit 2 ;;
+cuts) run cuts "$CUTS" 0 0 0 0 ;;
+stalls) run stalls 0 "$STALLS" 0 0 0 ;;
+frames) run frames 0 0 0 "$FRAMES" 0 ;;
+garbage) run garbage 0 0 "$GARBAGE" 0 0 ;;
+*) echo "soak: --only none|cuts|stalls|frames|garbage|commands|all (or leave it out for the whole table)" >&2; exit 2 ;;
 esac
