@@ -29,46 +29,88 @@ ROOT = Path(__file__).resolve().parent.parent
 LAB = ["--scenario", "paper-lab", "--sets", "20", "--episodes", "20", "--seed", "9001"]
 SIM = ["--scenario", "paper-sim", "--sets", "8", "--episodes", "60", "--seed", "9001"]
 CHECKS = [
-    ("paper-lab dyna-qpc N=1000", ["--agent", "dyna-qpc", "--planning", "1000", *LAB], 50, [
-        ("README.md", r"\*\*Dyna-QPC ([\d,]+)\*\* \((\d+/\d+) sets\)", ("steps", "sets")),
-        ("docs/results/README.md", r"Dyna-QPC ([\d,]+) real steps to learn, (\d+/\d+) sets", ("steps", "sets")),
-        ("docs/results/paper-lab.md", r"\| \*\*Dyna-QPC\*\* \| 1,000 \| \*\*(\d+/\d+)\*\* \| \*\*([\d,]+)\*\* \|",
-         ("sets", "steps")),
-    ]),
-    ("paper-lab dyna-q N=1000", ["--agent", "dyna-q", "--planning", "1000", *LAB], 50, [
-        ("README.md", r"\(\d+/\d+ sets\), Dyna-Q ([\d,]+) \((\d+/\d+)\)", ("steps", "sets")),
-        ("docs/results/README.md", r"against Dyna-Q's ([\d,]+) \(N = 1,000", ("steps",)),
-        ("docs/results/paper-lab.md", r"\| Dyna-Q \| 1,000 \| (\d+/\d+) \| ([\d,]+) \|", ("sets", "steps")),
-    ]),
-    ("paper-lab dyna-qpc N=5", ["--agent", "dyna-qpc", "--planning", "5", *LAB], 50, [
-        ("docs/results/paper-lab.md", r"\| \*\*Dyna-QPC\*\* \| 5 \| \*\*(\d+/\d+)\*\* \| \*\*([\d,]+)\*\* \|",
-         ("sets", "steps")),
-    ]),
-    ("paper-lab dyna-q N=5", ["--agent", "dyna-q", "--planning", "5", *LAB], 50, [
-        ("docs/results/paper-lab.md", r"\| Dyna-Q \| 5 \| (\d+/\d+) \| ([\d,]+) \|", ("sets", "steps")),
-    ]),
-    ("paper-sim dyna-qpc N=1000", ["--agent", "dyna-qpc", "--planning", "1000", *SIM], 500, [
-        ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets\)", ("hours", "sets")),
-        ("docs/results/README.md", r"Dyna-QPC ([\d.]+) h of robot time to learn, (\d+/\d+) sets", ("hours", "sets")),
-        ("docs/results/paper-sim.md", r"\| \*\*Dyna-QPC\*\* \| 1,000 \| [\d.,]+ \| \*\*(\d+/\d+)\*\* \| [\d,]+ ± [\d,]+ \| "
-         r"\*\*([\d.]+) ± [\d.]+\*\* \|", ("sets", "hours")),
-    ]),
+    (
+        "paper-lab dyna-qpc N=1000",
+        ["--agent", "dyna-qpc", "--planning", "1000", *LAB],
+        50,
+        [
+            ("README.md", r"\*\*Dyna-QPC ([\d,]+)\*\* \((\d+/\d+) sets\)", ("steps", "sets")),
+            ("docs/results/README.md", r"Dyna-QPC ([\d,]+) real steps to learn, (\d+/\d+) sets", ("steps", "sets")),
+            (
+                "docs/results/paper-lab.md",
+                r"\| \*\*Dyna-QPC\*\* \| 1,000 \| \*\*(\d+/\d+)\*\* \| \*\*([\d,]+)\*\* \|",
+                ("sets", "steps"),
+            ),
+        ],
+    ),
+    (
+        "paper-lab dyna-q N=1000",
+        ["--agent", "dyna-q", "--planning", "1000", *LAB],
+        50,
+        [
+            ("README.md", r"\(\d+/\d+ sets\), Dyna-Q ([\d,]+) \((\d+/\d+)\)", ("steps", "sets")),
+            ("docs/results/README.md", r"against Dyna-Q's ([\d,]+) \(N = 1,000", ("steps",)),
+            ("docs/results/paper-lab.md", r"\| Dyna-Q \| 1,000 \| (\d+/\d+) \| ([\d,]+) \|", ("sets", "steps")),
+        ],
+    ),
+    (
+        "paper-lab dyna-qpc N=5",
+        ["--agent", "dyna-qpc", "--planning", "5", *LAB],
+        50,
+        [
+            (
+                "docs/results/paper-lab.md",
+                r"\| \*\*Dyna-QPC\*\* \| 5 \| \*\*(\d+/\d+)\*\* \| \*\*([\d,]+)\*\* \|",
+                ("sets", "steps"),
+            ),
+        ],
+    ),
+    (
+        "paper-lab dyna-q N=5",
+        ["--agent", "dyna-q", "--planning", "5", *LAB],
+        50,
+        [
+            ("docs/results/paper-lab.md", r"\| Dyna-Q \| 5 \| (\d+/\d+) \| ([\d,]+) \|", ("sets", "steps")),
+        ],
+    ),
+    (
+        "paper-sim dyna-qpc N=1000",
+        ["--agent", "dyna-qpc", "--planning", "1000", *SIM],
+        500,
+        [
+            ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets\)", ("hours", "sets")),
+            (
+                "docs/results/README.md",
+                r"Dyna-QPC ([\d.]+) h of robot time to learn, (\d+/\d+) sets",
+                ("hours", "sets"),
+            ),
+            (
+                "docs/results/paper-sim.md",
+                r"\| \*\*Dyna-QPC\*\* \| 1,000 \| [\d.,]+ \| \*\*(\d+/\d+)\*\* \| [\d,]+ ± [\d,]+ \| "
+                r"\*\*([\d.]+) ± [\d.]+\*\* \|",
+                ("sets", "hours"),
+            ),
+        ],
+    ),
 ]
 
 
 def measure(sim: str, exp: str, train_args, threshold: int, work: str) -> dict:
     csv = os.path.join(work, "run.csv")
-    subprocess.run([sim, "train", *train_args, "--jobs", "2", "--quiet", "--no-wall-time", "--csv", csv],
-                   check=True)
-    table = subprocess.run([exp, "table", "--learned-steps", str(threshold), "--csv", csv], check=True,
-                           capture_output=True, text=True).stdout
-    header = next(l for l in table.splitlines() if l.startswith("| Agent"))
-    row = next(l for l in table.splitlines() if l.startswith("| ") and not l.startswith(("| Agent", "|---")))
+    subprocess.run([sim, "train", *train_args, "--jobs", "2", "--quiet", "--no-wall-time", "--csv", csv], check=True)
+    table = subprocess.run(
+        [exp, "table", "--learned-steps", str(threshold), "--csv", csv], check=True, capture_output=True, text=True
+    ).stdout
+    header = next(ln for ln in table.splitlines() if ln.startswith("| Agent"))
+    row = next(ln for ln in table.splitlines() if ln.startswith("| ") and not ln.startswith(("| Agent", "|---")))
     cols = [c.strip() for c in header.strip("|").split("|")]
     vals = [c.strip() for c in row.strip("|").split("|")]
     cell = dict(zip(cols, vals))
-    return {"sets": cell["Sets learned"], "steps": cell["Real steps to learn"].split(" ±")[0],
-            "hours": cell["Robot time to learn (h)"].split(" ±")[0]}
+    return {
+        "sets": cell["Sets learned"],
+        "steps": cell["Real steps to learn"].split(" ±")[0],
+        "hours": cell["Robot time to learn (h)"].split(" ±")[0],
+    }
 
 
 def main(argv=None) -> int:
@@ -79,8 +121,9 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     for tool in (args.sim, args.experiment):
         if not os.access(tool, os.X_OK):
-            print(f"docs-check: {tool} missing (tools/dev.sh setup; cmake --build --preset host-release)",
-                  file=sys.stderr)
+            print(
+                f"docs-check: {tool} missing (tools/dev.sh setup; cmake --build --preset host-release)", file=sys.stderr
+            )
             return 2
     drifted = 0
     with tempfile.TemporaryDirectory(prefix="docs-check-") as work:

@@ -11,6 +11,7 @@ Step and Reward, TLM_EPISODE Steps) and of the scheduler (TLM_SCHED QueueLength,
 IdlePercent), the mode's transitions (FW_STATUS Mode_name, /robot/state), and the operator's
 commands and answers (/can/TOOL_ACK) as raw messages.
 """
+
 import argparse
 import pathlib
 import sys
@@ -22,33 +23,68 @@ OUT = ROOT / "docs" / "foxglove-layout.json"
 
 
 def layout() -> fl.Layout:
-    topics = {t: fl.BaseRendererSceneUpdateTopicSettings(visible=True)
-              for t in ("/arena", "/robot/values", "/robot/rays", "/robot/trail", "/robot/bumps")}
+    topics = {
+        t: fl.BaseRendererSceneUpdateTopicSettings(visible=True)
+        for t in ("/arena", "/robot/values", "/robot/rays", "/robot/trail", "/robot/bumps")
+    }
     topics["/robot/pose"] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color="#1f77b4")
     topics["/robot/true_pose"] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color="#2ca02c")
-    three_d = fl.ThreeDeePanel(title="robot in its arena", config=fl.ThreeDeeConfig(
-        fixed_frame="arena", follow_tf="arena", topics=topics,
-        camera_state=fl.ThreeDeeCameraState(distance=12.0, perspective=False, phi=0.0, target=(4.0, 4.0, 0.0))))
-    learn = fl.PlotPanel(title="learning", config=fl.PlotConfig(paths=[
-        fl.PlotSeries(value="/can/TLM_LEARN.Step", label="step"),
-        fl.PlotSeries(value="/can/TLM_LEARN.Reward", label="reward"),
-        fl.PlotSeries(value="/can/TLM_EPISODE.Steps", label="episode's steps"),
-    ], show_legend=True))
-    sched = fl.PlotPanel(title="planning", config=fl.PlotConfig(paths=[
-        fl.PlotSeries(value="/can/TLM_SCHED.QueueLength", label="queue"),
-        fl.PlotSeries(value="/can/TLM_SCHED.PlanUpdates", label="plan updates / period"),
-        fl.PlotSeries(value="/can/TLM_SCHED.IdlePercent", label="idle %"),
-    ], show_legend=True))
-    modes = fl.StateTransitionsPanel(title="mode", config=fl.StateTransitionsConfig(paths=[
-        fl.StateTransitionsSeries(value="/can/FW_STATUS.Mode_name", label="FW_STATUS"),
-        fl.StateTransitionsSeries(value="/robot/state.fix", label="fix"),
-    ]))
+    three_d = fl.ThreeDeePanel(
+        title="robot in its arena",
+        config=fl.ThreeDeeConfig(
+            fixed_frame="arena",
+            follow_tf="arena",
+            topics=topics,
+            camera_state=fl.ThreeDeeCameraState(distance=12.0, perspective=False, phi=0.0, target=(4.0, 4.0, 0.0)),
+        ),
+    )
+    learn = fl.PlotPanel(
+        title="learning",
+        config=fl.PlotConfig(
+            paths=[
+                fl.PlotSeries(value="/can/TLM_LEARN.Step", label="step"),
+                fl.PlotSeries(value="/can/TLM_LEARN.Reward", label="reward"),
+                fl.PlotSeries(value="/can/TLM_EPISODE.Steps", label="episode's steps"),
+            ],
+            show_legend=True,
+        ),
+    )
+    sched = fl.PlotPanel(
+        title="planning",
+        config=fl.PlotConfig(
+            paths=[
+                fl.PlotSeries(value="/can/TLM_SCHED.QueueLength", label="queue"),
+                fl.PlotSeries(value="/can/TLM_SCHED.PlanUpdates", label="plan updates / period"),
+                fl.PlotSeries(value="/can/TLM_SCHED.IdlePercent", label="idle %"),
+            ],
+            show_legend=True,
+        ),
+    )
+    modes = fl.StateTransitionsPanel(
+        title="mode",
+        config=fl.StateTransitionsConfig(
+            paths=[
+                fl.StateTransitionsSeries(value="/can/FW_STATUS.Mode_name", label="FW_STATUS"),
+                fl.StateTransitionsSeries(value="/robot/state.fix", label="fix"),
+            ]
+        ),
+    )
     answers = fl.RawMessagesPanel(title="operator's answers", config=fl.RawMessagesConfig(topic_path="/can/TOOL_ACK"))
-    right = fl.SplitContainer(direction="column", items=[
-        fl.SplitItem(proportion=2, content=learn), fl.SplitItem(proportion=2, content=sched),
-        fl.SplitItem(proportion=1, content=modes), fl.SplitItem(proportion=1, content=answers)])
-    return fl.Layout(content=fl.SplitContainer(direction="row", items=[
-        fl.SplitItem(proportion=3, content=three_d), fl.SplitItem(proportion=2, content=right)]))
+    right = fl.SplitContainer(
+        direction="column",
+        items=[
+            fl.SplitItem(proportion=2, content=learn),
+            fl.SplitItem(proportion=2, content=sched),
+            fl.SplitItem(proportion=1, content=modes),
+            fl.SplitItem(proportion=1, content=answers),
+        ],
+    )
+    return fl.Layout(
+        content=fl.SplitContainer(
+            direction="row",
+            items=[fl.SplitItem(proportion=3, content=three_d), fl.SplitItem(proportion=2, content=right)],
+        )
+    )
 
 
 def main() -> int:

@@ -6,6 +6,7 @@ TOOL_CMD frames. Paced at the given rates until --duration; prints what it sent.
 
     .venv/bin/python tools/soak_inject.py --garbage 100 --frames 100 --commands 1000 --duration 240
 """
+
 import argparse
 import pathlib
 import random
@@ -29,10 +30,13 @@ def main() -> int:
     rng = random.Random(a.seed)
     import can
     import cantools
+
     db = cantools.database.load_file(str(ROOT / "docs" / "dynaqpc.dbc"))
     lengths = {m.frame_id: m.length for m in db.messages}
-    fw_rx = [db.get_message_by_name(n).frame_id for n in
-             ("MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A", "SONAR_RANGES_B", "GPS_POSE")]
+    fw_rx = [
+        db.get_message_by_name(n).frame_id
+        for n in ("MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A", "SONAR_RANGES_B", "GPS_POSE")
+    ]
     others = [0x123, 0x200, 0x7FF, 0x050]
     tool_cmd = db.get_message_by_name("TOOL_CMD").frame_id
     bus = can.Bus(interface="udp_multicast", channel=GROUP, hop_limit=0)
@@ -57,11 +61,19 @@ def main() -> int:
                 elif kind == "frames":
                     fid = rng.choice(fw_rx + others)
                     n = lengths.get(fid, rng.randrange(9))
-                    bus.send(can.Message(arbitration_id=fid, is_extended_id=False,
-                                         data=bytes(rng.randrange(256) for _ in range(n))))
+                    bus.send(
+                        can.Message(
+                            arbitration_id=fid, is_extended_id=False, data=bytes(rng.randrange(256) for _ in range(n))
+                        )
+                    )
                 else:
-                    bus.send(can.Message(arbitration_id=tool_cmd, is_extended_id=False,
-                                         data=bytes(rng.randrange(256) for _ in range(lengths[tool_cmd]))))
+                    bus.send(
+                        can.Message(
+                            arbitration_id=tool_cmd,
+                            is_extended_id=False,
+                            data=bytes(rng.randrange(256) for _ in range(lengths[tool_cmd])),
+                        )
+                    )
                 sent[kind] += 1
         nxt = min((due[k] for k, r in rates.items() if r > 0), default=now + 0.1)
         time.sleep(max(0.0, min(0.1, nxt - time.monotonic())))

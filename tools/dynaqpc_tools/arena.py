@@ -58,9 +58,13 @@ def load_arena(path: str) -> Dict[str, Any]:
         if not isinstance(cells, list):
             raise ToolError("arena: goal.cells must be a list")
         for i, c in enumerate(cells):
-            if (not isinstance(c, list) or len(c) != 4 or
-                    not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                            for v in c) or c[2] <= c[0] or c[3] <= c[1]):
+            if (
+                not isinstance(c, list)
+                or len(c) != 4
+                or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in c)
+                or c[2] <= c[0]
+                or c[3] <= c[1]
+            ):
                 raise ToolError(f"arena: goal.cells[{i}] must be [x0, y0, x1, y1] with x1 > x0, y1 > y0")
     for i, b in enumerate(a.get("beacons", [])):
         for k in ("x", "y", "z"):
@@ -71,8 +75,10 @@ def load_arena(path: str) -> Dict[str, Any]:
 def box_corners(ob: Dict[str, Any]):
     c, s = math.cos(math.radians(ob["angle_deg"])), math.sin(math.radians(ob["angle_deg"]))
     hw, hh = ob["w"] / 2.0, ob["h"] / 2.0
-    return [(ob["cx"] + c * dx - s * dy, ob["cy"] + s * dx + c * dy)
-            for dx, dy in ((-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh))]
+    return [
+        (ob["cx"] + c * dx - s * dy, ob["cy"] + s * dx + c * dy)
+        for dx, dy in ((-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh))
+    ]
 
 
 def draw_arena(ax, arena: Dict[str, Any]) -> None:
@@ -89,22 +95,54 @@ def draw_arena(ax, arena: Dict[str, Any]) -> None:
     goal = arena.get("goal")
     if goal and goal.get("cells"):  # the goal is the cells; the circle that chose them is outlined
         for i, (x0, y0, x1, y1) in enumerate(goal["cells"]):
-            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="tab:green", alpha=0.35,
-                                   edgecolor="tab:green", label="goal" if i == 0 else None))
-        ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], fill=False, edgecolor="tab:green",
-                            linestyle="--"))
+            ax.add_patch(
+                Rectangle(
+                    (x0, y0),
+                    x1 - x0,
+                    y1 - y0,
+                    facecolor="tab:green",
+                    alpha=0.35,
+                    edgecolor="tab:green",
+                    label="goal" if i == 0 else None,
+                )
+            )
+        ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], fill=False, edgecolor="tab:green", linestyle="--"))
     elif goal:
-        ax.add_patch(Circle((goal["cx"], goal["cy"]), goal["r"], facecolor="tab:green", alpha=0.35,
-                            edgecolor="tab:green", label="goal"))
+        ax.add_patch(
+            Circle(
+                (goal["cx"], goal["cy"]),
+                goal["r"],
+                facecolor="tab:green",
+                alpha=0.35,
+                edgecolor="tab:green",
+                label="goal",
+            )
+        )
     for k, b in enumerate(arena.get("beacons", []), 1):
-        ax.plot(b["x"], b["y"], marker="^", color="black", markerfacecolor="white", markersize=8,
-                markeredgewidth=1.2, zorder=4)
+        ax.plot(
+            b["x"],
+            b["y"],
+            marker="^",
+            color="black",
+            markerfacecolor="white",
+            markersize=8,
+            markeredgewidth=1.2,
+            zorder=4,
+        )
         # B1, B2, ... (arena_key says what they are); the label leans into the room, so a beacon on a
         # wall or in a corner keeps it on the plot.
         right, up = b["x"] < w / 2, b["y"] < h / 2
-        ax.annotate(f"B{k}", (b["x"], b["y"]), textcoords="offset points",
-                    xytext=(6 if right else -6, 6 if up else -6), ha="left" if right else "right",
-                    va="bottom" if up else "top", fontsize=7.5, color="black", zorder=4)
+        ax.annotate(
+            f"B{k}",
+            (b["x"], b["y"]),
+            textcoords="offset points",
+            xytext=(6 if right else -6, 6 if up else -6),
+            ha="left" if right else "right",
+            va="bottom" if up else "top",
+            fontsize=7.5,
+            color="black",
+            zorder=4,
+        )
     margin = 0.05 * max(w, h)
     ax.set_xlim(-margin, w + margin)
     ax.set_ylim(-margin, h + margin)
@@ -121,15 +159,31 @@ def arena_key(arena: Dict[str, Any]) -> list:
     keys = [Patch(facecolor="0.6", edgecolor="0.3", label="obstacle (black frame: the walls)")]
     goal = arena.get("goal") or {}
     if goal.get("cells"):
-        keys.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green",
-                          label="goal: the state cells that end an episode"))
+        keys.append(
+            Patch(
+                facecolor="tab:green",
+                alpha=0.35,
+                edgecolor="tab:green",
+                label="goal: the state cells that end an episode",
+            )
+        )
         keys.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
     elif goal:
         keys.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
     beacons = arena.get("beacons", [])
     if beacons:
-        keys.append(Line2D([], [], marker="^", linestyle="", color="black", markerfacecolor="white",
-                           markersize=8, label=f"Cricket beacon, B1-B{len(beacons)} (on the ceiling)"))
+        keys.append(
+            Line2D(
+                [],
+                [],
+                marker="^",
+                linestyle="",
+                color="black",
+                markerfacecolor="white",
+                markersize=8,
+                label=f"Cricket beacon, B1-B{len(beacons)} (on the ceiling)",
+            )
+        )
     return keys
 
 

@@ -21,13 +21,14 @@ _ANGLE_SCALE = {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3, "": math.pi / 
 @dataclass
 class Pose:
     t: float
-    x: float        # m
-    y: float        # m
+    x: float  # m
+    y: float  # m
     heading: float  # rad, counter-clockwise from +x
     fix: Optional[int]
     fix_name: Optional[str] = None  # from the DBC's value table, when it has one
     #: False when the fix says there is no pose (LOST, NONE): its x, y mean nothing.
     usable: bool = True
+
 
 #: Fix values that mean "no pose" (TLM_POSE FixState, GPS_POSE Fix).
 NO_POSE = ("LOST", "NONE")
@@ -48,13 +49,21 @@ def _find_signal(message, wanted, override):
 class PoseDecoder:
     """Turns the pose frame into Pose; other frames give None. Ids come from the DBC only."""
 
-    def __init__(self, db, frame: str = "TLM_POSE", x: Optional[str] = None, y: Optional[str] = None,
-                 heading: Optional[str] = None, fix: Optional[str] = None):
+    def __init__(
+        self,
+        db,
+        frame: str = "TLM_POSE",
+        x: Optional[str] = None,
+        y: Optional[str] = None,
+        heading: Optional[str] = None,
+        fix: Optional[str] = None,
+    ):
         try:
             self.message = db.get_message_by_name(frame)
         except KeyError:
-            raise ToolError(f"no frame {frame} in the DBC (frames: "
-                            f"{', '.join(m.name for m in db.messages)}); pass --frame") from None
+            raise ToolError(
+                f"no frame {frame} in the DBC (frames: {', '.join(m.name for m in db.messages)}); pass --frame"
+            ) from None
         self.db = db
         m = self.message
         self.x = _find_signal(m, lambda n: n in ("x", "x_mm", "x_m", "pos_x", "posx"), x)
@@ -62,8 +71,10 @@ class PoseDecoder:
         self.heading = _find_signal(m, lambda n: "heading" in n or n in ("theta", "yaw"), heading)
         self.fix = _find_signal(m, lambda n: "fix" in n, fix)
         if self.x is None or self.y is None:
-            raise ToolError(f"{m.name}: no x/y signals found (has {', '.join(s.name for s in m.signals)}); "
-                            "pass --x-signal/--y-signal")
+            raise ToolError(
+                f"{m.name}: no x/y signals found (has {', '.join(s.name for s in m.signals)}); "
+                "pass --x-signal/--y-signal"
+            )
         self._xs = self._scale(self.x, _LENGTH_SCALE, "length")
         self._ys = self._scale(self.y, _LENGTH_SCALE, "length")
         self._hs = self._scale(self.heading, _ANGLE_SCALE, "angle") if self.heading else 0.0
@@ -88,8 +99,15 @@ class PoseDecoder:
         heading = float(v[self.heading.name]) * self._hs if self.heading else 0.0
         fix = int(v[self.fix.name]) if self.fix else None
         name = self.fix_name(fix)
-        return Pose(float(msg.timestamp), float(v[self.x.name]) * self._xs, float(v[self.y.name]) * self._ys,
-                    heading, fix, name, name not in NO_POSE)
+        return Pose(
+            float(msg.timestamp),
+            float(v[self.x.name]) * self._xs,
+            float(v[self.y.name]) * self._ys,
+            heading,
+            fix,
+            name,
+            name not in NO_POSE,
+        )
 
     def fix_name(self, fix: Optional[int]) -> Optional[str]:
         if fix is None or self.fix is None or not self.fix.choices:
@@ -127,8 +145,11 @@ class BusState:
         self.sonar = [m for m in (_message(db, "SONAR_RANGES_A"), _message(db, "SONAR_RANGES_B")) if m]
         self.motor = _message(db, "MOTOR_STATUS")
         self.ray_angles = ray_angles  # a scenario's, in ray order (sonar k, or IR left/front/right)
-        self.by_id = {m.frame_id: m for m in (self.learn, self.episode_end, self.status, self.ir, self.motor,
-                                              *self.sonar) if m is not None}
+        self.by_id = {
+            m.frame_id: m
+            for m in (self.learn, self.episode_end, self.status, self.ir, self.motor, *self.sonar)
+            if m is not None
+        }
         self.episode: Optional[int] = None
         self.step: Optional[int] = None
         self.mode: Optional[str] = None
@@ -169,8 +190,12 @@ class BusState:
             if "PoseTrusted" in v:
                 why = m.get_signal_by_name("TrustReason")
                 r = int(v.get("TrustReason", 0))
-                self.trust = (("trusted" if int(v["PoseTrusted"]) else "NOT trusted") + " (" +
-                              (str(why.choices.get(r, r)) if why.choices else str(r)) + ")")
+                self.trust = (
+                    ("trusted" if int(v["PoseTrusted"]) else "NOT trusted")
+                    + " ("
+                    + (str(why.choices.get(r, r)) if why.choices else str(r))
+                    + ")"
+                )
             return ""
         if m is self.motor:
             bump = bool(v.get("BumpFront", 0)) or bool(v.get("BumpRear", 0))

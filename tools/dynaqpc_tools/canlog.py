@@ -42,9 +42,16 @@ ARENA_TOPIC = "/arena"
 FRAME_ID = "arena"
 
 CAN_FRAME_SCHEMA = {
-    "title": "dynaqpc.CanFrame", "type": "object",
-    "properties": {"id": {"type": "integer"}, "extended": {"type": "boolean"}, "remote": {"type": "boolean"},
-                   "error": {"type": "boolean"}, "dlc": {"type": "integer"}, "data_hex": {"type": "string"}},
+    "title": "dynaqpc.CanFrame",
+    "type": "object",
+    "properties": {
+        "id": {"type": "integer"},
+        "extended": {"type": "boolean"},
+        "remote": {"type": "boolean"},
+        "error": {"type": "boolean"},
+        "dlc": {"type": "integer"},
+        "data_hex": {"type": "string"},
+    },
 }
 
 
@@ -53,8 +60,7 @@ def _signal_schema(message) -> dict:
     for s in message.signals:
         props[s.name] = {"type": "number", "description": f"{s.unit or ''}".strip()}
         if s.choices:
-            props[s.name + "_name"] = {"type": "string",
-                                       "enum": [str(v) for v in s.choices.values()]}
+            props[s.name + "_name"] = {"type": "string", "enum": [str(v) for v in s.choices.values()]}
     return {"title": f"dynaqpc.{message.name}", "type": "object", "properties": props}
 
 
@@ -95,7 +101,9 @@ class McapLog:
         self._by_id = {}
         for msg in db.messages:
             self._by_id[(msg.frame_id, bool(msg.is_extended_frame))] = (
-                msg, self._channel(f"/can/{msg.name}", _signal_schema(msg)))
+                msg,
+                self._channel(f"/can/{msg.name}", _signal_schema(msg)),
+            )
         self._poses = []
         self._tf = self._proto_channel(TF_TOPIC, m.FrameTransforms)
         for name, topic, child in (("TLM_POSE", POSE_TOPIC, BASE), ("GPS_POSE", TRUE_POSE_TOPIC, TRUE_BASE)):
@@ -107,8 +115,7 @@ class McapLog:
         self._scene = self._proto_channel(ARENA_TOPIC, m.SceneUpdate) if arena is not None else None
 
     def _channel(self, topic: str, schema: dict) -> int:
-        sid = self.w.register_schema(name=schema["title"], encoding="jsonschema",
-                                     data=json.dumps(schema).encode())
+        sid = self.w.register_schema(name=schema["title"], encoding="jsonschema", data=json.dumps(schema).encode())
         return self.w.register_channel(topic=topic, message_encoding="json", schema_id=sid)
 
     def _proto_channel(self, topic: str, kind) -> int:
@@ -117,7 +124,8 @@ class McapLog:
         sid = self._schema_ids.get(schema.name)
         if sid is None:
             sid = self._schema_ids[schema.name] = self.w.register_schema(
-                name=schema.name, encoding=schema.encoding, data=bytes(schema.data))
+                name=schema.name, encoding=schema.encoding, data=bytes(schema.data)
+            )
         return self.w.register_channel(topic=topic, message_encoding="protobuf", schema_id=sid)
 
     def _add(self, channel: int, t: float, obj) -> None:
@@ -134,9 +142,18 @@ class McapLog:
             self._add(self._scene, t, self.fox.arena_scene(t, self.arena))
             self._scene = None
         data = bytes(msg.data)
-        self._add(self._raw, t, {"id": msg.arbitration_id, "extended": bool(msg.is_extended_id),
-                                 "remote": bool(msg.is_remote_frame), "error": bool(msg.is_error_frame),
-                                 "dlc": msg.dlc, "data_hex": data.hex()})
+        self._add(
+            self._raw,
+            t,
+            {
+                "id": msg.arbitration_id,
+                "extended": bool(msg.is_extended_id),
+                "remote": bool(msg.is_remote_frame),
+                "error": bool(msg.is_error_frame),
+                "dlc": msg.dlc,
+                "data_hex": data.hex(),
+            },
+        )
         entry = self._by_id.get((msg.arbitration_id, bool(msg.is_extended_id)))
         if entry is None or msg.is_remote_frame or msg.is_error_frame:
             return
@@ -224,10 +241,15 @@ def _read_mcap(path: str) -> Iterator:
             reader = make_reader(f)
             for _schema, channel, message in reader.iter_messages(topics=[RAW_TOPIC]):
                 d = json.loads(message.data)
-                yield can.Message(timestamp=message.log_time * 1e-9, arbitration_id=int(d["id"]),
-                                  is_extended_id=bool(d["extended"]), is_remote_frame=bool(d.get("remote")),
-                                  is_error_frame=bool(d.get("error")), dlc=int(d["dlc"]),
-                                  data=bytes.fromhex(d["data_hex"]))
+                yield can.Message(
+                    timestamp=message.log_time * 1e-9,
+                    arbitration_id=int(d["id"]),
+                    is_extended_id=bool(d["extended"]),
+                    is_remote_frame=bool(d.get("remote")),
+                    is_error_frame=bool(d.get("error")),
+                    dlc=int(d["dlc"]),
+                    data=bytes.fromhex(d["data_hex"]),
+                )
     except ToolError:
         raise
     except Exception as e:

@@ -77,21 +77,40 @@ def open_bus(interface: str, channel: str, bitrate: Optional[int] = None, **kwar
     except Exception as e:
         hint = ""
         if interface == VCAN_INTERFACE:
-            hint = (" (is msgpack installed? is there a route for 224.0.0.0/4? "
-                    "in a private namespace: ip link set lo up; ip route add 224.0.0.0/4 dev lo)")
+            hint = (
+                " (is msgpack installed? is there a route for 224.0.0.0/4? "
+                "in a private namespace: ip link set lo up; ip route add 224.0.0.0/4 dev lo)"
+            )
         raise ToolError(f"cannot open CAN bus {interface}:{channel}: {e}{hint}") from e
 
 
 def add_bus_arguments(parser) -> None:
-    parser.add_argument("--interface", "-i", default=VCAN_INTERFACE,
-                        help="python-can interface (default udp_multicast: the simulator's bus; "
-                             "socketcan or slcan for a USB-CAN adapter)")
-    parser.add_argument("--channel", "-c", default=VCAN_CHANNEL,
-                        help="channel: multicast group, can0, /dev/ttyACM0... (default %(default)s)")
-    parser.add_argument("--bitrate", type=int_in(1000, 10000000), default=None,
-                        help="bit rate for adapters that need it (the robot's bus: 500000)")
-    parser.add_argument("--bus-kwarg", action="append", default=[], metavar="KEY=VALUE",
-                        help="extra python-can bus argument, e.g. port=43114 (repeatable)")
+    parser.add_argument(
+        "--interface",
+        "-i",
+        default=VCAN_INTERFACE,
+        help="python-can interface (default udp_multicast: the simulator's bus; "
+        "socketcan or slcan for a USB-CAN adapter)",
+    )
+    parser.add_argument(
+        "--channel",
+        "-c",
+        default=VCAN_CHANNEL,
+        help="channel: multicast group, can0, /dev/ttyACM0... (default %(default)s)",
+    )
+    parser.add_argument(
+        "--bitrate",
+        type=int_in(1000, 10000000),
+        default=None,
+        help="bit rate for adapters that need it (the robot's bus: 500000)",
+    )
+    parser.add_argument(
+        "--bus-kwarg",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="extra python-can bus argument, e.g. port=43114 (repeatable)",
+    )
 
 
 def bus_from_args(args):
@@ -145,8 +164,9 @@ def float_in(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bo
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-        bad = not math.isfinite(v) or (lo is not None and (v <= lo if lo_open else v < lo)) or \
-            (hi is not None and v > hi)
+        bad = (
+            not math.isfinite(v) or (lo is not None and (v <= lo if lo_open else v < lo)) or (hi is not None and v > hi)
+        )
         if bad:
             raise argparse.ArgumentTypeError(f"{text} is outside {_range_text(lo, hi, lo_open)}")
         return v

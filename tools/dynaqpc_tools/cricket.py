@@ -97,9 +97,9 @@ def _decimal(key: str, text: str) -> float:
 class CricketReading:
     """One parsed line: the known fields present (cricket_line_t), and the range it gives."""
 
-    present: Tuple[str, ...]                # known keys, in KNOWN_KEYS order
+    present: Tuple[str, ...]  # known keys, in KNOWN_KEYS order
     values: Dict[str, object] = field(default_factory=dict)  # id int, sp str, db float, dr/tm/ts int
-    raw: Dict[str, str] = field(default_factory=dict)        # every KEY=VALUE, as written
+    raw: Dict[str, str] = field(default_factory=dict)  # every KEY=VALUE, as written
 
     @property
     def beacon_id(self) -> Optional[int]:
@@ -214,8 +214,11 @@ def load_beacons(path: str) -> Tuple[Dict[int, Tuple[float, float, float]], Opti
         try:
             items = json.loads(text).get("beacons", [])
             for i, b in enumerate(items):
-                beacons[_beacon_key(str(b["id"]), f"{path}: beacons[{i}]")] = (float(b["x"]), float(b["y"]),
-                                                                               float(b["z"]))
+                beacons[_beacon_key(str(b["id"]), f"{path}: beacons[{i}]")] = (
+                    float(b["x"]),
+                    float(b["y"]),
+                    float(b["z"]),
+                )
         except (ValueError, KeyError, TypeError, AttributeError) as e:
             raise ToolError(f"{path}: not an arena JSON with beacons ({e})") from None
     else:
@@ -265,8 +268,13 @@ class TrilatRefused(ValueError):
         self.kind = kind
 
 
-def trilat_solve(anchors, listener_z: float, min_spread: float = MIN_SPREAD_M,
-                 max_residual: float = MAX_RESIDUAL_M, iterations: int = GN_ITERATIONS):
+def trilat_solve(
+    anchors,
+    listener_z: float,
+    min_spread: float = MIN_SPREAD_M,
+    max_residual: float = MAX_RESIDUAL_M,
+    iterations: int = GN_ITERATIONS,
+):
     """The firmware's trilat_solve (firmware/drivers/src/trilat.c), step for step: the linear
     least-squares fix in centred coordinates, then Gauss-Newton on the slant ranges. `anchors` is
     a list of (x, y, z, range). Returns (x, y, rms residual); raises TrilatRefused. The shared
@@ -345,8 +353,9 @@ def estimate_listener_z(anchors, max_tilt: float = 0.01) -> Optional[float]:
     return float(sum(zs) / len(zs) - math.sqrt(h2))
 
 
-def trilaterate(ranges: Dict[object, float], beacons: Dict[object, Tuple[float, float, float]],
-                listener_z: float = 0.0) -> Optional[Tuple[float, float, float]]:
+def trilaterate(
+    ranges: Dict[object, float], beacons: Dict[object, Tuple[float, float, float]], listener_z: float = 0.0
+) -> Optional[Tuple[float, float, float]]:
     """The fix from the latest slant range to each known beacon (metres), as the firmware finds
     it; None when trilat_solve refuses."""
     anchors = [(*beacons[b], r) for b, r in ranges.items() if b in beacons]
@@ -380,21 +389,30 @@ class Console:
         heard in the beacons file; every fix refused for disagreeing ranges."""
         out = []
         if self.lines and not self.readings:
-            out.append(f"every one of the {self.lines} lines was skipped: is {device} a Cricket listener, and at "
-                       f"its baud rate (115200 8N1; --baud)? Another process reading the same line (the firmware "
-                       f"on its pty) also leaves only fragments")
+            out.append(
+                f"every one of the {self.lines} lines was skipped: is {device} a Cricket listener, and at "
+                f"its baud rate (115200 8N1; --baud)? Another process reading the same line (the firmware "
+                f"on its pty) also leaves only fragments"
+            )
         if self.beacons and self.heard and not self.heard & set(self.beacons):
             heard = ", ".join(id_text(b) for b in sorted(self.heard)[:5])
             known = ", ".join(id_text(b) for b in sorted(self.beacons)[:5])
-            out.append(f"none of the {len(self.heard)} beacons heard ({heard}) is in {beacons_file} "
-                       f"({known}): no fix can be made")
+            out.append(
+                f"none of the {len(self.heard)} beacons heard ({heard}) is in {beacons_file} "
+                f"({known}): no fix can be made"
+            )
         elif self.beacons and not self.fixes and self.refused.get("inconsistent"):
-            out.append(f"all {self.refused['inconsistent']} fixes were refused because the ranges disagree (rms "
-                       f"residual above {MAX_RESIDUAL_M * 100:g} cm): is the listener's height right? It is "
-                       + (f"{self.listener_z:g} m" if self.listener_z is not None else
-                          f"estimated from the ranges ({self.estimated_z if self.estimated_z is not None else 0:g} m)")
-                       + " (--listener-z, or a `listener_height H` line in the beacons file; a "
-                       f"scenario file gives its own)")
+            out.append(
+                f"all {self.refused['inconsistent']} fixes were refused because the ranges disagree (rms "
+                f"residual above {MAX_RESIDUAL_M * 100:g} cm): is the listener's height right? It is "
+                + (
+                    f"{self.listener_z:g} m"
+                    if self.listener_z is not None
+                    else f"estimated from the ranges ({self.estimated_z if self.estimated_z is not None else 0:g} m)"
+                )
+                + " (--listener-z, or a `listener_height H` line in the beacons file; a "
+                "scenario file gives its own)"
+            )
         return out
 
     def feed(self, line: str, now: float) -> List[str]:
@@ -431,8 +449,10 @@ class Console:
             if fix is not None:
                 self.fixes += 1
                 height = "" if self.listener_z is not None else f", listener height estimated {z:.3f} m"
-                out.append(f"fix x={fix[0]:.3f} m y={fix[1]:.3f} m  (rms residual {fix[2]:.3f} m, "
-                           f"{len([b for b in fresh if b in self.beacons])} beacons{height})")
+                out.append(
+                    f"fix x={fix[0]:.3f} m y={fix[1]:.3f} m  (rms residual {fix[2]:.3f} m, "
+                    f"{len([b for b in fresh if b in self.beacons])} beacons{height})"
+                )
         return out
 
 
@@ -496,25 +516,31 @@ def open_exclusive(device: str, **kwargs):
     """The device opened through pyserial for this console alone (see the module's doc): a
     ToolError of one line when it cannot be opened or another process holds it."""
     import errno
+
     import serial
 
     if not kwargs.pop("share", False):
         held = holders(device)
         if held:
             who = ", ".join(f"pid {pid} ({comm})" for pid, comm in held)
-            raise ToolError(f"{device} is held by another process ({who}): not reading it, "
-                            f"both readers would lose bytes (stop it, or pass --share)")
+            raise ToolError(
+                f"{device} is held by another process ({who}): not reading it, "
+                f"both readers would lose bytes (stop it, or pass --share)"
+            )
     try:
         port = serial.Serial(device, exclusive=True, **kwargs)
     except (serial.SerialException, OSError) as e:
         text = str(e)
         if "exclusively lock" in text or getattr(e, "errno", None) == errno.EBUSY or "Device or resource busy" in text:
-            raise ToolError(f"{device} is held by another process (it holds a lock on the line): "
-                            f"not reading it, both readers would lose bytes") from None
+            raise ToolError(
+                f"{device} is held by another process (it holds a lock on the line): "
+                f"not reading it, both readers would lose bytes"
+            ) from None
         raise ToolError(f"cannot open {device}: {e}") from None
     try:
         import fcntl
         import termios
+
         fcntl.ioctl(port.fileno(), termios.TIOCEXCL)
     except (ImportError, AttributeError, OSError):
         pass  # not a tty that knows TIOCEXCL: the flock still stands
@@ -522,23 +548,41 @@ def open_exclusive(device: str, **kwargs):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(prog="dynaqpc-cricket", description=__doc__,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("device", nargs="?", default="/dev/ttyUSB0",
-                   help="serial device or the simulator's pty path (default %(default)s)")
+    p = ToolArgumentParser(
+        prog="dynaqpc-cricket", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    p.add_argument(
+        "device",
+        nargs="?",
+        default="/dev/ttyUSB0",
+        help="serial device or the simulator's pty path (default %(default)s)",
+    )
     p.add_argument("--baud", type=int_in(50, 4000000), default=115200)
     p.add_argument("--no-xonxoff", action="store_true", help="disable XON/XOFF flow control")
-    p.add_argument("--beacons", metavar="FILE",
-                   help="beacon positions: a scenario (.scn), an arena JSON, or 'ID x y z' lines (m)")
-    p.add_argument("--listener-z", type=float_in(-100, 100), default=None,
-                   help="listener height (m; default: the scenario's or the file's, else estimated from the "
-                        "ranges of beacons at one height)")
-    p.add_argument("--max-age", type=float_in(0, 3600, lo_open=True), default=3.0,
-                   help="ranges older than this (s) are not used for a fix (default 3, the firmware's)")
-    p.add_argument("--raw", action="store_true",
-                   help="echo every line as it arrives ('<' and the line, unprintable bytes escaped)")
-    p.add_argument("--share", action="store_true",
-                   help="read the device even if another process has it open (not if it holds a lock)")
+    p.add_argument(
+        "--beacons", metavar="FILE", help="beacon positions: a scenario (.scn), an arena JSON, or 'ID x y z' lines (m)"
+    )
+    p.add_argument(
+        "--listener-z",
+        type=float_in(-100, 100),
+        default=None,
+        help="listener height (m; default: the scenario's or the file's, else estimated from the "
+        "ranges of beacons at one height)",
+    )
+    p.add_argument(
+        "--max-age",
+        type=float_in(0, 3600, lo_open=True),
+        default=3.0,
+        help="ranges older than this (s) are not used for a fix (default 3, the firmware's)",
+    )
+    p.add_argument(
+        "--raw", action="store_true", help="echo every line as it arrives ('<' and the line, unprintable bytes escaped)"
+    )
+    p.add_argument(
+        "--share",
+        action="store_true",
+        help="read the device even if another process has it open (not if it holds a lock)",
+    )
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N lines")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     return p
@@ -552,9 +596,16 @@ def run(args, out=None, err=None) -> Console:
     # Unsaid (neither --listener-z nor the file): estimated from the ranges at each fix.
     listener_z = args.listener_z if args.listener_z is not None else z
     console = Console(beacons, listener_z, args.max_age)
-    port = open_exclusive(args.device, baudrate=args.baud, bytesize=serial.EIGHTBITS,
-                          parity=serial.PARITY_NONE, stopbits=serial.STOPBITS_ONE,
-                          xonxoff=not args.no_xonxoff, timeout=0.2, share=args.share)
+    port = open_exclusive(
+        args.device,
+        baudrate=args.baud,
+        bytesize=serial.EIGHTBITS,
+        parity=serial.PARITY_NONE,
+        stopbits=serial.STOPBITS_ONE,
+        xonxoff=not args.no_xonxoff,
+        timeout=0.2,
+        share=args.share,
+    )
     print(f"listening on {args.device}", file=err, flush=True)
     start = time.monotonic()
     try:
@@ -590,8 +641,10 @@ def run(args, out=None, err=None) -> Console:
         pass
     finally:
         port.close()
-    print(f"{console.lines} lines, {console.readings} readings, {console.garbage} skipped, "
-          f"{console.fixes} fixes", file=out)
+    print(
+        f"{console.lines} lines, {console.readings} readings, {console.garbage} skipped, {console.fixes} fixes",
+        file=out,
+    )
     for h in console.hints(args.device, args.beacons or "the beacons file"):
         print(f"hint: {h}", file=err, flush=True)
     return console

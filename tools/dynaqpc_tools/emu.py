@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The emulated robot board in closed loop: the firmware image on QEMU's netduinoplus2
-(hal/ports/netduinoplus2), the simulated robot's devices (`dynaqpc-sim devices`) and a bridge
-between them.
+(hal/ports/stm32f4/boards/netduinoplus2), the simulated robot's devices (`dynaqpc-sim
+devices`) and a bridge between them.
 
     dynaqpc-emu bridge --slcan /dev/pts/N        the bridge alone
     dynaqpc-emu run [--elf F] [--sim S] ...      QEMU + devices + bridge, one command
@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import select
 import signal
 import subprocess
 import sys
@@ -32,7 +31,7 @@ import threading
 import time
 from typing import Dict, List, Optional
 
-from .common import ToolError, VCAN_CHANNEL, VCAN_INTERFACE, default_dbc_path, load_dbc, open_bus, repo_root, run_main
+from .common import VCAN_CHANNEL, VCAN_INTERFACE, ToolError, default_dbc_path, load_dbc, open_bus, repo_root, run_main
 
 FW_SENDER = "FW"
 AGENTS = ("q", "dyna-q", "dyna-qpc", "dyna-q-majority")  # agent_kind_t order
@@ -48,13 +47,15 @@ class Bridge:
         self.fw_ids = {m.frame_id for m in db.messages if FW_SENDER in m.senders}
         self.slcan = open_bus("slcan", slcan_channel, bitrate=500000, sleep_after_open=0)
         self.vcan = open_bus(VCAN_INTERFACE, vcan_channel)
-        self.to_bus = 0     # frames from the firmware put on the bus
-        self.to_board = 0   # frames from the bus written to the board
+        self.to_bus = 0  # frames from the firmware put on the bus
+        self.to_board = 0  # frames from the bus written to the board
         self.errors = 0
         self.last_error = ""
         self._stop = threading.Event()
-        self._threads = [threading.Thread(target=self._board_to_bus, daemon=True),
-                         threading.Thread(target=self._bus_to_board, daemon=True)]
+        self._threads = [
+            threading.Thread(target=self._board_to_bus, daemon=True),
+            threading.Thread(target=self._bus_to_board, daemon=True),
+        ]
 
     def start(self) -> "Bridge":
         for t in self._threads:
@@ -296,8 +297,11 @@ def speeds() -> List[int]:
 def emulated_rate(board: "Lines") -> Optional[float]:
     """Firmware seconds per wall second between the board's first and last report lines, or None
     with fewer than two."""
-    pts = [(board.times[i], r["t_ms"]) for i, r in ((i, parse_report(l)) for i, l in enumerate(board.lines))
-           if r and "t_ms" in r and i < len(board.times)]
+    pts = [
+        (board.times[i], r["t_ms"])
+        for i, r in ((i, parse_report(ln)) for i, ln in enumerate(board.lines))
+        if r and "t_ms" in r and i < len(board.times)
+    ]
     if len(pts) < 2 or pts[-1][0] - pts[0][0] < 1.0:
         return None
     return (pts[-1][1] - pts[0][1]) / 1000.0 / (pts[-1][0] - pts[0][0])
@@ -314,19 +318,31 @@ def behind(speed: int, rate: Optional[float], late_ms: float, misses: int) -> Op
     late_p99_ms = late_ms
     if not (slow_clock or late_host):
         return None
-    fits = [s for s in speeds() if s <= speed and (not late_host or late_p99_ms <= TOLERANCE_MS / s)
-            and (rate is None or not slow_clock or s <= 0.8 * rate)]
+    fits = [
+        s
+        for s in speeds()
+        if s <= speed
+        and (not late_host or late_p99_ms <= TOLERANCE_MS / s)
+        and (rate is None or not slow_clock or s <= 0.8 * rate)
+    ]
     suggest = max(fits) if fits else None
     parts = []
     if slow_clock:
-        parts.append(f"the board's clock ran {rate:.2f} s per wall second, not the {speed} asked for "
-                     f"(QEMU's vCPU got too little of the host)")
+        parts.append(
+            f"the board's clock ran {rate:.2f} s per wall second, not the {speed} asked for "
+            f"(QEMU's vCPU got too little of the host)"
+        )
     if late_host:
-        parts.append(f"the host woke this process's 5 ms timers up to {late_p99_ms:.0f} ms late, "
-                     f"more than the {TOLERANCE_MS / speed:.1f} ms a control period tolerates at --speed {speed}")
+        parts.append(
+            f"the host woke this process's 5 ms timers up to {late_p99_ms:.0f} ms late, "
+            f"more than the {TOLERANCE_MS / speed:.1f} ms a control period tolerates at --speed {speed}"
+        )
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-    msg = ("the emulation fell behind: " + "; ".join(parts) +
-           f" (load average {load:.1f} on {os.cpu_count()} cores): the host, not the firmware, was late")
+    msg = (
+        "the emulation fell behind: "
+        + "; ".join(parts)
+        + f" (load average {load:.1f} on {os.cpu_count()} cores): the host, not the firmware, was late"
+    )
     if misses:
         msg += f", and the board's {misses} deadline misses follow from that"
     if suggest is not None and suggest < speed:
@@ -347,9 +363,20 @@ def cmd_run(args) -> int:
     bridge = watch = None
     board = None
     try:
-        dev_cmd = [sim, "devices", "--scenario", "paper-lab", "--supervise", "--seed", str(args.seed),
-                   "--speed", str(args.speed),
-                   "--wait-firmware", "--duration", str(args.duration + 30)]
+        dev_cmd = [
+            sim,
+            "devices",
+            "--scenario",
+            "paper-lab",
+            "--supervise",
+            "--seed",
+            str(args.seed),
+            "--speed",
+            str(args.speed),
+            "--wait-firmware",
+            "--duration",
+            str(args.duration + 30),
+        ]
         if args.episodes:
             dev_cmd += ["--episodes", str(args.episodes)]
         if args.set:
@@ -367,7 +394,7 @@ def cmd_run(args) -> int:
             raise ToolError("dynaqpc-sim devices did not name its seed")
         board_seed = int(m.group(1))
         watch = BusWatch(dbc).start()
-        probe = args.probe = HostProbe().start()
+        args.probe = HostProbe().start()
 
         append = f"seed={board_seed} report_s={args.report_s} speed={args.speed}"
         if args.step_cap:
@@ -378,9 +405,27 @@ def cmd_run(args) -> int:
             append += " persist=0"
         if args.agent is not None:
             append += f" agent={AGENTS.index(args.agent)}"
-        qemu_cmd = [args.qemu, "-M", "netduinoplus2", "-display", "none", "-monitor", "none",
-                    "-chardev", "stdio,id=sh0", "-semihosting-config", "enable=on,target=native,chardev=sh0",
-                    "-serial", "pty", "-serial", cricket_tty, "-kernel", args.elf, "-append", append]
+        qemu_cmd = [
+            args.qemu,
+            "-M",
+            "netduinoplus2",
+            "-display",
+            "none",
+            "-monitor",
+            "none",
+            "-chardev",
+            "stdio,id=sh0",
+            "-semihosting-config",
+            "enable=on,target=native,chardev=sh0",
+            "-serial",
+            "pty",
+            "-serial",
+            cricket_tty,
+            "-kernel",
+            args.elf,
+            "-append",
+            append,
+        ]
         if args.icount is not None:
             qemu_cmd[1:1] = ["-icount", f"shift={args.icount},sleep=on"]
         qemu = subprocess.Popen(qemu_cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
@@ -390,8 +435,11 @@ def cmd_run(args) -> int:
         if not m or m.group(2) != "serial0":
             raise ToolError("QEMU did not name the pty of its first serial port (the board's SLCAN line)")
         bridge = Bridge(m.group(1), dbc).start()
-        print(f"emu: QEMU netduinoplus2 ({os.path.basename(args.elf)}), SLCAN on {m.group(1)}, "
-              f"Cricket on {cricket_tty}, devices: paper-lab", flush=True)
+        print(
+            f"emu: QEMU netduinoplus2 ({os.path.basename(args.elf)}), SLCAN on {m.group(1)}, "
+            f"Cricket on {cricket_tty}, devices: paper-lab",
+            flush=True,
+        )
 
         # SIGTERM or SIGINT (also when started in the background, where SIGINT is ignored) end
         # the run early as --duration does: QEMU and the devices stopped, the counters printed.
@@ -423,9 +471,9 @@ def cmd_run(args) -> int:
 
 
 def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge: Bridge) -> int:
-    reports = [r for r in (parse_report(l) for l in board.lines) if r]
+    reports = [r for r in (parse_report(ln) for ln in board.lines) if r]
     last = reports[-1] if reports else {}
-    fault = any("HARD FAULT" in l or "UNEXPECTED EXCEPTION" in l for l in board.lines) or qrc == 3
+    fault = any("HARD FAULT" in ln or "UNEXPECTED EXCEPTION" in ln for ln in board.lines) or qrc == 3
     steps = last.get("real_steps", 0)
     plan = last.get("planning_updates", 0)
     idle_loop = last.get("idle_loop_updates", 0)
@@ -436,36 +484,50 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
     if wall_s > 0 and last.get("t_ms"):
         # The firmware's clock against the wall: below the speed, QEMU could not keep up with
         # -icount's instruction rate (a loaded host): the devices then see a slow firmware.
-        print(f"emu: firmware clock {last['t_ms'] / 1000:.1f} s at the last report, wall {wall_s:.1f} s "
-              f"(the report lags by up to --report-s)")
+        print(
+            f"emu: firmware clock {last['t_ms'] / 1000:.1f} s at the last report, wall {wall_s:.1f} s "
+            f"(the report lags by up to --report-s)"
+        )
     why = f" (last: {bridge.last_error})" if getattr(bridge, "errors", 0) and getattr(bridge, "last_error", "") else ""
     print(f"emu: bridge board->bus {bridge.to_bus} frames, bus->board {bridge.to_board}, errors {bridge.errors}{why}")
-    print(f"emu: bus TLM_SCHED {watch.sched} frames ({watch.sched_planning} with PlanUpdates > 0, "
-          f"{watch.plan_updates} planning updates), DeadlineMisses {watch.deadline_misses}, "
-          f"IdlePercent mean {idle_pct:.1f} %, FW_STATUS {watch.status}, TLM_EPISODE {len(watch.episodes)}")
+    print(
+        f"emu: bus TLM_SCHED {watch.sched} frames ({watch.sched_planning} with PlanUpdates > 0, "
+        f"{watch.plan_updates} planning updates), DeadlineMisses {watch.deadline_misses}, "
+        f"IdlePercent mean {idle_pct:.1f} %, FW_STATUS {watch.status}, TLM_EPISODE {len(watch.episodes)}"
+    )
     for e in watch.episodes:
-        print(f"emu: episode {e.get('Episode')}: steps {e.get('Steps')} reached_goal {e.get('ReachedGoal')} "
-              f"bumps {e.get('Bumps')} reward {e.get('TotalReward')}")
+        print(
+            f"emu: episode {e.get('Episode')}: steps {e.get('Steps')} reached_goal {e.get('ReachedGoal')} "
+            f"bumps {e.get('Bumps')} reward {e.get('TotalReward')}"
+        )
     goals = sum(1 for e in watch.episodes if e.get("ReachedGoal"))
-    print(f"emu: the robot reached the goal in {goals} of {len(watch.episodes)} episodes; the board planned "
-          f"{idle_loop} updates in its idle loop ({idle_per:.1f} per real step) and {max(0, plan - idle_loop)} "
-          f"before acting, over {steps} real steps", flush=True)
+    print(
+        f"emu: the robot reached the goal in {goals} of {len(watch.episodes)} episodes; the board planned "
+        f"{idle_loop} updates in its idle loop ({idle_per:.1f} per real step) and {max(0, plan - idle_loop)} "
+        f"before acting, over {steps} real steps",
+        flush=True,
+    )
     probe = getattr(args, "probe", None)
     late = probe.percentile(100) if probe is not None else 0.0
     if probe is not None and probe.late_ms:
         load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-        print(f"emu: host: 5 ms timers woke up to {late:.1f} ms late (99th percentile {probe.percentile(99):.1f} ms); "
-              f"load average {load:.1f} on {os.cpu_count()} cores", flush=True)
+        print(
+            f"emu: host: 5 ms timers woke up to {late:.1f} ms late (99th percentile {probe.percentile(99):.1f} ms); "
+            f"load average {load:.1f} on {os.cpu_count()} cores",
+            flush=True,
+        )
     misses = max(watch.deadline_misses, last.get("misses", 0))
     fell_behind = behind(args.speed, emulated_rate(board), late, misses)
     if fell_behind:
         print(f"emu: {fell_behind}", flush=True)
-    print(f"emu: board: real_steps={steps} planning_updates={plan} per_real_step={per:.1f} "
-          f"idle_loop_updates={idle_loop} idle_loop_per_real_step={idle_per:.1f} "
-          f"control_worst_run_us={last.get('control_worst_run_us', 0)} misses={last.get('misses', 0)} "
-          f"idle_permille={last.get('idle_permille', 0)} events_dropped={last.get('events_dropped', 0)} "
-          f"stack_unused={last.get('stack_unused', 0)} can_tx_dropped={last.get('can_tx_dropped', 0)} "
-          f"slcan_errors={last.get('slcan_errors', 0)} qemu_exit={qrc}")
+    print(
+        f"emu: board: real_steps={steps} planning_updates={plan} per_real_step={per:.1f} "
+        f"idle_loop_updates={idle_loop} idle_loop_per_real_step={idle_per:.1f} "
+        f"control_worst_run_us={last.get('control_worst_run_us', 0)} misses={last.get('misses', 0)} "
+        f"idle_permille={last.get('idle_permille', 0)} events_dropped={last.get('events_dropped', 0)} "
+        f"stack_unused={last.get('stack_unused', 0)} can_tx_dropped={last.get('can_tx_dropped', 0)} "
+        f"slcan_errors={last.get('slcan_errors', 0)} qemu_exit={qrc}"
+    )
     problems = []
     if bridge.to_bus == 0 or watch.frames == 0:
         problems.append("no frame from the firmware on the bus")
@@ -476,14 +538,18 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
     if watch.deadline_misses or last.get("misses", 0):
         # Exit 1 as before; the message says whose they are. A clock that fell behind without a
         # miss is only reported (above): the firmware met every deadline of its own time.
-        problems.append(f"deadline misses: bus {watch.deadline_misses}, board {last.get('misses', 0)}"
-                        + (" — the emulation fell behind (above): the host's, not the firmware's" if fell_behind else ""))
+        problems.append(
+            f"deadline misses: bus {watch.deadline_misses}, board {last.get('misses', 0)}"
+            + (" — the emulation fell behind (above): the host's, not the firmware's" if fell_behind else "")
+        )
     if fault:
         problems.append("hard fault (or an unexpected exception) on the board")
     if not reports:
         problems.append("no report line from the board")
     if idle_loop < args.min_idle_loop_updates:
-        problems.append(f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}")
+        problems.append(
+            f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}"
+        )
     if len(watch.episodes) < args.min_episodes:
         problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
     if goals < args.min_goals:
@@ -510,8 +576,9 @@ def cmd_bridge(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="dynaqpc-emu", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        prog="dynaqpc-emu", description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run", help="QEMU + the simulated devices + the bridge, then the run's counters")
     r.add_argument("--elf", default=_default_elf(), help="the board's image (default: the cortex-m4 build's)")
@@ -522,23 +589,45 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--episodes", type=int, default=0, help="stop after N episodes (the supervisor's count)")
     r.add_argument("--min-episodes", type=int, default=0, help="fail with fewer finished episodes")
     r.add_argument("--min-goals", type=int, default=0, help="fail with fewer episodes that reached the goal")
-    r.add_argument("--min-idle-loop-updates", type=int, default=0,
-                   help="fail with fewer planning updates made in the idle loop (the board's count)")
+    r.add_argument(
+        "--min-idle-loop-updates",
+        type=int,
+        default=0,
+        help="fail with fewer planning updates made in the idle loop (the board's count)",
+    )
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
     r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
     r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
-    r.add_argument("--seed", type=int, default=1,
-                   help="the world's and the firmware's seed (with --set: the experiment's, as train --seed)")
-    r.add_argument("--set", type=int, default=0, metavar="K",
-                   help="run set K of `dynaqpc-sim train --seed S`: the devices and the firmware get that "
-                        "set's seed (default: --seed itself)")
-    r.add_argument("--speed", type=int, default=1,
-                   help="the devices and the firmware's clock X times faster than real time (X divides 168); "
-                        "with --icount 0 at 8 the firmware sees 125 M instructions per second of its time")
+    r.add_argument(
+        "--seed",
+        type=int,
+        default=1,
+        help="the world's and the firmware's seed (with --set: the experiment's, as train --seed)",
+    )
+    r.add_argument(
+        "--set",
+        type=int,
+        default=0,
+        metavar="K",
+        help="run set K of `dynaqpc-sim train --seed S`: the devices and the firmware get that "
+        "set's seed (default: --seed itself)",
+    )
+    r.add_argument(
+        "--speed",
+        type=int,
+        default=1,
+        help="the devices and the firmware's clock X times faster than real time (X divides 168); "
+        "with --icount 0 at 8 the firmware sees 125 M instructions per second of its time",
+    )
     r.add_argument("--report-s", type=int, default=2, help="the board's report period, firmware seconds")
-    r.add_argument("--icount", type=int, default=None, metavar="SHIFT",
-                   help="QEMU -icount shift=SHIFT,sleep=on: 2^SHIFT ns of emulated time per instruction")
+    r.add_argument(
+        "--icount",
+        type=int,
+        default=None,
+        metavar="SHIFT",
+        help="QEMU -icount shift=SHIFT,sleep=on: 2^SHIFT ns of emulated time per instruction",
+    )
     r.add_argument("--quiet", action="store_true", help="do not echo the devices' and the board's lines")
     r.set_defaults(fn=cmd_run)
     b = sub.add_parser("bridge", help="only the bridge: an SLCAN serial line <-> the virtual CAN bus")

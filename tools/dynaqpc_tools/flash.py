@@ -60,9 +60,9 @@ FLASH_BASE = 0x08000000
 
 @dataclass(frozen=True)
 class Board:
-    image: str          # dynaqpc-fw-<image>
-    region: int         # address of the learned-data region
-    size: int           # its bytes (two slots)
+    image: str  # dynaqpc-fw-<image>
+    region: int  # address of the learned-data region
+    size: int  # its bytes (two slots)
     default_target: str
 
     @property
@@ -74,9 +74,16 @@ BOARDS = {
     "paper-lab": Board("paper-lab", 0x080C0000, 0x40000, "stm32f407vg"),
     "paper-sim": Board("paper-sim", 0x08180000, 0x80000, "stm32f429xi"),
 }
-_FAMILIES = {"stm32f405": "paper-lab", "stm32f407": "paper-lab", "stm32f415": "paper-lab",
-             "stm32f417": "paper-lab", "stm32f427": "paper-sim", "stm32f429": "paper-sim",
-             "stm32f437": "paper-sim", "stm32f439": "paper-sim"}
+_FAMILIES = {
+    "stm32f405": "paper-lab",
+    "stm32f407": "paper-lab",
+    "stm32f415": "paper-lab",
+    "stm32f417": "paper-lab",
+    "stm32f427": "paper-sim",
+    "stm32f429": "paper-sim",
+    "stm32f437": "paper-sim",
+    "stm32f439": "paper-sim",
+}
 
 
 def board_for(target: Optional[str], image: Optional[str]) -> Tuple[Board, str]:
@@ -87,18 +94,22 @@ def board_for(target: Optional[str], image: Optional[str]) -> Tuple[Board, str]:
     t = target.lower()
     fam = _FAMILIES.get(t[:9])
     if fam is None:
-        raise ToolError(f"--target {target}: not an STM32F405/407/415/417 (paper-lab) or "
-                        f"STM32F427/429/437/439 (paper-sim)")
+        raise ToolError(
+            f"--target {target}: not an STM32F405/407/415/417 (paper-lab) or STM32F427/429/437/439 (paper-sim)"
+        )
     if image is not None and image != fam:
         raise ToolError(f"--image {image} does not run on {target} (it takes {fam})")
     if fam == "paper-sim" and len(t) > 9 and not t.endswith("i"):
         # 1 MB parts (xg, ...): no bank 2, the firmware runs without persistence.
-        raise ToolError(f"--target {target}: paper-sim keeps what it learned in bank 2 of a 2 MB "
-                        f"part (an 'I' part such as stm32f429xi)")
+        raise ToolError(
+            f"--target {target}: paper-sim keeps what it learned in bank 2 of a 2 MB "
+            f"part (an 'I' part such as stm32f429xi)"
+        )
     return BOARDS[fam], t
 
 
 # --- the learned-store image ---------------------------------------------------------------------
+
 
 def records(image: bytes, slot_size: int = HOST_SLOT) -> List[Tuple[int, int, int]]:
     """The whole records in an image of two slots: (slot, sequence, episodes) each."""
@@ -109,12 +120,12 @@ def records(image: bytes, slot_size: int = HOST_SLOT) -> List[Tuple[int, int, in
         magic, version, sequence, _layout, payload_size, payload_crc, episodes, header_crc = h
         if magic != LEARNED_STORE_MAGIC or version != LEARNED_STORE_VERSION:
             continue
-        if zlib.crc32(image[base:base + HEADER.size - 4]) != header_crc:
+        if zlib.crc32(image[base : base + HEADER.size - 4]) != header_crc:
             continue
         if payload_size > slot_size - HEADER.size:
             continue
         start = base + HEADER.size
-        if zlib.crc32(image[start:start + payload_size]) != payload_crc:
+        if zlib.crc32(image[start : start + payload_size]) != payload_crc:
             continue
         out.append((slot, sequence, episodes))
     return out
@@ -131,10 +142,16 @@ def read_image_file(path: str) -> bytes:
     except OSError as e:
         raise ToolError(f"cannot read {path}: {e.strerror or e}") from None
     if len(data) != HOST_IMAGE:
-        raise ToolError(f"{path}: {len(data)} bytes; a learned-store image (dynaqpc-flash backup, "
-                        f"dynaqpc-sim train --save) is {HOST_IMAGE}")
+        raise ToolError(
+            f"{path}: {len(data)} bytes; a learned-store image (dynaqpc-flash backup, "
+            f"dynaqpc-sim train --save) is {HOST_IMAGE}"
+        )
     if not records(data):
-        what = "erased (holds nothing learned)" if _erased(data) else "no whole learned-store record (magic, version, CRCs)"
+        what = (
+            "erased (holds nothing learned)"
+            if _erased(data)
+            else "no whole learned-store record (magic, version, CRCs)"
+        )
         raise ToolError(f"{path}: not a learned-store image: {what}")
     return data
 
@@ -143,22 +160,25 @@ def board_to_image(region: bytes, board: Board) -> bytes:
     """The board's learned-data region as the simulator's image."""
     assert len(region) == board.size and board.slot <= HOST_SLOT
     pad = b"\xff" * (HOST_SLOT - board.slot)
-    return b"".join(region[i * board.slot:(i + 1) * board.slot] + pad for i in range(2))
+    return b"".join(region[i * board.slot : (i + 1) * board.slot] + pad for i in range(2))
 
 
 def image_to_board(image: bytes, board: Board, path: str = "the image") -> bytes:
     """The simulator's image as the board's region; a ToolError if a record would not fit."""
     out = []
     for i in range(2):
-        slot = image[i * HOST_SLOT:(i + 1) * HOST_SLOT]
-        if not _erased(slot[board.slot:]):
-            raise ToolError(f"{path}: slot {i} holds more than {board.slot // 1024} KB, more than a "
-                            f"slot of {board.image}'s flash (a record of another agent or profile?)")
-        out.append(slot[:board.slot])
+        slot = image[i * HOST_SLOT : (i + 1) * HOST_SLOT]
+        if not _erased(slot[board.slot :]):
+            raise ToolError(
+                f"{path}: slot {i} holds more than {board.slot // 1024} KB, more than a "
+                f"slot of {board.image}'s flash (a record of another agent or profile?)"
+            )
+        out.append(slot[: board.slot])
     return b"".join(out)
 
 
 # --- building ------------------------------------------------------------------------------------
+
 
 def build(board: Board, root: Path, quiet: bool = False) -> Path:
     cmake = shutil.which("cmake")
@@ -185,6 +205,7 @@ def build(board: Board, root: Path, quiet: bool = False) -> Path:
 
 # --- the board -----------------------------------------------------------------------------------
 
+
 class Probe:
     """A pyOCD session on the board, opened on entry (ToolError if there is no probe or board)."""
 
@@ -206,8 +227,10 @@ class Probe:
             raise ToolError(f"cannot look for debug probes: {e}") from None
         if not probes:
             which = f" with ID {self.probe_id}" if self.probe_id else ""
-            raise ToolError(f"no debug probe{which} found (plug in the ST-Link or CMSIS-DAP probe; "
-                            f"`pyocd list` lists them; without one see docs/flashing.md, ROM bootloader)")
+            raise ToolError(
+                f"no debug probe{which} found (plug in the ST-Link or CMSIS-DAP probe; "
+                f"`pyocd list` lists them; without one see docs/flashing.md, ROM bootloader)"
+            )
         if len(probes) > 1:
             ids = ", ".join(p.unique_id for p in probes)
             raise ToolError(f"{len(probes)} debug probes found ({ids}): pick one with --probe ID")
@@ -215,6 +238,7 @@ class Probe:
 
     def __enter__(self):
         from pyocd.core.helpers import ConnectHelper
+
         # pyOCD logs what it tries at WARNING and above; the one line here says what matters.
         probes = self.find()
         options = {"target_override": self.target_name, "connect_mode": "under-reset"}
@@ -222,7 +246,8 @@ class Probe:
             options["frequency"] = self.frequency
         try:
             self.session = ConnectHelper.session_with_chosen_probe(
-                blocking=False, return_first=True, unique_id=probes[0].unique_id, options=options)
+                blocking=False, return_first=True, unique_id=probes[0].unique_id, options=options
+            )
             if self.session is None:
                 raise ToolError("the debug probe went away")
             self.session.open()
@@ -231,10 +256,13 @@ class Probe:
         except Exception as e:
             msg = str(e).splitlines()[0] if str(e) else type(e).__name__
             if "target" in msg.lower() and "not" in msg.lower() and "recogni" in msg.lower():
-                raise ToolError(f"pyOCD does not know {self.target_name}: pyocd pack install "
-                                f"{self.target_name}") from None
-            raise ToolError(f"no board on probe {probes[0].unique_id} ({self.target_name}): {msg} "
-                            f"(powered? SWD wired? docs/flashing.md)") from None
+                raise ToolError(
+                    f"pyOCD does not know {self.target_name}: pyocd pack install {self.target_name}"
+                ) from None
+            raise ToolError(
+                f"no board on probe {probes[0].unique_id} ({self.target_name}): {msg} "
+                f"(powered? SWD wired? docs/flashing.md)"
+            ) from None
         return self
 
     def __exit__(self, *exc):
@@ -267,8 +295,7 @@ class Probe:
         got = bytes(self.target.read_memory_block8(address, len(data)))
         if got != data:
             bad = next(i for i in range(len(data)) if got[i] != data[i])
-            raise FlashFailed(f"verify failed at 0x{address + bad:08X}: read 0x{got[bad]:02X}, "
-                              f"wrote 0x{data[bad]:02X}")
+            raise FlashFailed(f"verify failed at 0x{address + bad:08X}: read 0x{got[bad]:02X}, wrote 0x{data[bad]:02X}")
 
     def reset(self) -> None:
         self.target.reset()
@@ -279,6 +306,7 @@ class FlashFailed(Exception):
 
 
 # --- commands ------------------------------------------------------------------------------------
+
 
 def cmd_build(args, board: Board, target: str) -> int:
     binary = build(board, _root())
@@ -300,8 +328,7 @@ def cmd_flash(args, board: Board, target: str) -> int:
         binary = build(board, _root())
     data = binary.read_bytes()
     if FLASH_BASE + len(data) > board.region:
-        raise ToolError(f"{binary}: {len(data)} bytes would reach the learned-data region at "
-                        f"0x{board.region:08X}")
+        raise ToolError(f"{binary}: {len(data)} bytes would reach the learned-data region at 0x{board.region:08X}")
     with Probe(target, args.probe, args.frequency) as p:
         print(f"flashing {binary.name} ({len(data)} bytes) to {target} at 0x{FLASH_BASE:08X}", file=sys.stderr)
         p.program(FLASH_BASE, data)
@@ -321,12 +348,17 @@ def cmd_backup(args, board: Board, target: str) -> int:
     Path(args.file).write_bytes(image)
     recs = records(image)
     if not recs:
-        print(f"wrote {args.file}: the board's learned-data region holds no whole record "
-              f"({'erased' if _erased(region) else 'damaged'})", file=sys.stderr)
+        print(
+            f"wrote {args.file}: the board's learned-data region holds no whole record "
+            f"({'erased' if _erased(region) else 'damaged'})",
+            file=sys.stderr,
+        )
         return 0
     newest = max(recs, key=lambda r: r[1])
-    print(f"wrote {args.file} ({len(image)} bytes): {len(recs)} record(s), newest sequence {newest[1]}, "
-          f"{newest[2]} episodes (draw it: dynaqpc-learned {args.file} --scenario {board.image})")
+    print(
+        f"wrote {args.file} ({len(image)} bytes): {len(recs)} record(s), newest sequence {newest[1]}, "
+        f"{newest[2]} episodes (draw it: dynaqpc-learned {args.file} --scenario {board.image})"
+    )
     return 0
 
 
@@ -338,8 +370,10 @@ def cmd_restore(args, board: Board, target: str) -> int:
         p.verify(board.region, region)
         p.reset()
     newest = max(records(image), key=lambda r: r[1])
-    print(f"restored {args.file} to 0x{board.region:08X} on {target} (newest sequence {newest[1]}, "
-          f"{newest[2]} episodes) and verified; the firmware restores it at boot if its layout matches")
+    print(
+        f"restored {args.file} to 0x{board.region:08X} on {target} (newest sequence {newest[1]}, "
+        f"{newest[2]} episodes) and verified; the firmware restores it at boot if its layout matches"
+    )
     return 0
 
 
@@ -351,11 +385,15 @@ def _root() -> Path:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(prog="dynaqpc-flash", description=__doc__,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(
+        prog="dynaqpc-flash", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--target", metavar="MCU",
-                        help="pyOCD target name (default stm32f407vg for paper-lab, stm32f429xi for paper-sim)")
+    common.add_argument(
+        "--target",
+        metavar="MCU",
+        help="pyOCD target name (default stm32f407vg for paper-lab, stm32f429xi for paper-sim)",
+    )
     common.add_argument("--image", choices=sorted(BOARDS), help="the robot image (default: the --target's)")
     common.add_argument("--probe", metavar="ID", help="the debug probe's unique ID (`pyocd list`)")
     common.add_argument("--frequency", type=int, metavar="HZ", help="SWD clock (default pyOCD's)")

@@ -38,8 +38,17 @@ from .bus_decode import NO_POSE, BusState, PoseDecoder
 from .common import ToolError
 
 #: The fixed topics (besides /can/<MESSAGE>, one per DBC message).
-TOPICS = ("/tf", "/robot/pose", "/robot/true_pose", "/robot/rays", "/robot/bumps", "/robot/trail", "/arena",
-          "/robot/state", "/robot/values")
+TOPICS = (
+    "/tf",
+    "/robot/pose",
+    "/robot/true_pose",
+    "/robot/rays",
+    "/robot/bumps",
+    "/robot/trail",
+    "/arena",
+    "/robot/state",
+    "/robot/values",
+)
 FRAME = "arena"
 BASE = "base_link"
 TRUE_BASE = "true_base_link"
@@ -55,11 +64,14 @@ def _import_sdk():
     try:
         import foxglove  # noqa: F401
     except ImportError as e:  # pragma: no cover - the venv has it
-        raise ToolError("Foxglove's message types (--foxglove, --log x.mcap) need foxglove-sdk: "
-                        f"pip install -r tools/requirements.txt ({e})") from None
+        raise ToolError(
+            "Foxglove's message types (--foxglove, --log x.mcap) need foxglove-sdk: "
+            f"pip install -r tools/requirements.txt ({e})"
+        ) from None
     import foxglove
     from foxglove import channels as fc
     from foxglove import messages as fm
+
     return foxglove, fc, fm
 
 
@@ -122,9 +134,17 @@ class Build:
 
     def transforms(self, child: str, x: float, y: float, heading: float, t: float):
         m = self.m
-        return m.FrameTransforms(transforms=[m.FrameTransform(
-            timestamp=self._ts(t), parent_frame_id=FRAME, child_frame_id=child,
-            translation=m.Vector3(x=x, y=y, z=0.0), rotation=self._quat(heading))])
+        return m.FrameTransforms(
+            transforms=[
+                m.FrameTransform(
+                    timestamp=self._ts(t),
+                    parent_frame_id=FRAME,
+                    child_frame_id=child,
+                    translation=m.Vector3(x=x, y=y, z=0.0),
+                    rotation=self._quat(heading),
+                )
+            ]
+        )
 
     # ---- helpers ---------------------------------------------------------------------------------
 
@@ -149,16 +169,32 @@ class Build:
         dark, grey = self._color(0.2, 0.2, 0.2), self._color(0.5, 0.5, 0.5)
         green, purple = self._color(0.1, 0.7, 0.2, 0.4), self._color(0.5, 0.2, 0.7)
         cube = lambda x, y, z, sx, sy, sz, c, yaw=0.0: m.CubePrimitive(  # noqa: E731
-            pose=self._pose(x, y, z, yaw), size=m.Vector3(x=sx, y=sy, z=sz), color=c)
+            pose=self._pose(x, y, z, yaw), size=m.Vector3(x=sx, y=sy, z=sz), color=c
+        )
         cyl = lambda x, y, z, d, sz, c: m.CylinderPrimitive(  # noqa: E731
-            pose=self._pose(x, y, z), size=m.Vector3(x=d, y=d, z=sz), bottom_scale=1.0, top_scale=1.0, color=c)
-        cubes = [cube(w / 2, 0, height / 2, w, wall, height, dark), cube(w / 2, h, height / 2, w, wall, height, dark),
-                 cube(0, h / 2, height / 2, wall, h, height, dark), cube(w, h / 2, height / 2, wall, h, height, dark)]
+            pose=self._pose(x, y, z), size=m.Vector3(x=d, y=d, z=sz), bottom_scale=1.0, top_scale=1.0, color=c
+        )
+        cubes = [
+            cube(w / 2, 0, height / 2, w, wall, height, dark),
+            cube(w / 2, h, height / 2, w, wall, height, dark),
+            cube(0, h / 2, height / 2, wall, h, height, dark),
+            cube(w, h / 2, height / 2, wall, h, height, dark),
+        ]
         cylinders, spheres, texts = [], [], []
         for ob in a.get("obstacles", []):
             if ob["kind"] == "box":
-                cubes.append(cube(ob["cx"], ob["cy"], height / 2, ob["w"], ob["h"], height, grey,
-                                  math.radians(ob.get("angle_deg", 0.0))))
+                cubes.append(
+                    cube(
+                        ob["cx"],
+                        ob["cy"],
+                        height / 2,
+                        ob["w"],
+                        ob["h"],
+                        height,
+                        grey,
+                        math.radians(ob.get("angle_deg", 0.0)),
+                    )
+                )
             else:
                 cylinders.append(cyl(ob["cx"], ob["cy"], height / 2, 2 * ob["r"], height, grey))
         goal = a.get("goal")
@@ -168,20 +204,46 @@ class Build:
         elif goal:
             cylinders.append(cyl(goal["cx"], goal["cy"], 0.005, 2 * goal["r"], 0.01, green))
         for b in a.get("beacons", []):
-            spheres.append(m.SpherePrimitive(pose=self._pose(b["x"], b["y"], b["z"]),
-                                             size=m.Vector3(x=0.08, y=0.08, z=0.08), color=purple))
-            texts.append(m.TextPrimitive(pose=self._pose(b["x"], b["y"], b["z"] + 0.1), billboard=True,
-                                         font_size=12.0, scale_invariant=True, color=purple,
-                                         text=str(b.get("id", ""))))
-        entity = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="arena", cubes=cubes,
-                               cylinders=cylinders, spheres=spheres, texts=texts)
+            spheres.append(
+                m.SpherePrimitive(
+                    pose=self._pose(b["x"], b["y"], b["z"]), size=m.Vector3(x=0.08, y=0.08, z=0.08), color=purple
+                )
+            )
+            texts.append(
+                m.TextPrimitive(
+                    pose=self._pose(b["x"], b["y"], b["z"] + 0.1),
+                    billboard=True,
+                    font_size=12.0,
+                    scale_invariant=True,
+                    color=purple,
+                    text=str(b.get("id", "")),
+                )
+            )
+        entity = m.SceneEntity(
+            timestamp=self._ts(t),
+            frame_id=FRAME,
+            id="arena",
+            cubes=cubes,
+            cylinders=cylinders,
+            spheres=spheres,
+            texts=texts,
+        )
         return m.SceneUpdate(entities=[entity])
+
 
 class LiveFoxglove(Build):
     """Feeds python-can messages into Foxglove channels on a WebSocket server."""
 
-    def __init__(self, db, port: int = 8765, host: str = "127.0.0.1", arena: Optional[dict] = None,
-                 ray_angles=None, name: str = "dynaqpc", grid: Optional[dict] = None):
+    def __init__(
+        self,
+        db,
+        port: int = 8765,
+        host: str = "127.0.0.1",
+        arena: Optional[dict] = None,
+        ray_angles=None,
+        name: str = "dynaqpc",
+        grid: Optional[dict] = None,
+    ):
         Build.__init__(self)
         fc = self.fc
         self.db = db
@@ -206,17 +268,23 @@ class LiveFoxglove(Build):
             self.value_msg = db.get_message_by_name("TLM_VALUE")
         except KeyError:
             self.value_msg = None
-        self.state_ch = self.fg.Channel("/robot/state", schema={
-            "type": "object", "title": "dynaqpc.RobotState",
-            "properties": {k: {"type": "number"} for k in ("episode", "step", "episodes_ended", "bumps")}
-            | {k: {"type": "string"} for k in ("mode", "fix")}})
+        self.state_ch = self.fg.Channel(
+            "/robot/state",
+            schema={
+                "type": "object",
+                "title": "dynaqpc.RobotState",
+                "properties": {k: {"type": "number"} for k in ("episode", "step", "episodes_ended", "bumps")}
+                | {k: {"type": "string"} for k in ("mode", "fix")},
+            },
+        )
         # Every DBC message's channel from the start: a client sees (and Plot offers) them all at once.
         self.signal_ch: Dict[int, object] = {}
         self.by_id = {}
         for msg in db.messages:
             self.by_id[(msg.frame_id, bool(msg.is_extended_frame))] = msg
             self.signal_ch[(msg.frame_id, bool(msg.is_extended_frame))] = self.fg.Channel(
-                f"/can/{msg.name}", schema=_signal_schema(msg))
+                f"/can/{msg.name}", schema=_signal_schema(msg)
+            )
         self.pose_dec = PoseDecoder(db, "TLM_POSE")
         try:
             self.gps_dec = PoseDecoder(db, "GPS_POSE")
@@ -236,8 +304,11 @@ class LiveFoxglove(Build):
 
     def label(self) -> str:
         b = self.bus
-        parts = [f"episode {b.episode}" if b.episode is not None else "episode ?",
-                 f"step {b.step}" if b.step is not None else "step -", b.mode or "?"]
+        parts = [
+            f"episode {b.episode}" if b.episode is not None else "episode ?",
+            f"step {b.step}" if b.step is not None else "step -",
+            b.mode or "?",
+        ]
         if self.last_pose is not None and self.last_pose.fix_name:
             parts.append(f"fix {self.last_pose.fix_name}")
         return " | ".join(parts)
@@ -248,31 +319,76 @@ class LiveFoxglove(Build):
         for ang, r in self.bus.rays.values():
             length = r if r is not None else NO_ECHO_M
             color = self._color(1.0, 0.55, 0.0, 0.9) if r is not None else self._color(0.6, 0.6, 0.6, 0.6)
-            lines.append(m.LinePrimitive(
-                type=m.LinePrimitiveLineType.LineList, thickness=0.01, color=color,
-                points=[m.Point3(x=0.0, y=0.0, z=0.05),
-                        m.Point3(x=length * math.cos(ang), y=length * math.sin(ang), z=0.05)]))
-        body = m.CylinderPrimitive(pose=self._pose(0, 0, 0.05), size=m.Vector3(x=2 * BODY_R, y=2 * BODY_R, z=0.1),
-                                   bottom_scale=1.0, top_scale=1.0, color=self._color(0.1, 0.4, 0.9, 0.8))
-        arrow = m.ArrowPrimitive(pose=self._pose(0, 0, 0.11), shaft_length=BODY_R, shaft_diameter=0.03,
-                                 head_length=0.08, head_diameter=0.08, color=self._color(1, 1, 1))
-        text = m.TextPrimitive(pose=self._pose(0, 0, 0.4), billboard=True, font_size=14.0, scale_invariant=True,
-                               color=self._color(0, 0, 0), text=self.label())
-        entity = m.SceneEntity(timestamp=self._ts(t), frame_id=BASE, id="robot", frame_locked=True, lines=lines,
-                               cylinders=[body], arrows=[arrow], texts=[text])
+            lines.append(
+                m.LinePrimitive(
+                    type=m.LinePrimitiveLineType.LineList,
+                    thickness=0.01,
+                    color=color,
+                    points=[
+                        m.Point3(x=0.0, y=0.0, z=0.05),
+                        m.Point3(x=length * math.cos(ang), y=length * math.sin(ang), z=0.05),
+                    ],
+                )
+            )
+        body = m.CylinderPrimitive(
+            pose=self._pose(0, 0, 0.05),
+            size=m.Vector3(x=2 * BODY_R, y=2 * BODY_R, z=0.1),
+            bottom_scale=1.0,
+            top_scale=1.0,
+            color=self._color(0.1, 0.4, 0.9, 0.8),
+        )
+        arrow = m.ArrowPrimitive(
+            pose=self._pose(0, 0, 0.11),
+            shaft_length=BODY_R,
+            shaft_diameter=0.03,
+            head_length=0.08,
+            head_diameter=0.08,
+            color=self._color(1, 1, 1),
+        )
+        text = m.TextPrimitive(
+            pose=self._pose(0, 0, 0.4),
+            billboard=True,
+            font_size=14.0,
+            scale_invariant=True,
+            color=self._color(0, 0, 0),
+            text=self.label(),
+        )
+        entity = m.SceneEntity(
+            timestamp=self._ts(t),
+            frame_id=BASE,
+            id="robot",
+            frame_locked=True,
+            lines=lines,
+            cylinders=[body],
+            arrows=[arrow],
+            texts=[text],
+        )
         return m.SceneUpdate(entities=[entity])
 
     def _points_scene(self, t: float, ident: str, pts, line: bool):
         m = self.m
         if line:
-            prim = m.LinePrimitive(type=m.LinePrimitiveLineType.LineStrip, thickness=0.02,
-                                   color=self._color(0.1, 0.4, 0.9, 0.7),
-                                   points=[m.Point3(x=x, y=y, z=0.02) for x, y in pts])
+            prim = m.LinePrimitive(
+                type=m.LinePrimitiveLineType.LineStrip,
+                thickness=0.02,
+                color=self._color(0.1, 0.4, 0.9, 0.7),
+                points=[m.Point3(x=x, y=y, z=0.02) for x, y in pts],
+            )
             ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id=ident, lines=[prim] if pts else [])
         else:
-            ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id=ident, spheres=[
-                m.SpherePrimitive(pose=self._pose(x, y, 0.1), size=m.Vector3(x=0.12, y=0.12, z=0.12),
-                                  color=self._color(0.9, 0.1, 0.1, 0.9)) for x, y in pts])
+            ent = m.SceneEntity(
+                timestamp=self._ts(t),
+                frame_id=FRAME,
+                id=ident,
+                spheres=[
+                    m.SpherePrimitive(
+                        pose=self._pose(x, y, 0.1),
+                        size=m.Vector3(x=0.12, y=0.12, z=0.12),
+                        color=self._color(0.9, 0.1, 0.1, 0.9),
+                    )
+                    for x, y in pts
+                ],
+            )
         return m.SceneUpdate(entities=[ent])
 
     def values_scene(self, t: float):
@@ -284,12 +400,23 @@ class LiveFoxglove(Build):
         cubes, texts = [], []
         for (x, y), v in sorted(best.items()):
             f = (v - lo) / span
-            cubes.append(m.CubePrimitive(pose=self._pose((x + 0.5) * cw, (y + 0.5) * ch, 0.002),
-                                         size=m.Vector3(x=cw * 0.95, y=ch * 0.95, z=0.004),
-                                         color=self._color(f, 0.2, 1.0 - f, 0.55)))
-        texts.append(m.TextPrimitive(pose=self._pose(0.0, -0.3, 0.0), billboard=True, font_size=12.0,
-                                     scale_invariant=True, color=self._color(0, 0, 0),
-                                     text=f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells"))
+            cubes.append(
+                m.CubePrimitive(
+                    pose=self._pose((x + 0.5) * cw, (y + 0.5) * ch, 0.002),
+                    size=m.Vector3(x=cw * 0.95, y=ch * 0.95, z=0.004),
+                    color=self._color(f, 0.2, 1.0 - f, 0.55),
+                )
+            )
+        texts.append(
+            m.TextPrimitive(
+                pose=self._pose(0.0, -0.3, 0.0),
+                billboard=True,
+                font_size=12.0,
+                scale_invariant=True,
+                color=self._color(0, 0, 0),
+                text=f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells",
+            )
+        )
         ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="values", cubes=cubes, texts=texts)
         return m.SceneUpdate(entities=[ent])
 
@@ -309,10 +436,14 @@ class LiveFoxglove(Build):
 
     def state(self) -> dict:
         b = self.bus
-        return {"episode": b.episode if b.episode is not None else -1,
-                "step": b.step if b.step is not None else -1, "mode": b.mode or "",
-                "fix": (self.last_pose.fix_name or "") if self.last_pose else "",
-                "episodes_ended": b.episodes_ended, "bumps": len(self.bump_points)}
+        return {
+            "episode": b.episode if b.episode is not None else -1,
+            "step": b.step if b.step is not None else -1,
+            "mode": b.mode or "",
+            "fix": (self.last_pose.fix_name or "") if self.last_pose else "",
+            "episodes_ended": b.episodes_ended,
+            "bumps": len(self.bump_points),
+        }
 
     def _signals(self, msg, t: float) -> None:
         dm = self.by_id.get((msg.arbitration_id, bool(msg.is_extended_id)))

@@ -28,7 +28,6 @@ Exit status: 0 drawn, 2 bad usage or an image that cannot be restored (one line 
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -66,9 +65,9 @@ def dump_image(sim: str, scenario: str, image: str, agent: Optional[str] = None)
         msg = lines[-1] if lines else f"exit status {p.returncode}"
         # The simulator's line names itself; keep what it says about the image.
         if msg.startswith("dynaqpc-sim learned: "):
-            msg = msg[len("dynaqpc-sim learned: "):]
+            msg = msg[len("dynaqpc-sim learned: ") :]
         if msg.startswith("--load: "):
-            msg = msg[len("--load: "):]
+            msg = msg[len("--load: ") :]
         raise ToolError(msg)
     for ln in p.stderr.strip().splitlines():
         print(ln.replace("dynaqpc-sim learned", "dynaqpc-learned"), file=sys.stderr)
@@ -119,13 +118,30 @@ def combine(dump: Dict[str, Any], how: str = "max") -> Dict[str, Any]:
     cells = []
     for (x, y, h), (_, r) in sorted(best.items()):
         g = r[ix["greedy"]]
-        cells.append({"x": x, "y": y, "heading": h, "code": r[ix["code"]], "codes": sorted(codes[(x, y, h)]),
-                      "greedy": g, "action": ACTIONS[g] if g < len(ACTIONS) else str(g), "v": r[ix["v"]],
-                      "q": r[ix["q"]], "experience": sum(r[ix["n"]]), "visited": bool(r[ix["visited"]])})
+        cells.append(
+            {
+                "x": x,
+                "y": y,
+                "heading": h,
+                "code": r[ix["code"]],
+                "codes": sorted(codes[(x, y, h)]),
+                "greedy": g,
+                "action": ACTIONS[g] if g < len(ACTIONS) else str(g),
+                "v": r[ix["v"]],
+                "q": r[ix["q"]],
+                "experience": sum(r[ix["n"]]),
+                "visited": bool(r[ix["visited"]]),
+            }
+        )
     return {
         "format": "dynaqpc-learned view 1",
-        "scenario": dump["scenario"], "agent": dump["agent"], "record": dump["record"],
-        "fill": dump["fill"], "grid": dump["grid"], "combine": how, "actions": list(ACTIONS),
+        "scenario": dump["scenario"],
+        "agent": dump["agent"],
+        "record": dump["record"],
+        "fill": dump["fill"],
+        "grid": dump["grid"],
+        "combine": how,
+        "actions": list(ACTIONS),
         "cells": cells,
         "visited_cells": [[x, y, sorted(hs)] for (x, y), hs in sorted(visited.items())],
         "modelled_cells": [[x, y, sorted(hs)] for (x, y), hs in sorted(modelled.items())],
@@ -133,6 +149,7 @@ def combine(dump: Dict[str, Any], how: str = "max") -> Dict[str, Any]:
 
 
 # --- following the arrows ------------------------------------------------------------------------
+
 
 def _step(grid: Dict[str, Any], x: int, y: int, h: int, action: int) -> Tuple[int, int, int]:
     """The (cell, heading) an action leads to on the grid, as the firmware's aligned actions move
@@ -194,6 +211,7 @@ def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
 
 # --- drawing -------------------------------------------------------------------------------------
 
+
 def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color: str, scale: float = 1.0) -> None:
     ang = 2 * math.pi * h / grid["headings"]
     size = 0.38 * min(grid["cell_w"], grid["cell_h"])
@@ -201,12 +219,25 @@ def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color
         if a == 1:
             ang += math.pi
         dx, dy = size * math.cos(ang), size * math.sin(ang)
-        ax.annotate("", xy=(x0 + dx, y0 + dy), xytext=(x0 - dx * 0.6, y0 - dy * 0.6),
-                    arrowprops=dict(arrowstyle="-|>", color=color, lw=1.4 * scale, shrinkA=0, shrinkB=0,
-                                    mutation_scale=10 * scale))
+        ax.annotate(
+            "",
+            xy=(x0 + dx, y0 + dy),
+            xytext=(x0 - dx * 0.6, y0 - dy * 0.6),
+            arrowprops=dict(
+                arrowstyle="-|>", color=color, lw=1.4 * scale, shrinkA=0, shrinkB=0, mutation_scale=10 * scale
+            ),
+        )
     else:
-        ax.text(x0, y0, "\u21ba" if a == 2 else "\u21bb", ha="center", va="center", fontsize=11 * scale,
-                color=color, fontweight="bold")
+        ax.text(
+            x0,
+            y0,
+            "\u21ba" if a == 2 else "\u21bb",
+            ha="center",
+            va="center",
+            fontsize=11 * scale,
+            color=color,
+            fontweight="bold",
+        )
 
 
 class _MarkHandler:
@@ -222,16 +253,43 @@ class _MarkHandler:
         x0, y0, w, h = handlebox.xdescent, handlebox.ydescent, handlebox.width, handlebox.height
         side = min(w, h * 1.6)
         cx, cy = x0 + w / 2, y0 + h / 2
-        handlebox.add_artist(Rectangle((cx - side / 2, y0 - h * 0.3), side, h * 1.6, facecolor=self.bg,
-                                       edgecolor="none", transform=handlebox.get_transform()))
+        handlebox.add_artist(
+            Rectangle(
+                (cx - side / 2, y0 - h * 0.3),
+                side,
+                h * 1.6,
+                facecolor=self.bg,
+                edgecolor="none",
+                transform=handlebox.get_transform(),
+            )
+        )
         color = orig_handle.get_color()
         if self.mark in ("right", "left"):
             d = side * 0.8 * (1 if self.mark == "right" else -1)
-            a = FancyArrow(cx - d / 2, cy, d, 0, width=h * 0.1, head_width=h * 0.55, head_length=abs(d) * 0.35,
-                           length_includes_head=True, color=color, transform=handlebox.get_transform())
+            a = FancyArrow(
+                cx - d / 2,
+                cy,
+                d,
+                0,
+                width=h * 0.1,
+                head_width=h * 0.55,
+                head_length=abs(d) * 0.35,
+                length_includes_head=True,
+                color=color,
+                transform=handlebox.get_transform(),
+            )
         else:
-            a = Text(cx, cy, self.mark, ha="center", va="center", fontsize=fontsize * 1.3, fontweight="bold",
-                     color=color, transform=handlebox.get_transform())
+            a = Text(
+                cx,
+                cy,
+                self.mark,
+                ha="center",
+                va="center",
+                fontsize=fontsize * 1.3,
+                fontweight="bold",
+                color=color,
+                transform=handlebox.get_transform(),
+            )
         handlebox.add_artist(a)
         return a
 
@@ -245,11 +303,13 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
     from matplotlib.patches import Patch
 
     bg = cmap(norm(vmax * 0.3))
-    marks = [("right", "white", "step forward, along the heading"),
-             ("left", "white", "step backward (the arrow points\nagainst the heading)"),
-             ("\u21ba", "white", "turn left"),
-             ("\u21bb", "white", "turn right"),
-             ("right", "0.75", "grey mark: valued by planning only;\nthe robot never had this heading here")]
+    marks = [
+        ("right", "white", "step forward, along the heading"),
+        ("left", "white", "step backward (the arrow points\nagainst the heading)"),
+        ("\u21ba", "white", "turn left"),
+        ("\u21bb", "white", "turn right"),
+        ("right", "0.75", "grey mark: valued by planning only;\nthe robot never had this heading here"),
+    ]
     _KEY_HANDLERS.clear()
     handles = []
     for mark, color, label in marks:
@@ -260,15 +320,23 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
     handles.append(Patch(facecolor="0.6", edgecolor="0.3", label="obstacle"))
     goal = arena.get("goal") or {}
     if goal.get("cells"):
-        handles.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green",
-                             label="goal cells (the episode ends there:\nno action drawn)"))
+        handles.append(
+            Patch(
+                facecolor="tab:green",
+                alpha=0.35,
+                edgecolor="tab:green",
+                label="goal cells (the episode ends there:\nno action drawn)",
+            )
+        )
         handles.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
     elif goal:
         handles.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
     return handles
 
 
-def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = "used", title: Optional[str] = None) -> None:
+def draw(
+    view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = "used", title: Optional[str] = None
+) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -302,8 +370,9 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     n = max(nx, ny)
     panel = 4.0 * max(1.0, math.sqrt(n / 8.0))
     scale = min(1.0, panel * 2.0 / n)  # a mark's size over a cell's, as on an 8-cell grid in 4 inches
-    fig, axes = plt.subplots(nrows, ncols, figsize=(panel * ncols + 1.0, panel * aspect * nrows + 1.2), squeeze=False,
-                             layout="constrained")
+    fig, axes = plt.subplots(
+        nrows, ncols, figsize=(panel * ncols + 1.0, panel * aspect * nrows + 1.2), squeeze=False, layout="constrained"
+    )
     cmap = plt.get_cmap("viridis")
     norm = matplotlib.colors.Normalize(vmin=vmin, vmax=vmax)
     visited = {(x, y): set(h) for x, y, h in view["visited_cells"]}
@@ -318,8 +387,9 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
             if (c["x"], c["y"]) in goal_cells:
                 continue  # the episode ends there: no action is taken in a goal cell
             vis = h in visited.get((c["x"], c["y"]), ())
-            _arrow(ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"],
-                   "white" if vis else "0.75", scale)
+            _arrow(
+                ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"], "white" if vis else "0.75", scale
+            )
         deg = 360.0 * h / nh
         ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h.get(h, []))} cells", fontsize=9)
         ax.set_xlabel("")
@@ -328,19 +398,30 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     ax = axes[len(hs) // ncols][len(hs) % ncols]
     modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
     oranges = plt.get_cmap("Oranges")
-    for (x, y) in set(visited) | set(modelled):
+    for x, y in set(visited) | set(modelled):
         nv = len(visited.get((x, y), ()))
         if nv:
-            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none"))
+            ax.add_patch(
+                Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none")
+            )
         else:  # predicted by the model, never visited
-            ax.add_patch(Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//",
-                                   linewidth=0))
+            ax.add_patch(
+                Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//", linewidth=0)
+            )
         if max(nx, ny) <= 16:  # beyond, the shades say it
-            ax.text((x + 0.5) * cw, (y + 0.5) * ch, f"{nv}/{len(modelled.get((x, y), ()))}", ha="center",
-                    va="center", fontsize=7, color="black")
+            ax.text(
+                (x + 0.5) * cw,
+                (y + 0.5) * ch,
+                f"{nv}/{len(modelled.get((x, y), ()))}",
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="black",
+            )
     draw_arena(ax, arena)
-    ax.set_title("visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)",
-                 fontsize=8)
+    ax.set_title(
+        "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)", fontsize=8
+    )
     ax.set_xlabel("")
     ax.set_ylabel("")
     # The tables' fill.
@@ -365,27 +446,52 @@ def draw(view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = 
     for j in range(n_panels, nrows * ncols):
         axes[j // ncols][j % ncols].axis("off")
     heading_axes = [axes[i // ncols][i % ncols] for i in range(len(hs))]
-    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=heading_axes, location="right",
-                 shrink=0.9, pad=0.01, aspect=30, label="V = max_a Q (cell colour)")
+    fig.colorbar(
+        matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap),
+        ax=heading_axes,
+        location="right",
+        shrink=0.9,
+        pad=0.01,
+        aspect=30,
+        label="V = max_a Q (cell colour)",
+    )
     # The key: what every mark means, in the first free panel, else under the figure.
     handles = _key_handles(arena, cmap, norm, vmax)
     if n_panels < nrows * ncols:
         key_ax = axes[n_panels // ncols][n_panels % ncols]
-        key_ax.legend(handles=handles, loc="center left", fontsize=8.5, frameon=False, title="key", handlelength=2.6,
-                      handleheight=1.4,
-                      title_fontsize=9, handler_map=_KEY_HANDLERS)
+        key_ax.legend(
+            handles=handles,
+            loc="center left",
+            fontsize=8.5,
+            frameon=False,
+            title="key",
+            handlelength=2.6,
+            handleheight=1.4,
+            title_fontsize=9,
+            handler_map=_KEY_HANDLERS,
+        )
     else:
-        fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False,
-                   handler_map=_KEY_HANDLERS)
+        fig.legend(
+            handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False, handler_map=_KEY_HANDLERS
+        )
     rec = view["record"]
-    shown = (f"all {nh} headings" if len(hs) == nh else
-             f"{len(hs)} of the {nh} headings: the {len(hs)} with the most cells (--headings all draws every one)"
-             if headings == "used" else f"{len(hs)} of the {nh} headings (--headings)")
+    shown = (
+        f"all {nh} headings"
+        if len(hs) == nh
+        else f"{len(hs)} of the {nh} headings: the {len(hs)} with the most cells (--headings all draws every one)"
+        if headings == "used"
+        else f"{len(hs)} of the {nh} headings (--headings)"
+    )
     codes = "the largest V" if view["combine"] == "max" else "the most experienced"
-    fig.suptitle(title or (f"What {view['agent']} learned on {view['scenario']} in {rec['episodes']} episodes, "
-                           f"read from its flash image\nper heading: the greedy action in each cell, on V = max_a Q; "
-                           f"{shown}; several range codes in a cell: {codes}"),
-                 fontsize=10)
+    fig.suptitle(
+        title
+        or (
+            f"What {view['agent']} learned on {view['scenario']} in {rec['episodes']} episodes, "
+            f"read from its flash image\nper heading: the greedy action in each cell, on V = max_a Q; "
+            f"{shown}; several range codes in a cell: {codes}"
+        ),
+        fontsize=10,
+    )
     try:
         fig.savefig(out, dpi=110)
     except OSError as e:
@@ -398,20 +504,28 @@ def main(argv: Optional[List[str]] = None) -> int:
     p = ToolArgumentParser(
         prog="dynaqpc-learned",
         description="Draw what the robot learned: per heading, the greedy action over V = max_a Q on the arena's "
-                    "cells, the visited and modelled cells and the tables' fill, from a flash image.",
+        "cells, the visited and modelled cells and the tables' fill, from a flash image.",
         epilog="The image is decoded by the firmware's own restore code (dynaqpc-sim learned); exit 2 when it "
-               "cannot be restored. docs/tools.md has an example.")
+        "cannot be restored. docs/tools.md has an example.",
+    )
     p.add_argument("image", help="flash image: dynaqpc-sim train --save FILE, or a board's backup")
     p.add_argument("--scenario", required=True, help="paper-lab, paper-sim or FILE.scn: the one it learned on")
     p.add_argument("--agent", choices=["q", "dyna-q", "dyna-qpc"], help="default: whichever the image holds")
     p.add_argument("--sim", default=default_sim(), help="dynaqpc-sim binary (default %(default)s)")
     p.add_argument("--png", metavar="OUT", help="write the picture here (default: IMAGE with .png)")
     p.add_argument("--json", metavar="OUT", help="write the combined view as JSON ('-': stdout)")
-    p.add_argument("--combine", choices=["max", "visits"], default="max",
-                   help="which range code's row a (cell, heading) shows when the robot saw several there: the "
-                        "largest V (default) or the most experienced")
-    p.add_argument("--headings", default="used",
-                   help="headings to draw: 'used' (the eight with most rows), 'all', or a list such as 0,4,8,12")
+    p.add_argument(
+        "--combine",
+        choices=["max", "visits"],
+        default="max",
+        help="which range code's row a (cell, heading) shows when the robot saw several there: the "
+        "largest V (default) or the most experienced",
+    )
+    p.add_argument(
+        "--headings",
+        default="used",
+        help="headings to draw: 'used' (the eight with most rows), 'all', or a list such as 0,4,8,12",
+    )
     args = p.parse_args(argv)
     if args.headings not in ("used", "all"):
         try:
@@ -427,8 +541,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         if args.headings not in ("used", "all"):
             bad = [h for h in map(int, args.headings.split(",")) if h >= view["grid"]["headings"]]
             if bad:
-                raise ToolError(f"--headings: {bad[0]} is not a heading of {view['scenario']} "
-                                f"(0..{view['grid']['headings'] - 1})")
+                raise ToolError(
+                    f"--headings: {bad[0]} is not a heading of {view['scenario']} (0..{view['grid']['headings'] - 1})"
+                )
         view["arrows_followed"] = follow_all(view)
         if args.json:
             text = json.dumps(view, indent=1)
@@ -448,10 +563,13 @@ def main(argv: Optional[List[str]] = None) -> int:
         rec = view["record"]
         fill = view["fill"]["q"]
         out = sys.stderr if args.json == "-" else sys.stdout
-        print(f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
-              f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
-              f"{fill['capacity']} rows); from {f['starts']} visited ones the greedy arrows reach the goal from "
-              f"{f['outcomes'].get('goal', 0)}" + (f"; picture: {png}" if png else ""), file=out)
+        print(
+            f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
+            f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
+            f"{fill['capacity']} rows); from {f['starts']} visited ones the greedy arrows reach the goal from "
+            f"{f['outcomes'].get('goal', 0)}" + (f"; picture: {png}" if png else ""),
+            file=out,
+        )
         return 0
 
     return run_main(body)

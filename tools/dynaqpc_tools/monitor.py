@@ -21,8 +21,17 @@ import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
-from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, default_dbc_path, float_in,
-                     int_in, load_dbc, run_main)
+from .common import (
+    ToolArgumentParser,
+    ToolError,
+    add_bus_arguments,
+    bus_from_args,
+    default_dbc_path,
+    float_in,
+    int_in,
+    load_dbc,
+    run_main,
+)
 
 #: Frames kept per id for the recent rate.
 RATE_WINDOW = 50
@@ -50,9 +59,9 @@ class FrameStats:
     counter_signal: Optional[str] = None
     counter_modulo: int = 0
     counter_prev: Optional[int] = None
-    missing: int = 0      # frames lost, from counter gaps
-    gap_events: int = 0   # how many times the counter jumped
-    repeats: int = 0      # counter unchanged (duplicate or stuck sender)
+    missing: int = 0  # frames lost, from counter gaps
+    gap_events: int = 0  # how many times the counter jumped
+    repeats: int = 0  # counter unchanged (duplicate or stuck sender)
 
     def rate_hz(self) -> float:
         """Rate over the last RATE_WINDOW frames."""
@@ -210,20 +219,28 @@ class Monitor:
                 vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items())
             else:
                 vals = st.raw.hex(" ")
-            lines.append(f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.rate_hz()):>7} "
-                         f"{st.missing if st.counter_signal else '-':>5}  {vals}")
+            lines.append(
+                f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.rate_hz()):>7} "
+                f"{st.missing if st.counter_signal else '-':>5}  {vals}"
+            )
         return lines
 
     def summary_lines(self) -> List[str]:
-        lines = [f"{self.total} frames, {len(self.stats)} ids, {self.error_frames} error frames, "
-                 f"{self.frames_missing} frames lost (counter gaps)"]
-        lines.append(f"{'id':>8} {'name':<16} {'frames':>8} {'mean Hz':>8} {'lost':>5} {'gaps':>5} "
-                     f"{'repeats':>7} {'undecodable':>11}")
+        lines = [
+            f"{self.total} frames, {len(self.stats)} ids, {self.error_frames} error frames, "
+            f"{self.frames_missing} frames lost (counter gaps)"
+        ]
+        lines.append(
+            f"{'id':>8} {'name':<16} {'frames':>8} {'mean Hz':>8} {'lost':>5} {'gaps':>5} "
+            f"{'repeats':>7} {'undecodable':>11}"
+        )
         for st in self._sorted():
             counter = st.counter_signal is not None
-            lines.append(f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.mean_rate_hz()):>8} "
-                         f"{st.missing if counter else '-':>5} {st.gap_events if counter else '-':>5} "
-                         f"{st.repeats if counter else '-':>7} {st.decode_errors:>11}")
+            lines.append(
+                f"{self._id_text(st):>8} {st.name:<16} {st.count:>8} {_fmt(st.mean_rate_hz()):>8} "
+                f"{st.missing if counter else '-':>5} {st.gap_events if counter else '-':>5} "
+                f"{st.repeats if counter else '-':>7} {st.decode_errors:>11}"
+            )
         return lines
 
 
@@ -238,32 +255,59 @@ def _fmt(v) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(prog="dynaqpc-monitor", description=__doc__,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(
+        prog="dynaqpc-monitor", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     add_bus_arguments(p)
     p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf, ...) instead of a bus")
-    p.add_argument("--log", metavar="FILE",
-                   help="also record: .mcap (Foxglove: decoded signals, pose, raw frames) or .asc/.blf")
+    p.add_argument(
+        "--log", metavar="FILE", help="also record: .mcap (Foxglove: decoded signals, pose, raw frames) or .asc/.blf"
+    )
     p.add_argument("--arena", metavar="JSON", help="with --log x.mcap: draw this arena (simulator JSON) in it")
-    p.add_argument("--speed", type=float_in(0, 100000, lo_open=True), default=1.0,
-                   help="the simulation runs X times faster than real time: record in robot time (default 1)")
+    p.add_argument(
+        "--speed",
+        type=float_in(0, 100000, lo_open=True),
+        default=1.0,
+        help="the simulation runs X times faster than real time: record in robot time (default 1)",
+    )
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N frames")
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--print", dest="print_frames", action="store_true", help="print every decoded frame")
-    p.add_argument("--refresh", type=float_in(0), default=1.0,
-                   help="live table period in seconds when stdout is a terminal (0: off)")
+    p.add_argument(
+        "--refresh",
+        type=float_in(0),
+        default=1.0,
+        help="live table period in seconds when stdout is a terminal (0: off)",
+    )
     p.add_argument("--fail-on-gap", action="store_true", help="exit 1 when a counter gap was seen")
-    p.add_argument("--fail-on-status", action="store_true",
-                   help="exit 1 when FW_STATUS showed SAFE_STOP, FAULT or an error flag, or went silent")
-    p.add_argument("--foxglove", nargs="?", const=8765, default=None, type=int_in(0, 65535), metavar="PORT",
-                   help="serve the bus live to Foxglove over WebSocket (foxglove-sdk) on PORT (default 8765; "
-                        "0: any free port): pose, /tf, rays, bumps, arena, state, every signal for Plot")
-    p.add_argument("--foxglove-host", default="127.0.0.1", metavar="ADDR",
-                   help="address to serve on (default %(default)s: this machine only)")
-    p.add_argument("--scenario", metavar="FILE",
-                   help="with --foxglove: a scenario file: its `ray` lines give the rays' angles, its `arena` "
-                        "and `encode` lines place the value map's cells (/robot/values)")
+    p.add_argument(
+        "--fail-on-status",
+        action="store_true",
+        help="exit 1 when FW_STATUS showed SAFE_STOP, FAULT or an error flag, or went silent",
+    )
+    p.add_argument(
+        "--foxglove",
+        nargs="?",
+        const=8765,
+        default=None,
+        type=int_in(0, 65535),
+        metavar="PORT",
+        help="serve the bus live to Foxglove over WebSocket (foxglove-sdk) on PORT (default 8765; "
+        "0: any free port): pose, /tf, rays, bumps, arena, state, every signal for Plot",
+    )
+    p.add_argument(
+        "--foxglove-host",
+        default="127.0.0.1",
+        metavar="ADDR",
+        help="address to serve on (default %(default)s: this machine only)",
+    )
+    p.add_argument(
+        "--scenario",
+        metavar="FILE",
+        help="with --foxglove: a scenario file: its `ray` lines give the rays' angles, its `arena` "
+        "and `encode` lines place the value map's cells (/robot/values)",
+    )
     return p
 
 
@@ -306,8 +350,7 @@ def run(args, out=None) -> Monitor:
             from .foxglove_live import LiveFoxglove
 
             live_fg = LiveFoxglove(db, args.foxglove, args.foxglove_host, arena, ray_angles, grid=grid)
-            print(f"dynaqpc-monitor: Foxglove on ws://{args.foxglove_host}:{live_fg.port}", file=sys.stderr,
-                  flush=True)
+            print(f"dynaqpc-monitor: Foxglove on ws://{args.foxglove_host}:{live_fg.port}", file=sys.stderr, flush=True)
         bus = None if args.replay else bus_from_args(args)
     except ToolError:
         if logger is not None:
@@ -337,8 +380,7 @@ def run(args, out=None) -> Monitor:
                 if args.print_frames:
                     st = mon.stats.get((msg.arbitration_id, bool(msg.is_extended_id)))
                     vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items()) if st else ""
-                    print(f"{msg.timestamp:.6f} {msg.arbitration_id:03X} {st.name if st else '?'} {vals}",
-                          file=out)
+                    print(f"{msg.timestamp:.6f} {msg.arbitration_id:03X} {st.name if st else '?'} {vals}", file=out)
                 if args.count is not None and mon.total >= args.count:
                     break
             if live and now >= next_refresh:

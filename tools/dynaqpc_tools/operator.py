@@ -48,17 +48,40 @@ import sys
 import time
 from typing import Dict, Optional
 
-from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, tool_cmd_crc,
-                     default_dbc_path, float_in, load_dbc, run_main)
+from .common import (
+    ToolArgumentParser,
+    ToolError,
+    add_bus_arguments,
+    bus_from_args,
+    default_dbc_path,
+    float_in,
+    load_dbc,
+    run_main,
+    tool_cmd_crc,
+)
 
-COMMANDS = {"start": "START_EPISODE", "stop": "STOP", "safe-stop": "SAFE_STOP", "save": "SAVE_LEARNED",
-            "reset": "RESET_LEARNING", "restore-previous": "RESTORE_PREVIOUS", "ping": "NOP"}
+COMMANDS = {
+    "start": "START_EPISODE",
+    "stop": "STOP",
+    "safe-stop": "SAFE_STOP",
+    "save": "SAVE_LEARNED",
+    "reset": "RESET_LEARNING",
+    "restore-previous": "RESTORE_PREVIOUS",
+    "ping": "NOP",
+}
 #: The mode a command leaves the firmware in, as FW_STATUS names it (None: any).
-EXPECT = {"start": "RUNNING", "stop": "IDLE", "safe-stop": "SAFE_STOP", "save": None, "reset": "IDLE",
-          "restore-previous": None, "ping": None}
+EXPECT = {
+    "start": "RUNNING",
+    "stop": "IDLE",
+    "safe-stop": "SAFE_STOP",
+    "save": None,
+    "reset": "IDLE",
+    "restore-previous": None,
+    "ping": None,
+}
 KEEP_HEADING = 0xFFFFFF
 RESET_CONFIRM = 1  # RESET_LEARNING's Argument: wipe even learning saved since boot or restored at boot
-RESEND_S = 1.0     # no answer for this long: the command frame again (same counter)
+RESEND_S = 1.0  # no answer for this long: the command frame again (same counter)
 
 #: What each TOOL_ACK Reason means to the operator.
 REASONS = {
@@ -66,8 +89,10 @@ REASONS = {
     "EVALUATE_MODE": "the firmware runs in evaluate mode, which locks what was learned",
     "NOT_IDLE": "the robot is not stopped: `dynaqpc-operator stop` first",
     "BUSY": "the robot is driving an action (it writes flash only while standing still)",
-    "CONFIRM": ("learning was saved since boot or restored at boot: `dynaqpc-operator reset --yes` wipes it "
-                "(saving it first: `dynaqpc-operator restore-previous` brings it back)"),
+    "CONFIRM": (
+        "learning was saved since boot or restored at boot: `dynaqpc-operator reset --yes` wipes it "
+        "(saving it first: `dynaqpc-operator restore-previous` brings it back)"
+    ),
     "NO_STORE": "the firmware has no flash store",
     "FLASH_ERROR": "erasing or programming the flash failed (FW_STATUS raises Flash)",
     "NO_ROOM": "the record does not fit a flash slot",
@@ -80,8 +105,9 @@ REASONS = {
 def tool_cmd_frame(db, command: str, argument: int, counter: int):
     """One TOOL_CMD frame with its CRC, as (id, data)."""
     m = db.get_message_by_name("TOOL_CMD")
-    data = bytearray(m.encode({"Command": command, "Argument": min(argument, 0xFFFFFF), "Counter": counter % 16,
-                               "Crc": 0}))
+    data = bytearray(
+        m.encode({"Command": command, "Argument": min(argument, 0xFFFFFF), "Counter": counter % 16, "Crc": 0})
+    )
     data[4:8] = tool_cmd_crc(m.frame_id, bytes(data[:4])).to_bytes(4, "little")
     return m.frame_id, bytes(data)
 
@@ -97,17 +123,29 @@ def decode_status(db, data: bytes) -> Dict[str, object]:
     m = db.get_message_by_name("FW_STATUS")
     v = m.decode(data, decode_choices=True)
     errors = {k[3:]: int(val) for k, val in v.items() if k.startswith("Err")}
-    return {"mode": str(v["Mode"]), "uptime_s": int(v["Uptime"]), "errors": errors,
-            "pose_trusted": int(v.get("PoseTrusted", 0)), "trust_reason": str(v.get("TrustReason", "")),
-            "reset_cause": str(v.get("ResetCause", "")), "boot_count": int(v.get("BootCount", 0))}
+    return {
+        "mode": str(v["Mode"]),
+        "uptime_s": int(v["Uptime"]),
+        "errors": errors,
+        "pose_trusted": int(v.get("PoseTrusted", 0)),
+        "trust_reason": str(v.get("TrustReason", "")),
+        "reset_cause": str(v.get("ResetCause", "")),
+        "boot_count": int(v.get("BootCount", 0)),
+    }
 
 
 def decode_ack(db, data: bytes) -> Dict[str, object]:
     """TOOL_ACK with names: {'command': 'SAVE_LEARNED', 'counter': 5, 'result': 'DONE', ...}."""
     m = db.get_message_by_name("TOOL_ACK")
     v = m.decode(data, decode_choices=True)
-    return {"command": str(v["Command"]), "counter": int(v["Counter"]), "result": str(v["Result"]),
-            "reason": str(v["Reason"]), "sequence": int(v["Sequence"]), "episodes": int(v["Episodes"])}
+    return {
+        "command": str(v["Command"]),
+        "counter": int(v["Counter"]),
+        "result": str(v["Result"]),
+        "reason": str(v["Reason"]),
+        "sequence": int(v["Sequence"]),
+        "episodes": int(v["Episodes"]),
+    }
 
 
 def decode_cmd(db, data: bytes) -> Dict[str, object]:
@@ -126,8 +164,11 @@ def ack_text(ack: Dict[str, object]) -> str:
             detail = f", record {ack['sequence']} restored ({ack['episodes']} episodes) and saved as the newest"
         elif cmd == "RESET_LEARNING":
             newest = ack["sequence"]
-            detail = (f"; what it wiped is record {newest} in flash (`dynaqpc-operator restore-previous` "
-                      "brings it back)" if newest else "")
+            detail = (
+                f"; what it wiped is record {newest} in flash (`dynaqpc-operator restore-previous` brings it back)"
+                if newest
+                else ""
+            )
         elif cmd == "NOP":
             detail = f", newest record in flash {ack['sequence'] or 'none'}, {ack['episodes']} episodes learned"
         else:
@@ -141,10 +182,11 @@ def status_text(st: Dict[str, object]) -> str:
     errs = st["errors"]
     raised = [k for k, val in errs.items() if val]
     trust = "trusted" if st.get("pose_trusted") else "NOT trusted"
-    return (f"mode {st['mode']}, uptime {st['uptime_s']} s, pose {trust} ({st.get('trust_reason', '?')}), "
-            f"boot {st.get('boot_count', '?')}, reset cause {st.get('reset_cause', '?')}, errors: "
-            f"{', '.join(raised) if raised else 'none'}\n  "
-            + " ".join(f"{k}={val}" for k, val in errs.items()))
+    return (
+        f"mode {st['mode']}, uptime {st['uptime_s']} s, pose {trust} ({st.get('trust_reason', '?')}), "
+        f"boot {st.get('boot_count', '?')}, reset cause {st.get('reset_cause', '?')}, errors: "
+        f"{', '.join(raised) if raised else 'none'}\n  " + " ".join(f"{k}={val}" for k, val in errs.items())
+    )
 
 
 def _frames(bus, deadline: float):
@@ -235,9 +277,11 @@ def command(bus, db, args, out) -> int:
         _send(bus, fid, data)
     counter = (k + 1) % 16
     sent = time.monotonic()
-    rep.line(f"sent TOOL_CMD {name}" + (
-        f" heading {args.heading:g} deg" if args.command == "start" and args.heading is not None else "")
-        + (" (confirmed: --yes)" if args.command == "reset" and args.yes else ""))
+    rep.line(
+        f"sent TOOL_CMD {name}"
+        + (f" heading {args.heading:g} deg" if args.command == "start" and args.heading is not None else "")
+        + (" (confirmed: --yes)" if args.command == "reset" and args.yes else "")
+    )
     if args.no_wait:
         return rep.done(0)
     deadline = sent + args.timeout
@@ -263,11 +307,17 @@ def command(bus, db, args, out) -> int:
         busy, ack = ack, None
     if ack is None and retries:
         ack = busy  # still busy when --timeout passed
-    rep.obj.update(answer=ack, retries=retries, resent=resent,
-                   answer_ms=round((time.monotonic() - sent) * 1000.0, 1) if ack is not None else None)
+    rep.obj.update(
+        answer=ack,
+        retries=retries,
+        resent=resent,
+        answer_ms=round((time.monotonic() - sent) * 1000.0, 1) if ack is not None else None,
+    )
     if ack is None:
-        rep.obj["text"] = (f"no answer (TOOL_ACK) within {args.timeout:g} s: the firmware is silent "
-                           "(is dynaqpc-fw running on this bus?) or predates answers")
+        rep.obj["text"] = (
+            f"no answer (TOOL_ACK) within {args.timeout:g} s: the firmware is silent "
+            "(is dynaqpc-fw running on this bus?) or predates answers"
+        )
         rep.line(rep.obj["text"])
         return rep.done(1)
     text = ack_text(ack) + (f" (sent {retries + 1} times while busy)" if retries else "")
@@ -340,8 +390,10 @@ def run(args, out=None) -> int:
             st = wait_status(bus, db, args.timeout)
             rep.obj.update(command="status", status=st)
             if st is None:
-                rep.obj["text"] = (f"no FW_STATUS within {args.timeout:g} s: the firmware is silent "
-                                   "(is dynaqpc-fw running on this bus?)")
+                rep.obj["text"] = (
+                    f"no FW_STATUS within {args.timeout:g} s: the firmware is silent "
+                    "(is dynaqpc-fw running on this bus?)"
+                )
                 rep.line(rep.obj["text"])
                 return rep.done(1)
             rep.line(f"FW_STATUS: {status_text(st)}")
@@ -357,28 +409,49 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     common.add_argument("--json", action="store_true", help="print one JSON object (watch: one per line)")
     timed = argparse.ArgumentParser(add_help=False)
-    timed.add_argument("--timeout", type=float_in(0, 3600, lo_open=True), default=3.0,
-                       help="seconds to wait for the answer and FW_STATUS (sent every second; default %(default)s)")
+    timed.add_argument(
+        "--timeout",
+        type=float_in(0, 3600, lo_open=True),
+        default=3.0,
+        help="seconds to wait for the answer and FW_STATUS (sent every second; default %(default)s)",
+    )
     cmd = argparse.ArgumentParser(add_help=False)
     cmd.add_argument("--no-wait", action="store_true", help="send the command and return")
-    p = ToolArgumentParser(prog="dynaqpc-operator", description=__doc__,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(
+        prog="dynaqpc-operator", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = p.add_subparsers(dest="command", required=True)
     s = sub.add_parser("start", help="start an episode", parents=[common, timed, cmd])
-    s.add_argument("--heading", type=float_in(0, 360), default=None, metavar="DEG",
-                   help="the robot's heading at the start, 0 <= DEG < 360 (default: keep the firmware's)")
+    s.add_argument(
+        "--heading",
+        type=float_in(0, 360),
+        default=None,
+        metavar="DEG",
+        help="the robot's heading at the start, 0 <= DEG < 360 (default: keep the firmware's)",
+    )
     r = sub.add_parser("reset", help="forget what was learned (a stopped robot)", parents=[common, timed, cmd])
-    r.add_argument("--yes", action="store_true",
-                   help="wipe even learning saved since boot or restored at boot (restore-previous brings it back)")
-    for name, text in (("stop", "end the episode, wheels off"), ("safe-stop", "wheels off until the next start"),
-                       ("save", "save what was learned to flash"),
-                       ("restore-previous", "undo a reset: the learning it wiped back (else the record before the newest)"),
-                       ("ping", "NOP: answered with the newest record in flash and the episodes learned")):
+    r.add_argument(
+        "--yes",
+        action="store_true",
+        help="wipe even learning saved since boot or restored at boot (restore-previous brings it back)",
+    )
+    for name, text in (
+        ("stop", "end the episode, wheels off"),
+        ("safe-stop", "wheels off until the next start"),
+        ("save", "save what was learned to flash"),
+        ("restore-previous", "undo a reset: the learning it wiped back (else the record before the newest)"),
+        ("ping", "NOP: answered with the newest record in flash and the episodes learned"),
+    ):
         sub.add_parser(name, help=text, parents=[common, timed, cmd])
     sub.add_parser("status", help="print FW_STATUS by name", parents=[common, timed])
     w = sub.add_parser("watch", help="print commands, answers and mode changes as they pass", parents=[common])
-    w.add_argument("--duration", type=float_in(0, 10 ** 6, lo_open=True), default=None, metavar="S",
-                   help="stop after S seconds (default: until Ctrl-C)")
+    w.add_argument(
+        "--duration",
+        type=float_in(0, 10**6, lo_open=True),
+        default=None,
+        metavar="S",
+        help="stop after S seconds (default: until Ctrl-C)",
+    )
     return p
 
 

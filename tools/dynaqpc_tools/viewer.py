@@ -32,8 +32,18 @@ import time
 from typing import Optional
 
 from .bus_decode import BusState, Pose, PoseDecoder, scenario_ray_angles
-from .common import (ToolArgumentParser, ToolError, add_bus_arguments, bus_from_args, default_dbc_path, float_in,
-                     int_in, load_dbc, run_main)
+from .common import (
+    ToolArgumentParser,
+    ToolError,
+    add_bus_arguments,
+    bus_from_args,
+    default_dbc_path,
+    float_in,
+    int_in,
+    load_dbc,
+    run_main,
+)
+
 
 class PoseView:
     """The figure: arena, trail, robot arrow."""
@@ -80,17 +90,17 @@ class PoseView:
 
         from .arena import arena_key
 
-        handles = [Line2D([], [], color="tab:blue", label="trail, this episode"),
-                   Line2D([], [], color="tab:cyan", alpha=0.7, label="trails, earlier episodes"),
-                   Line2D([], [], color="tab:red", marker=">", markersize=7, linewidth=2,
-                          label="the robot and its heading"),
-                   Line2D([], [], color="tab:orange", label="range ray: the reading\n(stops at the wall it meets)"),
-                   Line2D([], [], color="tab:orange", linestyle=":", label="range ray: no echo"),
-                   Line2D([], [], color="tab:red", marker="x", linestyle="", mew=2, label="a bump")]
+        handles = [
+            Line2D([], [], color="tab:blue", label="trail, this episode"),
+            Line2D([], [], color="tab:cyan", alpha=0.7, label="trails, earlier episodes"),
+            Line2D([], [], color="tab:red", marker=">", markersize=7, linewidth=2, label="the robot and its heading"),
+            Line2D([], [], color="tab:orange", label="range ray: the reading\n(stops at the wall it meets)"),
+            Line2D([], [], color="tab:orange", linestyle=":", label="range ray: no echo"),
+            Line2D([], [], color="tab:red", marker="x", linestyle="", mew=2, label="a bump"),
+        ]
         if self.arena is not None:
             handles += arena_key(self.arena)
-        self.ax.legend(handles=handles, fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                       borderaxespad=0)
+        self.ax.legend(handles=handles, fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
 
     def set_source(self, text: str) -> None:
         """What the picture shows, above the readout: the frame, the room, a recording."""
@@ -118,9 +128,17 @@ class PoseView:
             self._break = False
         if self.keep_history:
             st = self.state
-            self.history.append((pose, not self.segments[-1], len(self.bumps),
-                                 st.episode if st else None, st.step if st else None, st.mode if st else None,
-                                 dict(st.rays) if st else {}))
+            self.history.append(
+                (
+                    pose,
+                    not self.segments[-1],
+                    len(self.bumps),
+                    st.episode if st else None,
+                    st.step if st else None,
+                    st.mode if st else None,
+                    dict(st.rays) if st else {},
+                )
+            )
         self.segments[-1].append((pose.x, pose.y))
         self.points += 1
         while self.points > self.max_points and len(self.segments) > 1:
@@ -137,7 +155,7 @@ class PoseView:
         self.segments = collections.deque()
         if self.bumps_all is None:
             self.bumps_all = list(self.bumps)
-        for pose, starts, _, _, _, _, _ in self.history[:k + 1]:
+        for pose, starts, _, _, _, _, _ in self.history[: k + 1]:
             if starts or not self.segments:
                 self.segments.append([])
             self.segments[-1].append((pose.x, pose.y))
@@ -180,14 +198,23 @@ class PoseView:
                 xs, ys = zip(*self.segments[i])
                 ln.set_data(xs, ys)
                 # the episode in progress darker, earlier ones alternating light
-                ln.set_color("tab:blue" if i == len(self.segments) - 1 else colors[1 - (len(self.segments) - 1 - i) % 2])
+                ln.set_color(
+                    "tab:blue" if i == len(self.segments) - 1 else colors[1 - (len(self.segments) - 1 - i) % 2]
+                )
             else:
                 ln.set_data([], [])
         p = self.last
         if self.arrow is not None:
             self.arrow.remove()
-        self.arrow = self.ax.arrow(p.x, p.y, 0.25 * math.cos(p.heading), 0.25 * math.sin(p.heading),
-                                   width=0.04, color="tab:red", length_includes_head=True)
+        self.arrow = self.ax.arrow(
+            p.x,
+            p.y,
+            0.25 * math.cos(p.heading),
+            0.25 * math.sin(p.heading),
+            width=0.04,
+            color="tab:red",
+            length_includes_head=True,
+        )
         for ln in self.ray_lines:
             ln.remove()
         self.ray_lines = []
@@ -199,8 +226,13 @@ class PoseView:
                     from .arena import ray_hit
 
                     length = ray_hit(self.arena, p.x, p.y, a, length)
-                (ln,) = self.ax.plot([p.x, p.x + length * math.cos(a)], [p.y, p.y + length * math.sin(a)],
-                                     "-" if r is not None else ":", color="tab:orange", linewidth=1)
+                (ln,) = self.ax.plot(
+                    [p.x, p.x + length * math.cos(a)],
+                    [p.y, p.y + length * math.sin(a)],
+                    "-" if r is not None else ":",
+                    color="tab:orange",
+                    linewidth=1,
+                )
                 self.ray_lines.append(ln)
         if self.bumps:
             bx, by = zip(*self.bumps)
@@ -218,14 +250,17 @@ def no_display_reason() -> Optional[str]:
     if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         return "no display (DISPLAY and WAYLAND_DISPLAY are not set)"
     backend = matplotlib.get_backend().lower()
-    if backend in ("agg", "pdf", "ps", "svg", "pgf", "cairo", "template") or backend.startswith("module://matplotlib_inline"):
+    if backend in ("agg", "pdf", "ps", "svg", "pgf", "cairo", "template") or backend.startswith(
+        "module://matplotlib_inline"
+    ):
         return f"no display (matplotlib backend {backend} draws no window)"
     return None
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(prog="dynaqpc-viewer", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(
+        prog="dynaqpc-viewer", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     add_bus_arguments(p)
     p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     p.add_argument("--frame", default="TLM_POSE", help="pose frame name in the DBC (default %(default)s)")
@@ -233,16 +268,35 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--heading-signal"), p.add_argument("--fix-signal")
     p.add_argument("--arena", metavar="JSON", help="arena file written by the simulator")
     p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf) instead of a bus")
-    p.add_argument("--png", "--headless-png", dest="headless_png", metavar="FILE",
-                   help="no window: render to FILE at the end (what to do without a display)")
-    p.add_argument("--scenario", metavar="FILE", help="a scenario file whose `ray` lines give the rays' angles "
-                   "(default: IR left/front/right at 45/0/-45 deg, sonar k at 11.25 + 22.5 k deg)")
-    p.add_argument("--jump", type=float_in(0, lo_open=True), default=1.0, metavar="M",
-                   help="a pose this far (m) from the last starts a new trail (default %(default)s)")
+    p.add_argument(
+        "--png",
+        "--headless-png",
+        dest="headless_png",
+        metavar="FILE",
+        help="no window: render to FILE at the end (what to do without a display)",
+    )
+    p.add_argument(
+        "--scenario",
+        metavar="FILE",
+        help="a scenario file whose `ray` lines give the rays' angles "
+        "(default: IR left/front/right at 45/0/-45 deg, sonar k at 11.25 + 22.5 k deg)",
+    )
+    p.add_argument(
+        "--jump",
+        type=float_in(0, lo_open=True),
+        default=1.0,
+        metavar="M",
+        help="a pose this far (m) from the last starts a new trail (default %(default)s)",
+    )
     p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--count", type=int_in(1), default=None, help="stop after N pose frames")
-    p.add_argument("--at", type=int_in(1), default=None, metavar="K",
-                   help="with --replay: show the run as it was at its K-th pose (a window scrubs with its slider)")
+    p.add_argument(
+        "--at",
+        type=int_in(1),
+        default=None,
+        metavar="K",
+        help="with --replay: show the run as it was at its K-th pose (a window scrubs with its slider)",
+    )
     return p
 
 
@@ -273,8 +327,9 @@ def run(args) -> PoseView:
         room = f" over {view.arena.get('name') or os.path.basename(args.arena)}"
     source = f"recording {os.path.basename(args.replay)}" if args.replay else "the bus"
     est = {"TLM_POSE": "the firmware's estimate", "GPS_POSE": "the simulator's true pose"}.get(args.frame, "")
-    view.set_source(f"dynaqpc-viewer: the robot's pose from {args.frame}{' (' + est + ')' if est else ''}"
-                    f"{room}, {source}")
+    view.set_source(
+        f"dynaqpc-viewer: the robot's pose from {args.frame}{' (' + est + ')' if est else ''}{room}, {source}"
+    )
     view.keep_history = bool(args.replay)
 
     def feed(msg) -> None:
@@ -297,8 +352,9 @@ def run(args) -> PoseView:
     last_draw = 0.0
 
     def done() -> bool:
-        return ((args.count is not None and view.poses >= args.count) or
-                (args.duration is not None and time.monotonic() - start >= args.duration))
+        return (args.count is not None and view.poses >= args.count) or (
+            args.duration is not None and time.monotonic() - start >= args.duration
+        )
 
     bus = None
     seen = set()
@@ -338,12 +394,15 @@ def run(args) -> PoseView:
         skipped += f", {len(view.bumps)} bumps"
     if view.poses == 0 and view.skipped == 0:
         m = decoder.message
-        others = sorted({(msg.name if msg else f"0x{i:03X}") for i in seen if i != m.frame_id
-                         for msg in [_by_id(decoder.db, i)]})
-        hint = (f"frames seen: {', '.join(others)}" if others else "no frames at all")
-        print(f"warning: no {m.name} frame {'in the recording' if args.replay else 'on the bus'} ({hint}); "
-              f"the scenario may not send {m.name} (GPS_POSE: only a robot with a GPS), or pass --frame",
-              file=sys.stderr)
+        others = sorted(
+            {(msg.name if msg else f"0x{i:03X}") for i in seen if i != m.frame_id for msg in [_by_id(decoder.db, i)]}
+        )
+        hint = f"frames seen: {', '.join(others)}" if others else "no frames at all"
+        print(
+            f"warning: no {m.name} frame {'in the recording' if args.replay else 'on the bus'} ({hint}); "
+            f"the scenario may not send {m.name} (GPS_POSE: only a robot with a GPS), or pass --frame",
+            file=sys.stderr,
+        )
     if args.headless_png:
         try:
             view.fig.savefig(args.headless_png, dpi=100)

@@ -10,6 +10,7 @@ FAIL: <why> (exit 1).
 """
 
 import asyncio
+import base64
 import json
 import os
 import re
@@ -18,8 +19,6 @@ import subprocess
 import sys
 import time
 
-import base64
-
 from google.protobuf import descriptor_pb2, descriptor_pool, message_factory
 from tornado.websocket import websocket_connect
 
@@ -27,11 +26,27 @@ bin_dir, work = sys.argv[1], sys.argv[2]
 SPEED = "10"
 WITHIN_S = 5.0
 procs = []
-ARENA = {"width": 8.0, "height": 8.0, "obstacles": [{"kind": "circle", "cx": 2.0, "cy": 2.0, "r": 0.3}],
-         "goal": {"cx": 7.0, "cy": 7.0, "r": 0.5, "cells": [[6.5, 6.5, 7.5, 7.5]]}}
-REQUIRED = ["/robot/pose", "/tf", "/robot/rays", "/robot/state", "/arena", "/can/TLM_POSE", "/can/TLM_SCHED",
-            "/can/FW_STATUS", "/can/MOTOR_STATUS", "/can/SONAR_RANGES_A", "/robot/true_pose", "/robot/values",
-            "/can/TLM_VALUE"]
+ARENA = {
+    "width": 8.0,
+    "height": 8.0,
+    "obstacles": [{"kind": "circle", "cx": 2.0, "cy": 2.0, "r": 0.3}],
+    "goal": {"cx": 7.0, "cy": 7.0, "r": 0.5, "cells": [[6.5, 6.5, 7.5, 7.5]]},
+}
+REQUIRED = [
+    "/robot/pose",
+    "/tf",
+    "/robot/rays",
+    "/robot/state",
+    "/arena",
+    "/can/TLM_POSE",
+    "/can/TLM_SCHED",
+    "/can/FW_STATUS",
+    "/can/MOTOR_STATUS",
+    "/can/SONAR_RANGES_A",
+    "/robot/true_pose",
+    "/robot/values",
+    "/can/TLM_VALUE",
+]
 
 
 def fail(msg):
@@ -62,10 +77,27 @@ def wait_for(log, pattern, seconds):
 
 with open(f"{work}/arena.json", "w") as f:
     json.dump(ARENA, f)
-SCENARIO = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "host_sim", "scenarios",
-                        "paper-sim.scn")
-mon = start("monitor", [sys.executable, "-m", "dynaqpc_tools.monitor", "--foxglove", "0", "--arena",
-                        f"{work}/arena.json", "--scenario", SCENARIO, "--refresh", "0", "--duration", "40"])
+SCENARIO = os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "..", "host_sim", "scenarios", "paper-sim.scn"
+)
+mon = start(
+    "monitor",
+    [
+        sys.executable,
+        "-m",
+        "dynaqpc_tools.monitor",
+        "--foxglove",
+        "0",
+        "--arena",
+        f"{work}/arena.json",
+        "--scenario",
+        SCENARIO,
+        "--refresh",
+        "0",
+        "--duration",
+        "40",
+    ],
+)
 m = wait_for(mon, r"Foxglove on ws://127\.0\.0\.1:(\d+)", 30)
 if not m:
     fail("dynaqpc-monitor --foxglove did not say where it serves")
@@ -84,8 +116,20 @@ async def client():
         if t_fw is None and channels:
             # Subscribed to what is there; now the firmware and the robot start.
             start("fw", [f"{bin_dir}/dynaqpc-fw", "--scenario", "paper-sim", "--speed", SPEED, "--duration", "30"])
-            start("devices", [f"{bin_dir}/dynaqpc-sim", "devices", "--scenario", "paper-sim", "--speed", SPEED,
-                              "--supervise", "--duration", "30"])
+            start(
+                "devices",
+                [
+                    f"{bin_dir}/dynaqpc-sim",
+                    "devices",
+                    "--scenario",
+                    "paper-sim",
+                    "--speed",
+                    SPEED,
+                    "--supervise",
+                    "--duration",
+                    "30",
+                ],
+            )
             t_fw = time.monotonic()
         if t_fw is not None and all(t in first for t in REQUIRED) and time.monotonic() - t_fw > 3:
             break
@@ -141,9 +185,14 @@ late = [t for t in REQUIRED if first.get(t, 99) > WITHIN_S]
 if late:
     fail(f"not within {WITHIN_S:g} s of the firmware starting: {late}")
 schemas = {c["topic"]: c["schemaName"] for c in channels.values()}
-want = {"/robot/pose": "foxglove.PoseInFrame", "/tf": "foxglove.FrameTransforms", "/robot/rays": "foxglove.SceneUpdate",
-        "/arena": "foxglove.SceneUpdate", "/robot/bumps": "foxglove.SceneUpdate",
-        "/robot/values": "foxglove.SceneUpdate"}
+want = {
+    "/robot/pose": "foxglove.PoseInFrame",
+    "/tf": "foxglove.FrameTransforms",
+    "/robot/rays": "foxglove.SceneUpdate",
+    "/arena": "foxglove.SceneUpdate",
+    "/robot/bumps": "foxglove.SceneUpdate",
+    "/robot/values": "foxglove.SceneUpdate",
+}
 for topic, name in want.items():
     if schemas.get(topic) != name:
         fail(f"{topic} has schema {schemas.get(topic)}, not {name}")
@@ -177,8 +226,10 @@ for c in values.cubes:  # paper-sim's 32 x 32 cells of 0.25 m
     if abs(c.size.x - 0.25 * 0.95) > 1e-6 or not (0 < c.pose.position.x < 8 and 0 < c.pose.position.y < 8):
         fail(f"/robot/values: a tile of {c.size.x} m at ({c.pose.position.x}, {c.pose.position.y})")
 print(f"values: {values.texts[0].text}")
-print(f"pose ({pose.pose.position.x:.2f}, {pose.pose.position.y:.2f}), tf {sorted(frames)}, "
-      f"rays {len(ent.lines)}: {ent.texts[0].text!r}, state {state}")
+print(
+    f"pose ({pose.pose.position.x:.2f}, {pose.pose.position.y:.2f}), tf {sorted(frames)}, "
+    f"rays {len(ent.lines)}: {ent.texts[0].text!r}, state {state}"
+)
 for name, p, log in procs:
     p.terminate()
     p.wait(timeout=10)

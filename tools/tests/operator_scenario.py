@@ -44,8 +44,9 @@ def wait_for(log, text, seconds):
 
 
 def operator(*argv):
-    p = subprocess.run([sys.executable, "-m", "dynaqpc_tools.operator", *argv], capture_output=True, text=True,
-                       timeout=60)
+    p = subprocess.run(
+        [sys.executable, "-m", "dynaqpc_tools.operator", *argv], capture_output=True, text=True, timeout=60
+    )
     print(f"$ dynaqpc-operator {' '.join(argv)}  -> exit {p.returncode}\n{p.stdout}{p.stderr}", end="")
     return p.returncode, p.stdout
 
@@ -55,12 +56,23 @@ rc, out = operator("status", "--timeout", "1")
 if rc != 1 or "silent" not in out:
     fail("status with no firmware on the bus must exit 1 and say it is silent")
 
-fw = start("fw", [f"{bin_dir}/dynaqpc-fw", "--scenario", "paper-sim", "--speed", SPEED, "--flash",
-                  f"{work}/flash.bin", "--duration", "60"])
+fw = start(
+    "fw",
+    [
+        f"{bin_dir}/dynaqpc-fw",
+        "--scenario",
+        "paper-sim",
+        "--speed",
+        SPEED,
+        "--flash",
+        f"{work}/flash.bin",
+        "--duration",
+        "60",
+    ],
+)
 if not wait_for(fw, "ready", 10):
     fail("dynaqpc-fw did not start")
-start("devices", [f"{bin_dir}/dynaqpc-sim", "devices", "--scenario", "paper-sim", "--speed", SPEED,
-                  "--duration", "60"])
+start("devices", [f"{bin_dir}/dynaqpc-sim", "devices", "--scenario", "paper-sim", "--speed", SPEED, "--duration", "60"])
 
 rc, out = operator("status")
 if rc != 0 or "mode IDLE" not in out or "MotorSilent=" not in out or "uptime" not in out:
@@ -136,8 +148,13 @@ if "resets=1 restores=1" not in fwlog:
     fail("the firmware must count one reset and one restore")
 watched = open(watch_log, encoding="utf-8", errors="replace").read()
 print("--- watch\n" + watched[-2500:])
-for want in ("TOOL_CMD SAVE_LEARNED", "TOOL_ACK counter", "RESET_LEARNING: refused, CONFIRM",
-             "RESTORE_PREVIOUS: done", "FW_STATUS mode RUNNING -> IDLE"):
+for want in (
+    "TOOL_CMD SAVE_LEARNED",
+    "TOOL_ACK counter",
+    "RESET_LEARNING: refused, CONFIRM",
+    "RESTORE_PREVIOUS: done",
+    "FW_STATUS mode RUNNING -> IDLE",
+):
     if want not in watched:
         fail(f"watch must show {want!r}")
 print("PASS")

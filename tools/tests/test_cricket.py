@@ -7,8 +7,8 @@ import os
 import threading
 
 import pytest
-
 from conftest import REPO, c_binary, in_netns
+
 from dynaqpc_tools import cricket
 from dynaqpc_tools.cricket import CricketLineError, parse_line
 
@@ -58,14 +58,27 @@ def test_fields_switched_off():
     assert not r.has_range
     r = parse_line("ID=1:2:3:4:5:6:7:8,DR=2000,XX=7")  # an unknown key is kept, not fatal
     assert r.raw["XX"] == "7" and r.range_m == pytest.approx(0.686) and r.has_range
-    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=0").has_range            # 0 m: refused
-    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=30000").has_range        # 10.3 m: refused
+    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=0").has_range  # 0 m: refused
+    assert not parse_line("ID=1:2:3:4:5:6:7:8,DR=30000").has_range  # 10.3 m: refused
 
 
-@pytest.mark.parametrize("line", [
-    "", "\r\n", "hello world", "VR=2.0,,DB=1", "VR=2.0,DB=abc", "DB=1,DB=2", "VR=2.0,DR=-5",
-    "ID=zz:01,DR=5", "\x00\xff\x13", "VR=2.0,DB=", "VR=2.0,DB=1 2", "ID=0102030405060708,DR=5",
-])
+@pytest.mark.parametrize(
+    "line",
+    [
+        "",
+        "\r\n",
+        "hello world",
+        "VR=2.0,,DB=1",
+        "VR=2.0,DB=abc",
+        "DB=1,DB=2",
+        "VR=2.0,DR=-5",
+        "ID=zz:01,DR=5",
+        "\x00\xff\x13",
+        "VR=2.0,DB=",
+        "VR=2.0,DB=1 2",
+        "ID=0102030405060708,DR=5",
+    ],
+)
 def test_garbage_is_rejected_with_a_reason(line):
     with pytest.raises(CricketLineError) as e:
         parse_line(line)
@@ -108,8 +121,10 @@ def test_trilateration_recovers_the_position():
 def test_beacons_file(tmp_path):
     p = tmp_path / "beacons.txt"
     p.write_text("# id x y z\n1:2:3:4:5:6:7:8 0 0 2.5\n\n01:02:03:04:05:06:07:09 4 0 2.5  # east\n")
-    assert cricket.load_beacons(str(p)) == ({0x0102030405060708: (0.0, 0.0, 2.5),
-                                             0x0102030405060709: (4.0, 0.0, 2.5)}, None)
+    assert cricket.load_beacons(str(p)) == (
+        {0x0102030405060708: (0.0, 0.0, 2.5), 0x0102030405060709: (4.0, 0.0, 2.5)},
+        None,
+    )
     p.write_text("1:2:3:4:5:6:7:8 0 0\n")
     with pytest.raises(cricket.ToolError, match=":1:"):
         cricket.load_beacons(str(p))
@@ -143,8 +158,11 @@ def test_console_reads_a_pty_to_end_of_stream(tmp_path):
     path = os.ttyname(slave)
     os.close(slave)
     beacons = tmp_path / "beacons.txt"
-    pos = {"1:0:0:0:0:0:0:a1": (0.0, 0.0, 2.0), "1:0:0:0:0:0:0:a2": (3.0, 0.0, 2.0),
-           "1:0:0:0:0:0:0:a3": (0.0, 3.0, 2.0)}
+    pos = {
+        "1:0:0:0:0:0:0:a1": (0.0, 0.0, 2.0),
+        "1:0:0:0:0:0:0:a2": (3.0, 0.0, 2.0),
+        "1:0:0:0:0:0:0:a3": (0.0, 3.0, 2.0),
+    }
     beacons.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in pos.items()))
     lines = []
     for k, p in pos.items():  # listener at (1, 1, 0)
@@ -197,8 +215,11 @@ def test_fixes_from_the_simulators_pty():
     import subprocess
 
     scn = REPO / "host_sim" / "scenarios" / "paper-lab.scn"
-    dev = subprocess.Popen(in_netns([str(c_binary("dynaqpc-sim")), "devices", "--scenario", str(scn), "--speed", "5",
-                                     "--duration", "30"]), stdout=subprocess.PIPE, text=True)
+    dev = subprocess.Popen(
+        in_netns([str(c_binary("dynaqpc-sim")), "devices", "--scenario", str(scn), "--speed", "5", "--duration", "30"]),
+        stdout=subprocess.PIPE,
+        text=True,
+    )
     try:
         tty = None
         for line in dev.stdout:
@@ -236,7 +257,6 @@ def _run_on_pty(lines, argv, until=None):
     assert err.opened.wait(10), "console did not open the pty"
     os.write(master, "".join(lines).encode("latin-1"))
     for _ in range(200):  # until the reader took them (closing drops unread pty input)
-        c = result.get("c")
         text = out.getvalue() + err.getvalue()
         if until is not None and until(text):
             break
@@ -247,8 +267,12 @@ def _run_on_pty(lines, argv, until=None):
     return result["c"], out.getvalue(), err.getvalue()
 
 
-LAB = {"1:5e:3c:3c:a:0:0:b1": (0.5, 0.5, 2.5), "1:5e:3c:3c:a:0:0:b2": (3.8, 0.5, 2.5),
-       "1:5e:3c:3c:a:0:0:b3": (0.5, 2.7, 2.5), "1:5e:3c:3c:a:0:0:b4": (3.8, 2.7, 2.5)}
+LAB = {
+    "1:5e:3c:3c:a:0:0:b1": (0.5, 0.5, 2.5),
+    "1:5e:3c:3c:a:0:0:b2": (3.8, 0.5, 2.5),
+    "1:5e:3c:3c:a:0:0:b3": (0.5, 2.7, 2.5),
+    "1:5e:3c:3c:a:0:0:b4": (3.8, 2.7, 2.5),
+}
 
 
 def _listener_lines(beacons, at=(1.2, 1.0, 0.15), repeat=2):
@@ -261,14 +285,23 @@ def _listener_lines(beacons, at=(1.2, 1.0, 0.15), repeat=2):
 
 
 def test_beacon_ids_are_compared_as_bytes_however_spelt(tmp_path):
-    same = ["1:5e:3c:3c:a:0:0:b1", "01:5E:3C:3C:0A:00:00:B1", "01-5e-3c-3c-0a-00-00-b1", "015e3c3c0a0000b1",
-            "0x015E3C3C0A0000B1"]
+    same = [
+        "1:5e:3c:3c:a:0:0:b1",
+        "01:5E:3C:3C:0A:00:00:B1",
+        "01-5e-3c-3c-0a-00-00-b1",
+        "015e3c3c0a0000b1",
+        "0x015E3C3C0A0000B1",
+    ]
     assert {cricket.parse_beacon_id(t) for t in same} == {0x015E3C3C0A0000B1}
     # A beacons file in upper case, zero-padded, with the listener's height; the listener prints
     # one-digit lower-case bytes: the console fixes where the listener is.
     f = tmp_path / "beacons.txt"
-    f.write_text("listener_height 0.15\n" + "".join(
-        f"{':'.join(f'{int(b, 16):02X}' for b in k.split(':'))} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
+    f.write_text(
+        "listener_height 0.15\n"
+        + "".join(
+            f"{':'.join(f'{int(b, 16):02X}' for b in k.split(':'))} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()
+        )
+    )
     beacons, z = cricket.load_beacons(str(f))
     assert z == 0.15 and set(beacons) == {cricket.parse_id(k) for k in LAB}
     c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)], until=lambda t: t.count("fix x=") >= 5)
@@ -282,8 +315,7 @@ def test_a_file_without_the_listeners_height_still_fixes(tmp_path):
     # With the beacons at one height the ranges give the listener's height too: it fixes.
     f = tmp_path / "beacons.txt"
     f.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
-    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)],
-                              until=lambda t: t.count("fix x=") >= 5)
+    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f)], until=lambda t: t.count("fix x=") >= 5)
     assert c.fixes >= 5 and "hint" not in err
     fix = [ln for ln in out.splitlines() if "fix x=" in ln][-1]
     assert float(fix.split("x=")[1].split()[0]) == pytest.approx(1.2, abs=0.02)
@@ -295,13 +327,15 @@ def test_a_wrong_listener_height_is_hinted(tmp_path):
     # inconsistent, and the console says why.
     f = tmp_path / "beacons.txt"
     f.write_text("".join(f"{k} {x} {y} {z}\n" for k, (x, y, z) in LAB.items()))
-    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0"],
-                              until=lambda t: t.count("beacon 01:") >= 8)
+    c, out, err = _run_on_pty(
+        _listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0"], until=lambda t: t.count("beacon 01:") >= 8
+    )
     assert c.readings == 8 and c.fixes == 0
     hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
     assert len(hints) == 1 and "listener's height" in hints[0] and "0 m" in hints[0]
-    c, out, err = _run_on_pty(_listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0.15"],
-                              until=lambda t: t.count("fix x=") >= 5)
+    c, out, err = _run_on_pty(
+        _listener_lines(LAB), ["--beacons", str(f), "--listener-z", "0.15"], until=lambda t: t.count("fix x=") >= 5
+    )
     assert c.fixes >= 5 and "hint" not in err
 
 
@@ -328,8 +362,9 @@ def test_hints_when_every_line_is_skipped_and_when_no_beacon_matches(tmp_path):
     # A beacons file of other beacons.
     f = tmp_path / "other.txt"
     f.write_text("1:0:0:0:0:0:0:1 0 0 2\n1:0:0:0:0:0:0:2 3 0 2\n1:0:0:0:0:0:0:3 0 3 2\n")
-    c, out, err = _run_on_pty(_listener_lines(LAB, repeat=1), ["--beacons", str(f)],
-                              until=lambda t: t.count("beacon 01:") >= 4)
+    c, out, err = _run_on_pty(
+        _listener_lines(LAB, repeat=1), ["--beacons", str(f)], until=lambda t: t.count("beacon 01:") >= 4
+    )
     hints = [ln for ln in err.splitlines() if ln.startswith("hint:")]
     assert len(hints) == 1 and "none of the 4 beacons heard" in hints[0] and "01:5e:3c:3c:0a:00:00:b1" in hints[0]
 
@@ -346,11 +381,14 @@ def _holder(path, how):
     exclusive=True does. Returns the process once it holds it."""
     import subprocess
     import sys
-    code = ("import fcntl, os, sys, time\n"
-            "fd = os.open(sys.argv[1], os.O_RDWR | os.O_NOCTTY)\n"
-            "if sys.argv[2] == 'flock': fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\n"
-            "print('held', flush=True)\n"
-            "time.sleep(60)\n")
+
+    code = (
+        "import fcntl, os, sys, time\n"
+        "fd = os.open(sys.argv[1], os.O_RDWR | os.O_NOCTTY)\n"
+        "if sys.argv[2] == 'flock': fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\n"
+        "print('held', flush=True)\n"
+        "time.sleep(60)\n"
+    )
     p = subprocess.Popen([sys.executable, "-c", code, path, how], stdout=subprocess.PIPE, text=True)
     assert p.stdout.readline().strip() == "held"
     return p

@@ -1,11 +1,14 @@
 # SPDX-License-Identifier: MIT
 """dynaqpc-emu without QEMU: the board's report lines and the command line."""
+
 from dynaqpc_tools import emu
 
 
 def test_report_lines_parse():
-    line = ("report: t_ms=2000 episodes=0 real_steps=3 planning_updates=8 idle_loop_updates=0 "
-            "control_runs=11 control_worst_run_us=3115 misses=0 stack_unused=2460 ")
+    line = (
+        "report: t_ms=2000 episodes=0 real_steps=3 planning_updates=8 idle_loop_updates=0 "
+        "control_runs=11 control_worst_run_us=3115 misses=0 stack_unused=2460 "
+    )
     r = emu.parse_report(line)
     assert r["real_steps"] == 3 and r["planning_updates"] == 8 and r["stack_unused"] == 2460
     assert emu.parse_report("final: t_ms=5 misses=1")["misses"] == 1
@@ -18,8 +21,9 @@ def test_qemu_names_its_pty():
 
 
 def test_run_options():
-    args = emu.build_parser().parse_args(["run", "--agent", "dyna-q", "--icount", "3", "--speed", "8",
-                                          "--min-idle-loop-updates", "5", "--no-persist"])
+    args = emu.build_parser().parse_args(
+        ["run", "--agent", "dyna-q", "--icount", "3", "--speed", "8", "--min-idle-loop-updates", "5", "--no-persist"]
+    )
     assert args.agent == "dyna-q" and args.icount == 3 and args.speed == 8
     assert args.min_idle_loop_updates == 5 and args.no_persist
     assert emu.AGENTS.index("dyna-qpc") == 2  # agent_kind_t's AGENT_DYNA_QPC
@@ -28,16 +32,36 @@ def test_run_options():
 def test_the_board_gets_the_devices_seed():
     """`run --set K` hands the board the seed the devices print: that of train's set K."""
     import subprocess
+
     from conftest import c_binary, in_netns
+
     sim = c_binary("dynaqpc-sim")
     if not sim.exists():
         import pytest
+
         pytest.skip(f"{sim} not built")
     seeds = []
     for k in ("1", "2", "2"):
-        out = subprocess.run(in_netns([str(sim), "devices", "--scenario", "paper-lab", "--seed", "1", "--set", k,
-                                       "--wait-firmware", "--duration", "0.2"]),
-                             capture_output=True, text=True, timeout=30).stdout
+        out = subprocess.run(
+            in_netns(
+                [
+                    str(sim),
+                    "devices",
+                    "--scenario",
+                    "paper-lab",
+                    "--seed",
+                    "1",
+                    "--set",
+                    k,
+                    "--wait-firmware",
+                    "--duration",
+                    "0.2",
+                ]
+            ),
+            capture_output=True,
+            text=True,
+            timeout=30,
+        ).stdout
         m = emu.SEED_RE.search(out)
         assert m, out
         seeds.append(int(m.group(1)))
@@ -52,8 +76,10 @@ class _FakeLines:
 
 
 def test_the_emulated_clock_against_the_host():
-    board = _FakeLines(["netduinoplus2: running", "report: t_ms=2000", "report: t_ms=4000", "report: t_ms=6000"],
-                       [0.0, 10.0, 14.0, 18.0])
+    board = _FakeLines(
+        ["netduinoplus2: running", "report: t_ms=2000", "report: t_ms=4000", "report: t_ms=6000"],
+        [0.0, 10.0, 14.0, 18.0],
+    )
     assert emu.emulated_rate(board) == 0.5  # 4 s of firmware time in 8 s of wall
     assert emu.emulated_rate(_FakeLines(["report: t_ms=2000"], [1.0])) is None
 
@@ -83,9 +109,13 @@ def test_the_summary_says_goals_and_idle_planning(capsys):
         to_bus, to_board, errors = 100, 100, 0
 
     args = emu.build_parser().parse_args(["run", "--min-goals", "1", "--min-idle-loop-updates", "1"])
-    board = _FakeLines(["report: t_ms=1000 real_steps=44 planning_updates=900 idle_loop_updates=600 misses=0",
-                        "final: t_ms=9000 real_steps=44 planning_updates=900 idle_loop_updates=600 misses=0"],
-                       [1.0, 9.0])
+    board = _FakeLines(
+        [
+            "report: t_ms=1000 real_steps=44 planning_updates=900 idle_loop_updates=600 misses=0",
+            "final: t_ms=9000 real_steps=44 planning_updates=900 idle_loop_updates=600 misses=0",
+        ],
+        [1.0, 9.0],
+    )
     assert emu.summarise(args, board, 0, Watch(), Bridge()) == 0
     out = capsys.readouterr().out
     assert "reached the goal in 1 of 2 episodes" in out and "600 updates in its idle loop (13.6 per real step)" in out
@@ -105,9 +135,13 @@ def test_a_slow_clock_without_misses_is_reported_not_failed(capsys):
         to_bus, to_board, errors = 100, 100, 0
 
     args = emu.build_parser().parse_args(["run", "--icount", "3"])
-    board = _FakeLines(["report: t_ms=2000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0",
-                        "report: t_ms=6000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0"],
-                       [1.0, 9.0])  # 4 s of firmware time in 8 s of wall
+    board = _FakeLines(
+        [
+            "report: t_ms=2000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0",
+            "report: t_ms=6000 real_steps=6 planning_updates=90 idle_loop_updates=0 misses=0",
+        ],
+        [1.0, 9.0],
+    )  # 4 s of firmware time in 8 s of wall
     assert emu.summarise(args, board, 0, Watch(), Bridge()) == 0
     out = capsys.readouterr().out
     assert "fell behind" in out and "emu: PASS" in out

@@ -29,8 +29,9 @@ def write_runs(path, agent, sets, robot_time=100.0):
 @pytest.fixture
 def csv_dir(tmp_path):
     write_runs(tmp_path / "q.csv", "q", [SET1, SET2])
-    write_runs(tmp_path / "dyna-qpc.csv", "dyna-qpc", [[600, 400, 50, 50, 50, 50, 50, 50, 50, 50, 50, 50]] * 2,
-               robot_time=36.0)
+    write_runs(
+        tmp_path / "dyna-qpc.csv", "dyna-qpc", [[600, 400, 50, 50, 50, 50, 50, 50, 50, 50, 50, 50]] * 2, robot_time=36.0
+    )
     return tmp_path
 
 
@@ -77,9 +78,9 @@ def test_table1_numbers(csv_dir):
     # Real steps to learn: the steps of episodes 1..i.
     assert [r.steps for r in q.sets] == [2700, 4010]
     sm, ssd = q.steps_mean_sd
-    assert sm == pytest.approx(3355) and ssd == pytest.approx(1310 / 2 ** 0.5)
+    assert sm == pytest.approx(3355) and ssd == pytest.approx(1310 / 2**0.5)
     hm, hsd = q.hours_mean_sd
-    assert hm == pytest.approx(650 / 3600) and hsd == pytest.approx(150 * 2 ** 0.5 / 3600)
+    assert hm == pytest.approx(650 / 3600) and hsd == pytest.approx(150 * 2**0.5 / 3600)
     assert q.mean_steps_at == {10: 100.0, 50: None, 100: None, 200: None}
     # updates = 10 x steps: 9 planning updates per real step.
     assert q.planning_per_step == pytest.approx(9.0)
@@ -98,8 +99,9 @@ def test_table1_numbers(csv_dir):
     table = experiment.table_markdown([q, dq], LearnSettings(smooth=1), "paper-lab")
     rows = [ln for ln in table.splitlines() if ln.startswith("| ")]
     assert rows[0].count("|") == 12  # one column per measure: ep. 10 only (12 episodes), the paper's
-    assert rows[1].startswith("| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | "
-                              "6.5 ± 2.1 | 0.307 | – | 100.0 | – |")
+    assert rows[1].startswith(
+        "| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | 6.5 ± 2.1 | 0.307 | – | 100.0 | – |"
+    )
     assert rows[2].startswith("| Dyna-QPC | scenario's | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
     assert rows[2].endswith("| 2,019 steps (1.12 h) |")
     assert "paper 0.192" in table
@@ -134,13 +136,28 @@ def test_table_command_at_several_budgets(tmp_path, capsys):
     write_runs(tmp_path / "dyna-q-p0.csv", "dyna-q", [[60, 40, 40, 40, 40, 40]])
     write_runs(tmp_path / "dyna-q-p5.csv", "dyna-q", [[300, 200, 100, 60, 45, 40]])
     write_runs(tmp_path / "q.csv", "q", [[300, 300, 300, 300, 300, 300]])
-    rc = experiment.main(["table", "--csv", str(tmp_path / "dyna-q-p0.csv"), str(tmp_path / "dyna-q-p5.csv"),
-                          str(tmp_path / "q.csv"), "--threshold", "50", "--smooth", "2",
-                          "--out", str(tmp_path / "t.md")])
+    rc = experiment.main(
+        [
+            "table",
+            "--csv",
+            str(tmp_path / "dyna-q-p0.csv"),
+            str(tmp_path / "dyna-q-p5.csv"),
+            str(tmp_path / "q.csv"),
+            "--threshold",
+            "50",
+            "--smooth",
+            "2",
+            "--out",
+            str(tmp_path / "t.md"),
+        ]
+    )
     assert rc == 0
     rows = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("| ")]
-    assert [r.split(" | ")[:2] for r in rows[1:]] == [["| Q-learning", "none (Q-learning)"], ["| Dyna-Q", "5"],
-                                                      ["| Dyna-Q", "idle time (MCU model)"]]
+    assert [r.split(" | ")[:2] for r in rows[1:]] == [
+        ["| Q-learning", "none (Q-learning)"],
+        ["| Dyna-Q", "5"],
+        ["| Dyna-Q", "idle time (MCU model)"],
+    ]
     # q never learns: its whole run (1,800 steps), 0/1. N=5: (45+40)/2 <= 50 from episode 6 on; idle: (60+40)/2 from episode 2.
     assert "| 0/1 | 1,800 ± 0 |" in rows[1]
     assert "| 1/1 | 745 ± 0 |" in rows[2]
@@ -149,19 +166,23 @@ def test_table_command_at_several_budgets(tmp_path, capsys):
 
 
 def test_measure_is_the_reusable_entry(csv_dir):
-    summaries, table = experiment.measure([str(csv_dir / "q.csv"), str(csv_dir / "dyna-qpc.csv")],
-                                          threshold=150, smooth=1, scenario="paper-sim")
+    summaries, table = experiment.measure(
+        [str(csv_dir / "q.csv"), str(csv_dir / "dyna-qpc.csv")], threshold=150, smooth=1, scenario="paper-sim"
+    )
     assert [s.agent for s in summaries] == ["q", "dyna-qpc"]
     assert summaries[0].n_learned == 2
     assert "| 5.2 h (18,618 s) |" in table and "unable to learn" in table
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--smooth", "0"], "--smooth: 0 is outside"),
-    (["--learned-factor", "-1"], "--learned-factor: -1 is outside"),
-    (["--threshold", "nan"], "--threshold"),
-    (["--final-window", "x"], "'x' is not an integer"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--smooth", "0"], "--smooth: 0 is outside"),
+        (["--learned-factor", "-1"], "--learned-factor: -1 is outside"),
+        (["--threshold", "nan"], "--threshold"),
+        (["--final-window", "x"], "'x' is not an integer"),
+    ],
+)
 def test_numeric_arguments_are_range_checked(csv_dir, capsys, argv, message):
     with pytest.raises(SystemExit) as e:
         experiment.main(["table", "--csv", str(csv_dir / "q.csv"), *argv])
@@ -170,14 +191,17 @@ def test_numeric_arguments_are_range_checked(csv_dir, capsys, argv, message):
     assert message in err and len(err.strip().splitlines()) == 1
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--sets", "0"], "--sets: 0 is outside"),
-    (["--jobs", "-5"], "--jobs: -5 is outside"),
-    (["--planning", "5,-1"], "--planning"),
-    (["--planning", "5,5"], "twice"),
-    (["--agents", "q,sarsa"], "sarsa"),
-    (["--starts", "0"], "--starts"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--sets", "0"], "--sets: 0 is outside"),
+        (["--jobs", "-5"], "--jobs: -5 is outside"),
+        (["--planning", "5,-1"], "--planning"),
+        (["--planning", "5,5"], "twice"),
+        (["--agents", "q,sarsa"], "sarsa"),
+        (["--starts", "0"], "--starts"),
+    ],
+)
 def test_run_arguments_are_range_checked(tmp_path, capsys, argv, message):
     with pytest.raises(SystemExit) as e:
         experiment.main(["run", "--scenario", "paper-lab", "--results", str(tmp_path), *argv])
@@ -198,16 +222,32 @@ def test_user_errors_are_one_line_and_status_2(tmp_path, capsys, csv_dir):
     assert len(err) == 3 and all(ln.startswith("error: ") for ln in err)
     assert "not UTF-8" in err[0] or "not a training CSV" in err[0]
     with pytest.raises(ToolError, match="cannot write"):
-        experiment.plot_fig13(experiment.read_runs(str(csv_dir / "q.csv")).values(),
-                              str(tmp_path / "no" / "such" / "fig.png"))
+        experiment.plot_fig13(
+            experiment.read_runs(str(csv_dir / "q.csv")).values(), str(tmp_path / "no" / "such" / "fig.png")
+        )
 
 
 def test_run_never_overwrites_a_file_that_is_not_a_training_csv(tmp_path):
     results = tmp_path / "results" / "paper-lab"
     results.mkdir(parents=True)
     (results / "q.csv").write_text("my notes, not a CSV of ours\n")
-    rc = experiment.main(["run", "--scenario", "paper-lab", "--results", str(tmp_path / "results"),
-                          "--agents", "q", "--sets", "1", "--episodes", "1", "--sim", "/bin/false"])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            "paper-lab",
+            "--results",
+            str(tmp_path / "results"),
+            "--agents",
+            "q",
+            "--sets",
+            "1",
+            "--episodes",
+            "1",
+            "--sim",
+            "/bin/false",
+        ]
+    )
     assert rc == 2
     assert (results / "q.csv").read_text() == "my notes, not a CSV of ours\n"
 
@@ -219,17 +259,47 @@ def test_blocks_of_sets_give_the_rows_of_one_run(tmp_path):
     if not sim.is_file():
         pytest.skip(f"{sim} not built")
     whole = tmp_path / "whole.csv"
-    subprocess.run([str(sim), "train", "--scenario", "paper-lab", "--agent", "dyna-qpc", "--sets", "3",
-                    "--episodes", "2", "--seed", "3", "--no-wall-time", "--quiet", "--csv", str(whole)], check=True)
+    subprocess.run(
+        [
+            str(sim),
+            "train",
+            "--scenario",
+            "paper-lab",
+            "--agent",
+            "dyna-qpc",
+            "--sets",
+            "3",
+            "--episodes",
+            "2",
+            "--seed",
+            "3",
+            "--no-wall-time",
+            "--quiet",
+            "--csv",
+            str(whole),
+        ],
+        check=True,
+    )
     merged = tmp_path / "merged.csv"
-    experiment.run_sets(str(sim), "paper-lab", "dyna-qpc", str(merged), sets=3, episodes=2, seed=3, jobs=2,
-                        extra=["--no-wall-time"], progress=False)
+    experiment.run_sets(
+        str(sim),
+        "paper-lab",
+        "dyna-qpc",
+        str(merged),
+        sets=3,
+        episodes=2,
+        seed=3,
+        jobs=2,
+        extra=["--no-wall-time"],
+        progress=False,
+    )
     assert merged.read_bytes() == whole.read_bytes()
     assert len(whole.read_text().splitlines()) == 7
     # With --planning the budget reaches the simulator: planning updates per step change.
     p1000 = tmp_path / "dyna-qpc-p1000.csv"
-    experiment.run_sets(str(sim), "paper-lab", "dyna-qpc", str(p1000), sets=1, episodes=2, seed=3, planning=1000,
-                        progress=False)
+    experiment.run_sets(
+        str(sim), "paper-lab", "dyna-qpc", str(p1000), sets=1, episodes=2, seed=3, planning=1000, progress=False
+    )
     assert p1000.read_bytes() != whole.read_bytes()
     assert experiment.scenario_protocol("paper-lab") == (5, 20)
 
@@ -258,18 +328,27 @@ def _is_png(path):
 
 
 def test_plot_command_writes_fig13_table_and_trajectories(csv_dir, tmp_path, capsys):
-    (csv_dir / "arena.json").write_text(json.dumps({
-        "width": 4.0, "height": 3.0,
-        "obstacles": [{"kind": "box", "cx": 2.0, "cy": 1.5, "w": 0.5, "h": 1.0, "angle_deg": 30},
-                      {"kind": "circle", "cx": 1.0, "cy": 2.2, "r": 0.2}],
-        "goal": {"cx": 3.5, "cy": 2.5, "r": 0.3},
-        "beacons": [{"id": "b1", "x": 0.0, "y": 0.0, "z": 2.5}]}))
+    (csv_dir / "arena.json").write_text(
+        json.dumps(
+            {
+                "width": 4.0,
+                "height": 3.0,
+                "obstacles": [
+                    {"kind": "box", "cx": 2.0, "cy": 1.5, "w": 0.5, "h": 1.0, "angle_deg": 30},
+                    {"kind": "circle", "cx": 1.0, "cy": 2.2, "r": 0.2},
+                ],
+                "goal": {"cx": 3.5, "cy": 2.5, "r": 0.3},
+                "beacons": [{"id": "b1", "x": 0.0, "y": 0.0, "z": 2.5}],
+            }
+        )
+    )
     rows = ["start,step,time_s,x,y,heading,action,reward,bump,in_goal\n"]
     for start in range(2):
         for step in range(20):
             x, y = 0.3 + 0.16 * step, 0.3 + start * 0.5 + 0.1 * step
-            rows.append(f"{start},{step},{0.192 * step:.3f},{x:.3f},{y:.3f},0.5,1,-1,{int(step == 5)},"
-                        f"{int(step == 19)}\n")
+            rows.append(
+                f"{start},{step},{0.192 * step:.3f},{x:.3f},{y:.3f},0.5,1,-1,{int(step == 5)},{int(step == 19)}\n"
+            )
     (csv_dir / "traj.csv").write_text("".join(rows))
     out = tmp_path / "out"
     assert experiment.main(["plot", "--csv-dir", str(csv_dir), "--out", str(out), "--smooth", "1"]) == 0
@@ -284,13 +363,44 @@ def test_run_skip_existing_does_not_call_the_simulator(csv_dir, tmp_path):
     (results / "s").mkdir(parents=True)
     for name in ("q.csv", "dyna-qpc.csv"):
         (results / "s" / name).write_bytes((csv_dir / name).read_bytes())
-    rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q,dyna-qpc",
-                          "--skip-existing", "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            "s",
+            "--results",
+            str(results),
+            "--agents",
+            "q,dyna-qpc",
+            "--skip-existing",
+            "--sets",
+            "2",
+            "--episodes",
+            "12",
+            "--sim",
+            str(tmp_path / "no-such-sim"),
+        ]
+    )
     assert rc == 0
     assert _is_png(results / "s" / "fig13.png")
     # Without --skip-existing the missing simulator is a clear error, not a traceback.
-    rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q",
-                          "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            "s",
+            "--results",
+            str(results),
+            "--agents",
+            "q",
+            "--sets",
+            "2",
+            "--episodes",
+            "12",
+            "--sim",
+            str(tmp_path / "no-such-sim"),
+        ]
+    )
     assert rc == 2
 
 
@@ -302,8 +412,24 @@ def test_run_reads_only_its_own_csvs(csv_dir, tmp_path):
     for name in ("q.csv", "dyna-qpc.csv"):
         (results / "s" / name).write_bytes((csv_dir / name).read_bytes())
     write_runs(results / "s" / "dyna-qpc-150.csv", "dyna-qpc", [[70] * 150])
-    rc = experiment.main(["run", "--scenario", "s", "--results", str(results), "--agents", "q,dyna-qpc",
-                          "--skip-existing", "--sets", "2", "--episodes", "12", "--sim", str(tmp_path / "no-such-sim")])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            "s",
+            "--results",
+            str(results),
+            "--agents",
+            "q,dyna-qpc",
+            "--skip-existing",
+            "--sets",
+            "2",
+            "--episodes",
+            "12",
+            "--sim",
+            str(tmp_path / "no-such-sim"),
+        ]
+    )
     assert rc == 0
     table = (results / "s" / "table1.md").read_text()
     assert "| 2/2 | 1,250 ± 0 |" in table and table.count("| Dyna-QPC |") == 1
@@ -331,13 +457,16 @@ def test_arena_goal_cells_are_drawn_and_checked(tmp_path):
     from dynaqpc_tools.arena import draw_arena, load_arena
 
     p = tmp_path / "a.json"
-    p.write_text('{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, '
-                 '"cells": [[2.5, 1.5, 3.0, 2.0], [3.0, 1.5, 3.5, 2.0]]}}')
+    p.write_text(
+        '{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, '
+        '"cells": [[2.5, 1.5, 3.0, 2.0], [3.0, 1.5, 3.5, 2.0]]}}'
+    )
     arena = load_arena(str(p))
     fig, ax = plt.subplots()
     draw_arena(ax, arena)
-    green = [q for q in ax.patches if isinstance(q, Rectangle) and q.get_label() != "_nolegend_"
-             and q.get_width() == 0.5]
+    green = [
+        q for q in ax.patches if isinstance(q, Rectangle) and q.get_label() != "_nolegend_" and q.get_width() == 0.5
+    ]
     assert len(green) == 2
     plt.close(fig)
     p.write_text('{"width": 4, "height": 3, "goal": {"cx": 3, "cy": 2, "r": 0.3, "cells": [[1, 1, 0, 2]]}}')
@@ -351,25 +480,55 @@ def test_a_simulator_error_is_one_line(tmp_path, capsys):
     sim.chmod(0o755)
     flash = tmp_path / "x.flash"
     flash.write_bytes(b"\0" * 16)
-    rc = experiment.main(["trajectory", "--scenario", "paper-lab", "--load", str(flash), "--sim", str(sim),
-                          "--out", str(tmp_path / "o")])
+    rc = experiment.main(
+        ["trajectory", "--scenario", "paper-lab", "--load", str(flash), "--sim", str(sim), "--out", str(tmp_path / "o")]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and err == ["error: dynaqpc-sim run: --load: x: not a flash image"]
     # A missing flash image is named before the simulator runs.
-    assert experiment.main(["trajectory", "--scenario", "paper-lab", "--load", str(tmp_path / "none"),
-                            "--sim", str(sim), "--out", str(tmp_path / "o")]) == 2
+    assert (
+        experiment.main(
+            [
+                "trajectory",
+                "--scenario",
+                "paper-lab",
+                "--load",
+                str(tmp_path / "none"),
+                "--sim",
+                str(sim),
+                "--out",
+                str(tmp_path / "o"),
+            ]
+        )
+        == 2
+    )
     assert "no such file" in capsys.readouterr().err
 
 
 def test_a_misspelt_scenario_names_the_shipped_ones_and_leaves_no_folder(tmp_path, capsys):
     results = tmp_path / "results"
     for extra in (["--sets", "1", "--episodes", "1"], []):
-        rc = experiment.main(["run", "--scenario", "paper-lob", "--results", str(results), "--agents", "q",
-                              "--sim", "/bin/false", *extra])
+        rc = experiment.main(
+            [
+                "run",
+                "--scenario",
+                "paper-lob",
+                "--results",
+                str(results),
+                "--agents",
+                "q",
+                "--sim",
+                "/bin/false",
+                *extra,
+            ]
+        )
         assert rc == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "did you mean paper-lab?" in err[0]
-        assert "the shipped scenarios are paper-lab, paper-lab-motion, paper-lab-real, paper-sim, paper-sim-motion, paper-sim-real" in err[0]
+        assert (
+            "the shipped scenarios are paper-lab, paper-lab-motion, paper-lab-real, paper-sim, paper-sim-motion, paper-sim-real"
+            in err[0]
+        )
         assert not results.exists()
 
 
@@ -378,14 +537,46 @@ def test_a_failed_run_leaves_no_empty_folder(tmp_path):
     scn = tmp_path / "bad.scn"
     scn.write_text("not a scenario\n")
     results = tmp_path / "results"
-    rc = experiment.main(["run", "--scenario", str(scn), "--results", str(results), "--agents", "q",
-                          "--sets", "1", "--episodes", "1", "--sim", "/bin/false", "--no-progress"])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            str(scn),
+            "--results",
+            str(results),
+            "--agents",
+            "q",
+            "--sets",
+            "1",
+            "--episodes",
+            "1",
+            "--sim",
+            "/bin/false",
+            "--no-progress",
+        ]
+    )
     assert rc == 2
     assert not results.exists()
     # A folder that was there before stays, with what it held.
     results.mkdir()
     (results / "notes.txt").write_text("mine\n")
-    rc = experiment.main(["run", "--scenario", str(scn), "--results", str(results), "--agents", "q",
-                          "--sets", "1", "--episodes", "1", "--sim", "/bin/false", "--no-progress"])
+    rc = experiment.main(
+        [
+            "run",
+            "--scenario",
+            str(scn),
+            "--results",
+            str(results),
+            "--agents",
+            "q",
+            "--sets",
+            "1",
+            "--episodes",
+            "1",
+            "--sim",
+            "/bin/false",
+            "--no-progress",
+        ]
+    )
     assert rc == 2
     assert sorted(p.name for p in results.iterdir()) == ["notes.txt"]

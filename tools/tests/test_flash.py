@@ -10,16 +10,24 @@ import sys
 import zlib
 
 import pytest
-
 from conftest import REPO, c_binary
+
 from dynaqpc_tools import flash
 
 pyocd = pytest.importorskip("pyocd")
 
 
 def _record(sequence=1, episodes=3, payload=b"\x11" * 4096):
-    h = struct.pack("<7I", flash.LEARNED_STORE_MAGIC, flash.LEARNED_STORE_VERSION, sequence, 0x1234,
-                    len(payload), zlib.crc32(payload), episodes)
+    h = struct.pack(
+        "<7I",
+        flash.LEARNED_STORE_MAGIC,
+        flash.LEARNED_STORE_VERSION,
+        sequence,
+        0x1234,
+        len(payload),
+        zlib.crc32(payload),
+        episodes,
+    )
     return h + struct.pack("<I", zlib.crc32(h)) + payload
 
 
@@ -27,7 +35,7 @@ def _image(*slots):
     out = bytearray(b"\xff" * flash.HOST_IMAGE)
     for i, rec in enumerate(slots):
         if rec:
-            out[i * flash.HOST_SLOT:i * flash.HOST_SLOT + len(rec)] = rec
+            out[i * flash.HOST_SLOT : i * flash.HOST_SLOT + len(rec)] = rec
     return bytes(out)
 
 
@@ -41,6 +49,7 @@ def _one_line(capsys):
 @pytest.fixture
 def no_probe(monkeypatch):
     from pyocd.core.helpers import ConnectHelper
+
     monkeypatch.setattr(ConnectHelper, "get_all_connected_probes", staticmethod(lambda **kw: []))
 
 
@@ -71,9 +80,16 @@ def test_no_command_is_one_line(capsys):
     _one_line(capsys)
 
 
-@pytest.mark.parametrize("argv", [["backup", "{tmp}/out.bin"], ["restore", "{img}"],
-                                  ["flash", "--bin", "{img}"], ["flash"],
-                                  ["backup", "{tmp}/out.bin", "--target", "stm32f429xi"]])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["backup", "{tmp}/out.bin"],
+        ["restore", "{img}"],
+        ["flash", "--bin", "{img}"],
+        ["flash"],
+        ["backup", "{tmp}/out.bin", "--target", "stm32f429xi"],
+    ],
+)
 def test_no_probe_is_one_line_and_exit_2(argv, tmp_path, capsys, no_probe):
     img = tmp_path / "learned.bin"
     img.write_bytes(_image(_record()))
@@ -108,7 +124,8 @@ def test_a_target_pyocd_lacks_names_the_pack(tmp_path, capsys, monkeypatch):
 
     def unknown(**kw):
         raise pyocd.core.exceptions.TargetSupportError(
-            "Target type stm32f407vg not recognized. Use 'pyocd list --targets' to see ...")
+            "Target type stm32f407vg not recognized. Use 'pyocd list --targets' to see ..."
+        )
 
     probe = type("P", (), {"unique_id": "FAKE1"})()
     monkeypatch.setattr(ConnectHelper, "get_all_connected_probes", staticmethod(lambda **kw: [probe]))
@@ -117,15 +134,18 @@ def test_a_target_pyocd_lacks_names_the_pack(tmp_path, capsys, monkeypatch):
     assert "pyocd pack install stm32f407vg" in _one_line(capsys)
 
 
-@pytest.mark.parametrize("content,why", [
-    (b"", "0 bytes"),
-    (b"\xff" * 1000, "1000 bytes"),
-    (b"\xff" * (flash.HOST_IMAGE + 1), "524289 bytes"),
-    (b"\xff" * flash.HOST_IMAGE, "erased"),
-    (b"\x00" * flash.HOST_IMAGE, "not a learned-store image"),
-    (_image(_record()[:-1] + b"\x00"), "not a learned-store image"),           # payload CRC
-    (_image(b"\x00" + _record()[1:]), "not a learned-store image"),           # magic
-])
+@pytest.mark.parametrize(
+    "content,why",
+    [
+        (b"", "0 bytes"),
+        (b"\xff" * 1000, "1000 bytes"),
+        (b"\xff" * (flash.HOST_IMAGE + 1), "524289 bytes"),
+        (b"\xff" * flash.HOST_IMAGE, "erased"),
+        (b"\x00" * flash.HOST_IMAGE, "not a learned-store image"),
+        (_image(_record()[:-1] + b"\x00"), "not a learned-store image"),  # payload CRC
+        (_image(b"\x00" + _record()[1:]), "not a learned-store image"),  # magic
+    ],
+)
 def test_restore_refuses_what_is_not_a_learned_store(content, why, tmp_path, capsys, no_usb):
     f = tmp_path / "x.bin"
     f.write_bytes(content)
@@ -145,9 +165,14 @@ def test_a_record_too_big_for_paper_labs_slot_is_refused(tmp_path, capsys, no_us
     assert "more than a slot of paper-lab" in _one_line(capsys)
 
 
-@pytest.mark.parametrize("argv,why", [(["--target", "stm32f103c8"], "not an STM32F405"),
-                                      (["--target", "stm32f429xg"], "2 MB part"),
-                                      (["--target", "stm32f407vg", "--image", "paper-sim"], "does not run on")])
+@pytest.mark.parametrize(
+    "argv,why",
+    [
+        (["--target", "stm32f103c8"], "not an STM32F405"),
+        (["--target", "stm32f429xg"], "2 MB part"),
+        (["--target", "stm32f407vg", "--image", "paper-sim"], "does not run on"),
+    ],
+)
 def test_targets_are_checked(argv, why, tmp_path, capsys, no_usb):
     assert flash.main(["backup", str(tmp_path / "o.bin"), *argv]) == 2
     assert why in _one_line(capsys)
@@ -158,8 +183,16 @@ def test_constants_match_the_firmware():
     assert int(re.search(r"#define LEARNED_STORE_MAGIC (0x[0-9A-Fa-f]+)u", h).group(1), 16) == flash.LEARNED_STORE_MAGIC
     assert int(re.search(r"#define LEARNED_STORE_VERSION (\d+)u", h).group(1)) == flash.LEARNED_STORE_VERSION
     fields = re.search(r"typedef struct learned_header \{(.*?)\} learned_header_t;", h, re.S).group(1)
-    assert re.findall(r"uint32_t (\w+);", fields) == ["magic", "version", "sequence", "layout", "payload_size",
-                                                      "payload_crc", "episodes", "header_crc"]
+    assert re.findall(r"uint32_t (\w+);", fields) == [
+        "magic",
+        "version",
+        "sequence",
+        "layout",
+        "payload_size",
+        "payload_crc",
+        "episodes",
+        "header_crc",
+    ]
     c = (REPO / "hal/ports/host/include/hal_host/hal_host_config.h").read_text()
     size = re.search(r"#define FW_CFG_HOST_FLASH_SECTOR_SIZE \((\d+)u \* (\d+)u\)", c)
     assert int(size.group(1)) * int(size.group(2)) == flash.HOST_SECTOR
@@ -170,6 +203,7 @@ def test_constants_match_the_firmware():
 
 
 # --- backup and restore through a fake pyOCD session ---------------------------------------------
+
 
 class FakeTarget:
     def __init__(self, mem):
@@ -182,14 +216,14 @@ class FakeTarget:
         self.resets += 1
 
     def read_memory_block8(self, addr, n):
-        return list(self.mem[addr - flash.FLASH_BASE:addr - flash.FLASH_BASE + n])
+        return list(self.mem[addr - flash.FLASH_BASE : addr - flash.FLASH_BASE + n])
 
 
 @pytest.fixture
 def board(monkeypatch):
     """A 2 MB STM32F4 behind a probe; returns its flash (a bytearray at 0x08000000)."""
-    from pyocd.core.helpers import ConnectHelper
     import pyocd.flash.loader as loader
+    from pyocd.core.helpers import ConnectHelper
 
     mem = bytearray(b"\xff" * (2 * 1024 * 1024))
 
@@ -215,7 +249,7 @@ def board(monkeypatch):
                 lo = (addr - flash.FLASH_BASE) // 0x20000 * 0x20000
                 hi = -(-(addr - flash.FLASH_BASE + len(data)) // 0x20000) * 0x20000
                 mem[lo:hi] = b"\xff" * (hi - lo)
-                mem[addr - flash.FLASH_BASE:addr - flash.FLASH_BASE + len(data)] = data
+                mem[addr - flash.FLASH_BASE : addr - flash.FLASH_BASE + len(data)] = data
 
     probe = type("P", (), {"unique_id": "FAKE1"})()
     monkeypatch.setattr(ConnectHelper, "get_all_connected_probes", staticmethod(lambda **kw: [probe]))
@@ -232,8 +266,8 @@ def test_restore_then_backup_round_trips(target, board, tmp_path, capsys):
     assert flash.main(["restore", str(f), "--target", target]) == 0
     b, _ = flash.board_for(target, None)
     off = b.region - flash.FLASH_BASE
-    assert board[off:off + 32] == img[:32]
-    assert board[off + b.slot:off + b.slot + 32] == img[flash.HOST_SLOT:flash.HOST_SLOT + 32]
+    assert board[off : off + 32] == img[:32]
+    assert board[off + b.slot : off + b.slot + 32] == img[flash.HOST_SLOT : flash.HOST_SLOT + 32]
     assert board[:off] == b"\xff" * off  # nothing outside the region touched
     out = tmp_path / "out.bin"
     assert flash.main(["backup", str(out), "--target", target]) == 0
@@ -245,12 +279,12 @@ def test_restore_then_backup_round_trips(target, board, tmp_path, capsys):
 
 def test_flash_programs_and_verifies_below_the_learned_data(board, tmp_path, capsys):
     lab = flash.BOARDS["paper-lab"]
-    board[lab.region - flash.FLASH_BASE:lab.region - flash.FLASH_BASE + 4] = b"DQPC"
+    board[lab.region - flash.FLASH_BASE : lab.region - flash.FLASH_BASE + 4] = b"DQPC"
     fw = tmp_path / "fw.bin"
     fw.write_bytes(bytes(range(256)) * 1000)
     assert flash.main(["flash", "--bin", str(fw)]) == 0
     assert bytes(board[:256000]) == fw.read_bytes()
-    assert board[lab.region - flash.FLASH_BASE:][:4] == b"DQPC"  # learned data kept
+    assert board[lab.region - flash.FLASH_BASE :][:4] == b"DQPC"  # learned data kept
     assert "flashed and verified" in capsys.readouterr().out
 
 
@@ -258,12 +292,17 @@ def test_flash_programs_and_verifies_below_the_learned_data(board, tmp_path, cap
 def test_a_simulators_save_restores_and_backs_up_to_what_the_simulator_loads(board, tmp_path):
     sim = str(c_binary("dynaqpc-sim"))
     saved = tmp_path / "train.bin"
-    subprocess.run([sim, "train", "--scenario", "paper-lab", "--agent", "dyna-qpc", "--episodes", "2",
-                    "--save", str(saved)], check=True, capture_output=True, timeout=300)
+    subprocess.run(
+        [sim, "train", "--scenario", "paper-lab", "--agent", "dyna-qpc", "--episodes", "2", "--save", str(saved)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
     assert flash.main(["restore", str(saved)]) == 0
     back = tmp_path / "backup.bin"
     assert flash.main(["backup", str(back)]) == 0
     assert back.read_bytes() == saved.read_bytes()
-    p = subprocess.run([sim, "learned", "--scenario", "paper-lab", "--load", str(back)],
-                       capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        [sim, "learned", "--scenario", "paper-lab", "--load", str(back)], capture_output=True, text=True, timeout=300
+    )
     assert p.returncode == 0, p.stderr

@@ -10,15 +10,19 @@ import sys
 import zlib
 
 import pytest
-
 from conftest import TOOLS, c_binary
 
 SLOT = 2 * 128 * 1024  # the host flash: 4 sectors of 128 KB, two per slot (learned_store.h)
 
 
 def learned(*args):
-    return subprocess.run([sys.executable, "-m", "dynaqpc_tools.learned", *map(str, args)], cwd=TOOLS,
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "dynaqpc_tools.learned", *map(str, args)],
+        cwd=TOOLS,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -33,9 +37,29 @@ def sim():
 def image(sim, tmp_path_factory):
     """Dyna-QPC trained on paper-lab long enough to learn (the issue's recipe)."""
     path = tmp_path_factory.mktemp("learned") / "lab.flash"
-    subprocess.run([str(sim), "train", "--scenario", "paper-lab", "--agent", "dyna-qpc", "--sets", "1",
-                    "--episodes", "60", "--planning", "1000", "--seed", "7", "--save", str(path)],
-                   check=True, capture_output=True, timeout=600)
+    subprocess.run(
+        [
+            str(sim),
+            "train",
+            "--scenario",
+            "paper-lab",
+            "--agent",
+            "dyna-qpc",
+            "--sets",
+            "1",
+            "--episodes",
+            "60",
+            "--planning",
+            "1000",
+            "--seed",
+            "7",
+            "--save",
+            str(path),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=600,
+    )
     return path
 
 
@@ -147,7 +171,7 @@ def test_a_record_whose_crcs_hold_but_whose_tables_fail_the_firmwares_checks_is_
         words = list(struct.unpack_from("<8I", data, base))
         payload_size = words[4]
         struct.pack_into("<f", data, base + 32, float("nan"))  # the first Q value (qstore's region first)
-        words[5] = zlib.crc32(bytes(data[base + 32:base + 32 + payload_size]))
+        words[5] = zlib.crc32(bytes(data[base + 32 : base + 32 + payload_size]))
         words[7] = zlib.crc32(struct.pack("<7I", *words[:7]))
         struct.pack_into("<8I", data, base, *words)
     bad = tmp_path / "refused.flash"

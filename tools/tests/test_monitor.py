@@ -15,8 +15,12 @@ def _pose(db, t, counter, x=100):
 
 def _status(db, t, counter):
     m = db.get_message_by_name("STATUS_T")
-    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False,
-                       data=m.encode({"Mode": 2, "STATUS_COUNTER": counter}))
+    return can.Message(
+        timestamp=t,
+        arbitration_id=m.frame_id,
+        is_extended_id=False,
+        data=m.encode({"Mode": 2, "STATUS_COUNTER": counter}),
+    )
 
 
 def recorded_sequence(db):
@@ -30,11 +34,18 @@ def recorded_sequence(db):
     for i, c in enumerate([254, 255, 0, 1]):
         msgs.append(_status(db, 10.0 + i, c))
     ev = db.get_message_by_name("EVENT_T")
-    msgs.append(can.Message(timestamp=12.0, arbitration_id=ev.frame_id, is_extended_id=False,
-                            data=ev.encode({"Episode": 7})))
+    msgs.append(
+        can.Message(timestamp=12.0, arbitration_id=ev.frame_id, is_extended_id=False, data=ev.encode({"Episode": 7}))
+    )
     msgs.append(can.Message(timestamp=12.5, arbitration_id=0x7AA, is_extended_id=False, data=b"\x01\x02"))
-    msgs.append(can.Message(timestamp=13.0, arbitration_id=db.get_message_by_name("POSE_T").frame_id,
-                            is_extended_id=False, data=b"\x00\x01"))
+    msgs.append(
+        can.Message(
+            timestamp=13.0,
+            arbitration_id=db.get_message_by_name("POSE_T").frame_id,
+            is_extended_id=False,
+            data=b"\x00\x01",
+        )
+    )
     return msgs
 
 

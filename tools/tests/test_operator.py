@@ -5,13 +5,13 @@ build and the simulated devices in a private network namespace, every command.""
 import os
 import subprocess
 import sys
+import zlib
 
 import cantools
 import pytest
-
 from conftest import REPO, TOOLS, c_binary, netns_available
+
 from dynaqpc_tools import operator
-import zlib
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
 
@@ -55,11 +55,18 @@ def test_status_is_decoded_by_name():
 def test_answers_are_one_line_by_name():
     db = cantools.database.load_file(DBC)
     m = db.get_message_by_name("TOOL_ACK")
-    data = m.encode({"Command": "SAVE_LEARNED", "Counter": 5, "Result": "DONE", "Reason": "NONE",
-                     "Sequence": 7, "Episodes": 157})
+    data = m.encode(
+        {"Command": "SAVE_LEARNED", "Counter": 5, "Result": "DONE", "Reason": "NONE", "Sequence": 7, "Episodes": 157}
+    )
     ack = operator.decode_ack(db, data)
-    assert ack == {"command": "SAVE_LEARNED", "counter": 5, "result": "DONE", "reason": "NONE",
-                   "sequence": 7, "episodes": 157}
+    assert ack == {
+        "command": "SAVE_LEARNED",
+        "counter": 5,
+        "result": "DONE",
+        "reason": "NONE",
+        "sequence": 7,
+        "episodes": 157,
+    }
     assert operator.ack_text(ack) == "SAVE_LEARNED: done, record 7 written (157 episodes)"
     # Every reason the DBC names has words for the operator.
     for value, name in m.get_signal_by_name("Reason").choices.items():
@@ -70,9 +77,19 @@ def test_answers_are_one_line_by_name():
     assert "--yes" in confirm and "restore-previous" in confirm
 
 
-@pytest.mark.parametrize("argv", [["start", "--heading", "360"], ["start", "--heading", "-1"],
-                                  ["status", "--timeout", "0"], ["jump"], ["watch", "--duration", "0"],
-                                  ["save", "--yes"], ["status", "--no-wait"], ["restore-previous", "x"]])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["start", "--heading", "360"],
+        ["start", "--heading", "-1"],
+        ["status", "--timeout", "0"],
+        ["jump"],
+        ["watch", "--duration", "0"],
+        ["save", "--yes"],
+        ["status", "--no-wait"],
+        ["restore-previous", "x"],
+    ],
+)
 def test_bad_arguments_are_one_line_and_status_2(argv, capsys):
     with pytest.raises(SystemExit) as e:
         rc = operator.main(argv)
@@ -81,16 +98,34 @@ def test_bad_arguments_are_one_line_and_status_2(argv, capsys):
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
-@pytest.mark.skipif(not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
-                    reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+@pytest.mark.skipif(
+    not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
+    reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR",
+)
 @pytest.mark.skipif(not netns_available(), reason="needs a private network namespace (unshare -n)")
 def test_operator_commands_the_firmware_in_a_private_namespace(tmp_path):
     scenario = os.path.join(os.path.dirname(__file__), "operator_scenario.py")
     env = dict(os.environ, PYTHONPATH=str(TOOLS) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     setup = 'ip link set lo up && ip route add 224.0.0.0/4 dev lo && exec "$@"'
-    proc = subprocess.run(["unshare", "-n", "sh", "-c", setup, "netns", sys.executable, scenario,
-                           str(c_binary("dynaqpc-fw").parent), str(tmp_path)],
-                          capture_output=True, text=True, timeout=240, env=env, cwd=str(REPO))
+    proc = subprocess.run(
+        [
+            "unshare",
+            "-n",
+            "sh",
+            "-c",
+            setup,
+            "netns",
+            sys.executable,
+            scenario,
+            str(c_binary("dynaqpc-fw").parent),
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        env=env,
+        cwd=str(REPO),
+    )
     print(proc.stdout, proc.stderr)
     assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-2000:]
     assert "PASS" in proc.stdout

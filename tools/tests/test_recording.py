@@ -8,17 +8,22 @@ import subprocess
 import can
 import cantools
 import pytest
+from conftest import REPO, c_binary, in_netns, netns_available
 from mcap.reader import make_reader
 
-from conftest import REPO, c_binary, in_netns, netns_available
 from dynaqpc_tools import monitor, viewer
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
-ARENA = {"width": 4.3, "height": 3.2,
-         "obstacles": [{"kind": "box", "cx": 2.0, "cy": 1.5, "w": 0.5, "h": 1.0, "angle_deg": 30},
-                       {"kind": "circle", "cx": 1.0, "cy": 2.2, "r": 0.2}],
-         "goal": {"cx": 3.5, "cy": 2.5, "r": 0.3, "cells": [[3.2, 2.2, 3.8, 2.8]]},
-         "beacons": [{"id": "1:5e:3c:3c:a:0:0:b1", "x": 0.5, "y": 0.5, "z": 2.5}]}
+ARENA = {
+    "width": 4.3,
+    "height": 3.2,
+    "obstacles": [
+        {"kind": "box", "cx": 2.0, "cy": 1.5, "w": 0.5, "h": 1.0, "angle_deg": 30},
+        {"kind": "circle", "cx": 1.0, "cy": 2.2, "r": 0.2},
+    ],
+    "goal": {"cx": 3.5, "cy": 2.5, "r": 0.3, "cells": [[3.2, 2.2, 3.8, 2.8]]},
+    "beacons": [{"id": "1:5e:3c:3c:a:0:0:b1", "x": 0.5, "y": 0.5, "z": 2.5}],
+}
 
 
 def _msg(db, name, t, **signals):
@@ -34,8 +39,18 @@ def a_run(db, t0=1000.0):
     msgs = []
     for i in range(20):
         lost = i % 5 == 4
-        msgs.append(_msg(db, "TLM_POSE", t0 + 0.0192 * i, X=0 if lost else 1000 + 10 * i, Y=0 if lost else 800,
-                         Heading=90.0, FixState=3 if lost else 0, Counter=i % 16))
+        msgs.append(
+            _msg(
+                db,
+                "TLM_POSE",
+                t0 + 0.0192 * i,
+                X=0 if lost else 1000 + 10 * i,
+                Y=0 if lost else 800,
+                Heading=90.0,
+                FixState=3 if lost else 0,
+                Counter=i % 16,
+            )
+        )
     msgs.append(_msg(db, "FW_STATUS", t0 + 0.1, Mode=2, Counter=0, Uptime=5))
     msgs.append(_msg(db, "FW_STATUS", t0 + 0.2, Mode=3, Counter=1, Uptime=6, ErrPoseLost=1))
     msgs.append(_msg(db, "GPS_POSE", t0 + 0.3, X=1200, Y=800, Heading=90.0, Fix=2, Counter=0))
@@ -59,8 +74,9 @@ def _decoder(schema):
     for f in descriptor_pb2.FileDescriptorSet.FromString(schema.data).file:
         pool.Add(f)
     cls = message_factory.GetMessageClass(pool.FindMessageTypeByName(schema.name))
-    return lambda data: json_format.MessageToDict(cls.FromString(data), preserving_proto_field_name=True,
-                                                  always_print_fields_with_no_presence=True)
+    return lambda data: json_format.MessageToDict(
+        cls.FromString(data), preserving_proto_field_name=True, always_print_fields_with_no_presence=True
+    )
 
 
 def read_mcap(path, with_sequence=False):
@@ -70,8 +86,10 @@ def read_mcap(path, with_sequence=False):
         channels = {c.topic: c for c in summary.channels.values()}
         schemas = {s.id: s for s in summary.schemas.values()}
         decoders = {sid: _decoder(s) for sid, s in schemas.items()}
-        msgs = [(ch.topic, m.log_time, decoders[ch.schema_id](m.data)) + ((m.sequence,) if with_sequence else ())
-                for _, ch, m in r.iter_messages()]
+        msgs = [
+            (ch.topic, m.log_time, decoders[ch.schema_id](m.data)) + ((m.sequence,) if with_sequence else ())
+            for _, ch, m in r.iter_messages()
+        ]
     return channels, schemas, msgs
 
 
@@ -82,8 +100,15 @@ def test_mcap_has_decoded_channels_pose_arena_in_robot_time(tmp_path, capsys):
     arena.write_text(json.dumps(ARENA))
     assert monitor.main(["--replay", str(src), "--log", str(rec), "--arena", str(arena), "--speed", "10"]) == 0
     channels, schemas, msgs = read_mcap(rec)
-    for topic in ("/can/raw", "/can/TLM_POSE", "/can/FW_STATUS", "/can/GPS_POSE", "/robot/pose",
-                  "/robot/true_pose", "/arena"):
+    for topic in (
+        "/can/raw",
+        "/can/TLM_POSE",
+        "/can/FW_STATUS",
+        "/can/GPS_POSE",
+        "/robot/pose",
+        "/robot/true_pose",
+        "/arena",
+    ):
         assert topic in channels, topic
     assert schemas[channels["/robot/pose"].schema_id].name == "foxglove.PoseInFrame"
     assert schemas[channels["/arena"].schema_id].name == "foxglove.SceneUpdate"
@@ -105,7 +130,7 @@ def test_mcap_has_decoded_channels_pose_arena_in_robot_time(tmp_path, capsys):
     # The LOST poses (x = 0) are not poses: 16 of 20; the GPS pose without a fix neither.
     poses = [d for _, d in by["/robot/pose"]]
     assert len(poses) == 16 and all(p["pose"]["position"]["x"] > 0.9 for p in poses)
-    assert poses[0]["frame_id"] == "arena" and poses[0]["pose"]["orientation"]["w"] == pytest.approx(0.5 ** 0.5)
+    assert poses[0]["frame_id"] == "arena" and poses[0]["pose"]["orientation"]["w"] == pytest.approx(0.5**0.5)
     assert len(by["/robot/true_pose"]) == 1
     # /tf: arena -> base_link for each pose, arena -> true_base_link for the true one.
     tf = [(x["parent_frame_id"], x["child_frame_id"]) for _, d in by["/tf"] for x in d["transforms"]]
@@ -149,21 +174,25 @@ def test_viewer_skips_lost_poses_and_names_the_fix(tmp_path, capsys):
     # Asked for a frame that is not there: it says so, and what was.
     only_tlm = tmp_path / "tlm.asc"
     _write_asc(only_tlm, [m for m in a_run(db) if m.arbitration_id != 0x0C0])
-    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(only_tlm), "--frame", "GPS_POSE",
-                                                        "--headless-png", str(png)]))
+    view = viewer.run(
+        viewer.build_parser().parse_args(["--replay", str(only_tlm), "--frame", "GPS_POSE", "--headless-png", str(png)])
+    )
     err = capsys.readouterr().err
     assert view.poses == 0 and "no GPS_POSE frame in the recording" in err and "TLM_POSE" in err
 
 
-@pytest.mark.parametrize("tool, argv", [
-    (monitor, ["--replay", "garbage.asc"]),
-    (monitor, ["--replay", "garbage.blf"]),
-    (monitor, ["--replay", "garbage.mcap"]),
-    (monitor, ["--replay", "missing.asc"]),
-    (monitor, ["--replay", "good.asc", "--log", "no/such/dir/x.mcap"]),
-    (viewer, ["--replay", "garbage.mcap", "--headless-png", "x.png"]),
-    (viewer, ["--replay", "good.asc", "--headless-png", "no/such/dir/x.png"]),
-])
+@pytest.mark.parametrize(
+    "tool, argv",
+    [
+        (monitor, ["--replay", "garbage.asc"]),
+        (monitor, ["--replay", "garbage.blf"]),
+        (monitor, ["--replay", "garbage.mcap"]),
+        (monitor, ["--replay", "missing.asc"]),
+        (monitor, ["--replay", "good.asc", "--log", "no/such/dir/x.mcap"]),
+        (viewer, ["--replay", "garbage.mcap", "--headless-png", "x.png"]),
+        (viewer, ["--replay", "good.asc", "--headless-png", "no/such/dir/x.png"]),
+    ],
+)
 def test_bad_logs_and_outputs_are_one_line_and_status_2(tmp_path, capsys, monkeypatch, tool, argv):
     db = cantools.database.load_file(DBC)
     junk = bytes(range(256)) * 8
@@ -178,16 +207,25 @@ def test_bad_logs_and_outputs_are_one_line_and_status_2(tmp_path, capsys, monkey
     assert len(err) == 1 and err[0].startswith("error: "), err
 
 
-@pytest.mark.parametrize("tool, argv", [(monitor, ["--count", "-5"]), (monitor, ["--speed", "0"]),
-                                        (viewer, ["--duration", "0"]), (viewer, ["--count", "0"])])
+@pytest.mark.parametrize(
+    "tool, argv",
+    [
+        (monitor, ["--count", "-5"]),
+        (monitor, ["--speed", "0"]),
+        (viewer, ["--duration", "0"]),
+        (viewer, ["--count", "0"]),
+    ],
+)
 def test_numeric_arguments_are_range_checked(capsys, tool, argv):
     with pytest.raises(SystemExit) as e:
         tool.main(argv)
     assert e.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
-@pytest.mark.skipif(not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
-                    reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR")
+@pytest.mark.skipif(
+    not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
+    reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR",
+)
 @pytest.mark.skipif(not netns_available(), reason="needs a private network namespace (unshare -n)")
 def test_recording_paper_sim_reads_back_with_the_mcap_library(tmp_path):
     """The firmware and the simulated robot on paper-sim at 10x, supervised, recorded 4 s."""
@@ -195,13 +233,16 @@ def test_recording_paper_sim_reads_back_with_the_mcap_library(tmp_path):
 
     b = c_binary("dynaqpc-fw").parent
     rec = tmp_path / "run.mcap"
-    script = (f"{b}/dynaqpc-fw --scenario paper-sim --speed 10 --duration 8 >{tmp_path}/fw.out 2>&1 & "
-              f"sleep 0.5; {b}/dynaqpc-sim devices --scenario paper-sim --speed 10 --supervise --duration 7 "
-              f">{tmp_path}/dev.out 2>&1 & "
-              f"{sys.executable} -m dynaqpc_tools.monitor --dbc {DBC} --log {rec} --speed 10 --duration 4; "
-              "wait")
-    proc = subprocess.run(in_netns(["sh", "-c", script]), capture_output=True, text=True, timeout=120,
-                          cwd=str(REPO / "tools"))
+    script = (
+        f"{b}/dynaqpc-fw --scenario paper-sim --speed 10 --duration 8 >{tmp_path}/fw.out 2>&1 & "
+        f"sleep 0.5; {b}/dynaqpc-sim devices --scenario paper-sim --speed 10 --supervise --duration 7 "
+        f">{tmp_path}/dev.out 2>&1 & "
+        f"{sys.executable} -m dynaqpc_tools.monitor --dbc {DBC} --log {rec} --speed 10 --duration 4; "
+        "wait"
+    )
+    proc = subprocess.run(
+        in_netns(["sh", "-c", script]), capture_output=True, text=True, timeout=120, cwd=str(REPO / "tools")
+    )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     channels, _, msgs = read_mcap(rec)
     topics = {t for t, _, _ in msgs}

@@ -14,9 +14,12 @@ from dynaqpc_tools.common import ToolError
 
 def _pose_msg(db, t, x_mm, y_mm, heading_deg, counter):
     m = db.get_message_by_name("POSE_T")
-    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False,
-                       data=m.encode({"X": x_mm, "Y": y_mm, "Heading": heading_deg, "FixState": 1,
-                                      "Counter": counter % 16}))
+    return can.Message(
+        timestamp=t,
+        arbitration_id=m.frame_id,
+        is_extended_id=False,
+        data=m.encode({"X": x_mm, "Y": y_mm, "Heading": heading_deg, "FixState": 1, "Counter": counter % 16}),
+    )
 
 
 def test_pose_decoder_converts_units(test_dbc):
@@ -25,8 +28,9 @@ def test_pose_decoder_converts_units(test_dbc):
     p = dec.decode(_pose_msg(db, 3.0, 1500, -250, 90.0, 1))
     assert p.x == pytest.approx(1.5) and p.y == pytest.approx(-0.25)
     assert p.heading == pytest.approx(math.pi / 2) and p.fix == 1 and p.t == 3.0
-    other = can.Message(arbitration_id=db.get_message_by_name("STATUS_T").frame_id, is_extended_id=False,
-                        data=b"\x00\x00")
+    other = can.Message(
+        arbitration_id=db.get_message_by_name("STATUS_T").frame_id, is_extended_id=False, data=b"\x00\x00"
+    )
     assert dec.decode(other) is None
     with pytest.raises(ToolError, match="no frame TLM_POSE"):
         viewer.PoseDecoder(db)  # the test DBC names its pose frame differently: nothing hard-coded
@@ -38,13 +42,33 @@ def test_headless_png_from_a_log(tmp_path, test_dbc):
     with can.Logger(str(log)) as w:
         for i in range(40):
             a = i / 40 * 2 * math.pi
-            w(_pose_msg(db, i * 0.192, round(2000 + 1000 * math.cos(a)), round(1500 + 1000 * math.sin(a)),
-                        (math.degrees(a) + 90) % 360, i))
+            w(
+                _pose_msg(
+                    db,
+                    i * 0.192,
+                    round(2000 + 1000 * math.cos(a)),
+                    round(1500 + 1000 * math.sin(a)),
+                    (math.degrees(a) + 90) % 360,
+                    i,
+                )
+            )
     arena = tmp_path / "arena.json"
     arena.write_text(json.dumps({"width": 4, "height": 3, "obstacles": [], "goal": {"cx": 3, "cy": 2, "r": 0.3}}))
     png = tmp_path / "pose.png"
-    args = viewer.build_parser().parse_args(["--dbc", test_dbc, "--frame", "POSE_T", "--replay", str(log),
-                                             "--arena", str(arena), "--headless-png", str(png)])
+    args = viewer.build_parser().parse_args(
+        [
+            "--dbc",
+            test_dbc,
+            "--frame",
+            "POSE_T",
+            "--replay",
+            str(log),
+            "--arena",
+            str(arena),
+            "--headless-png",
+            str(png),
+        ]
+    )
     view = viewer.run(args)
     assert view.poses == 40
     assert view.last.x == pytest.approx(2.0 + math.cos(39 / 40 * 2 * math.pi), abs=1e-3)
@@ -72,11 +96,25 @@ def _two_episodes(db):
         for step in range(10):
             t += 0.192
             x = x0 + dx * step
-            msgs.append(_frame(db, "TLM_POSE", t, X=round(x * 1000), Y=round(y0 * 1000),
-                               Heading=0 if dx > 0 else 180, FixState=0))
+            msgs.append(
+                _frame(
+                    db, "TLM_POSE", t, X=round(x * 1000), Y=round(y0 * 1000), Heading=0 if dx > 0 else 180, FixState=0
+                )
+            )
             msgs.append(_frame(db, "TLM_LEARN", t, Episode=episode, Step=step + 1, Action=0))
-            msgs.append(_frame(db, "IR_RANGES", t, RangeLeft=400, RangeFront=250, RangeRight=900,
-                               ValidLeft=1, ValidFront=1, ValidRight=0))
+            msgs.append(
+                _frame(
+                    db,
+                    "IR_RANGES",
+                    t,
+                    RangeLeft=400,
+                    RangeFront=250,
+                    RangeRight=900,
+                    ValidLeft=1,
+                    ValidFront=1,
+                    ValidRight=0,
+                )
+            )
             msgs.append(_frame(db, "MOTOR_STATUS", t, BumpFront=int(episode == 1 and step in (4, 5)), Enabled=1))
         msgs.append(_frame(db, "TLM_EPISODE", t, Episode=episode, Steps=10))
     msgs.append(_frame(db, "FW_STATUS", t + 0.1, Mode=1))
@@ -144,8 +182,11 @@ def test_a_jump_starts_a_new_trail_without_episode_frames(tmp_path, test_dbc):
         for i in range(20):
             x = 500 + 50 * (i % 10) + (2500 if i >= 10 else 0)
             w(_pose_msg(db, i * 0.192, x, 1000, 0.0, i))
-    view = viewer.run(viewer.build_parser().parse_args(["--dbc", test_dbc, "--frame", "POSE_T", "--replay", str(log),
-                                                        "--png", str(tmp_path / "v.png")]))
+    view = viewer.run(
+        viewer.build_parser().parse_args(
+            ["--dbc", test_dbc, "--frame", "POSE_T", "--replay", str(log), "--png", str(tmp_path / "v.png")]
+        )
+    )
     assert [len(s) for s in view.segments] == [10, 10]
 
 
@@ -170,16 +211,37 @@ def test_rays_stop_at_what_they_hit_and_the_picture_has_a_key(tmp_path):
     log = tmp_path / "run.asc"
     with can.Logger(str(log)) as w:
         w(_frame(db, "TLM_POSE", 0.1, X=3800, Y=500, Heading=0, FixState=0))  # 0.2 m from the east wall
-        w(_frame(db, "IR_RANGES", 0.1, RangeLeft=900, RangeFront=900, RangeRight=100,
-                 ValidLeft=1, ValidFront=1, ValidRight=1))
+        w(
+            _frame(
+                db,
+                "IR_RANGES",
+                0.1,
+                RangeLeft=900,
+                RangeFront=900,
+                RangeRight=100,
+                ValidLeft=1,
+                ValidFront=1,
+                ValidRight=1,
+            )
+        )
         w(_frame(db, "TLM_POSE", 0.3, X=3800, Y=500, Heading=0, FixState=0))
     arena = tmp_path / "arena.json"
-    arena.write_text(json.dumps({"name": "box-room", "width": 4.0, "height": 3.0,
-                                 "obstacles": [{"kind": "circle", "cx": 3.8, "cy": 1.0, "r": 0.2}],
-                                 "goal": {"cx": 1.0, "cy": 1.0, "r": 0.3}, "beacons": []}))
+    arena.write_text(
+        json.dumps(
+            {
+                "name": "box-room",
+                "width": 4.0,
+                "height": 3.0,
+                "obstacles": [{"kind": "circle", "cx": 3.8, "cy": 1.0, "r": 0.2}],
+                "goal": {"cx": 1.0, "cy": 1.0, "r": 0.3},
+                "beacons": [],
+            }
+        )
+    )
     png = tmp_path / "v.png"
-    view = viewer.run(viewer.build_parser().parse_args(["--replay", str(log), "--arena", str(arena),
-                                                        "--png", str(png)]))
+    view = viewer.run(
+        viewer.build_parser().parse_args(["--replay", str(log), "--arena", str(arena), "--png", str(png)])
+    )
     lengths = {}
     for ln in view.ray_lines:
         (x0, x1), (y0, y1) = ln.get_xdata(), ln.get_ydata()

@@ -88,9 +88,18 @@ def warn_table(summaries, settings: LearnSettings) -> None:
         print(f"warning: Table 1: {w}", file=sys.stderr)
 
 
-def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: str = "",
-           trajectory: Optional[str] = None, arena: Optional[str] = None, cap: Optional[int] = None,
-           image: Optional[str] = None, agent: Optional[str] = None) -> str:
+def report(
+    runs,
+    out_dir: str,
+    settings: LearnSettings,
+    scenario: str,
+    title: str = "",
+    trajectory: Optional[str] = None,
+    arena: Optional[str] = None,
+    cap: Optional[int] = None,
+    image: Optional[str] = None,
+    agent: Optional[str] = None,
+) -> str:
     """fig13.png, table1.md and (given a trajectory) trajectories.png in out_dir; returns Table 1."""
     try:
         os.makedirs(out_dir, exist_ok=True)
@@ -102,8 +111,9 @@ def report(runs, out_dir: str, settings: LearnSettings, scenario: str, title: st
     plots.plot_fig13(runs, os.path.join(out_dir, "fig13.png"), title or scenario, settings.learned_steps, cap)
     write_text(os.path.join(out_dir, "table1.md"), table)
     if trajectory:
-        plots.plot_trajectories(trajectory, arena, os.path.join(out_dir, "trajectories.png"), title or scenario,
-                                image=image, agent=agent)
+        plots.plot_trajectories(
+            trajectory, arena, os.path.join(out_dir, "trajectories.png"), title or scenario, image=image, agent=agent
+        )
     return table
 
 
@@ -185,8 +195,20 @@ def _run(args, settings, out_dir, plan, sets, episodes) -> int:
             continue
         orchestrate.check_scenario(args.scenario)  # before the first training: a misspelt name
         desc = agent if budget is None else f"{agent} N={budget}" if budget else f"{agent} idle"
-        orchestrate.run_sets(args.sim, args.scenario, agent, csv_path, sets, episodes, args.seed, args.jobs,
-                             budget, extra, progress=not args.no_progress, desc=desc)
+        orchestrate.run_sets(
+            args.sim,
+            args.scenario,
+            agent,
+            csv_path,
+            sets,
+            episodes,
+            args.seed,
+            args.jobs,
+            budget,
+            extra,
+            progress=not args.no_progress,
+            desc=desc,
+        )
     traj = arena = agent = None
     if args.load:
         traj, arena, agent = _run_trajectory(args, out_dir)
@@ -195,8 +217,17 @@ def _run(args, settings, out_dir, plan, sets, episodes) -> int:
     default_budget = None if "--planning" in extra else orchestrate.scenario_planning(args.scenario)
     for r, (_, budget, _) in zip(runs, plan):
         r.budget = budget if budget is not None else default_budget  # None: not known (a file elsewhere)
-    table = report(runs, out_dir, settings, scenario_name(args.scenario), trajectory=traj, arena=arena,
-                   cap=orchestrate.scenario_step_cap(args.scenario), image=args.load, agent=agent)
+    table = report(
+        runs,
+        out_dir,
+        settings,
+        scenario_name(args.scenario),
+        trajectory=traj,
+        arena=arena,
+        cap=orchestrate.scenario_step_cap(args.scenario),
+        image=args.load,
+        agent=agent,
+    )
     print(table)
     print(f"wrote {out_dir}/fig13.png, {out_dir}/table1.md")
     return 0
@@ -207,8 +238,22 @@ def _run_trajectory(args, out_dir: str):
         raise ToolError(f"--load {args.load}: no such file (a flash image from dynaqpc-sim train --save)")
     traj, arena = os.path.join(out_dir, "traj.csv"), os.path.join(out_dir, "arena.json")
     orchestrate.check_output_csv(traj, TRAJECTORY_COLUMNS, "trajectory")
-    said = orchestrate.run_command([args.sim, "run", "--scenario", args.scenario, "--load", args.load, "--starts",
-                                    str(args.starts), "--trajectory", traj, "--arena", arena])
+    said = orchestrate.run_command(
+        [
+            args.sim,
+            "run",
+            "--scenario",
+            args.scenario,
+            "--load",
+            args.load,
+            "--starts",
+            str(args.starts),
+            "--trajectory",
+            traj,
+            "--arena",
+            arena,
+        ]
+    )
     # Its summary names the agent the image holds: "dyna-qpc on paper-lab (frozen): ...".
     m = re.search(r"^(\S+) on \S+ \((?:frozen|learning)", said, re.M)
     return traj, arena, m.group(1) if m else None
@@ -256,14 +301,24 @@ def cmd_table(args) -> int:
 
 
 def learn_opts(sp) -> None:
-    sp.add_argument("--threshold", "--learned-steps", dest="learned_steps", type=float_in(0, lo_open=True),
-                    default=None, metavar="STEPS",
-                    help="learned when the trailing mean of steps per episode stays <= STEPS (paper-lab 50, "
-                         "paper-sim 500)")
-    sp.add_argument("--learned-factor", type=float_in(0, lo_open=True), default=1.5,
-                    help="without --threshold: this times the set's final mean (default %(default)s)")
-    sp.add_argument("--final-window", type=int_in(1), default=10,
-                    help="episodes in the final mean (default %(default)s)")
+    sp.add_argument(
+        "--threshold",
+        "--learned-steps",
+        dest="learned_steps",
+        type=float_in(0, lo_open=True),
+        default=None,
+        metavar="STEPS",
+        help="learned when the trailing mean of steps per episode stays <= STEPS (paper-lab 50, paper-sim 500)",
+    )
+    sp.add_argument(
+        "--learned-factor",
+        type=float_in(0, lo_open=True),
+        default=1.5,
+        help="without --threshold: this times the set's final mean (default %(default)s)",
+    )
+    sp.add_argument(
+        "--final-window", type=int_in(1), default=10, help="episodes in the final mean (default %(default)s)"
+    )
     sp.add_argument("--smooth", type=int_in(1), default=5, help="trailing mean window (episodes, default 5)")
 
 
@@ -274,20 +329,30 @@ def sim_opts(sp) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(prog="dynaqpc-experiment", description=DOC,
-                           formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = ToolArgumentParser(
+        prog="dynaqpc-experiment", description=DOC, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = p.add_subparsers(dest="command", required=True)
 
     r = sub.add_parser("run", help="train every agent (at every budget), then plot and tabulate")
     sim_opts(r)
-    r.add_argument("--agents", type=agent_list, default=list(DEFAULT_AGENTS),
-                   help=f"comma-separated, out of {','.join(AGENTS)} (default {','.join(DEFAULT_AGENTS)})")
-    r.add_argument("--planning", type=planning_list, default=None, metavar="N[,N...]",
-                   help="planning updates per real step for the Dyna agents, e.g. 5,1000,0 (0: the MCU's "
-                        "idle time, its cost modelled); default: the scenario's")
+    r.add_argument(
+        "--agents",
+        type=agent_list,
+        default=list(DEFAULT_AGENTS),
+        help=f"comma-separated, out of {','.join(AGENTS)} (default {','.join(DEFAULT_AGENTS)})",
+    )
+    r.add_argument(
+        "--planning",
+        type=planning_list,
+        default=None,
+        metavar="N[,N...]",
+        help="planning updates per real step for the Dyna agents, e.g. 5,1000,0 (0: the MCU's "
+        "idle time, its cost modelled); default: the scenario's",
+    )
     r.add_argument("--sets", type=int_in(1, 100000), default=None, help="default: the scenario's protocol")
     r.add_argument("--episodes", type=int_in(1, 10000000), default=None, help="default: the scenario's protocol")
-    r.add_argument("--seed", type=int_in(0, 2 ** 32 - 1), default=1)
+    r.add_argument("--seed", type=int_in(0, 2**32 - 1), default=1)
     r.add_argument("--jobs", type=int_in(1, 256), default=1, help="sets run at once (default 1)")
     r.add_argument("--skip-existing", action="store_true", help="keep trainings whose CSV is already complete")
     r.add_argument("--sim-args", default="", help="extra arguments for 'dynaqpc-sim train'")
@@ -298,8 +363,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(fn=cmd_run)
 
     t1 = sub.add_parser("table", help="Table 1 from training CSVs")
-    t1.add_argument("--csv", nargs="+", required=True, metavar="CSV",
-                    help="training CSVs; <agent>-p<N>.csv is read as planning budget N")
+    t1.add_argument(
+        "--csv",
+        nargs="+",
+        required=True,
+        metavar="CSV",
+        help="training CSVs; <agent>-p<N>.csv is read as planning budget N",
+    )
     t1.add_argument("--scenario", default=None, help="its name, for the title and the paper's figures")
     t1.add_argument("--out", default=None, metavar="FILE.md", help="also write the table here")
     learn_opts(t1)

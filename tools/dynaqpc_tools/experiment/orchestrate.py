@@ -45,8 +45,9 @@ def check_scenario(scenario: str) -> None:
         return
     near = difflib.get_close_matches(scenario, shipped, n=1)
     hint = f" (did you mean {near[0]}?)" if near else ""
-    raise ToolError(f"--scenario {scenario}: not a shipped scenario or a file{hint}; "
-                    f"the shipped scenarios are {', '.join(shipped)}")
+    raise ToolError(
+        f"--scenario {scenario}: not a shipped scenario or a file{hint}; the shipped scenarios are {', '.join(shipped)}"
+    )
 
 
 def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
@@ -114,10 +115,31 @@ def check_output_csv(path: str, columns: Sequence[str] = COLUMNS, what: str = "t
         raise ToolError(f"{path}: exists and is not a {what} CSV; not overwriting it")
 
 
-def train_command(sim: str, scenario: str, agent: str, seed: int, sets: int, episodes: int,
-                  planning: Optional[int] = None, extra: Sequence[str] = (), first_set: int = 1) -> List[str]:
-    cmd = [sim, "train", "--scenario", scenario, "--agent", agent, "--sets", str(sets),
-           "--episodes", str(episodes), "--seed", str(seed)]
+def train_command(
+    sim: str,
+    scenario: str,
+    agent: str,
+    seed: int,
+    sets: int,
+    episodes: int,
+    planning: Optional[int] = None,
+    extra: Sequence[str] = (),
+    first_set: int = 1,
+) -> List[str]:
+    cmd = [
+        sim,
+        "train",
+        "--scenario",
+        scenario,
+        "--agent",
+        agent,
+        "--sets",
+        str(sets),
+        "--episodes",
+        str(episodes),
+        "--seed",
+        str(seed),
+    ]
     if first_set != 1:
         cmd += ["--first-set", str(first_set)]
     if planning is not None and agent != "q":
@@ -141,11 +163,14 @@ class _SetProcess:
         self._header = False
         with open(err_path, "wb") as err:
             try:
-                self.proc = subprocess.Popen(cmd + ["--csv", csv_path, "--quiet"], stdout=subprocess.DEVNULL,
-                                             stderr=err)
+                self.proc = subprocess.Popen(
+                    cmd + ["--csv", csv_path, "--quiet"], stdout=subprocess.DEVNULL, stderr=err
+                )
             except OSError as e:
-                raise ToolError(f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset "
-                                "host-release && cmake --build --preset host-release)") from None
+                raise ToolError(
+                    f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset "
+                    "host-release && cmake --build --preset host-release)"
+                ) from None
 
     def new_rows(self) -> int:
         """Rows (episodes) written since the last call."""
@@ -164,21 +189,45 @@ class _SetProcess:
         return n
 
 
-def run_sets(sim: str, scenario: str, agent: str, csv_path: str, sets: int, episodes: int, seed: int,
-             jobs: int = 1, planning: Optional[int] = None, extra: Sequence[str] = (),
-             first_set: int = 1, progress: bool = True, desc: str = "") -> None:
+def run_sets(
+    sim: str,
+    scenario: str,
+    agent: str,
+    csv_path: str,
+    sets: int,
+    episodes: int,
+    seed: int,
+    jobs: int = 1,
+    planning: Optional[int] = None,
+    extra: Sequence[str] = (),
+    first_set: int = 1,
+    progress: bool = True,
+    desc: str = "",
+) -> None:
     """Trains sets first_set..first_set+sets-1 of one agent, `jobs` processes at a time, and
     writes their rows in set order into csv_path (the rows `--sets N` would have written)."""
     from tqdm import tqdm
 
     check_output_csv(csv_path)
     shown = train_command(sim, scenario, agent, seed, sets, episodes, planning, extra, first_set)
-    print("$ " + " ".join(shlex.quote(c) for c in shown) + f" --csv {shlex.quote(csv_path)}"
-          + (f"   (one process per set, {jobs} at a time)" if jobs > 1 and sets > 1 else ""), flush=True)
+    print(
+        "$ "
+        + " ".join(shlex.quote(c) for c in shown)
+        + f" --csv {shlex.quote(csv_path)}"
+        + (f"   (one process per set, {jobs} at a time)" if jobs > 1 and sets > 1 else ""),
+        flush=True,
+    )
     out_dir = os.path.dirname(os.path.abspath(csv_path))
     os.makedirs(out_dir, exist_ok=True)
-    bar = tqdm(total=sets * episodes, desc=desc or agent, unit="episode", file=sys.stderr,
-               disable=not progress or None, dynamic_ncols=True, leave=True)
+    bar = tqdm(
+        total=sets * episodes,
+        desc=desc or agent,
+        unit="episode",
+        file=sys.stderr,
+        disable=not progress or None,
+        dynamic_ncols=True,
+        leave=True,
+    )
     started = time.monotonic()
     with tempfile.TemporaryDirectory(prefix=".sets-", dir=out_dir) as tmp:
         pending = list(range(first_set, first_set + sets))
@@ -198,8 +247,9 @@ def run_sets(sim: str, scenario: str, agent: str, csv_path: str, sets: int, epis
                         continue
                     del running[k]
                     if rc != 0:
-                        raise ToolError(f"{sim} train (set {k} of {agent}) exited with status {rc}: "
-                                        f"{_tail(sp.err_path)}")
+                        raise ToolError(
+                            f"{sim} train (set {k} of {agent}) exited with status {rc}: {_tail(sp.err_path)}"
+                        )
                     done.append(k)
                     bar.set_postfix_str(f"set {len(done)}/{sets}")
         finally:
@@ -233,8 +283,10 @@ def run_command(cmd: List[str]) -> str:
     try:
         p = subprocess.run(cmd, stderr=subprocess.PIPE, text=True, errors="replace")
     except OSError as e:
-        raise ToolError(f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset host-release && "
-                        "cmake --build --preset host-release)") from None
+        raise ToolError(
+            f"cannot run {cmd[0]}: {e.strerror or e} (build it: cmake --preset host-release && "
+            "cmake --build --preset host-release)"
+        ) from None
     if p.returncode != 0:
         name = os.path.basename(cmd[0])
         last = (p.stderr.strip().splitlines() or [f"exited with status {p.returncode}"])[-1]

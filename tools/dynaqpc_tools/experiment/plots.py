@@ -40,8 +40,9 @@ def _curve_label(r: AgentRuns, repeated: bool) -> str:
     return f"{label} ({len(r.sets)} sets)"
 
 
-def plot_fig13(runs: Sequence[AgentRuns], path: str, title: str = "", threshold: Optional[float] = None,
-               cap: Optional[int] = None) -> None:
+def plot_fig13(
+    runs: Sequence[AgentRuns], path: str, title: str = "", threshold: Optional[float] = None, cap: Optional[int] = None
+) -> None:
     """Mean steps per episode per agent (and budget), band = 25th-75th percentile across sets; a
     line at the learned threshold and at the step cap when they are known."""
     import numpy as np
@@ -62,11 +63,23 @@ def plot_fig13(runs: Sequence[AgentRuns], path: str, title: str = "", threshold:
         for edge in (lo, hi):
             ax.plot(ep, edge, color=line.get_color(), linewidth=0.7, alpha=0.6, linestyle=":", zorder=2)
     if cap:
-        ax.axhline(cap, color="0.35", linestyle="--", linewidth=1, zorder=0,
-                   label=f"step cap ({cap:,}): the episode is cut off")
+        ax.axhline(
+            cap,
+            color="0.35",
+            linestyle="--",
+            linewidth=1,
+            zorder=0,
+            label=f"step cap ({cap:,}): the episode is cut off",
+        )
     if threshold:
-        ax.axhline(threshold, color="black", linestyle="-.", linewidth=1.1, zorder=0,
-                   label=f"learned threshold ({threshold:,.0f} steps, trailing 5-episode mean)")
+        ax.axhline(
+            threshold,
+            color="black",
+            linestyle="-.",
+            linewidth=1.1,
+            zorder=0,
+            label=f"learned threshold ({threshold:,.0f} steps, trailing 5-episode mean)",
+        )
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # episodes are whole
     ax.set_xlabel("episode")
     ax.set_ylabel("steps per episode: mean over the sets\n(dotted band: 25-75 % of the sets)")
@@ -80,8 +93,14 @@ def plot_fig13(runs: Sequence[AgentRuns], path: str, title: str = "", threshold:
     save_figure(fig, path)
 
 
-def plot_trajectories(traj_csv: str, arena_json: Optional[str], path: str, title: str = "",
-                      image: Optional[str] = None, agent: Optional[str] = None) -> None:
+def plot_trajectories(
+    traj_csv: str,
+    arena_json: Optional[str],
+    path: str,
+    title: str = "",
+    image: Optional[str] = None,
+    agent: Optional[str] = None,
+) -> None:
     """The replayed greedy paths over the room, with a key of every mark."""
     from matplotlib.lines import Line2D
 
@@ -103,25 +122,37 @@ def plot_trajectories(traj_csv: str, arena_json: Optional[str], path: str, title
         steps = max(p["step"] for p in pts)  # real steps (actions); the rows are control periods
         (line,) = ax.plot(xs, ys, "-", linewidth=1.4, label=f"start {start}: {steps} steps, {end}")
         ax.plot(xs[0], ys[0], "o", color=line.get_color(), markersize=7)
-        ax.plot(xs[-1], ys[-1], "*" if pts[-1]["in_goal"] else "s", color=line.get_color(), markersize=11,
-                markeredgecolor="black", markeredgewidth=0.5)
+        ax.plot(
+            xs[-1],
+            ys[-1],
+            "*" if pts[-1]["in_goal"] else "s",
+            color=line.get_color(),
+            markersize=11,
+            markeredgecolor="black",
+            markeredgewidth=0.5,
+        )
         bumps = [(p["x"], p["y"]) for p in pts if p["bump"]]
         if bumps:
             ax.plot(*zip(*bumps), "x", color="tab:red", markersize=7)
         if len(paths) <= 12:
             handles.append(line)
-    marks = [Line2D([], [], marker="o", linestyle="", color="0.3", label="where a path starts"),
-             Line2D([], [], marker="*", linestyle="", color="0.3", markersize=11, label="where it reached the goal"),
-             Line2D([], [], marker="s", linestyle="", color="0.3", label="where it stopped short (step cap)"),
-             Line2D([], [], marker="x", linestyle="", color="tab:red", label="a bump")]
+    marks = [
+        Line2D([], [], marker="o", linestyle="", color="0.3", label="where a path starts"),
+        Line2D([], [], marker="*", linestyle="", color="0.3", markersize=11, label="where it reached the goal"),
+        Line2D([], [], marker="s", linestyle="", color="0.3", label="where it stopped short (step cap)"),
+        Line2D([], [], marker="x", linestyle="", color="tab:red", label="a bump"),
+    ]
     handles += marks + (arena_mod.arena_key(room) if room is not None else [])
     # Beside the room, not over it: the goal and the beacons stay visible.
     ax.legend(handles=handles, fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     who = agent or "the learned agent"
     from_image = f" (flash image {os.path.basename(image)})" if image else ""
     n = len(paths)
-    ax.set_title(f"{title + ': ' if title else ''}{who}{from_image} driving greedily, frozen, from {n} random "
-                 f"start{'s' if n != 1 else ''}", fontsize=10)
+    ax.set_title(
+        f"{title + ': ' if title else ''}{who}{from_image} driving greedily, frozen, from {n} random "
+        f"start{'s' if n != 1 else ''}",
+        fontsize=10,
+    )
     save_figure(fig, path)
 
 

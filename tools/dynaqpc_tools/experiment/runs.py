@@ -16,15 +16,13 @@ from typing import Dict, List, Optional, Sequence
 
 from ..common import ToolError
 
-COLUMNS = ["agent", "set", "episode", "steps", "reward", "reached_goal", "bumps", "robot_time_s",
-           "updates", "wall_s"]
+COLUMNS = ["agent", "set", "episode", "steps", "reward", "reached_goal", "bumps", "robot_time_s", "updates", "wall_s"]
 TRAJECTORY_COLUMNS = ["start", "step", "time_s", "x", "y", "heading", "action", "reward", "bump", "in_goal"]
 #: The algorithms the simulator knows (firmware/agent/include/agent/algorithms.h), in table order.
 AGENTS = ["q", "dyna-q", "dyna-q-majority", "dyna-qpc"]
 #: What `run` and a sweep compare unless told otherwise.
 DEFAULT_AGENTS = ["q", "dyna-q", "dyna-qpc"]
-AGENT_LABELS = {"q": "Q-learning", "dyna-q": "Dyna-Q", "dyna-qpc": "Dyna-QPC",
-                "dyna-q-majority": "Dyna-Q (majority)"}
+AGENT_LABELS = {"q": "Q-learning", "dyna-q": "Dyna-Q", "dyna-qpc": "Dyna-QPC", "dyna-q-majority": "Dyna-Q (majority)"}
 #: A CSV named <agent>-p<N>.csv holds runs at N planning updates per real step (p0: idle time).
 BUDGET_IN_NAME = re.compile(r"-p(\d+)$")
 
@@ -36,9 +34,9 @@ class AgentRuns:
     agent: str
     sets: List[int]
     episodes: List[int]
-    steps: "np.ndarray"         # noqa: F821 (numpy arrays, sets x episodes)
+    steps: "np.ndarray"  # noqa: F821 (numpy arrays, sets x episodes)
     robot_time_s: "np.ndarray"  # noqa: F821
-    updates: "np.ndarray"       # noqa: F821: Q updates in the episode, real plus planning
+    updates: "np.ndarray"  # noqa: F821 (Q updates in the episode, real plus planning)
     wall_s: float
     source: str = ""
     #: The planning budget asked for (updates per real step; 0 = idle time), when known.
@@ -61,8 +59,16 @@ def _open_text(path: str):
 
 def _parse_row(row: Dict[str, str], path: str, line: int):
     try:
-        return (row["agent"].strip(), int(row["set"]), int(row["episode"]), int(row["steps"]),
-                float(row["robot_time_s"]), float(row["wall_s"]), int(row["updates"]), int(row["reached_goal"]))
+        return (
+            row["agent"].strip(),
+            int(row["set"]),
+            int(row["episode"]),
+            int(row["steps"]),
+            float(row["robot_time_s"]),
+            float(row["wall_s"]),
+            int(row["updates"]),
+            int(row["reached_goal"]),
+        )
     except (ValueError, TypeError, AttributeError, KeyError) as e:
         raise ToolError(f"{path}:{line}: bad value ({e})") from None
 
@@ -86,8 +92,7 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
         with _open_text(path) as f:
             reader = csv.DictReader(f)
             if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != want:
-                raise ToolError(f"{path}: not a training CSV (columns {reader.fieldnames}, "
-                                f"want {','.join(want)})")
+                raise ToolError(f"{path}: not a training CSV (columns {reader.fieldnames}, want {','.join(want)})")
             for row in reader:
                 if None in row or any(v is None for v in row.values()):
                     raise ToolError(f"{path}:{reader.line_num}: {len(row)} fields, want {len(want)}")
@@ -115,15 +120,27 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
             if eps[:n_ep] != list(range(1, n_ep + 1)):
                 raise ToolError(f"{path}: agent {agent} set {s}: episodes are not 1..{n_ep} in sequence")
         if any(len(v) != n_ep for v in by_set.values()):
-            print(f"warning: {path}: agent {agent}: sets have different episode counts; "
-                  f"using the first {n_ep}", file=sys.stderr)
+            print(
+                f"warning: {path}: agent {agent}: sets have different episode counts; using the first {n_ep}",
+                file=sys.stderr,
+            )
 
         def matrix(k):
             return np.array([[per[(s, e)][k] for e in range(1, n_ep + 1)] for s in sets], dtype=float)
 
-        out[agent] = AgentRuns(agent, sets, list(range(1, n_ep + 1)), matrix(0), matrix(1), matrix(2),
-                               wall[agent], source=str(path), budget=budget_from_name(path),
-                               extra=extra[agent], reached=matrix(3))
+        out[agent] = AgentRuns(
+            agent,
+            sets,
+            list(range(1, n_ep + 1)),
+            matrix(0),
+            matrix(1),
+            matrix(2),
+            wall[agent],
+            source=str(path),
+            budget=budget_from_name(path),
+            extra=extra[agent],
+            reached=matrix(3),
+        )
     return out
 
 
@@ -167,12 +184,19 @@ def read_trajectory(path: str) -> Dict[int, List[dict]]:
         with _open_text(path) as f:
             reader = csv.DictReader(f)
             if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != TRAJECTORY_COLUMNS:
-                raise ToolError(f"{path}: not a trajectory CSV (columns {reader.fieldnames}, "
-                                f"want {','.join(TRAJECTORY_COLUMNS)})")
+                raise ToolError(
+                    f"{path}: not a trajectory CSV (columns {reader.fieldnames}, want {','.join(TRAJECTORY_COLUMNS)})"
+                )
             for row in reader:
                 try:
-                    p = {"start": int(row["start"]), "step": int(row["step"]), "x": float(row["x"]), "y": float(row["y"]),
-                         "bump": int(row["bump"]) != 0, "in_goal": int(row["in_goal"]) != 0}
+                    p = {
+                        "start": int(row["start"]),
+                        "step": int(row["step"]),
+                        "x": float(row["x"]),
+                        "y": float(row["y"]),
+                        "bump": int(row["bump"]) != 0,
+                        "in_goal": int(row["in_goal"]) != 0,
+                    }
                 except (ValueError, TypeError) as e:
                     raise ToolError(f"{path}:{reader.line_num}: bad value ({e})") from None
                 paths.setdefault(p["start"], []).append(p)

@@ -68,6 +68,7 @@ LEARNED_RUN = 3
 class Relapses:
     """After the first LEARNED_RUN episodes running that reach the goal within the threshold,
     the episodes that miss it or take more than twice the threshold."""
+
     learned: bool = False
     after: int = 0
     relapses: int = 0
@@ -77,10 +78,10 @@ class Relapses:
 def relapses_of_set(steps: Sequence[float], reached: Sequence[float], threshold: float) -> Relapses:
     good = [bool(g) and s <= threshold for s, g in zip(steps, reached)]
     for i in range(len(good) - LEARNED_RUN + 1):
-        if all(good[i:i + LEARNED_RUN]):
+        if all(good[i : i + LEARNED_RUN]):
             out = Relapses(True)
             run = 0
-            for s, g in zip(steps[i + LEARNED_RUN:], reached[i + LEARNED_RUN:]):
+            for s, g in zip(steps[i + LEARNED_RUN :], reached[i + LEARNED_RUN :]):
                 out.after += 1
                 if not g or s > 2 * threshold:
                     out.relapses += 1
@@ -113,39 +114,49 @@ class LearnSettings:
         """The threshold in a few words, for a table's title."""
         if self.learned_steps is not None:
             return f"learned: trailing {self.smooth}-episode mean <= {self.learned_steps:g} steps"
-        return (f"learned: trailing {self.smooth}-episode mean <= {self.learned_factor:g} x the set's "
-                f"last-{self.final_window} mean (no absolute threshold)")
+        return (
+            f"learned: trailing {self.smooth}-episode mean <= {self.learned_factor:g} x the set's "
+            f"last-{self.final_window} mean (no absolute threshold)"
+        )
 
     def warnings(self, n_episodes: int) -> List[str]:
         """Why "learned" may mislead on a run of n_episodes episodes."""
         out = []
         if self.learned_steps is None and n_episodes <= self.final_window:
-            out.append(f"the runs have {n_episodes} episodes, no more than the final window of "
-                       f"{self.final_window}: without --threshold, \"learned\" is measured against the whole "
-                       f"run's own mean, so a set that never improved reads as learned; give --threshold STEPS "
-                       f"or run more episodes")
+            out.append(
+                f"the runs have {n_episodes} episodes, no more than the final window of "
+                f'{self.final_window}: without --threshold, "learned" is measured against the whole '
+                f"run's own mean, so a set that never improved reads as learned; give --threshold STEPS "
+                f"or run more episodes"
+            )
         elif self.learned_steps is None and n_episodes < 2 * self.final_window:
-            out.append(f"the runs have {n_episodes} episodes, fewer than twice the final window of "
-                       f"{self.final_window}: without --threshold, \"learned\" is measured against the run's "
-                       f"own end; give --threshold STEPS for an absolute rule")
+            out.append(
+                f"the runs have {n_episodes} episodes, fewer than twice the final window of "
+                f'{self.final_window}: without --threshold, "learned" is measured against the run\'s '
+                f"own end; give --threshold STEPS for an absolute rule"
+            )
         if n_episodes < self.smooth:
-            out.append(f"the runs have {n_episodes} episodes, fewer than the --smooth window of "
-                       f"{self.smooth}: the trailing mean never covers a full window")
+            out.append(
+                f"the runs have {n_episodes} episodes, fewer than the --smooth window of "
+                f"{self.smooth}: the trailing mean never covers a full window"
+            )
         return out
 
     def rule(self) -> str:
         if self.learned_steps is not None:
             return f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_steps:g}"
-        return (f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_factor:g} x "
-                f"the set's mean of its last {self.final_window} episodes")
+        return (
+            f"the trailing {self.smooth}-episode mean of steps stays <= {self.learned_factor:g} x "
+            f"the set's mean of its last {self.final_window} episodes"
+        )
 
 
 @dataclass
 class SetResult:
     set: int
     learned: bool
-    episodes: int        # to learn (1-based episode i), or the whole run
-    steps: float         # real steps to learn, or the whole run's
+    episodes: int  # to learn (1-based episode i), or the whole run
+    steps: float  # real steps to learn, or the whole run's
     robot_time_s: float  # the same episodes' robot time
     threshold: float = 0.0  # steps: the set's learned threshold (absolute, or relative to its end)
     relapses: Optional[Relapses] = None  # with an absolute threshold and the goal column
@@ -157,15 +168,16 @@ def set_results(runs: AgentRuns, settings: LearnSettings) -> List[SetResult]:
         if settings.learned_steps is not None:
             threshold = settings.learned_steps
         else:
-            tail = row_steps[-settings.final_window:]
+            tail = row_steps[-settings.final_window :]
             threshold = settings.learned_factor * float(sum(tail)) / len(tail)
         i = learned_episode_index(list(row_steps), threshold, settings.smooth)
         n = len(row_steps) if i is None else i + 1
         rel = None
         if settings.learned_steps is not None and runs.reached is not None:
             rel = relapses_of_set(list(row_steps), list(runs.reached[len(out)]), threshold)
-        out.append(SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n])),
-                             float(threshold), rel))
+        out.append(
+            SetResult(s, i is not None, n, float(sum(row_steps[:n])), float(sum(row_time[:n])), float(threshold), rel)
+        )
     return out
 
 
@@ -236,10 +248,20 @@ class AgentSummary:
 def summarise(runs: AgentRuns, settings: LearnSettings, label: Optional[str] = None) -> AgentSummary:
     mean_curve = runs.steps.mean(axis=0)
     at = {e: (float(mean_curve[e - 1]) if e <= len(mean_curve) else None) for e in REPORT_EPISODES}
-    return AgentSummary(runs.agent, label or AGENT_LABELS.get(runs.agent, runs.agent), runs.source,
-                        runs.budget, len(runs.sets), len(runs.episodes), set_results(runs, settings),
-                        int(runs.steps.sum()), float(runs.robot_time_s.sum()), runs.total_updates,
-                        runs.wall_s, at)
+    return AgentSummary(
+        runs.agent,
+        label or AGENT_LABELS.get(runs.agent, runs.agent),
+        runs.source,
+        runs.budget,
+        len(runs.sets),
+        len(runs.episodes),
+        set_results(runs, settings),
+        int(runs.steps.sum()),
+        float(runs.robot_time_s.sum()),
+        runs.total_updates,
+        runs.wall_s,
+        at,
+    )
 
 
 def agent_rank(agent: str) -> int:
@@ -261,8 +283,9 @@ def summarise_all(runs: Sequence[AgentRuns], settings: LearnSettings) -> List[Ag
         if count[r.agent] > 1 and r.budget is None and r.source:
             label += f" ({Path(r.source).name})"
         out.append(summarise(r, settings, label))
-    return sorted(out, key=lambda s: (-1 if s.budget is None else (s.budget if s.budget else 10 ** 9),
-                                      agent_rank(s.agent), s.label))
+    return sorted(
+        out, key=lambda s: (-1 if s.budget is None else (s.budget if s.budget else 10**9), agent_rank(s.agent), s.label)
+    )
 
 
 def budget_text(s: AgentSummary) -> str:
@@ -284,9 +307,17 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
     paper = PAPER.get(scenario, {})
     n_max = max(s.n_episodes for s in summaries)
     at_eps = [e for e in REPORT_EPISODES if e <= n_max]
-    head = ["Agent", "Planning budget", "Planning updates / real step", "Sets learned",
-            "Real steps to learn", "Robot time to learn (h)", "Episodes to learn",
-            f"Robot s / real step (paper {PAPER_STEP_S})", "Relapses after learning"]
+    head = [
+        "Agent",
+        "Planning budget",
+        "Planning updates / real step",
+        "Sets learned",
+        "Real steps to learn",
+        "Robot time to learn (h)",
+        "Episodes to learn",
+        f"Robot s / real step (paper {PAPER_STEP_S})",
+        "Relapses after learning",
+    ]
     head += [f"Mean steps ep. {e}" for e in at_eps]
     if paper:
         head.append("Paper")
@@ -295,9 +326,17 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
         lines += [f"### Table 1: {scenario} ({settings.short_rule()})", ""]
     lines += ["| " + " | ".join(head) + " |", "|---|---|" + "---:|" * (len(head) - 2)]
     for s in summaries:
-        cells = [s.label, budget_text(s), f"{s.planning_per_step:,.1f}", f"{s.n_learned}/{s.n_sets}",
-                 _pm(*s.steps_mean_sd, "{:,.0f}"), _pm(*s.hours_mean_sd, "{:.2f}"),
-                 _pm(*s.episodes_mean_sd, "{:.1f}"), f"{s.s_per_step:.3f}", s.relapse_text()]
+        cells = [
+            s.label,
+            budget_text(s),
+            f"{s.planning_per_step:,.1f}",
+            f"{s.n_learned}/{s.n_sets}",
+            _pm(*s.steps_mean_sd, "{:,.0f}"),
+            _pm(*s.hours_mean_sd, "{:.2f}"),
+            _pm(*s.episodes_mean_sd, "{:.1f}"),
+            f"{s.s_per_step:.3f}",
+            s.relapse_text(),
+        ]
         cells += [f"{s.mean_steps_at[e]:.1f}" if s.mean_steps_at[e] is not None else "–" for e in at_eps]
         if paper:
             cells.append(paper.get(s.agent, "–"))
@@ -305,19 +344,28 @@ def table_markdown(summaries: Sequence[AgentSummary], settings: LearnSettings, s
     if settings.learned_steps is not None:
         thresholds = f" (threshold {settings.learned_steps:g} steps for every set)"
     else:
+
         def _span(s):
             t = sorted(r.threshold for r in s.sets)
             return f"{s.label} {t[0]:,.1f}" + (f"–{t[-1]:,.1f}" if t[-1] != t[0] else "")
-        thresholds = ("; the thresholds this gives, in steps, per set: " + "; ".join(_span(s) for s in summaries)
-                      + ". No absolute threshold was given (--threshold)")
+
+        thresholds = (
+            "; the thresholds this gives, in steps, per set: "
+            + "; ".join(_span(s) for s in summaries)
+            + ". No absolute threshold was given (--threshold)"
+        )
     warn = settings.warnings(min(s.n_episodes for s in summaries))
-    lines += ["", f"Learned: {settings.rule()} to the end of the set{thresholds}. Real steps and robot time to learn: "
-              "those of the episodes up to that point, mean ± sample sd over ALL sets (a set that never "
-              "learned counts its whole run). Planning updates / real step: (updates - steps) / steps "
-              "from the CSV's updates column (real plus planning Q updates). Relapses after learning "
-              f"(with --threshold): after a set first reached the goal within the threshold {LEARNED_RUN} episodes "
-              "running, the episodes that missed it or took more than twice the threshold, of all episodes after "
-              "those; longest: the longest run of them in one set.", ""]
+    lines += [
+        "",
+        f"Learned: {settings.rule()} to the end of the set{thresholds}. Real steps and robot time to learn: "
+        "those of the episodes up to that point, mean ± sample sd over ALL sets (a set that never "
+        "learned counts its whole run). Planning updates / real step: (updates - steps) / steps "
+        "from the CSV's updates column (real plus planning Q updates). Relapses after learning "
+        f"(with --threshold): after a set first reached the goal within the threshold {LEARNED_RUN} episodes "
+        "running, the episodes that missed it or took more than twice the threshold, of all episodes after "
+        "those; longest: the longest run of them in one set.",
+        "",
+    ]
     lines += [f"**Warning:** {w}." for w in warn]
     if warn:
         lines.append("")
@@ -329,8 +377,14 @@ def table_warnings(summaries: Sequence[AgentSummary], settings: LearnSettings) -
     return settings.warnings(min(s.n_episodes for s in summaries)) if summaries else []
 
 
-def measure(csv_paths: Sequence[str], threshold: Optional[float] = None, smooth: int = 5,
-            scenario: str = "", learned_factor: float = 1.5, final_window: int = 10):
+def measure(
+    csv_paths: Sequence[str],
+    threshold: Optional[float] = None,
+    smooth: int = 5,
+    scenario: str = "",
+    learned_factor: float = 1.5,
+    final_window: int = 10,
+):
     """The reusable measurement: reads training CSVs (an agent may appear in several, e.g. at
     several budgets), returns (summaries, Table 1 as markdown)."""
     from .runs import read_csvs

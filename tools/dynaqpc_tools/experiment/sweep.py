@@ -57,7 +57,7 @@ class Grid:
     seed: int
     block: int
     threshold: Optional[float]
-    settings: Dict[str, list]   # option -> values, in file order
+    settings: Dict[str, list]  # option -> values, in file order
 
     def points(self) -> List[Dict[str, object]]:
         keys = list(self.settings)
@@ -94,15 +94,24 @@ def load_grid(path: str) -> Grid:
     if not isinstance(scenario, str) or not scenario:
         raise ToolError(f"{path}: 'scenario' must name a scenario (paper-lab, paper-sim or a .scn file)")
     agents = d.get("agents", list(DEFAULT_AGENTS))
-    if not isinstance(agents, list) or not agents or any(a not in AGENTS for a in agents) or len(set(agents)) != len(agents):
+    if (
+        not isinstance(agents, list)
+        or not agents
+        or any(a not in AGENTS for a in agents)
+        or len(set(agents)) != len(agents)
+    ):
         raise ToolError(f"{path}: 'agents' = {agents!r}: a list of distinct agents out of {', '.join(AGENTS)}")
     sets = _int(d, "sets", 1, 100000, path=path)
     episodes = _int(d, "episodes", 1, 10000000, path=path)
-    seed = _int(d, "seed", 0, 2 ** 32 - 1, 1, path)
+    seed = _int(d, "seed", 0, 2**32 - 1, 1, path)
     block = _int(d, "block", 1, 100000, min(5, sets), path)
     threshold = d.get("threshold")
-    if threshold is not None and (isinstance(threshold, bool) or not isinstance(threshold, (int, float))
-                                  or not threshold > 0 or not math.isfinite(threshold)):
+    if threshold is not None and (
+        isinstance(threshold, bool)
+        or not isinstance(threshold, (int, float))
+        or not threshold > 0
+        or not math.isfinite(threshold)
+    ):
         raise ToolError(f"{path}: 'threshold' = {threshold!r} is not a positive number")
     grid = d.get("grid", {})
     if not isinstance(grid, dict):
@@ -111,8 +120,10 @@ def load_grid(path: str) -> Grid:
     for key, values in grid.items():
         opt = key.replace("_", "-")
         if not _OPTION.match(opt) or opt in RESERVED:
-            raise ToolError(f"{path}: [grid] {key}: not a train option the grid may set "
-                            f"(the sweep sets {', '.join(sorted(RESERVED - {'help', 'quiet'}))} itself)")
+            raise ToolError(
+                f"{path}: [grid] {key}: not a train option the grid may set "
+                f"(the sweep sets {', '.join(sorted(RESERVED - {'help', 'quiet'}))} itself)"
+            )
         if not isinstance(values, list) or not values:
             raise ToolError(f"{path}: [grid] {key} must be a non-empty list of values")
         for v in values:
@@ -121,8 +132,9 @@ def load_grid(path: str) -> Grid:
         if len({json.dumps(v) for v in values}) != len(values):
             raise ToolError(f"{path}: [grid] {key} lists a value twice")
         settings[opt] = values
-    return Grid(scenario, agents, sets, episodes, seed, block, None if threshold is None else float(threshold),
-                settings)
+    return Grid(
+        scenario, agents, sets, episodes, seed, block, None if threshold is None else float(threshold), settings
+    )
 
 
 def point_id(point: Dict[str, object]) -> str:
@@ -153,9 +165,21 @@ def tasks_of(grid: Grid, sim: str) -> List[dict]:
         for agent in grid.agents:
             for first in range(1, grid.sets + 1, grid.block):
                 n = min(grid.block, grid.sets - first + 1)
-                out.append({"sim": sim, "scenario": grid.scenario, "agent": agent, "first_set": first, "sets": n,
-                            "episodes": grid.episodes, "seed": grid.seed, "extra": extra, "point": point,
-                            "point_id": pid, "name": f"{pid}/{agent}-sets{first}-{first + n - 1}.csv"})
+                out.append(
+                    {
+                        "sim": sim,
+                        "scenario": grid.scenario,
+                        "agent": agent,
+                        "first_set": first,
+                        "sets": n,
+                        "episodes": grid.episodes,
+                        "seed": grid.seed,
+                        "extra": extra,
+                        "point": point,
+                        "point_id": pid,
+                        "name": f"{pid}/{agent}-sets{first}-{first + n - 1}.csv",
+                    }
+                )
     return out
 
 
@@ -164,9 +188,26 @@ def run_task(spec: dict) -> str:
     must be at spec['sim'] there."""
     with tempfile.TemporaryDirectory(prefix="dynaqpc-task-") as tmp:
         csv_path = os.path.join(tmp, "out.csv")
-        cmd = [spec["sim"], "train", "--scenario", spec["scenario"], "--agent", spec["agent"],
-               "--first-set", str(spec["first_set"]), "--sets", str(spec["sets"]), "--episodes", str(spec["episodes"]),
-               "--seed", str(spec["seed"]), *spec["extra"], "--csv", csv_path, "--quiet"]
+        cmd = [
+            spec["sim"],
+            "train",
+            "--scenario",
+            spec["scenario"],
+            "--agent",
+            spec["agent"],
+            "--first-set",
+            str(spec["first_set"]),
+            "--sets",
+            str(spec["sets"]),
+            "--episodes",
+            str(spec["episodes"]),
+            "--seed",
+            str(spec["seed"]),
+            *spec["extra"],
+            "--csv",
+            csv_path,
+            "--quiet",
+        ]
         try:
             p = subprocess.run(cmd, capture_output=True, text=True)
         except OSError as e:
@@ -204,8 +245,9 @@ def _client(scheduler: Optional[str], workers: int):
             return Client(scheduler, timeout=10), None
         except Exception as e:  # OSError, TimeoutError, ...
             raise ToolError(f"cannot reach the Dask scheduler {scheduler}: {e}") from None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
-                           processes=True)
+    cluster = LocalCluster(
+        n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None, processes=True
+    )
     return Client(cluster), cluster
 
 
@@ -289,10 +331,15 @@ def _plot(bars, path: Path, grid: Grid) -> None:
     ax.set_xticks(range(len(labels)))
     ax.set_xticklabels(labels, rotation=20, ha="right", fontsize=8)
     ax.set_ylabel("real steps to learn (mean ± sd over all sets; k/n learned)")
-    learned = (f"trailing 5-episode mean <= {grid.threshold:g} steps" if grid.threshold is not None
-               else "within 1.5 x each set's final mean")
-    ax.set_title(f"Sweep on {grid.scenario}: {grid.sets} sets x {grid.episodes} episodes, seed {grid.seed}; "
-                 f"learned: {learned}", fontsize=9)
+    learned = (
+        f"trailing 5-episode mean <= {grid.threshold:g} steps"
+        if grid.threshold is not None
+        else "within 1.5 x each set's final mean"
+    )
+    ax.set_title(
+        f"Sweep on {grid.scenario}: {grid.sets} sets x {grid.episodes} episodes, seed {grid.seed}; learned: {learned}",
+        fontsize=9,
+    )
     ax.grid(True, axis="y", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -315,9 +362,12 @@ def cmd_sweep(args) -> int:
     sim = os.path.abspath(args.sim) if not args.scheduler else args.sim
     specs = tasks_of(grid, sim)
     todo = [s for s in specs if not task_complete(out / "tasks" / s["name"], s)]
-    print(f"sweep: {len(grid.points())} grid points x {len(grid.agents)} agents x "
-          f"{math.ceil(grid.sets / grid.block)} blocks = {len(specs)} tasks; "
-          f"{len(specs) - len(todo)} done before, {len(todo)} to run", flush=True)
+    print(
+        f"sweep: {len(grid.points())} grid points x {len(grid.agents)} agents x "
+        f"{math.ceil(grid.sets / grid.block)} blocks = {len(specs)} tasks; "
+        f"{len(specs) - len(todo)} done before, {len(todo)} to run",
+        flush=True,
+    )
     if todo:
         client, cluster = _client(args.scheduler, args.workers)
         try:
@@ -358,17 +408,37 @@ def _is_sweep_csv(path: Path, grid: Grid) -> bool:
 def add_parser(sub, sim_default: str, fn, planning_list) -> None:
     from ..common import int_in
 
-    sw = sub.add_parser("sweep", help="a grid of settings over a Dask cluster (docs/sweeps.md)",
-                        description=__doc__, formatter_class=__import__("argparse").RawDescriptionHelpFormatter)
+    sw = sub.add_parser(
+        "sweep",
+        help="a grid of settings over a Dask cluster (docs/sweeps.md)",
+        description=__doc__,
+        formatter_class=__import__("argparse").RawDescriptionHelpFormatter,
+    )
     sw.add_argument("--grid", required=True, metavar="TOML", help="the grid file")
     sw.add_argument("--out", required=True, metavar="DIR", help="results folder (tasks/, sweep.csv, summary.md)")
-    sw.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
-                    help="a running Dask scheduler (default: a LocalCluster on this machine)")
-    sw.add_argument("--workers", type=int_in(1, 256), default=2,
-                    help="without --scheduler: local worker processes (default %(default)s)")
-    sw.add_argument("--sim", default=sim_default,
-                    help="dynaqpc-sim on the workers (default, and without --scheduler made absolute: %(default)s)")
-    sw.add_argument("--planning", type=planning_list, default=None, metavar="N[,N...]",
-                    help="a grid dimension of planning budgets, e.g. 5,1000,0 (as `run --planning`)")
+    sw.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="a running Dask scheduler (default: a LocalCluster on this machine)",
+    )
+    sw.add_argument(
+        "--workers",
+        type=int_in(1, 256),
+        default=2,
+        help="without --scheduler: local worker processes (default %(default)s)",
+    )
+    sw.add_argument(
+        "--sim",
+        default=sim_default,
+        help="dynaqpc-sim on the workers (default, and without --scheduler made absolute: %(default)s)",
+    )
+    sw.add_argument(
+        "--planning",
+        type=planning_list,
+        default=None,
+        metavar="N[,N...]",
+        help="a grid dimension of planning budgets, e.g. 5,1000,0 (as `run --planning`)",
+    )
     sw.add_argument("--no-progress", action="store_true", help="no progress bar")
     sw.set_defaults(fn=fn)
