@@ -91,6 +91,8 @@ demo() {
 
 run_tests() {
     setup
+    log "style: ruff (tools/), clang-format (tools/clang-format-files.txt)"
+    tools/check_style.sh
     build host
     ctest --preset host
     build host-asan
