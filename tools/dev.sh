@@ -91,8 +91,10 @@ demo() {
 
 run_tests() {
     setup
+    # The style check's verdict comes last, so that a formatting slip does not hide the tests.
     log "style: ruff (tools/), clang-format (tools/clang-format-files.txt)"
-    tools/check_style.sh
+    local style=0
+    tools/check_style.sh || style=1
     build host
     ctest --preset host
     build host-asan
@@ -101,6 +103,10 @@ run_tests() {
     ctest --preset cortex-m4
     build fuzz
     ctest --preset fuzz
+    if [ "$style" -ne 0 ]; then
+        log "style: FAILED (above); fix with: .venv/bin/ruff check --fix tools && .venv/bin/ruff format tools"
+        return 1
+    fi
 }
 
 fuzz() {
