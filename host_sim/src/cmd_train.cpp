@@ -56,6 +56,16 @@ struct TrainSettings {
     bool counters = false;
 };
 
+// "q 4213, dyna-q 389, ...": each algorithm's own figure (agent_info_t.plan_cycles).
+std::string plan_cycles_list()
+{
+    std::string list;
+    for (const std::string &name : agent_kind_names()) {
+        list += (list.empty() ? "" : ", ") + name + " " + std::to_string(plan_cycles_of(agent_kind_of(name)));
+    }
+    return list;
+}
+
 void declare(Options &o, TrainSettings &s)
 {
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)",
@@ -76,7 +86,7 @@ void declare(Options &o, TrainSettings &s)
     o.add_uint("--plan-cycles", "C",
                "with idle-time planning (--planning 0, the default of the shipped scenarios): MCU "
                "cycles per planning update at 168 MHz (default: the agent's own Cortex-M4 "
-               "measurement: dyna-qpc 4213, dyna-q 389, dyna-q-majority 388; docs/results/paper-lab.md)",
+               "measurement: " + plan_cycles_list() + "; docs/results/paper-lab.md)",
                &s.plan_cycles, 1, 100000000);
     o.add_uint("--seed", "S", "experiment seed; set k uses a seed mixed from S and k (default 1)",
                &s.seed, 0, UINT32_MAX);

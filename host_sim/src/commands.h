@@ -37,6 +37,9 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
 /// `rooms`: seeded random rooms for a robot, one scenario file each (cmd_rooms.cpp).
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args);
 
+/// `agents`: the learning algorithms the firmware registers (cmd_agents.cpp).
+int cmd_agents(const std::string &program, const std::vector<std::string> &args);
+
 /// `firmware-config`: the MCU images' built-in scenarios as C (cmd_firmware_config.cpp).
 int cmd_firmware_config(const std::string &program, const std::vector<std::string> &args);
 

@@ -283,6 +283,12 @@ std::string Lockstep::counters() const
 
 // Set k of an experiment seeded with s: a splitmix-style mix, so neighbouring seeds and sets
 // give unrelated streams, and a set's results do not depend on --jobs.
+std::uint32_t plan_cycles_of(agent_kind_t kind)
+{
+    agent_info_t info;
+    return agent_kind_info(kind, &info) == FW_OK ? info.plan_cycles : kDefaultPlanCycles;
+}
+
 std::uint32_t set_seed(std::uint32_t seed, std::uint32_t set)
 {
     std::uint64_t z = (static_cast<std::uint64_t>(seed) << 32) + set + 0x9E3779B97F4A7C15ull;

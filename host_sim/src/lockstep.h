@@ -18,35 +18,18 @@ struct Scenario;
 
 namespace dynaqpc {
 
-/// MCU cycles per planning update, each algorithm its own, to model idle-time planning when
-/// `--plan-cycles` does not override it: the Cortex-M4 build's guest instructions per update on
-/// the grid-robot bench (paper-lab profile, N = 5, counted by QEMU's TCG plugin), one cycle each
-/// (the M4 retires most instructions in one cycle; the ART accelerator hides flash wait states for
-/// straight-line code). Measured by `ctest --preset cortex-m4 -V -R bench.insn_paper_lab`:
-///   Dyna-QPC         cortex-m4.bench.insn_paper_lab                  4,213 (the figure when it was
-///                    set; 4,161 when the others were first measured, 4,647 with main
-///                    merged at 23fef33: kept at 4,213 so that Dyna-QPC's idle-time figures in
-///                    docs/results/ stay as measured)
-///   Dyna-Q           cortex-m4.bench.insn_paper_lab_dyna_q             389 (361 before that merge)
-///   Dyna-Q-majority  cortex-m4.bench.insn_paper_lab_dyna_q_majority    388 (359 before it)
-/// Q-learning does not plan (its idle loop finds nothing to do); it is given Dyna-QPC's figure,
-/// which nothing it does depends on. Same CPU time for every agent: a cheaper update buys more.
-constexpr std::uint32_t kPlanCyclesDynaQpc = 4213;
-constexpr std::uint32_t kPlanCyclesDynaQ = 389;
-constexpr std::uint32_t kPlanCyclesDynaQMajority = 388;
-constexpr std::uint32_t kDefaultPlanCycles = kPlanCyclesDynaQpc;
+/// MCU cycles per planning update when neither the algorithm nor `--plan-cycles` says (the
+/// algorithms each give their own: agent_info_t.plan_cycles, `dynaqpc-sim agents`).
+constexpr std::uint32_t kDefaultPlanCycles = 4213;
 
 /// The seed of set `set` (1, 2, ...) of an experiment seeded with `seed`: the world's, the
 /// devices' and the firmware's seed of that set (`train --seed S`, `devices --seed S --set K`).
 std::uint32_t set_seed(std::uint32_t seed, std::uint32_t set);
 
-/// The cycles per planning update charged to `kind` in idle time (the table above).
-constexpr std::uint32_t plan_cycles_of(agent_kind_t kind)
-{
-    return kind == AGENT_DYNA_Q            ? kPlanCyclesDynaQ
-           : kind == AGENT_DYNA_Q_MAJORITY ? kPlanCyclesDynaQMajority
-                                           : kPlanCyclesDynaQpc;
-}
+/// The cycles per planning update charged to `kind` in idle time: the algorithm's own Cortex-M4
+/// measurement (agent_info_t.plan_cycles). Same CPU time for every agent: a cheaper update buys
+/// more.
+std::uint32_t plan_cycles_of(agent_kind_t kind);
 
 /// One finished episode, as the train CSV reports it.
 struct EpisodeRow {

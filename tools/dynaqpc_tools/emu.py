@@ -31,10 +31,10 @@ import threading
 import time
 from typing import Dict, List, Optional
 
+from . import agents as registry
 from .common import VCAN_CHANNEL, VCAN_INTERFACE, ToolError, default_dbc_path, load_dbc, open_bus, repo_root, run_main
 
 FW_SENDER = "FW"
-AGENTS = ("q", "dyna-q", "dyna-qpc", "dyna-q-majority")  # agent_kind_t order
 
 
 class Bridge:
@@ -404,7 +404,7 @@ def cmd_run(args) -> int:
         if args.no_persist:
             append += " persist=0"
         if args.agent is not None:
-            append += f" agent={AGENTS.index(args.agent)}"
+            append += f" agent={registry.number(args.agent)}"
         qemu_cmd = [
             args.qemu,
             "-M",
@@ -597,7 +597,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")
-    r.add_argument("--agent", choices=AGENTS, default=None, help="the board's agent (default: the image's, dyna-qpc)")
+    r.add_argument(
+        "--agent", choices=registry.names(), default=None, help="the board's agent (default: the image's, dyna-qpc)"
+    )
     r.add_argument("--no-persist", action="store_true", help="the board saves nothing at episode ends")
     r.add_argument(
         "--seed",

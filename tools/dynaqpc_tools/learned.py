@@ -36,6 +36,7 @@ import sys
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
+from . import agents as registry
 from .common import ToolArgumentParser, ToolError, repo_root, run_main
 
 ACTIONS = ("forward", "backward", "left", "right")
@@ -510,7 +511,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     )
     p.add_argument("image", help="flash image: dynaqpc-sim train --save FILE, or a board's backup")
     p.add_argument("--scenario", required=True, help="paper-lab, paper-sim or FILE.scn: the one it learned on")
-    p.add_argument("--agent", choices=["q", "dyna-q", "dyna-qpc"], help="default: whichever the image holds")
+    p.add_argument("--agent", choices=registry.names(), help="default: whichever the image holds")
     p.add_argument("--sim", default=default_sim(), help="dynaqpc-sim binary (default %(default)s)")
     p.add_argument("--png", metavar="OUT", help="write the picture here (default: IMAGE with .png)")
     p.add_argument("--json", metavar="OUT", help="write the combined view as JSON ('-': stdout)")

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """dynaqpc-emu without QEMU: the board's report lines and the command line."""
 
-from dynaqpc_tools import emu
+from dynaqpc_tools import agents, emu
 
 
 def test_report_lines_parse():
@@ -26,7 +26,7 @@ def test_run_options():
     )
     assert args.agent == "dyna-q" and args.icount == 3 and args.speed == 8
     assert args.min_idle_loop_updates == 5 and args.no_persist
-    assert emu.AGENTS.index("dyna-qpc") == 2  # agent_kind_t's AGENT_DYNA_QPC
+    assert agents.number("dyna-qpc") == 2  # agent_kind_t's AGENT_DYNA_QPC
 
 
 def test_the_board_gets_the_devices_seed():

@@ -11,16 +11,21 @@
 
 // ---- The registry: every algorithm of algorithms.h, by kind ------------------------------------
 
-#define AGENT_ALGORITHM_ENTRY_(kind, number, name, id) [number] = &agent_##id##_algorithm,
+#define AGENT_ALGORITHM_ENTRY_(kind, number, name, label, id) [number] = &agent_##id##_algorithm,
 static const agent_algorithm_t *const algorithms_[] = {AGENT_ALGORITHMS(AGENT_ALGORITHM_ENTRY_)};
 #undef AGENT_ALGORITHM_ENTRY_
 
-#define AGENT_NAME_ENTRY_(kind, number, name, id) [number] = name,
+#define AGENT_NAME_ENTRY_(kind, number, name, label, id) [number] = name,
 static const char *const names_[] = {AGENT_ALGORITHMS(AGENT_NAME_ENTRY_)};
 #undef AGENT_NAME_ENTRY_
 
+#define AGENT_LABEL_ENTRY_(kind, number, name, label, id) [number] = label,
+static const char *const labels_[] = {AGENT_ALGORITHMS(AGENT_LABEL_ENTRY_)};
+#undef AGENT_LABEL_ENTRY_
+
 FW_STATIC_ASSERT(sizeof algorithms_ / sizeof algorithms_[0] == AGENT_KINDS &&
-                     sizeof names_ / sizeof names_[0] == AGENT_KINDS,
+                     sizeof names_ / sizeof names_[0] == AGENT_KINDS &&
+                     sizeof labels_ / sizeof labels_[0] == AGENT_KINDS,
                  kinds_are_numbered_0_to_AGENT_KINDS_without_gaps);
 
 const char *agent_kind_name(agent_kind_t kind)
@@ -37,6 +42,73 @@ int agent_kind_from_name(const char *name, agent_kind_t *kind)
         }
     }
     return FW_ERR_INVAL;
+}
+
+int agent_kind_info(agent_kind_t kind, agent_info_t *info)
+{
+    if ((uint32_t)kind >= AGENT_KINDS || info == NULL) {
+        return FW_ERR_INVAL;
+    }
+    info->name = names_[kind];
+    info->label = labels_[kind];
+    info->plan_cycles = algorithms_[kind]->plan_cycles;
+    return FW_OK;
+}
+
+// ---- The models: every line of AGENT_MODELS_OF ------------------------------------------------
+
+typedef struct {
+    agent_kind_t kind;
+    uint8_t model;
+    const agent_algorithm_t *algorithm;
+} model_entry_t;
+
+#define AGENT_MODEL_ENTRY_(kind, model, name, id) {kind, model, &agent_##id##_algorithm},
+static const model_entry_t models_[] = {AGENT_MODELS_OF(AGENT_MODEL_ENTRY_)};
+#undef AGENT_MODEL_ENTRY_
+
+#define AGENT_MODEL_NAME_(kind, model, name, id) [model] = name,
+static const char *const model_names_[] = {AGENT_MODELS_OF(AGENT_MODEL_NAME_)};
+#undef AGENT_MODEL_NAME_
+
+FW_STATIC_ASSERT(sizeof model_names_ / sizeof model_names_[0] == AGENT_MODELS,
+                 models_are_numbered_0_to_AGENT_MODELS_once_each);
+
+const char *agent_model_name(uint8_t model)
+{
+    return model < AGENT_MODELS ? model_names_[model] : NULL;
+}
+
+int agent_model_from_name(const char *name, uint8_t *model)
+{
+    for (uint32_t k = 0; name != NULL && k < AGENT_MODELS; k++) {
+        if (strcmp(name, model_names_[k]) == 0) {
+            *model = (uint8_t)k;
+            return FW_OK;
+        }
+    }
+    return FW_ERR_INVAL;
+}
+
+// The operations an agent of `kind` runs with `model`: the model's line, else the kind's own.
+static const agent_algorithm_t *operations_(agent_kind_t kind, uint8_t model)
+{
+    for (uint32_t i = 0; i < sizeof models_ / sizeof models_[0]; i++) {
+        if (models_[i].kind == kind && models_[i].model == model) {
+            return models_[i].algorithm;
+        }
+    }
+    return algorithms_[kind];
+}
+
+bool agent_kind_has_model(agent_kind_t kind, uint8_t model)
+{
+    for (uint32_t i = 0; i < sizeof models_ / sizeof models_[0]; i++) {
+        if (models_[i].kind == kind && models_[i].model == model) {
+            return true;
+        }
+    }
+    return false;
 }
 
 // ---- Set-up -----------------------------------------------------------------------------------
@@ -88,7 +160,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     const agent_storage_t *st = cfg->storage;
     const agent_space_t *sp = cfg->space;
     ag->kind = cfg->kind;
-    ag->algorithm = algorithms_[cfg->kind];
+    ag->algorithm = operations_(cfg->kind, cfg->params.model);
     ag->space = sp;
     ag->state_bits = space_state_bits(sp);
     ag->params = cfg->params;

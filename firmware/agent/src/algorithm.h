@@ -37,15 +37,17 @@ typedef struct agent_algorithm {
     uint32_t (*counters)(const agent_t *ag, agent_counter_t *out);
     /// Planning work waiting (agent_backlog()).
     uint32_t (*backlog)(const agent_t *ag);
+    /// MCU cycles one planning update takes (agent_info_t.plan_cycles), as measured.
+    uint32_t plan_cycles;
 } agent_algorithm_t;
 
-#define AGENT_DECLARE_ALGORITHM_(kind, number, name, id) \
+#define AGENT_DECLARE_ALGORITHM_(kind, number, name, label, id) \
     extern const agent_algorithm_t agent_##id##_algorithm;
 AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
 #undef AGENT_DECLARE_ALGORITHM_
-/// Dyna-QPC with the paper's model (AGENT_MODEL_PAPER, dyna_qpc_paper.c): dyna_qpc.c's init
-/// hands the agent over to it.
-extern const agent_algorithm_t agent_dyna_qpc_paper_algorithm;
+#define AGENT_DECLARE_MODEL_(kind, model, name, id) extern const agent_algorithm_t agent_##id##_algorithm;
+AGENT_MODELS_OF(AGENT_DECLARE_MODEL_)
+#undef AGENT_DECLARE_MODEL_
 
 // ---- The shared Q-learning step (Fig. 1), for the algorithm files ----------------------------
 

@@ -99,4 +99,5 @@ const agent_algorithm_t agent_dyna_q_algorithm = {
     .restored = restored_,
     .counters = counters_,
     .backlog = agent_backlog_none_,
+    .plan_cycles = 389u,  // cortex-m4.bench.insn_paper_lab_dyna_q (361 before main merged 23fef33)
 };

@@ -123,4 +123,5 @@ const agent_algorithm_t agent_dyna_q_majority_algorithm = {
     .restored = restored_,
     .counters = counters_,
     .backlog = agent_backlog_none_,
+    .plan_cycles = 388u,  // cortex-m4.bench.insn_paper_lab_dyna_q_majority (359 before 23fef33)
 };

@@ -8,10 +8,10 @@
 // is the paper's. Here a planning update is Fig. 3 (g) and nothing more: pop the most urgent pair,
 // back it up through CMAC-Model, queue what CMAC-R names as leading into its state. What both
 // share is the agent (the Q store, acting, the real step's update: agent.c), the queue
-// (pqueue.h), the settings, and the trust gate. dyna_qpc.c's init hands the agent over to these
-// operations when agent_params_t.model is AGENT_MODEL_PAPER: that is the one switch.
+// (pqueue.h), the settings, and the trust gate. Its line in algorithms.h (AGENT_MODELS_OF) makes
+// agent_init() give a Dyna-QPC agent these operations when agent_params_t.model is
+// AGENT_MODEL_PAPER: a model is registered as an algorithm is.
 #include <stddef.h>
-#include <string.h>
 
 #include "algorithm.h"
 #include "fw/fw_base.h"
@@ -19,25 +19,6 @@
 FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + PAPER_MODEL_REGIONS <= AGENT_MAX_REGIONS,
                  dyna_qpc_paper_lists_at_most_AGENT_MAX_REGIONS);
 FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24, paper_queue_keys_fit);
-
-// Dyna-QPC's models by name (agent.h: AGENT_MODEL_*): ours, and the paper's, which this file runs.
-static const char *const model_names_[AGENT_MODELS] = {"relocatable", "paper"};
-
-const char *agent_model_name(uint8_t model)
-{
-    return model < AGENT_MODELS ? model_names_[model] : NULL;
-}
-
-int agent_model_from_name(const char *name, uint8_t *model)
-{
-    for (uint32_t k = 0; name != NULL && k < AGENT_MODELS; k++) {
-        if (strcmp(name, model_names_[k]) == 0) {
-            *model = (uint8_t)k;
-            return FW_OK;
-        }
-    }
-    return FW_ERR_INVAL;
-}
 
 static int init_(agent_t *ag, const agent_storage_t *st)
 {
@@ -154,4 +135,5 @@ const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
     .restored = restored_,
     .counters = counters_,
     .backlog = agent_dyna_qpc_backlog_,
+    .plan_cycles = 4213u,  // Dyna-QPC's (agent_kind_info() gives the kind's figure)
 };

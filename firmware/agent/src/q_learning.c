@@ -25,4 +25,7 @@ const agent_algorithm_t agent_q_learning_algorithm = {
     .restored = agent_nothing_,
     .counters = agent_count_nothing_,
     .backlog = agent_backlog_none_,
+    // It does not plan (its idle loop finds nothing to do): Dyna-QPC's figure, which nothing it
+    // does depends on.
+    .plan_cycles = 4213u,
 };

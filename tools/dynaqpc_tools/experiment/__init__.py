@@ -14,8 +14,6 @@ from .cli import build_parser, main
 from .orchestrate import default_sim, run_sets, scenario_protocol
 from .plots import plot_fig13, plot_trajectories
 from .runs import (
-    AGENT_LABELS,
-    AGENTS,
     COLUMNS,
     TRAJECTORY_COLUMNS,
     AgentRuns,
@@ -71,3 +69,12 @@ __all__ = [
     "table_markdown",
     "trailing_mean",
 ]
+
+
+def __getattr__(name: str):
+    """AGENTS and AGENT_LABELS: the firmware's registry, read when first asked for (runs.py)."""
+    if name in ("AGENTS", "AGENT_LABELS"):
+        from . import runs
+
+        return getattr(runs, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

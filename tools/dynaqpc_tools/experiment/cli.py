@@ -11,9 +11,10 @@ import sys
 from pathlib import Path
 from typing import List, Optional
 
+from .. import agents as registry
 from ..common import ToolArgumentParser, ToolError, float_in, int_in, run_main
 from . import orchestrate, plots, stats
-from .runs import AGENTS, DEFAULT_AGENTS, TRAJECTORY_COLUMNS, read_csv_dir, read_csvs
+from .runs import DEFAULT_AGENTS, TRAJECTORY_COLUMNS, read_csv_dir, read_csvs
 from .stats import LearnSettings
 
 DOC = """dynaqpc-experiment: the paper's protocol, end to end, measured at matched compute.
@@ -57,9 +58,10 @@ def planning_list(text: str) -> List[int]:
 
 def agent_list(text: str) -> List[str]:
     agents = [a.strip() for a in text.split(",") if a.strip()]
-    bad = [a for a in agents if a not in AGENTS]
+    known = registry.names()
+    bad = [a for a in agents if a not in known]
     if bad or not agents:
-        raise argparse.ArgumentTypeError(f"{','.join(bad) or text!r}: agents are {', '.join(AGENTS)}")
+        raise argparse.ArgumentTypeError(f"{','.join(bad) or text!r}: agents are {', '.join(known)}")
     if len(set(agents)) != len(agents):
         raise argparse.ArgumentTypeError(f"{text!r} names an agent twice")
     return agents
@@ -340,7 +342,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--agents",
         type=agent_list,
         default=list(DEFAULT_AGENTS),
-        help=f"comma-separated, out of {','.join(AGENTS)} (default {','.join(DEFAULT_AGENTS)})",
+        help=f"comma-separated, out of {','.join(registry.names())} (default {','.join(DEFAULT_AGENTS)})",
     )
     r.add_argument(
         "--planning",

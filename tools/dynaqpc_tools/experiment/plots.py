@@ -6,8 +6,9 @@ from __future__ import annotations
 import os
 from typing import List, Optional, Sequence
 
+from .. import agents as registry
 from ..common import ToolError
-from .runs import AGENT_LABELS, AgentRuns, read_trajectory
+from .runs import AgentRuns, read_trajectory
 from .stats import agent_rank
 
 
@@ -32,7 +33,7 @@ def save_figure(fig, path: str) -> None:
 
 
 def _curve_label(r: AgentRuns, repeated: bool) -> str:
-    label = AGENT_LABELS.get(r.agent, r.agent)
+    label = registry.labels().get(r.agent, r.agent)
     if r.budget is not None and r.agent != "q":
         label += ", idle-time planning" if r.budget == 0 else f", N = {r.budget:,}"
     elif repeated and r.source:

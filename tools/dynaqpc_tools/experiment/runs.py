@@ -14,15 +14,24 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
+from .. import agents as _registry
 from ..common import ToolError
+
+
+def __getattr__(name: str):
+    """AGENTS (the algorithms, in agent_kind_t order: the tables' order) and AGENT_LABELS (name to
+    label), read from the firmware's registry when first asked for (agents.py)."""
+    if name == "AGENTS":
+        return _registry.names()
+    if name == "AGENT_LABELS":
+        return _registry.labels()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 COLUMNS = ["agent", "set", "episode", "steps", "reward", "reached_goal", "bumps", "robot_time_s", "updates", "wall_s"]
 TRAJECTORY_COLUMNS = ["start", "step", "time_s", "x", "y", "heading", "action", "reward", "bump", "in_goal"]
-#: The algorithms the simulator knows (firmware/agent/include/agent/algorithms.h), in table order.
-AGENTS = ["q", "dyna-q", "dyna-q-majority", "dyna-qpc"]
 #: What `run` and a sweep compare unless told otherwise.
 DEFAULT_AGENTS = ["q", "dyna-q", "dyna-qpc"]
-AGENT_LABELS = {"q": "Q-learning", "dyna-q": "Dyna-Q", "dyna-qpc": "Dyna-QPC", "dyna-q-majority": "Dyna-Q (majority)"}
 #: A CSV named <agent>-p<N>.csv holds runs at N planning updates per real step (p0: idle time).
 BUDGET_IN_NAME = re.compile(r"-p(\d+)$")
 

@@ -24,8 +24,9 @@ import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence
 
+from .. import agents as registry
 from ..common import ToolError
-from .runs import AGENT_LABELS, AGENTS, AgentRuns
+from .runs import AgentRuns
 
 REPORT_EPISODES = (10, 50, 100, 200)
 #: The paper's sampling interval: one real step.
@@ -250,7 +251,7 @@ def summarise(runs: AgentRuns, settings: LearnSettings, label: Optional[str] = N
     at = {e: (float(mean_curve[e - 1]) if e <= len(mean_curve) else None) for e in REPORT_EPISODES}
     return AgentSummary(
         runs.agent,
-        label or AGENT_LABELS.get(runs.agent, runs.agent),
+        label or registry.labels().get(runs.agent, runs.agent),
         runs.source,
         runs.budget,
         len(runs.sets),
@@ -265,7 +266,8 @@ def summarise(runs: AgentRuns, settings: LearnSettings, label: Optional[str] = N
 
 
 def agent_rank(agent: str) -> int:
-    return AGENTS.index(agent) if agent in AGENTS else len(AGENTS)
+    order = registry.names()
+    return order.index(agent) if agent in order else len(order)
 
 
 def summarise_all(runs: Sequence[AgentRuns], settings: LearnSettings) -> List[AgentSummary]:
@@ -279,7 +281,7 @@ def summarise_all(runs: Sequence[AgentRuns], settings: LearnSettings) -> List[Ag
         count[r.agent] = count.get(r.agent, 0) + 1
     out = []
     for r in runs:
-        label = AGENT_LABELS.get(r.agent, r.agent)
+        label = registry.labels().get(r.agent, r.agent)
         if count[r.agent] > 1 and r.budget is None and r.source:
             label += f" ({Path(r.source).name})"
         out.append(summarise(r, settings, label))

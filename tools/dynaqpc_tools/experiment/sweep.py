@@ -39,8 +39,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
+from .. import agents as registry
 from ..common import ToolError
-from .runs import AGENTS, COLUMNS, DEFAULT_AGENTS, read_runs
+from .runs import COLUMNS, DEFAULT_AGENTS, read_runs
 from .stats import LearnSettings, summarise_all, table_markdown
 
 #: Options the sweep sets itself; a grid may not list them.
@@ -94,13 +95,14 @@ def load_grid(path: str) -> Grid:
     if not isinstance(scenario, str) or not scenario:
         raise ToolError(f"{path}: 'scenario' must name a scenario (paper-lab, paper-sim or a .scn file)")
     agents = d.get("agents", list(DEFAULT_AGENTS))
+    known = registry.names()
     if (
         not isinstance(agents, list)
         or not agents
-        or any(a not in AGENTS for a in agents)
+        or any(a not in known for a in agents)
         or len(set(agents)) != len(agents)
     ):
-        raise ToolError(f"{path}: 'agents' = {agents!r}: a list of distinct agents out of {', '.join(AGENTS)}")
+        raise ToolError(f"{path}: 'agents' = {agents!r}: a list of distinct agents out of {', '.join(known)}")
     sets = _int(d, "sets", 1, 100000, path=path)
     episodes = _int(d, "episodes", 1, 10000000, path=path)
     seed = _int(d, "seed", 0, 2**32 - 1, 1, path)

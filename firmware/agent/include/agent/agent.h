@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AGENT_KIND_VALUE_(kind, number, name, id) kind = (number),
+#define AGENT_KIND_VALUE_(kind, number, name, label, id) kind = (number),
 /// The algorithms (algorithms.h), chosen at run time; they share the Q store and the step API so
 /// every comparison is like for like.
 typedef enum agent_kind { AGENT_ALGORITHMS(AGENT_KIND_VALUE_) } agent_kind_t;
@@ -66,10 +66,13 @@ typedef struct agent_params {
 /// The largest kappa agent_init() takes: a bonus beyond any reward scale the robots use.
 #define AGENT_KAPPA_MAX 1000.0f
 
-/// Dyna-QPC's world models (agent_params_t.model), chosen by one switch in dyna_qpc.c.
+/// The world models (agent_params_t.model), registered in algorithms.h (AGENT_MODELS_OF): the
+/// operations an algorithm runs with each.
 #define AGENT_MODEL_RELOCATABLE 0u  ///< "relocatable": model.h (docs/agent.md)
 #define AGENT_MODEL_PAPER 1u        ///< "paper": the paper's CMAC-Model and CMAC-R, paper_model.h
-#define AGENT_MODELS 2u
+#define AGENT_COUNT_MODEL_(kind, model, name, id) +1
+/// How many models there are: agent_params_t.model values 0 .. AGENT_MODELS - 1.
+#define AGENT_MODELS (0u AGENT_MODELS_OF(AGENT_COUNT_MODEL_))
 
 /// The name of a model as the tools and scenario files spell it ("relocatable", "paper"), or
 /// NULL for a number that is none.
@@ -77,6 +80,9 @@ const char *agent_model_name(uint8_t model);
 
 /// The model called `name`: FW_OK and *model, or FW_ERR_INVAL for a name that is none.
 int agent_model_from_name(const char *name, uint8_t *model);
+
+/// Whether an agent of `kind` runs operations of its own with `model` (a line of AGENT_MODELS_OF).
+bool agent_kind_has_model(agent_kind_t kind, uint8_t model);
 
 /// No predictions for untried pairs (the relocatable action model): the planner knows only the
 /// pairs the robot tried, and confirms predecessors against them only.
@@ -97,7 +103,7 @@ int agent_model_from_name(const char *name, uint8_t *model);
 /// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
 /// may overlay their parts (see agent_profiles.h). Parts the chosen algorithm does not use may
 /// be left zero (NULL).
-#define AGENT_STORAGE_MEMBER_(kind, number, name, id) agent_##id##_storage_t id;
+#define AGENT_STORAGE_MEMBER_(kind, number, name, label, id) agent_##id##_storage_t id;
 typedef struct agent_storage {
     void *q;              ///< q_states * FW_CFG_MAX_ACTIONS values of q_value_bytes each
     uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
@@ -133,7 +139,7 @@ struct agent_algorithm;
 
 /// An agent: the settings and Q store every algorithm shares, and the chosen algorithm's own
 /// state. Read it through the functions below; only the algorithm files look inside `alg`.
-#define AGENT_STATE_MEMBER_(kind, number, name, id) agent_##id##_t id;
+#define AGENT_STATE_MEMBER_(kind, number, name, label, id) agent_##id##_t id;
 typedef struct agent {
     agent_kind_t kind;
     const struct agent_algorithm *algorithm;  ///< the kind's operations (algorithm.h)
@@ -157,8 +163,22 @@ const char *agent_kind_name(agent_kind_t kind);
 /// The algorithm called `name`: FW_OK and *kind, or FW_ERR_INVAL for a name that is none.
 int agent_kind_from_name(const char *name, agent_kind_t *kind);
 
+/// What the registry (algorithms.h) and an algorithm's own file say of it, for the tools
+/// (`dynaqpc-sim agents`).
+typedef struct agent_info {
+    const char *name;   ///< as the tools and scenario files spell it ("dyna-q")
+    const char *label;  ///< as tables and plots name it ("Dyna-Q")
+    /// MCU cycles one planning update takes: the Cortex-M4 build's guest instructions per update
+    /// on the grid-robot bench (paper-lab, N = 5; `ctest --preset cortex-m4 -R
+    /// bench.insn_paper_lab`), one cycle each. The simulator charges it in idle time.
+    uint32_t plan_cycles;
+} agent_info_t;
+
+/// FW_OK and *info for an algorithm, or FW_ERR_INVAL for a kind that is none.
+int agent_kind_info(agent_kind_t kind, agent_info_t *info);
+
 /// How many algorithms there are: agent_kind_t values 0 .. AGENT_KINDS - 1.
-#define AGENT_COUNT_KIND_(kind, number, name, id) +1
+#define AGENT_COUNT_KIND_(kind, number, name, label, id) +1
 #define AGENT_KINDS (0 AGENT_ALGORITHMS(AGENT_COUNT_KIND_))
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),

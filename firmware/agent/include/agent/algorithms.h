@@ -3,8 +3,8 @@
 //
 // Adding an algorithm: write its header (its state and its part of agent_storage_t, as
 // dyna_q.h) and its .c file (its agent_algorithm_t, as dyna_q.c), include the header here and
-// add its line to AGENT_ALGORITHMS. Everything else (the agent_kind_t value, the name the
-// tools accept, the agent's state and storage, the dispatch) follows from that line.
+// add its line to AGENT_ALGORITHMS. Everything else (the agent_kind_t value, the name and label
+// the tools use, the agent's state and storage, the dispatch) follows from that line.
 #ifndef AGENT_ALGORITHMS_H
 #define AGENT_ALGORITHMS_H
 
@@ -13,14 +13,25 @@
 #include "agent/dyna_qpc.h"
 #include "agent/q_learning.h"
 
-/// X(KIND, number, "name", id): the agent_kind_t value KIND (saved in the learned-data store's
-/// header, so never renumbered), the name the tools and scenario files use, and `id`, which
-/// names the algorithm's state type agent_<id>_t, its storage type agent_<id>_storage_t and its
-/// operations agent_<id>_algorithm (algorithm.h).
+/// X(KIND, number, "name", "label", id): the agent_kind_t value KIND (saved in the learned-data
+/// store's header, so never renumbered), the name the tools and scenario files use, the label of
+/// tables and plots, and `id`, which names the algorithm's state type agent_<id>_t, its storage
+/// type agent_<id>_storage_t and its operations agent_<id>_algorithm (algorithm.h).
+/// `dynaqpc-sim agents --json` prints what the tools learn from here (names, labels, models,
+/// counters).
 #define AGENT_ALGORITHMS(X)                                                                    \
-    X(AGENT_Q_LEARNING, 0, "q", q_learning)   /* the paper's Fig. 1: no model, no planning */  \
-    X(AGENT_DYNA_Q, 1, "dyna-q", dyna_q)      /* Fig. 5: transition table, random replay */    \
-    X(AGENT_DYNA_QPC, 2, "dyna-qpc", dyna_qpc) /* Figs. 3, 7, 10: model, prioritized sweeping */ \
-    X(AGENT_DYNA_Q_MAJORITY, 3, "dyna-q-majority", dyna_q_majority) /* Dyna-Q, majority outcome */
+    X(AGENT_Q_LEARNING, 0, "q", "Q-learning", q_learning) /* Fig. 1: no model, no planning */   \
+    X(AGENT_DYNA_Q, 1, "dyna-q", "Dyna-Q", dyna_q) /* Fig. 5: transition table, random replay */ \
+    X(AGENT_DYNA_QPC, 2, "dyna-qpc", "Dyna-QPC", dyna_qpc) /* Figs. 3, 7, 10: model, sweeping */ \
+    X(AGENT_DYNA_Q_MAJORITY, 3, "dyna-q-majority", "Dyna-Q (majority)", dyna_q_majority)
+
+/// X(KIND, model, "name", id): the world models an algorithm plans through, one line each: with
+/// agent_params_t.model == model, an agent of KIND runs the operations agent_<id>_algorithm (its
+/// own file) over KIND's state and storage. `model` is saved in no header but named by scenario
+/// files and `--model`, so a number names one model for every algorithm; a kind with no line
+/// for a model runs its own operations and ignores the setting. A variant is a file and a line.
+#define AGENT_MODELS_OF(X)                                                                     \
+    X(AGENT_DYNA_QPC, 0, "relocatable", dyna_qpc) /* ours: model.h, docs/agent.md */           \
+    X(AGENT_DYNA_QPC, 1, "paper", dyna_qpc_paper) /* the paper's CMAC-Model and CMAC-R */
 
 #endif // AGENT_ALGORITHMS_H
