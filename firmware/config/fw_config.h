@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc: compile-time capacities. Replace with -DFW_CONFIG_FILE="my_config.h".
 //
-// Every table in the firmware is a static array whose size is set here. The agent profiles
-// (robot/agent_profiles.h) turn these numbers into storage types and check each profile's total
-// against its RAM budget at compile time; `dynaqpc-mem` and the cross build's size report print
+// Every table in the firmware is a static array whose size is set here or follows from a size
+// set here. The agent profiles (robot/agent_profiles.h) turn these numbers into storage types
+// (each algorithm's memory reads the settings it needs) and check each profile's total against
+// its RAM budget at compile time; `dynaqpc-mem` and the cross build's size report print
 // the figures.
 #ifndef FW_CONFIG_H
 #define FW_CONFIG_H
@@ -45,16 +46,13 @@
 #ifndef FW_CFG_MAZE_PQ_CAPACITY
 #define FW_CFG_MAZE_PQ_CAPACITY 32768
 #endif
-// The Dyna-Q tables get the bytes of Dyna-QPC's model and queue, which they overlay
-// (agent_profiles.h asserts that they fit and, on the Cortex-M4, that one more record would not;
-// the host's model area is 80 bytes larger: the planner's carry holds pointers): records of 40
-// bytes (Dyna-Q-majority: 44, with its counts) and an index of 8 bytes a slot, its slots the
-// power of two at least twice the records. Maze: 3,154,800 bytes >= 52,655 x 40 + 131,072 x 8.
-#ifndef FW_CFG_MAZE_TABLE_STATES
-#define FW_CFG_MAZE_TABLE_STATES 52655
-#endif
-#ifndef FW_CFG_MAZE_MAJORITY_STATES
-#define FW_CFG_MAZE_MAJORITY_STATES 47868
+// The bytes every algorithm gets beside the Q store: those of Dyna-QPC's model and queue on the
+// Cortex-M4 (agent_profiles.h asserts it: set it again when their tables change size; the
+// host's are 80 bytes more, the planner's carry holds pointers). Algorithms that size their
+// tables from it fill it (DYNAQ_RECORDS_IN): Dyna-Q 52,655 records of 40 bytes and 131,072
+// index slots of 8 bytes; a table with 4 bytes more a record, 47,868.
+#ifndef FW_CFG_MAZE_ALGORITHM_BYTES
+#define FW_CFG_MAZE_ALGORITHM_BYTES 3154800
 #endif
 // Gridworlds have no percept or situation components (the relocatable model is off); the room
 // is for the benchmark's grid robot, shaped like paper-lab's state.
@@ -99,14 +97,11 @@
 #ifndef FW_CFG_LAB_PQ_CAPACITY
 #define FW_CFG_LAB_PQ_CAPACITY 128
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (30,064), see the maze profile.
-// Dyna-Q 512 records (28,672 bytes: 513 would need an index of 2,048 slots); Dyna-Q-majority 497
-// (30,060).
-#ifndef FW_CFG_LAB_TABLE_STATES
-#define FW_CFG_LAB_TABLE_STATES 512
-#endif
-#ifndef FW_CFG_LAB_MAJORITY_STATES
-#define FW_CFG_LAB_MAJORITY_STATES 497
+// The bytes every algorithm gets (see the maze profile): Dyna-QPC's model and queue. Dyna-Q
+// 512 records (28,672 bytes: 513 would need an index of 2,048 slots); 4 bytes more a record,
+// 497 (30,060).
+#ifndef FW_CFG_LAB_ALGORITHM_BYTES
+#define FW_CFG_LAB_ALGORITHM_BYTES 30064
 #endif
 // The relocatable model (model.h): places = x, y, heading (3 + 3 + 4 bits); situations = heading
 // and range code (4 + 3 bits) times 4 actions; positions = x, y.
@@ -154,14 +149,10 @@
 #ifndef FW_CFG_SIM_PQ_CAPACITY
 #define FW_CFG_SIM_PQ_CAPACITY 512
 #endif
-// The Dyna-Q tables: the bytes of Dyna-QPC's model and queue (84,720 on the MCU), see the maze
-// profile: Dyna-Q 1,298 records (84,688 bytes), Dyna-Q-majority 1,180 (84,688), each with 4,096
-// index slots (the most that fit: agent_profiles.h checks it).
-#ifndef FW_CFG_SIM_TABLE_STATES
-#define FW_CFG_SIM_TABLE_STATES 1298
-#endif
-#ifndef FW_CFG_SIM_MAJORITY_STATES
-#define FW_CFG_SIM_MAJORITY_STATES 1180
+// The bytes every algorithm gets (see the maze profile): Dyna-QPC's model and queue. Dyna-Q
+// 1,298 records (84,688 bytes); 4 bytes more a record, 1,180 (84,688); each 4,096 index slots.
+#ifndef FW_CFG_SIM_ALGORITHM_BYTES
+#define FW_CFG_SIM_ALGORITHM_BYTES 84720
 #endif
 // places = x, y, heading (5 + 5 + 4 bits); situations = heading and sonar code (4 + 4 bits)
 // times 4 actions; positions = x, y.

@@ -49,7 +49,7 @@ std::string hex_c(std::uint64_t v, int digits)
 
 const char *agent_c(agent_kind_t k)
 {
-#define AGENT_C_NAME_(kind, number, name, label, id) \
+#define AGENT_C_NAME_(kind, number, name, label, id, d) \
     if (k == kind) return #kind;
     AGENT_ALGORITHMS(AGENT_C_NAME_)
 #undef AGENT_C_NAME_

@@ -11,15 +11,15 @@
 
 // ---- The registry: every algorithm of algorithms.h, by kind ------------------------------------
 
-#define AGENT_ALGORITHM_ENTRY_(kind, number, name, label, id) [number] = &agent_##id##_algorithm,
+#define AGENT_ALGORITHM_ENTRY_(kind, number, name, label, id, d) [number] = &agent_##id##_algorithm,
 static const agent_algorithm_t *const algorithms_[] = {AGENT_ALGORITHMS(AGENT_ALGORITHM_ENTRY_)};
 #undef AGENT_ALGORITHM_ENTRY_
 
-#define AGENT_NAME_ENTRY_(kind, number, name, label, id) [number] = name,
+#define AGENT_NAME_ENTRY_(kind, number, name, label, id, d) [number] = name,
 static const char *const names_[] = {AGENT_ALGORITHMS(AGENT_NAME_ENTRY_)};
 #undef AGENT_NAME_ENTRY_
 
-#define AGENT_LABEL_ENTRY_(kind, number, name, label, id) [number] = label,
+#define AGENT_LABEL_ENTRY_(kind, number, name, label, id, d) [number] = label,
 static const char *const labels_[] = {AGENT_ALGORITHMS(AGENT_LABEL_ENTRY_)};
 #undef AGENT_LABEL_ENTRY_
 

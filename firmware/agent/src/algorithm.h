@@ -41,7 +41,7 @@ typedef struct agent_algorithm {
     uint32_t plan_cycles;
 } agent_algorithm_t;
 
-#define AGENT_DECLARE_ALGORITHM_(kind, number, name, label, id) \
+#define AGENT_DECLARE_ALGORITHM_(kind, number, name, label, id, d) \
     extern const agent_algorithm_t agent_##id##_algorithm;
 AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
 #undef AGENT_DECLARE_ALGORITHM_

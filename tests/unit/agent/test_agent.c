@@ -190,7 +190,23 @@ static void same_seed_same_behaviour_and_reset_forgets(void **state)
 // which pass nothing on. Two agents with the same seed, one planning each way, on a small robot
 // grid whose tables are too small for it (Q rows, CMAC cells and queue all overflow), must act
 // alike at every step and end with the same bytes learned and the same counters.
-typedef AGENT_MEMORY_STRUCT(value16_t, 64, 64, 4, 16, 16, 1, 1, 1, 64, 64, 16) small_memory_t;
+// The Dyna-Q tables' 960 bytes hold 16 records each (DYNAQ_RECORDS_IN).
+#define SMALL_(knob) SMALL_##knob
+#define SMALL_Q_TYPE value16_t
+#define SMALL_Q_STATES 64
+#define SMALL_CMAC_CELLS 64
+#define SMALL_PQ_CAPACITY 4
+#define SMALL_ALGORITHM_BYTES 960
+#define SMALL_PLACES 1
+#define SMALL_CLASSES 1
+#define SMALL_POSITIONS 1
+#define SMALL_PAPER_FWD_CELLS 64
+#define SMALL_PAPER_INV_CELLS 64
+#define SMALL_TRIED_PAIRS 16
+typedef AGENT_MEMORY_STRUCT(SMALL_) small_memory_t;
+FW_STATIC_ASSERT(DYNAQ_RECORDS_IN(SMALL_ALGORITHM_BYTES, 0) == 16 &&
+                     DYNAQ_RECORDS_IN(SMALL_ALGORITHM_BYTES, FW_CFG_MAX_ACTIONS) == 16,
+                 small_tables_hold_16_records);
 static small_memory_t memory_a_;
 static small_memory_t memory_b_;
 static const agent_storage_t storage_a_ = AGENT_STORAGE_OF(memory_a_);

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AGENT_KIND_VALUE_(kind, number, name, label, id) kind = (number),
+#define AGENT_KIND_VALUE_(kind, number, name, label, id, d) kind = (number),
 /// The algorithms (algorithms.h), chosen at run time; they share the Q store and the step API so
 /// every comparison is like for like.
 typedef enum agent_kind { AGENT_ALGORITHMS(AGENT_KIND_VALUE_) } agent_kind_t;
@@ -99,11 +99,15 @@ bool agent_kind_has_model(agent_kind_t kind, uint8_t model);
 /// Every AGENT_ABLATE_* bit.
 #define AGENT_ABLATE_ALL 0x1Fu
 
+/// The elements of array `a`, for the storage initializers (AGENT_STORAGE_<id>, agent_profiles.h).
+#define AGENT_COUNT_OF(a) ((uint32_t)(sizeof(a) / sizeof((a)[0])))
+
 /// Caller-owned static storage for an agent: the Q store every algorithm has, and each
-/// algorithm's own part. Dyna-Q and Dyna-QPC never run in the same agent at once, so a profile
-/// may overlay their parts (see agent_profiles.h). Parts the chosen algorithm does not use may
+/// algorithm's own part. Each algorithm's header says what memory its part points into
+/// (AGENT_MEMORY_<id>) and how (AGENT_STORAGE_<id>); an agent runs one algorithm, so a profile
+/// overlays their memories (agent_profiles.h). Parts the chosen algorithm does not use may
 /// be left zero (NULL).
-#define AGENT_STORAGE_MEMBER_(kind, number, name, label, id) agent_##id##_storage_t id;
+#define AGENT_STORAGE_MEMBER_(kind, number, name, label, id, d) agent_##id##_storage_t id;
 typedef struct agent_storage {
     void *q;              ///< q_states * FW_CFG_MAX_ACTIONS values of q_value_bytes each
     uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
@@ -139,7 +143,7 @@ struct agent_algorithm;
 
 /// An agent: the settings and Q store every algorithm shares, and the chosen algorithm's own
 /// state. Read it through the functions below; only the algorithm files look inside `alg`.
-#define AGENT_STATE_MEMBER_(kind, number, name, label, id) agent_##id##_t id;
+#define AGENT_STATE_MEMBER_(kind, number, name, label, id, d) agent_##id##_t id;
 typedef struct agent {
     agent_kind_t kind;
     const struct agent_algorithm *algorithm;  ///< the kind's operations (algorithm.h)
@@ -178,7 +182,7 @@ typedef struct agent_info {
 int agent_kind_info(agent_kind_t kind, agent_info_t *info);
 
 /// How many algorithms there are: agent_kind_t values 0 .. AGENT_KINDS - 1.
-#define AGENT_COUNT_KIND_(kind, number, name, label, id) +1
+#define AGENT_COUNT_KIND_(kind, number, name, label, id, d) +1
 #define AGENT_KINDS (0 AGENT_ALGORITHMS(AGENT_COUNT_KIND_))
 
 /// alpha 0.1, plan_alpha 1, gamma 0.95, epsilon 0.1, theta 1e-4, model_rate 0.999 (the paper's),

@@ -31,6 +31,20 @@ typedef struct agent_dyna_q_majority_storage {
     uint32_t states;
 } agent_dyna_q_majority_storage_t;
 
+/// Its memory in a profile P (agent_profiles.h): as many records as fit, with their counts and
+/// index, in P(ALGORITHM_BYTES), the bytes every algorithm gets.
+#define AGENT_DYNA_Q_MAJORITY_RECORDS_(P) DYNAQ_RECORDS_IN(P(ALGORITHM_BYTES), FW_CFG_MAX_ACTIONS)
+#define AGENT_MEMORY_dyna_q_majority(P)                                                        \
+    struct {                                                                                   \
+        dynaq_record_t records[AGENT_DYNA_Q_MAJORITY_RECORDS_(P)];                             \
+        uint32_t index_keys[DYNAQ_INDEX_SLOTS(AGENT_DYNA_Q_MAJORITY_RECORDS_(P))];             \
+        uint32_t index_rec[DYNAQ_INDEX_SLOTS(AGENT_DYNA_Q_MAJORITY_RECORDS_(P))];              \
+        uint8_t counts[AGENT_DYNA_Q_MAJORITY_RECORDS_(P) * FW_CFG_MAX_ACTIONS];                \
+    }
+/// Its part of agent_storage_t, in memory `m` of that type.
+#define AGENT_STORAGE_dyna_q_majority(m) \
+    {(m).records, (m).index_keys, (m).index_rec, (m).counts, AGENT_COUNT_OF((m).records)}
+
 #ifdef __cplusplus
 }
 #endif

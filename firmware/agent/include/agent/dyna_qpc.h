@@ -53,6 +53,51 @@ typedef struct agent_dyna_qpc_storage {
     paper_model_storage_t paper;
 } agent_dyna_qpc_storage_t;
 
+/// Its memory in a profile P (agent_profiles.h: P(KNOB) is the profile's setting KNOB): the
+/// relocatable model (CMAC_CELLS, CLASSES, PLACES, POSITIONS) and the planner's carry, overlaid
+/// by the paper's CMACs (PAPER_FWD_CELLS, PAPER_INV_CELLS: an agent runs one model), then the
+/// queue (PQ_CAPACITY).
+#define AGENT_MEMORY_dyna_qpc(P)                                                               \
+    struct {                                                                                   \
+        union {                                                                                \
+            struct {                                                                           \
+                uint32_t fwd_keys[P(CMAC_CELLS)];                                              \
+                int16_t fwd_weights[(P(CMAC_CELLS)) * (FW_CFG_MAX_COMPONENTS + 2)];            \
+                uint8_t fwd_counts[P(CMAC_CELLS)];                                             \
+                model_class_t classes[P(CLASSES)];                                             \
+                uint16_t percepts[P(PLACES)];                                                  \
+                int16_t arrivals[P(POSITIONS)];                                                \
+                agent_plan_carry_t carry;                                                      \
+            } ours;                                                                            \
+            struct {                                                                           \
+                uint32_t fwd_keys[P(PAPER_FWD_CELLS)];                                         \
+                int16_t fwd_weights[(P(PAPER_FWD_CELLS)) * (FW_CFG_MAX_COMPONENTS + 2)];       \
+                uint8_t fwd_counts[P(PAPER_FWD_CELLS)];                                        \
+                uint32_t inv_keys[P(PAPER_INV_CELLS)];                                         \
+                int16_t inv_weights[(P(PAPER_INV_CELLS)) * (FW_CFG_MAX_COMPONENTS + 1)];       \
+                uint8_t inv_counts[P(PAPER_INV_CELLS)];                                        \
+            } paper;                                                                           \
+        } m;                                                                                   \
+        pq_item_t pq_heap[P(PQ_CAPACITY)];                                                     \
+        uint32_t pq_index_keys[PQ_INDEX_SLOTS(P(PQ_CAPACITY))];                                \
+        uint32_t pq_index_pos[PQ_INDEX_SLOTS(P(PQ_CAPACITY))];                                 \
+    }
+/// Its part of agent_storage_t, in memory `m` of that type.
+#define AGENT_STORAGE_dyna_qpc(mem)                                                              \
+    {{(mem).m.ours.fwd_keys, (mem).m.ours.fwd_counts, (mem).m.ours.fwd_weights,                      \
+      AGENT_COUNT_OF((mem).m.ours.fwd_keys)},                                                    \
+     {(mem).m.ours.percepts, AGENT_COUNT_OF((mem).m.ours.percepts), (mem).m.ours.classes,            \
+      AGENT_COUNT_OF((mem).m.ours.classes), (mem).m.ours.arrivals, AGENT_COUNT_OF((mem).m.ours.arrivals)}, \
+     (mem).pq_heap,                                                                              \
+     (mem).pq_index_keys,                                                                        \
+     (mem).pq_index_pos,                                                                         \
+     AGENT_COUNT_OF((mem).pq_heap),                                                              \
+     &(mem).m.ours.carry,                                                                        \
+     {{(mem).m.paper.fwd_keys, (mem).m.paper.fwd_counts, (mem).m.paper.fwd_weights,                  \
+       AGENT_COUNT_OF((mem).m.paper.fwd_keys)},                                                  \
+      {(mem).m.paper.inv_keys, (mem).m.paper.inv_counts, (mem).m.paper.inv_weights,                  \
+       AGENT_COUNT_OF((mem).m.paper.inv_keys)}}}
+
 #ifdef __cplusplus
 }
 #endif

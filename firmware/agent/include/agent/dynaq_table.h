@@ -69,6 +69,22 @@ typedef struct dynaq_table {
 #define DYNAQ_POW2_SMEAR_(x) (DYNAQ_SMEAR8_(x) | (DYNAQ_SMEAR8_(x) >> 16))
 #define DYNAQ_INDEX_SLOTS(cap) (DYNAQ_POW2_SMEAR_(2u * (uint32_t)(cap) - 1u) + 1u)
 
+/// The most records a table may have in `bytes` (at least sizeof(dynaq_record_t) + extra + 16)
+/// when each record also needs `extra` bytes beside it: its records and its index
+/// (DYNAQ_INDEX_SLOTS, 8 bytes a slot). With H the largest power of two whose records and 2 H
+/// slots fit (H (record + 16) <= bytes), the answer is H or, if more records fit beside 4 H
+/// slots, that many (fewer than 2 H, by the choice of H); more slots leave room for fewer.
+#define DYNAQ_RECORDS_IN(bytes, extra)                                                         \
+    (DYNAQ_FIT4_(bytes, extra) > DYNAQ_HALF_(bytes, extra) ? DYNAQ_FIT4_(bytes, extra)         \
+                                                           : DYNAQ_HALF_(bytes, extra))
+#define DYNAQ_REC_(extra) ((uint32_t)sizeof(dynaq_record_t) + (uint32_t)(extra))
+#define DYNAQ_HALF_(bytes, extra) \
+    ((DYNAQ_POW2_SMEAR_((uint32_t)(bytes) / (DYNAQ_REC_(extra) + 16u)) >> 1) + 1u)
+#define DYNAQ_FIT4_(bytes, extra)                                                              \
+    ((uint32_t)(bytes) >= 32u * DYNAQ_HALF_(bytes, extra)                                      \
+         ? ((uint32_t)(bytes) - 32u * DYNAQ_HALF_(bytes, extra)) / DYNAQ_REC_(extra)           \
+         : 0u)
+
 /// Prepares an empty table of `capacity` records (any number from 1; a profile gives the table
 /// the bytes it has). Returns FW_OK or FW_ERR_INVAL.
 int dynaq_init(dynaq_table_t *t, dynaq_record_t *records, uint32_t *index_keys,

@@ -19,6 +19,14 @@ typedef struct agent_q_learning_storage {
     uint8_t none;
 } agent_q_learning_storage_t;
 
+/// Its memory in a profile P (agent_profiles.h): none.
+#define AGENT_MEMORY_q_learning(P) \
+    struct {                       \
+        uint8_t none;              \
+    }
+/// Its part of agent_storage_t, in memory `m` of that type.
+#define AGENT_STORAGE_q_learning(m) {0}
+
 #ifdef __cplusplus
 }
 #endif
