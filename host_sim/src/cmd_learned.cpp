@@ -2,13 +2,15 @@
 // dynaqpc-sim learned: what a flash image holds, decoded by the firmware itself, as JSON.
 //
 // The firmware boots on the image exactly as `run` does (learned_store_load: CRCs, layout, the
-// agent's own checks), and what it restored is then read through the agent's own functions:
-// Q rows (qstore), the greedy action (agent_greedy), the percept map (model_has_seen), CMAC-Model's
-// training counts and the model's predictions (model_predict), Dyna-Q's records. No offset of the
+// agent's own checks), and what it restored is then read through the agent's own functions: its
+// walk (agent_walk: the tables' fill and, per state, its Q row, whether it was visited or is
+// modelled, the model's training counts, each module describing its own), Q values
+// (agent_q, agent_value) and the greedy action (agent_greedy). No offset of the
 // store's layout is written down twice: dynaqpc-learned (tools/dynaqpc_tools/learned.py) only
 // draws this JSON. The format is documented in docs/tools.md ("dynaqpc-learned").
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -40,16 +42,6 @@ const char *kind_name(agent_kind_t k)
     return name != nullptr ? name : "?";
 }
 
-// The transition table of a Dyna-Q agent (either rule), or null.
-const dynaq_table_t *table_of(const agent_t *ag)
-{
-    switch (ag->kind) {
-    case AGENT_DYNA_Q: return &ag->alg.dyna_q.table;
-    case AGENT_DYNA_Q_MAJORITY: return &ag->alg.dyna_q_majority.table;
-    default: return nullptr;
-    }
-}
-
 const char *slot_state_name(learned_slot_state_t s)
 {
     switch (s) {
@@ -69,6 +61,36 @@ std::string num(double v)
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
 }
+
+// What agent_walk() hands over, gathered per state (facts about one state add up).
+struct Knowledge {
+    std::uint32_t n_states, na;
+    std::vector<agent_table_fill_t> fill;
+    std::vector<std::uint8_t> row, visited, modelled;
+    std::vector<std::uint32_t> n;
+    Knowledge(std::uint32_t states, std::uint32_t actions)
+        : n_states(states), na(actions), row(states, 0), visited(states, 0), modelled(states, 0),
+          n(static_cast<std::size_t>(states) * actions, 0)
+    {
+    }
+    static int take(void *data, const agent_fact_t *fact)
+    {
+        Knowledge &k = *static_cast<Knowledge *>(data);
+        if (fact->kind == AGENT_FACT_TABLE) {
+            k.fill.push_back(fact->u.table);
+        } else if (fact->kind == AGENT_FACT_STATE && fact->u.state.state < k.n_states) {
+            const agent_state_facts_t &f = fact->u.state;
+            k.row[f.state] |= f.row ? 1 : 0;
+            k.visited[f.state] |= f.visited ? 1 : 0;
+            k.modelled[f.state] |= f.modelled ? 1 : 0;
+            for (std::uint32_t a = 0; a < k.na; a++) {
+                std::uint32_t &v = k.n[static_cast<std::size_t>(f.state) * k.na + a];
+                v = std::max(v, f.n[a]);
+            }
+        }
+        return 0;
+    }
+};
 
 struct SlotInfo {
     learned_slot_state_t state = LEARNED_SLOT_EMPTY;
@@ -105,7 +127,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     robot_app_get_stats(&rs);
 
     std::ostringstream o;
-    o << "{\"format\":\"dynaqpc-learned 1\",\"scenario\":\"" << sb.name << "\",\"agent\":\"" << kind_name(ag->kind)
+    o << "{\"format\":\"dynaqpc-learned 1\",\"scenario\":\"" << sb.name << "\",\"agent\":\"" << kind_name(cfg.agent)
       << "\",\n\"record\":{\"episodes\":" << rs.restored_episodes << ",\"fell_back\":" << (rs.restore_fell_back ? "true" : "false")
       << ",\"slots\":[";
     for (std::size_t i = 0; i < slots.size(); i++) {
@@ -160,99 +182,34 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     while (!arena.empty() && arena.back() == '\n') arena.pop_back();
     o << "]},\n\"arena\":" << arena << ",\n";
 
-    // The tables' fill.
-    o << "\"fill\":{\"q\":{\"rows\":" << (ag->q.dense ? 0u : ag->q.rows_used) << ",\"capacity\":" << ag->q.capacity
-      << ",\"dense\":" << (ag->q.dense ? "true" : "false") << "}";
-    const bool paper = ag->kind == AGENT_DYNA_QPC && ag->params.model == AGENT_MODEL_PAPER;
-    if (paper) {  // the paper's CMAC-Model and CMAC-R (docs/agent.md): no map, no situations
-        const paper_model_t &m = ag->alg.dyna_qpc.paper;
-        o << ",\"cmac\":{\"cells\":" << m.forward.stats.cells_used << ",\"capacity\":" << m.forward.capacity << "}"
-          << ",\"cmac_r\":{\"cells\":" << m.inverse.stats.cells_used << ",\"capacity\":" << m.inverse.capacity << "}";
-    } else if (ag->kind == AGENT_DYNA_QPC) {
-        const world_model_t &m = ag->alg.dyna_qpc.model;
-        std::uint32_t places = 0, classes = 0, arrivals = 0;
-        for (std::uint32_t i = 0; m.percepts != nullptr && i < m.places; i++) places += m.percepts[i] != 0;
-        for (std::uint32_t i = 0; m.classes != nullptr && i < m.n_classes; i++) classes += m.classes[i].count != 0;
-        for (std::uint32_t i = 0; m.arrivals != nullptr && i < m.positions; i++) arrivals += m.arrivals[i] != MODEL_NO_ARRIVAL;
-        o << ",\"cmac\":{\"cells\":" << m.forward.stats.cells_used << ",\"capacity\":" << m.forward.capacity << "}"
-          << ",\"percepts\":{\"places\":" << places << ",\"capacity\":" << m.places << "}"
-          << ",\"situations\":{\"used\":" << classes << ",\"capacity\":" << m.n_classes << "}"
-          << ",\"arrivals\":{\"used\":" << arrivals << ",\"capacity\":" << m.positions << "}";
-    } else if (const dynaq_table_t *t = table_of(ag)) {
-        o << ",\"table\":{\"records\":" << t->count << ",\"capacity\":" << t->capacity << "}";
+    // What the agent knows, as its modules describe it (agent_walk).
+    Knowledge k(n_states, na);
+    (void)agent_walk(ag, AGENT_FACT_TABLE | AGENT_FACT_STATE, Knowledge::take, &k);
+    o << "\"fill\":{";
+    for (std::size_t i = 0; i < k.fill.size(); i++) {
+        const agent_table_fill_t &t = k.fill[i];
+        o << (i ? "," : "") << "\"" << t.name << "\":{\"" << t.unit << "\":" << t.used << ",\"capacity\":" << t.capacity;
+        if (t.dense >= 0) o << ",\"dense\":" << (t.dense ? "true" : "false");
+        o << "}";
     }
     o << "},\n";
 
     // Per state: whether it has a Q row, was visited (perceived on a real step), is modelled (the
     // model predicts an action there, tried or generalised); its Q values and real experience.
-    std::vector<std::uint8_t> visited(n_states, 0), tried(n_states * na, 0);
-    if (const dynaq_table_t *t = table_of(ag)) {
-        for (std::uint32_t i = 0; i < t->count; i++) {
-            const dynaq_record_t &r = t->records[i];
-            if (r.state >= n_states) continue;
-            visited[r.state] = 1;
-            for (std::uint32_t a = 0; a < na; a++) {
-                if (dynaq_bit(r.tried, a)) {
-                    tried[r.state * na + a] = 1;
-                    if (r.next[a] < n_states) visited[r.next[a]] = 1;
-                }
-            }
-        }
-    }
     o << "\"states_columns\":[\"s\",\"x\",\"y\",\"heading\",\"code\",\"row\",\"visited\",\"modelled\",\"greedy\",\"v\",\"q\",\"n\"],\n"
       << "\"states\":[";
     first = true;
     for (std::uint32_t s = 0; s < n_states; s++) {
-        float q[FW_CFG_MAX_ACTIONS];
-        qstore_values(&ag->q, s, q);
-        bool row = false;
-        if (ag->q.dense) {
-            for (std::uint32_t a = 0; a < na; a++) row = row || q[a] != 0.0f;
-        } else {
-            row = oa_lookup(&ag->q.index, s, ag->q.rows_used == ag->q.capacity) != OA_NONE;
-        }
-        bool vis = false, modelled = false;
-        std::uint32_t n[FW_CFG_MAX_ACTIONS] = {0};
-        if (paper) {
-            vis = row;  // no map of what was perceived: a real step writes the row
-            paper_model_t *pm = &ag->alg.dyna_qpc.paper;
-            std::uint32_t comp[FW_CFG_MAX_COMPONENTS];
-            space_unpack(&sp, s, comp);
-            for (std::uint32_t a = 0; a < na; a++) {
-                cmac_tiles_t t;
-                cmac_tiles_of(&pm->forward, comp, a, &t);
-                std::int32_t out[CMAC_MAX_OUTPUTS];
-                n[a] = cmac_predict(&pm->forward, &t, out);
-                model_step_t step;
-                modelled = paper_model_predict(pm, s, static_cast<std::uint8_t>(a), &step) || modelled;
-            }
-        } else if (ag->kind == AGENT_DYNA_QPC) {
-            vis = model_has_seen(&ag->alg.dyna_qpc.model, s);
-            model_query_t mq;
-            model_query_init(&ag->alg.dyna_qpc.model, s, &mq);
-            for (std::uint32_t a = 0; a < na; a++) {
-                cmac_tiles_t t = mq.tiles;
-                cmac_tiles_set_action(&ag->alg.dyna_qpc.model.forward, &t, a);
-                std::int32_t out[CMAC_MAX_OUTPUTS];
-                n[a] = cmac_predict(&ag->alg.dyna_qpc.model.forward, &t, out);
-                model_step_t step;
-                modelled = model_query_predict(&ag->alg.dyna_qpc.model, &mq, static_cast<std::uint8_t>(a), &step) || modelled;
-            }
-        } else if (table_of(ag) != nullptr) {
-            vis = visited[s] != 0;
-            for (std::uint32_t a = 0; a < na; a++) {
-                n[a] = tried[s * na + a];
-                modelled = modelled || n[a] != 0;
-            }
-        } else {
-            vis = row;  // Q-learning writes rows on real steps only
-        }
+        const bool row = k.row[s] != 0, vis = k.visited[s] != 0, modelled = k.modelled[s] != 0;
         if (!row && !vis && !modelled) continue;
+        float q[FW_CFG_MAX_ACTIONS];
+        for (std::uint32_t a = 0; a < na; a++) q[a] = agent_q(ag, s, static_cast<std::uint8_t>(a));
+        const std::uint32_t *n = &k.n[static_cast<std::size_t>(s) * na];
         std::uint32_t comp[FW_CFG_MAX_COMPONENTS];
         space_unpack(&sp, s, comp);
         o << (first ? "\n" : ",\n") << "[" << s << "," << comp[0] << "," << comp[1] << "," << comp[2] << "," << comp[3] << ","
           << (row ? 1 : 0) << "," << (vis ? 1 : 0) << "," << (modelled ? 1 : 0) << "," << unsigned(agent_greedy(ag, s)) << ","
-          << num(qstore_max(&ag->q, s)) << ",[";
+          << num(agent_value(ag, s)) << ",[";
         for (std::uint32_t a = 0; a < na; a++) o << (a ? "," : "") << num(q[a]);
         o << "],[";
         for (std::uint32_t a = 0; a < na; a++) o << (a ? "," : "") << n[a];

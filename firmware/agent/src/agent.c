@@ -318,19 +318,108 @@ uint32_t agent_plan(agent_t *ag, uint32_t n)
 
 // ---- Counters ---------------------------------------------------------------------------------
 
-uint32_t agent_counters(const agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS])
+// ---- What the agent knows: the walk ----------------------------------------------------------
+
+int agent_visit_counter_(agent_visit_t visit, void *data, const char *name, uint32_t value,
+                         uint32_t capacity)
 {
-    out[0] = (agent_counter_t){"q_rows", ag->q.rows_used, ag->q.capacity};
-    out[1] = (agent_counter_t){"q_dropped", ag->q.dropped, 0u};
-    out[2] = (agent_counter_t){"q_plan_refused", ag->q.plan_refused, 0u};
-    uint32_t n = 3u + ag->algorithm->counters(ag, out + 3);
-    if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
-        FW_ASSERT(n + 2u <= AGENT_MAX_COUNTERS);
-        out[n++] = (agent_counter_t){"tried_pairs", ag->tried.used, ag->tried.capacity};
-        out[n++] = (agent_counter_t){"tried_forgotten", ag->tried.forgotten, 0u};
+    agent_fact_t f;
+    f.kind = AGENT_FACT_COUNTER;
+    f.u.counter = (agent_counter_t){name, value, capacity};
+    return visit(data, &f);
+}
+
+int agent_visit_table_(agent_visit_t visit, void *data, const char *name, const char *unit,
+                       uint32_t used, uint32_t capacity)
+{
+    agent_fact_t f;
+    f.kind = AGENT_FACT_TABLE;
+    f.u.table = (agent_table_fill_t){name, unit, used, capacity, -1};
+    return visit(data, &f);
+}
+
+int agent_visit_state_(agent_visit_t visit, void *data, const agent_state_facts_t *facts)
+{
+    agent_fact_t f;
+    f.kind = AGENT_FACT_STATE;
+    f.u.state = *facts;
+    return visit(data, &f);
+}
+
+// The Q store's facts: its counters, its fill, its rows.
+static int walk_q_(const agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    const qstore_t *q = &ag->q;
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "q_rows", q->rows_used, q->capacity));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "q_dropped", q->dropped, 0u));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "q_plan_refused", q->plan_refused, 0u));
     }
-    FW_ASSERT(n <= AGENT_MAX_COUNTERS);
-    return n;
+    if (what & AGENT_FACT_TABLE) {
+        agent_fact_t f;
+        f.kind = AGENT_FACT_TABLE;
+        f.u.table = (agent_table_fill_t){"q", "rows", q->dense ? 0u : q->rows_used, q->capacity,
+                                         (int8_t)(q->dense ? 1 : 0)};
+        AGENT_VISIT_(visit(data, &f));
+    }
+    if (what & AGENT_FACT_STATE) {
+        for (agent_state_t s = 0; (s >> ag->state_bits) == 0u; s++) {
+            if (qstore_has_row(q, s)) {
+                const agent_state_facts_t f = {s, true, false, false, {0}};
+                AGENT_VISIT_(agent_visit_state_(visit, data, &f));
+            }
+        }
+    }
+    return 0;
+}
+
+int agent_walk_rows_as_visits_(const agent_t *ag, agent_visit_t visit, void *data)
+{
+    for (agent_state_t s = 0; (s >> ag->state_bits) == 0u; s++) {
+        if (qstore_has_row(&ag->q, s)) {
+            const agent_state_facts_t f = {s, false, true, false, {0}};
+            AGENT_VISIT_(agent_visit_state_(visit, data, &f));
+        }
+    }
+    return 0;
+}
+
+int agent_walk(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    FW_ASSERT(ag != NULL && ag->algorithm != NULL && visit != NULL);
+    AGENT_VISIT_(walk_q_(ag, what, visit, data));
+    AGENT_VISIT_(ag->algorithm->walk(ag, what, visit, data));
+    if ((what & AGENT_FACT_COUNTER) && ag->params.explore != AGENT_EXPLORE_EGREEDY) {
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "tried_pairs", ag->tried.used, ag->tried.capacity));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "tried_forgotten", ag->tried.forgotten, 0u));
+    }
+    return 0;
+}
+
+typedef struct {
+    agent_counter_t *out;
+    uint32_t n;
+} counter_list_t;
+
+static int list_counter_(void *data, const agent_fact_t *fact)
+{
+    counter_list_t *list = data;
+    FW_ASSERT(list->n < AGENT_MAX_COUNTERS);
+    list->out[list->n++] = fact->u.counter;
+    return 0;
+}
+
+uint32_t agent_counters(agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS])
+{
+    counter_list_t list = {out, 0u};
+    (void)agent_walk(ag, AGENT_FACT_COUNTER, list_counter_, &list);
+    return list.n;
+}
+
+float agent_value(const agent_t *ag, agent_state_t s)
+{
+    ASSERT_STATE_(ag, s);
+    return qstore_max(&ag->q, s);
 }
 
 uint32_t agent_backlog(const agent_t *ag)
@@ -403,11 +492,13 @@ int agent_check_nothing_(const agent_t *ag, const void *const *image, uint32_t s
     return FW_OK;
 }
 
-uint32_t agent_count_nothing_(const agent_t *ag, agent_counter_t *out)
+int agent_walk_nothing_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
 {
     (void)ag;
-    (void)out;
-    return 0u;
+    (void)what;
+    (void)visit;
+    (void)data;
+    return 0;
 }
 
 uint32_t agent_backlog_none_(const agent_t *ag)

@@ -32,9 +32,10 @@ typedef struct agent_algorithm {
     int (*check)(const agent_t *ag, const void *const *image, uint32_t state_bits);
     /// Its regions' bytes were restored (agent_learned_restored()).
     void (*restored)(agent_t *ag);
-    /// Its own counters, after the Q store's (agent_counters()); at most
-    /// AGENT_MAX_COUNTERS - 3.
-    uint32_t (*counters)(const agent_t *ag, agent_counter_t *out);
+    /// What it knows (agent_walk()), after the Q store's facts: the kinds `what` asks for of its
+    /// counters (at most AGENT_MAX_COUNTERS - 5), its tables' fill and the states it knows
+    /// something of; 0, or the nonzero a visit returned.
+    int (*walk)(agent_t *ag, uint32_t what, agent_visit_t visit, void *data);
     /// Planning work waiting (agent_backlog()).
     uint32_t (*backlog)(const agent_t *ag);
     /// MCU cycles one planning update takes (agent_info_t.plan_cycles), as measured.
@@ -116,9 +117,30 @@ AGENT_ALWAYS_INLINE float agent_plan_bonus_(const agent_t *ag, agent_state_t s, 
 /// outcome; returns how many were made (0 before the first real step).
 uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t n);
 
-/// A transition table's counters (dyna_q.c): `table` (records of capacity) and `table_evicted`;
-/// returns how many it wrote (2).
-uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out);
+/// What a transition table knows (dyna_q.c), for an algorithm's walk: its counters `table`
+/// (records of capacity) and `table_evicted`, its fill, and its states: each recorded state
+/// visited, with its tried actions (n 1), and each state a tried action led to visited.
+int agent_dyna_q_table_walk_(const agent_t *ag, const dynaq_table_t *table, uint32_t what,
+                             agent_visit_t visit, void *data);
+
+/// The facts of a walk (agent_walk()), handed to `visit`; each returns what it returned.
+int agent_visit_counter_(agent_visit_t visit, void *data, const char *name, uint32_t value,
+                         uint32_t capacity);
+int agent_visit_table_(agent_visit_t visit, void *data, const char *name, const char *unit,
+                       uint32_t used, uint32_t capacity);
+int agent_visit_state_(agent_visit_t visit, void *data, const agent_state_facts_t *facts);
+/// Returns from the calling walk if `call` (a visit) returned nonzero.
+#define AGENT_VISIT_(call)             \
+    do {                               \
+        const int visit_err_ = (call); \
+        if (visit_err_ != 0) {         \
+            return visit_err_;         \
+        }                              \
+    } while (0)
+
+/// The states walk of an algorithm with no map of what was perceived: each state with a Q row
+/// was visited (a real step writes its row).
+int agent_walk_rows_as_visits_(const agent_t *ag, agent_visit_t visit, void *data);
 
 /// Prioritized sweeping's two steps, whichever model Dyna-QPC plans through (dyna_qpc.c,
 /// dyna_qpc_paper.c); inline, as they are the planning update's own work.
@@ -151,9 +173,8 @@ AGENT_ALWAYS_INLINE void agent_sweep_queue_(agent_t *ag, agent_state_t s, uint8_
 }
 
 /// Dyna-QPC's queue, whichever model plans through it (dyna_qpc.c, dyna_qpc_paper.c): its
-/// counters `queue` (size of capacity) and `queue_dropped`, returning how many it wrote (2), and
-/// its backlog.
-uint32_t agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_counter_t *out);
+/// counters `queue` (size of capacity) and `queue_dropped`, for a walk, and its backlog.
+int agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_visit_t visit, void *data);
 uint32_t agent_dyna_qpc_backlog_(const agent_t *ag);
 
 /// Trivial operations for an algorithm that has nothing to do there.
@@ -162,7 +183,7 @@ void agent_nothing_(agent_t *ag);
 uint32_t agent_plan_nothing_(agent_t *ag, uint32_t n);
 uint32_t agent_list_nothing_(const agent_t *ag, agent_region_t *out);
 int agent_check_nothing_(const agent_t *ag, const void *const *image, uint32_t state_bits);
-uint32_t agent_count_nothing_(const agent_t *ag, agent_counter_t *out);
+int agent_walk_nothing_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data);
 uint32_t agent_backlog_none_(const agent_t *ag);
 
 #endif // AGENT_ALGORITHM_H

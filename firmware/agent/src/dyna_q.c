@@ -77,16 +77,48 @@ static void restored_(agent_t *ag)
     dynaq_restored(&ag->alg.dyna_q.table);
 }
 
-uint32_t agent_dyna_q_table_counters_(const dynaq_table_t *table, agent_counter_t *out)
+// A recorded state's facts: visited, its tried actions (n 1 each); and the states they led to.
+static int walk_record_(const agent_t *ag, const dynaq_record_t *r, agent_visit_t visit, void *data)
 {
-    out[0] = (agent_counter_t){"table", table->count, table->capacity};
-    out[1] = (agent_counter_t){"table_evicted", table->evicted, 0u};
-    return 2u;
+    if ((r->state >> ag->state_bits) != 0u) {
+        return 0;
+    }
+    agent_state_facts_t f = {r->state, false, true, false, {0}};
+    for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+        if (dynaq_bit(r->tried, a)) {
+            f.n[a] = 1u;
+            f.modelled = true;
+        }
+    }
+    AGENT_VISIT_(agent_visit_state_(visit, data, &f));
+    for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+        if (dynaq_bit(r->tried, a) && (r->next[a] >> ag->state_bits) == 0u) {
+            const agent_state_facts_t next = {r->next[a], false, true, false, {0}};
+            AGENT_VISIT_(agent_visit_state_(visit, data, &next));
+        }
+    }
+    return 0;
 }
 
-static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+int agent_dyna_q_table_walk_(const agent_t *ag, const dynaq_table_t *table, uint32_t what,
+                             agent_visit_t visit, void *data)
 {
-    return agent_dyna_q_table_counters_(&ag->alg.dyna_q.table, out);
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "table", table->count, table->capacity));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "table_evicted", table->evicted, 0u));
+    }
+    if (what & AGENT_FACT_TABLE) {
+        AGENT_VISIT_(agent_visit_table_(visit, data, "table", "records", table->count, table->capacity));
+    }
+    for (uint32_t i = 0; (what & AGENT_FACT_STATE) && i < table->count; i++) {
+        AGENT_VISIT_(walk_record_(ag, &table->records[i], visit, data));
+    }
+    return 0;
+}
+
+static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    return agent_dyna_q_table_walk_(ag, &ag->alg.dyna_q.table, what, visit, data);
 }
 
 const agent_algorithm_t agent_dyna_q_algorithm = {
@@ -97,7 +129,7 @@ const agent_algorithm_t agent_dyna_q_algorithm = {
     .regions = regions_,
     .check = check_,
     .restored = restored_,
-    .counters = counters_,
+    .walk = walk_,
     .backlog = agent_backlog_none_,
     .plan_cycles = 389u,  // cortex-m4.bench.insn_paper_lab_dyna_q (361 before main merged 23fef33)
 };

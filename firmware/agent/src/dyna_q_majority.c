@@ -104,13 +104,16 @@ static void restored_(agent_t *ag)
     me->replaced = 0;
 }
 
-static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+// What Dyna-Q's table knows, then its own counters.
+static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
 {
     const agent_dyna_q_majority_t *me = &ag->alg.dyna_q_majority;
-    const uint32_t n = agent_dyna_q_table_counters_(&me->table, out);
-    out[n] = (agent_counter_t){"table_kept", me->kept, 0u};
-    out[n + 1u] = (agent_counter_t){"table_replaced", me->replaced, 0u};
-    return n + 2u;
+    AGENT_VISIT_(agent_dyna_q_table_walk_(ag, &me->table, what, visit, data));
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "table_kept", me->kept, 0u));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "table_replaced", me->replaced, 0u));
+    }
+    return 0;
 }
 
 const agent_algorithm_t agent_dyna_q_majority_algorithm = {
@@ -121,7 +124,7 @@ const agent_algorithm_t agent_dyna_q_majority_algorithm = {
     .regions = regions_,
     .check = check_,
     .restored = restored_,
-    .counters = counters_,
+    .walk = walk_,
     .backlog = agent_backlog_none_,
     .plan_cycles = 388u,  // cortex-m4.bench.insn_paper_lab_dyna_q_majority (359 before 23fef33)
 };

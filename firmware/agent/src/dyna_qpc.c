@@ -298,30 +298,76 @@ static void reloc_fill_(const world_model_t *m, uint32_t *places, uint32_t *situ
     }
 }
 
-static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+static int walk_counters_(const agent_t *ag, agent_visit_t visit, void *data)
 {
     const world_model_t *m = &ag->alg.dyna_qpc.model;
     uint32_t places, situations, arrivals;
     reloc_fill_(m, &places, &situations, &arrivals);
-    out[0] = (agent_counter_t){"cmac_fwd", m->forward.stats.cells_used, m->forward.capacity};
-    out[1] = (agent_counter_t){"cmac_evicted", m->forward.stats.evicted, 0u};
-    out[2] = (agent_counter_t){"cmac_dropped", m->forward.stats.dropped, 0u};
-    out[3] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
-    out[4] = (agent_counter_t){"model_rejected", m->rejected, 0u};
-    out[5] = (agent_counter_t){"model_generalised", m->generalised, 0u};
-    (void)agent_dyna_qpc_queue_counters_(ag, &out[6]);
-    out[8] = (agent_counter_t){"percept_places", places, m->places};
-    out[9] = (agent_counter_t){"situations", situations, m->n_classes};
-    out[10] = (agent_counter_t){"arrivals", arrivals, m->positions};
-    return 11u;
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_fwd", m->forward.stats.cells_used, m->forward.capacity));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_evicted", m->forward.stats.evicted, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_dropped", m->forward.stats.dropped, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "model_untrusted", m->untrusted, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "model_rejected", m->rejected, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "model_generalised", m->generalised, 0u));
+    AGENT_VISIT_(agent_dyna_qpc_queue_counters_(ag, visit, data));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "percept_places", places, m->places));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "situations", situations, m->n_classes));
+    return agent_visit_counter_(visit, data, "arrivals", arrivals, m->positions);
 }
 
-uint32_t agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_counter_t *out)
+// CMAC-Model's cells, the percept map, the situations, the arrivals.
+static int walk_tables_(const agent_t *ag, agent_visit_t visit, void *data)
+{
+    const world_model_t *m = &ag->alg.dyna_qpc.model;
+    uint32_t places, situations, arrivals;
+    reloc_fill_(m, &places, &situations, &arrivals);
+    AGENT_VISIT_(agent_visit_table_(visit, data, "cmac", "cells", m->forward.stats.cells_used, m->forward.capacity));
+    AGENT_VISIT_(agent_visit_table_(visit, data, "percepts", "places", places, m->places));
+    AGENT_VISIT_(agent_visit_table_(visit, data, "situations", "used", situations, m->n_classes));
+    return agent_visit_table_(visit, data, "arrivals", "used", arrivals, m->positions);
+}
+
+// Each state the map saw or the model predicts an action in, with CMAC-Model's training counts.
+static int walk_states_(agent_t *ag, agent_visit_t visit, void *data)
+{
+    world_model_t *m = &ag->alg.dyna_qpc.model;
+    for (agent_state_t s = 0; (s >> ag->state_bits) == 0u; s++) {
+        agent_state_facts_t f = {s, false, model_has_seen(m, s), false, {0}};
+        bool trained = false;
+        model_query_t mq;
+        model_query_init(m, s, &mq);
+        for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+            cmac_tiles_t t = mq.tiles;
+            cmac_tiles_set_action(&m->forward, &t, a);
+            int32_t out[CMAC_MAX_OUTPUTS];
+            f.n[a] = cmac_predict(&m->forward, &t, out);
+            trained = trained || f.n[a] != 0u;
+            model_step_t step;
+            f.modelled = model_query_predict(m, &mq, (uint8_t)a, &step) || f.modelled;
+        }
+        if (f.visited || f.modelled || trained) {
+            AGENT_VISIT_(agent_visit_state_(visit, data, &f));
+        }
+    }
+    return 0;
+}
+
+static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(walk_counters_(ag, visit, data));
+    }
+    if (what & AGENT_FACT_TABLE) {
+        AGENT_VISIT_(walk_tables_(ag, visit, data));
+    }
+    return (what & AGENT_FACT_STATE) ? walk_states_(ag, visit, data) : 0;
+}
+
+int agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_visit_t visit, void *data)
 {
     const pqueue_t *pq = &ag->alg.dyna_qpc.pq;
-    out[0] = (agent_counter_t){"queue", pq->size, pq->capacity};
-    out[1] = (agent_counter_t){"queue_dropped", pq->stats.dropped, 0u};
-    return 2u;
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "queue", pq->size, pq->capacity));
+    return agent_visit_counter_(visit, data, "queue_dropped", pq->stats.dropped, 0u);
 }
 
 uint32_t agent_dyna_qpc_backlog_(const agent_t *ag)
@@ -337,7 +383,7 @@ const agent_algorithm_t agent_dyna_qpc_algorithm = {
     .regions = regions_,
     .check = check_,
     .restored = restored_,
-    .counters = counters_,
+    .walk = walk_,
     .backlog = agent_dyna_qpc_backlog_,
     // cortex-m4.bench.insn_paper_lab: 4,213 when it was set (issue 13; 4,161 when the others were
     // first measured, 4,647 with main merged at 23fef33), kept so that the idle-time figures in

@@ -111,18 +111,57 @@ static void restored_(agent_t *ag)
     pq_clear(&ag->alg.dyna_qpc.pq);  // work in progress, not knowledge: never saved
 }
 
-static uint32_t counters_(const agent_t *ag, agent_counter_t *out)
+static int walk_counters_(const agent_t *ag, agent_visit_t visit, void *data)
 {
     const paper_model_t *m = &ag->alg.dyna_qpc.paper;
-    out[0] = (agent_counter_t){"cmac_fwd", m->forward.stats.cells_used, m->forward.capacity};
-    out[1] = (agent_counter_t){"cmac_evicted", m->forward.stats.evicted, 0u};
-    out[2] = (agent_counter_t){"cmac_dropped", m->forward.stats.dropped, 0u};
-    out[3] = (agent_counter_t){"cmac_r", m->inverse.stats.cells_used, m->inverse.capacity};
-    out[4] = (agent_counter_t){"cmac_r_evicted", m->inverse.stats.evicted, 0u};
-    out[5] = (agent_counter_t){"cmac_r_dropped", m->inverse.stats.dropped, 0u};
-    out[6] = (agent_counter_t){"model_untrusted", m->untrusted, 0u};
-    out[7] = (agent_counter_t){"model_rejected", m->rejected, 0u};
-    return 8u + agent_dyna_qpc_queue_counters_(ag, &out[8]);
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_fwd", m->forward.stats.cells_used, m->forward.capacity));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_evicted", m->forward.stats.evicted, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_dropped", m->forward.stats.dropped, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_r", m->inverse.stats.cells_used, m->inverse.capacity));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_r_evicted", m->inverse.stats.evicted, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "cmac_r_dropped", m->inverse.stats.dropped, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "model_untrusted", m->untrusted, 0u));
+    AGENT_VISIT_(agent_visit_counter_(visit, data, "model_rejected", m->rejected, 0u));
+    return agent_dyna_qpc_queue_counters_(ag, visit, data);
+}
+
+// The paper's model keeps no map of what was perceived: a state with a Q row was visited (a real
+// step writes it); CMAC-Model's training counts and predictions say the rest.
+static int walk_states_(agent_t *ag, agent_visit_t visit, void *data)
+{
+    paper_model_t *m = &ag->alg.dyna_qpc.paper;
+    for (agent_state_t s = 0; (s >> ag->state_bits) == 0u; s++) {
+        agent_state_facts_t f = {s, false, qstore_has_row(&ag->q, s), false, {0}};
+        bool trained = false;
+        uint32_t comp[FW_CFG_MAX_COMPONENTS];
+        space_unpack(ag->space, s, comp);
+        for (uint32_t a = 0; a < ag->space->n_actions; a++) {
+            cmac_tiles_t t;
+            cmac_tiles_of(&m->forward, comp, a, &t);
+            int32_t out[CMAC_MAX_OUTPUTS];
+            f.n[a] = cmac_predict(&m->forward, &t, out);
+            trained = trained || f.n[a] != 0u;
+            model_step_t step;
+            f.modelled = paper_model_predict(m, s, (uint8_t)a, &step) || f.modelled;
+        }
+        if (f.visited || f.modelled || trained) {
+            AGENT_VISIT_(agent_visit_state_(visit, data, &f));
+        }
+    }
+    return 0;
+}
+
+static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    const paper_model_t *m = &ag->alg.dyna_qpc.paper;
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(walk_counters_(ag, visit, data));
+    }
+    if (what & AGENT_FACT_TABLE) {  // CMAC-Model and CMAC-R: no map, no situations
+        AGENT_VISIT_(agent_visit_table_(visit, data, "cmac", "cells", m->forward.stats.cells_used, m->forward.capacity));
+        AGENT_VISIT_(agent_visit_table_(visit, data, "cmac_r", "cells", m->inverse.stats.cells_used, m->inverse.capacity));
+    }
+    return (what & AGENT_FACT_STATE) ? walk_states_(ag, visit, data) : 0;
 }
 
 const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
@@ -133,7 +172,7 @@ const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
     .regions = regions_,
     .check = check_,
     .restored = restored_,
-    .counters = counters_,
+    .walk = walk_,
     .backlog = agent_dyna_qpc_backlog_,
     .plan_cycles = 4213u,  // Dyna-QPC's (agent_kind_info() gives the kind's figure)
 };

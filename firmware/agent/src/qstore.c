@@ -125,6 +125,21 @@ void qstore_values(const qstore_t *qs, agent_state_t s, float *out)
     }
 }
 
+bool qstore_has_row(const qstore_t *qs, agent_state_t s)
+{
+    if (!qs->dense) {
+        return oa_lookup(&qs->index, s, qs->rows_used == qs->capacity) != OA_NONE;
+    }
+    float v[FW_CFG_MAX_ACTIONS];
+    qstore_values(qs, s, v);
+    for (uint32_t a = 0; a < qs->n_actions; a++) {
+        if (v[a] != 0.0f) {
+            return true;
+        }
+    }
+    return false;
+}
+
 float qstore_max(const qstore_t *qs, agent_state_t s)
 {
     return max_of_(qs, row_of_(qs, s));

@@ -263,10 +263,62 @@ typedef struct agent_counter {
 /// The most counters agent_counters() lists.
 #define AGENT_MAX_COUNTERS 16u
 
-/// Lists the agent's counters: the Q store's (q_rows of its capacity, q_dropped,
-/// q_plan_refused), then the algorithm's own, then in a bonus mode the tried-pairs table's
-/// (tried_pairs of its capacity, tried_forgotten). Returns how many were written to `out`.
-uint32_t agent_counters(const agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS]);
+/// The kinds of fact agent_walk() hands over; its `what` is a mask of them.
+typedef enum agent_fact_kind {
+    AGENT_FACT_COUNTER = 1, ///< `counter`: one of agent_counters()' counters
+    AGENT_FACT_TABLE = 2,   ///< `table`: how full one of its tables is
+    AGENT_FACT_STATE = 4,   ///< `state`: what it knows of one state
+} agent_fact_kind_t;
+#define AGENT_WALK_ALL 7u
+
+/// How full a table is, for the learned-map view (`dynaqpc-sim learned`'s "fill").
+typedef struct agent_table_fill {
+    const char *name;  ///< "q", "cmac", "cmac_r", "percepts", "situations", "arrivals", "table"
+    const char *unit;  ///< what `used` counts: "rows", "cells", "places", "used", "records"
+    uint32_t used;
+    uint32_t capacity;
+    int8_t dense;      ///< the Q store's: 1 dense (every state has its row; `used` 0), 0 hashed; -1 others
+} agent_table_fill_t;
+
+/// What an agent knows of one state.
+typedef struct agent_state_facts {
+    agent_state_t state;
+    bool row;       ///< the Q store holds a row for it (qstore_has_row)
+    bool visited;   ///< perceived on a real step (an algorithm with no map of it: has a Q row)
+    bool modelled;  ///< the model predicts an action there, tried or generalised
+    uint32_t n[FW_CFG_MAX_ACTIONS];  ///< per action: the model's training count (Dyna-Q: 1 if tried)
+} agent_state_facts_t;
+
+typedef struct agent_fact {
+    agent_fact_kind_t kind;
+    union {
+        agent_counter_t counter;
+        agent_table_fill_t table;
+        agent_state_facts_t state;
+    } u;
+} agent_fact_t;
+
+/// Called by agent_walk() for each fact; a nonzero return stops the walk, which returns it.
+typedef int (*agent_visit_t)(void *data, const agent_fact_t *fact);
+
+/// Hands over what the agent knows, one fact at a time, each module walking its own state (the
+/// Q store, then the algorithm: its operation `walk`; littlefs's lfs_fs_traverse is the model),
+/// so that views, `--counters` and telemetry read no algorithm's insides. `what` is a mask of
+/// agent_fact_kind_t. Counters come in agent_counters()' order; tables the Q store's first. A
+/// state may come more than once: its facts add up (row, visited and modelled or'd, n per action
+/// the largest); states nothing is known of do not come. Describing states asks the model as
+/// planning does, which counts its answers (model_untrusted, model_generalised): hence non-const.
+/// Returns 0 or the nonzero a visit returned.
+int agent_walk(agent_t *ag, uint32_t what, agent_visit_t visit, void *data);
+
+/// Lists the agent's counters (agent_walk()'s AGENT_FACT_COUNTER facts): the Q store's (q_rows
+/// of its capacity, q_dropped, q_plan_refused), then the algorithm's own, then in a bonus mode
+/// the tried-pairs table's (tried_pairs of its capacity, tried_forgotten). Returns how many were
+/// written to `out`. Counting changes nothing.
+uint32_t agent_counters(agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS]);
+
+/// max_a Q(s, a): the value of s.
+float agent_value(const agent_t *ag, agent_state_t s);
 
 /// The step and update counts every algorithm keeps.
 static inline const agent_stats_t *agent_stats(const agent_t *ag)

@@ -49,6 +49,10 @@ typedef struct qstore {
     uint32_t plan_refused; ///< planning writes refused: the state had no row and no free slot (planning never evicts)
 } qstore_t;
 
+/// Whether the store holds a row for s: hashed, whether s has a slot; dense (every state has its
+/// row), whether a value of s's row is nonzero. For views of what was learned, not the planner.
+bool qstore_has_row(const qstore_t *qs, agent_state_t s);
+
 /// A row of the store (a state's slot), for the writes of one update; QSTORE_NO_ROW: none.
 typedef uint32_t qstore_row_t;
 #define QSTORE_NO_ROW UINT32_MAX
