@@ -4,8 +4,9 @@
 The image (``dynaqpc-sim train --save FILE``, or a board's backup of its learned-data sector) is
 decoded by the firmware itself: ``dynaqpc-sim learned --scenario S --load FILE`` boots the
 firmware's own restore code on it (learned_store_load: CRCs, layout, the agent's checks) and
-prints what it restored as JSON, read through the agent's own functions (agent_walk, agent_greedy,
-model_has_seen, model_predict, CMAC-Model's counts). This tool only combines and draws that JSON:
+prints what it restored as JSON, read through the agent's own functions (agent_walk: each module
+describes its rows, visits, predictions and counts; agent_greedy). This tool only combines and
+draws that JSON:
 no offset of the store's layout is written down a second time here, so a change to the firmware's
 tables cannot make the picture silently wrong.
 
