@@ -4,7 +4,7 @@
 #ifndef DRIVERS_CONFIG_H
 #define DRIVERS_CONFIG_H
 
-#include "fw_config.h"
+#include "fw/fw_user_config.h"
 
 #include "fw/fw_base.h"
 

@@ -7,13 +7,14 @@
 #include "agent/agent.h"
 #include "fw/fw_base.h"
 #include "fw_config.h"
+#include "robot/agent_profile_config.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /// A profile as the algorithms' memories read it: P(KNOB) is its setting FW_CFG_<profile>_KNOB
-/// (fw_config.h). Each algorithm's header says which settings its memory reads
+/// (robot/agent_profile_config.h). Each algorithm's header says which settings its memory reads
 /// (AGENT_MEMORY_<id>); the Dyna-Q tables size themselves from ALGORITHM_BYTES.
 #define AGENT_PROFILE_MAZE(knob) FW_CFG_MAZE_##knob
 #define AGENT_PROFILE_PAPER_LAB(knob) FW_CFG_LAB_##knob
@@ -59,7 +60,7 @@ FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SI
 
 // ALGORITHM_BYTES is what the overlay of the algorithms' memories takes on the MCU (32-bit
 // pointers): Dyna-QPC's model and queue, the largest, whose settings must change with it
-// (fw_config.h). The Dyna-Q tables fill as much of it as they can (DYNAQ_RECORDS_IN). The host's
+// (agent_profile_config.h). The Dyna-Q tables fill as much of it as they can (DYNAQ_RECORDS_IN). The host's
 // overlay is 80 bytes larger (the planner's carry holds pointers), so the simulator runs the
 // MCU's tables.
 #define AGENT_OVERLAY_IS_(T, bytes) (sizeof(void *) != 4u || sizeof(((T *)0)->alg) == (bytes))

@@ -3,7 +3,7 @@
 #ifndef SCHED_CONFIG_H
 #define SCHED_CONFIG_H
 
-#include "fw_config.h"
+#include "fw/fw_user_config.h"
 
 #include "fw/fw_base.h"
 
