@@ -135,4 +135,16 @@ std::string beacon_lines(const Scenario &base, double w, double h)
     return out;
 }
 
+bool check_drawn_room(Room *room, const std::string &file, std::string *problem)
+{
+    if (!parse_scenario(room->text, file, &room->scenario, problem)) return false;
+    room->passages = check_passages(room->scenario);
+    if (!room->passages.ok) {
+        *problem = room->passages.problem;
+        return false;
+    }
+    room->path = longest_path(room->scenario);
+    return true;
+}
+
 }  // namespace world::room_text

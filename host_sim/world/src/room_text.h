@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "world/rooms.h"
 #include "world/scenario.h"
 
 namespace world::room_text {
@@ -29,6 +30,11 @@ std::string stem(const std::string &file);
 std::string replace_key(const std::string &text, const std::string &key, const std::string &lines);
 /// Eight Cricket beacons for a w x h floor on the base's ceiling, ids counted on from its first.
 std::string beacon_lines(const Scenario &base, double w, double h);
+
+/// A drawn room's text (room->text) as `file`: parsed into room->scenario, its passages checked
+/// (room->passages), its longest path found (room->path). False with *problem, the first thing
+/// that failed, when the text does not parse or the passages fail.
+bool check_drawn_room(Room *room, const std::string &file, std::string *problem);
 
 }  // namespace world::room_text
 

@@ -1149,17 +1149,7 @@ bool generate_room(std::string_view base_text, const std::string &base_label,
         Room room;
         const std::string body = before + "\n" + layout_text(dr) + after;
         room.text = head + std::string(spec.far ? "\n" : "") + body;
-        std::string perr;
-        if (!parse_scenario(room.text, file, &room.scenario, &perr)) {
-            last_problem = perr;
-            continue;
-        }
-        room.passages = check_passages(room.scenario);
-        if (!room.passages.ok) {
-            last_problem = room.passages.problem;
-            continue;
-        }
-        room.path = longest_path(room.scenario);
+        if (!check_drawn_room(&room, file, &last_problem)) continue;
         if (spec.far) {
             if (room.path.longest <= far_than) {
                 last_problem = room.path.longest < 0
@@ -1170,10 +1160,7 @@ bool generate_room(std::string_view base_text, const std::string &base_label,
             }
             room.text = head + ("# longest_path_actions " + std::to_string(room.path.longest)) +
                         ": the most actions a start needs to reach the goal at best (docs/scenarios.md).\n\n" + body;
-            if (!parse_scenario(room.text, file, &room.scenario, &perr)) {
-                last_problem = perr;
-                continue;
-            }
+            if (!parse_scenario(room.text, file, &room.scenario, &last_problem)) continue;
             room.family = far_family_name(spec.family);
         }
         room.walls = dr.walls;

@@ -306,17 +306,7 @@ bool generate_user_room(std::string_view base_text, const std::string &base_labe
                       base_label.c_str());
         Room room;
         room.text = head + before + "\n" + layout + after;
-        std::string perr;
-        if (!parse_scenario(room.text, file, &room.scenario, &perr)) {
-            last_problem = perr;
-            continue;
-        }
-        room.passages = check_passages(room.scenario);
-        if (!room.passages.ok) {
-            last_problem = room.passages.problem;
-            continue;
-        }
-        room.path = longest_path(room.scenario);
+        if (!check_drawn_room(&room, file, &last_problem)) continue;
         if (room.path.longest < 0) {
             last_problem = std::to_string(room.path.stranded) + " start states cannot reach the goal on the state grid";
             continue;
