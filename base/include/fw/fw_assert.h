@@ -9,8 +9,16 @@
 // and aborts; on the MCU it spins with interrupts left as they are, so the watchdog resets the
 // board.
 //
-// FW_CFG_ASSERT 0 (in FW_CONFIG_FILE or -D) compiles every FW_ASSERT out, condition included,
-// as Q_NASSERT does for Q_ASSERT and LFS_NO_ASSERT for LFS_ASSERT.
+// Where they stand (QP's REQUIRE style): at the entry of the public functions of sched, pqueue,
+// cmac, model, the drivers, the robot application and the ports, on what a caller must never
+// pass (a NULL object, an action out of range); and on the robot's boot calls that can only
+// fail by a programming error (robot_app.c). On the MCU a site costs a compare, a branch and a
+// call with the file's name (a string in flash, relative to the source tree) and the line: no
+// RAM. unit.contract shows a broken one stopping the host build with the file and line.
+//
+// A condition must have no side effect: FW_CFG_ASSERT 0 (in FW_CONFIG_FILE or -D) compiles
+// every FW_ASSERT out, condition included, as Q_NASSERT does for Q_ASSERT and LFS_NO_ASSERT for
+// LFS_ASSERT. Keep a call's result in a FW_UNUSED variable and assert on the variable.
 #ifndef FW_ASSERT_H
 #define FW_ASSERT_H
 

@@ -32,6 +32,9 @@ typedef enum fw_err {
 /// True when x is a power of two (and non-zero).
 #define FW_IS_POW2(x) ((x) != 0u && (((x) & ((x)-1u)) == 0u))
 
+/// FW_CHECK_RETURN on a declaration: ignoring the result is a compile error (-Werror), even cast
+/// to (void); on the boot calls whose failure must be handled (hal_*_init, sched_init,
+/// sched_add_task). FW_UNUSED on a variable only an FW_ASSERT reads (compiled out with it).
 #if defined(__GNUC__)
 #define FW_CHECK_RETURN __attribute__((warn_unused_result))
 #define FW_UNUSED __attribute__((unused))

@@ -138,6 +138,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
 
 void cmac_clear(cmac_t *cmac)
 {
+    FW_ASSERT(cmac != NULL);
     oa_clear(&cmac->index);
     // Integers whose empty value is 0 (see model_clear).
     if (cmac->capacity > 0u) {
@@ -149,6 +150,7 @@ void cmac_clear(cmac_t *cmac)
 
 void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, cmac_tiles_t *tiles)
 {
+    FW_ASSERT(cmac != NULL && inputs != NULL && tiles != NULL && action < cmac->cfg.n_actions);
     // An exact input (tiles one value wide) is displaced by 0 in every tiling: its field is the
     // same in every pattern. A tiled input v, 2^sh values per tile, falls in tile
     // hi = v >> sh, or hi + 1 when its displacement reaches past the tile's end
@@ -212,6 +214,7 @@ void cmac_tiles_of(const cmac_t *cmac, const uint32_t *inputs, uint32_t action, 
 
 uint32_t cmac_predict(const cmac_t *cmac, const cmac_tiles_t *tiles, int32_t *out)
 {
+    FW_ASSERT(cmac != NULL && tiles != NULL && out != NULL);
     const uint32_t n_out = cmac->cfg.n_outputs;
     uint32_t confidence = UINT32_MAX;
     for (uint32_t j = 0; j < n_out; j++) {
@@ -316,6 +319,7 @@ AGENT_ALWAYS_INLINE void sum_cells_(const cmac_t *cmac, const uint32_t *slot, in
 bool cmac_predict_trusted(const cmac_t *cmac, const cmac_tiles_t *tiles, uint32_t action,
                           uint32_t min_count, int32_t *out)
 {
+    FW_ASSERT(cmac != NULL && tiles != NULL);
     // The planner's inner loop: about 17 cells per planning update, most of them in a full
     // table.
     const uint32_t change = tiles->action_bits ^ (action << cmac->action_shift);
@@ -407,6 +411,7 @@ static uint32_t evict_(cmac_t *cmac, uint32_t key, const uint32_t *taken, uint32
 
 bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles)
 {
+    FW_ASSERT(cmac != NULL && tiles != NULL);
     uint32_t slots[FW_CFG_MAX_TILINGS];
     for (uint32_t t = 0; t < cmac->n_patterns; t++) {
         slots[t] = oa_lookup(&cmac->index, tiles->key[t], false);
@@ -423,6 +428,7 @@ bool cmac_contradict(cmac_t *cmac, const cmac_tiles_t *tiles)
 
 bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 {
+    FW_ASSERT(cmac != NULL && tiles != NULL && desired != NULL);
     const uint32_t n_out = cmac->cfg.n_outputs;
     const uint32_t n_tiles = cmac->n_patterns;
     uint32_t slots[FW_CFG_MAX_TILINGS];
@@ -478,6 +484,7 @@ bool cmac_train(cmac_t *cmac, const cmac_tiles_t *tiles, const int32_t *desired)
 
 uint32_t cmac_regions(const cmac_t *cmac, agent_region_t *out)
 {
+    FW_ASSERT(cmac != NULL);
     uint32_t n = agent_region_add(out, 0, cmac->index.keys, cmac->capacity * (uint32_t)sizeof(uint32_t));
     n = agent_region_add(out, n, cmac->counts, cmac->capacity);
     return agent_region_add(out, n, cmac->weights,
@@ -486,6 +493,7 @@ uint32_t cmac_regions(const cmac_t *cmac, agent_region_t *out)
 
 int cmac_check(const cmac_t *cmac, const void *const *image)
 {
+    FW_ASSERT(cmac != NULL && image != NULL);
     const uint32_t *const keys = image[0];
     const uint8_t *const counts = image[1];
     const int16_t *const weights = image[2];
@@ -511,5 +519,6 @@ int cmac_check(const cmac_t *cmac, const void *const *image)
 
 void cmac_restored(cmac_t *cmac)
 {
+    FW_ASSERT(cmac != NULL);
     cmac->stats.cells_used = oa_count(&cmac->index, cmac->index.keys);
 }

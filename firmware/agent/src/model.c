@@ -278,6 +278,7 @@ int model_init(world_model_t *m, const agent_space_t *space, uint8_t tilings,
 // fuzz preset's instrumented builds: a fifth of the firmware target's time).
 void model_clear(world_model_t *m)
 {
+    FW_ASSERT(m != NULL);
     cmac_clear(&m->forward);
     if (m->places > 0u) {
         memset(m->percepts, 0, m->places * sizeof *m->percepts);
@@ -506,6 +507,7 @@ static int16_t reward_fixed_(float r, bool *fits)
 bool model_learn(world_model_t *m, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                  bool terminal)
 {
+    FW_ASSERT(m != NULL && m->space != NULL && a < m->space->n_actions);
     const agent_space_t *sp = m->space;
     uint32_t from[FW_CFG_MAX_COMPONENTS];
     uint32_t to[FW_CFG_MAX_COMPONENTS];
@@ -711,6 +713,7 @@ static bool predict_(world_model_t *m, const uint32_t *from, agent_state_t s,
 
 void model_set_stay_reward(world_model_t *m, float step_reward)
 {
+    FW_ASSERT(m != NULL);
     bool fits;
     const int16_t v = reward_fixed_(step_reward, &fits);
     m->stay_reward = fits ? v : MODEL_NO_STAY;
@@ -718,6 +721,7 @@ void model_set_stay_reward(world_model_t *m, float step_reward)
 
 int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
 {
+    FW_ASSERT(m != NULL && percepts != NULL);
     const uint32_t values = 1u << masked_bits_(m->space, m->space->absolute_mask);
     const uint32_t allowed = values >= 16u ? 0xFFFFu : (1u << values) - 1u;
     // One test after the loop, not one a place: the loop has no branch and vectorises (paper-sim
@@ -731,6 +735,7 @@ int model_percepts_check(const world_model_t *m, const uint16_t *percepts)
 
 bool model_has_seen(const world_model_t *m, agent_state_t s)
 {
+    FW_ASSERT(m != NULL);
     if (m->percepts == NULL) {
         return false;
     }
@@ -741,6 +746,7 @@ bool model_has_seen(const world_model_t *m, agent_state_t s)
 
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 {
+    FW_ASSERT(m != NULL && q != NULL);
     q->state = s;
     space_unpack(m->space, s, q->comp);
     cmac_tiles_of_packed(&m->forward, s, q->comp, 0, &q->tiles);
@@ -748,6 +754,7 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
 
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out)
 {
+    FW_ASSERT(m != NULL && q != NULL && a < m->space->n_actions && out != NULL);
     return predict_(m, q->comp, q->state, &q->tiles, a, out);
 }
 
@@ -782,6 +789,7 @@ AGENT_ALWAYS_INLINE bool leads_to_(const world_model_t *m, const model_step_t *s
 
 uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, agent_state_t *out)
 {
+    FW_ASSERT(m != NULL && step != NULL && out != NULL);
     uint32_t n = 0;
     out[n++] = step->next;
     for (uint32_t rest = step->others; rest != 0u; rest &= rest - 1u) {
@@ -793,6 +801,7 @@ uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, a
 uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, model_pred_t *out,
                                   model_query_t *const *queries)
 {
+    FW_ASSERT(m != NULL && q != NULL && out != NULL);
     const agent_space_t *sp = m->space;
     model_query_t scratch;
     model_step_t step;

@@ -209,6 +209,7 @@ int pq_init(pqueue_t *pq, pq_item_t *heap, uint32_t *index_keys, uint32_t *index
 
 void pq_clear(pqueue_t *pq)
 {
+    FW_ASSERT(pq != NULL);
     // Only the index keys say what is queued; heap items and index positions beyond `size` are
     // never read, so they are left as they are.
     oa_clear(&pq->index);
@@ -223,6 +224,7 @@ void pq_clear(pqueue_t *pq)
 
 bool pq_push(pqueue_t *pq, uint32_t key, float priority)
 {
+    FW_ASSERT(pq != NULL && pq->heap != NULL);
     // A NaN compares false with everything and would silently break the heap order.
     if (key == PQ_NO_KEY || priority != priority) {
         return false;
@@ -271,6 +273,7 @@ bool pq_push(pqueue_t *pq, uint32_t key, float priority)
 
 bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
 {
+    FW_ASSERT(pq != NULL);
     if (pq->size == 0u) {
         return false;
     }
@@ -296,6 +299,7 @@ bool pq_pop(pqueue_t *pq, uint32_t *key, float *priority)
 
 float pq_priority_of(const pqueue_t *pq, uint32_t key)
 {
+    FW_ASSERT(pq != NULL);
     const uint32_t slot = key == PQ_NO_KEY ? OA_NONE : index_of_(pq, key);
     if (slot == OA_NONE) {
         return -1.0f;
@@ -305,6 +309,7 @@ float pq_priority_of(const pqueue_t *pq, uint32_t key)
 
 bool pq_check(const pqueue_t *pq)
 {
+    FW_ASSERT(pq != NULL);
     uint32_t i;
     uint32_t s;
     uint32_t occupied = 0;

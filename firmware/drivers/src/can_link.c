@@ -28,6 +28,7 @@ uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len)
 
 void can_link_rx_init(can_link_rx_t *rx)
 {
+    FW_ASSERT(rx != NULL);
     memset(rx, 0, sizeof *rx);
 }
 
@@ -39,6 +40,7 @@ bool can_link_frame_is(const hal_can_frame_t *frame, uint32_t id, uint8_t dlc)
 
 int can_link_rx_accept(can_link_rx_t *rx, uint8_t counter, uint64_t now_us)
 {
+    FW_ASSERT(rx != NULL);
     counter &= (uint8_t)(CAN_LINK_COUNTER_MOD - 1u);
     if (rx->seen) {
         uint8_t step = (uint8_t)((counter - rx->counter) & (CAN_LINK_COUNTER_MOD - 1u));
@@ -71,6 +73,7 @@ bool can_link_rx_silent(const can_link_rx_t *rx, uint64_t now_us, uint64_t max_a
 
 uint8_t can_link_tx_counter_next(uint8_t *counter)
 {
+    FW_ASSERT(counter != NULL);
     uint8_t value = (uint8_t)(*counter & (CAN_LINK_COUNTER_MOD - 1u));
     *counter = (uint8_t)((value + 1u) & (CAN_LINK_COUNTER_MOD - 1u));
     return value;
@@ -78,6 +81,7 @@ uint8_t can_link_tx_counter_next(uint8_t *counter)
 
 void can_link_frame_prepare(hal_can_frame_t *frame, uint32_t id, uint8_t dlc)
 {
+    FW_ASSERT(frame != NULL && dlc <= 8u);
     memset(frame, 0, sizeof *frame);
     frame->id = id;
     frame->dlc = dlc;

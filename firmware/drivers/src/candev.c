@@ -14,6 +14,7 @@ const uint32_t candev_rx_ids[CANDEV_RX_ID_COUNT] = {
 
 void candev_init(candev_t *bus)
 {
+    FW_ASSERT(bus != NULL);
     motor_init(&bus->motor);
     gyro_init(&bus->gyro);
     ranges_init(&bus->ranges);
@@ -29,6 +30,7 @@ static int done(int err, int what)
 
 int candev_rx(candev_t *bus, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *cmd)
 {
+    FW_ASSERT(bus != NULL && frame != NULL);
     if ((frame->flags & HAL_CAN_FLAG_EXTENDED) != 0u) {
         bus->ignored++;
         return CANDEV_RX_IGNORED;

@@ -19,6 +19,7 @@
 
 void cricket_default_config(struct cricket_config *cfg)
 {
+    FW_ASSERT(cfg != NULL);
     memset(cfg, 0, sizeof *cfg);
     cfg->speed_of_sound_m_s = 343.0f;
     cfg->db_unit_mm = 10.0f;
@@ -32,6 +33,7 @@ void cricket_default_config(struct cricket_config *cfg)
 
 int cricket_init(cricket_t *ck, const struct cricket_config *cfg)
 {
+    FW_ASSERT(ck != NULL && cfg != NULL);
     if (cfg->beacons == NULL || cfg->n_beacons < 3u ||            // a fix needs 3 beacons
         cfg->n_beacons > FW_CFG_CRICKET_MAX_BEACONS ||            // one range slot each
         !(cfg->speed_of_sound_m_s > 100.0f && cfg->speed_of_sound_m_s < 1000.0f) ||
@@ -170,6 +172,7 @@ static uint32_t field_of_key(const char *k, size_t n)
 
 int cricket_parse_line(const char *line, size_t len, cricket_line_t *out)
 {
+    FW_ASSERT(line != NULL && out != NULL);
     memset(out, 0, sizeof *out);
     size_t pos = 0;
     while (pos <= len) {
@@ -282,6 +285,7 @@ static size_t take_line(cricket_t *ck, uint64_t now_us)
 
 size_t cricket_feed(cricket_t *ck, const uint8_t *bytes, size_t n, uint64_t now_us)
 {
+    FW_ASSERT(ck != NULL && (bytes != NULL || n == 0u));
     size_t stored = 0;
     for (size_t i = 0; i < n; i++) {
         uint8_t c = bytes[i];
@@ -385,6 +389,7 @@ static int solve(cricket_t *ck, uint64_t now_us, bool fresh_only, cricket_fix_t 
 
 cricket_fix_state_t cricket_get_fix(cricket_t *ck, uint64_t now_us, cricket_fix_t *out)
 {
+    FW_ASSERT(ck != NULL && out != NULL);
     bool before_motion, old;
     if (solve(ck, now_us, true, out, &before_motion, &old) == FW_OK) {
         return CRICKET_FIX_FRESH;

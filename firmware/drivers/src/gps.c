@@ -9,12 +9,14 @@
 
 void gps_init(gps_t *gps)
 {
+    FW_ASSERT(gps != NULL);
     memset(gps, 0, sizeof *gps);
     can_link_rx_init(&gps->rx);
 }
 
 int gps_rx_pose(gps_t *gps, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    FW_ASSERT(gps != NULL && frame != NULL);
     struct dynaqpc_can_gps_pose_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_GPS_POSE_FRAME_ID, DYNAQPC_CAN_GPS_POSE_LENGTH) ||
         dynaqpc_can_gps_pose_unpack(&msg, frame->data, frame->dlc) != 0 ||
@@ -35,6 +37,7 @@ int gps_rx_pose(gps_t *gps, const hal_can_frame_t *frame, uint64_t now_us)
 
 int gps_encode_pose(uint8_t *counter, const gps_pose_t *pose, hal_can_frame_t *out)
 {
+    FW_ASSERT(counter != NULL && pose != NULL && out != NULL);
     struct dynaqpc_can_gps_pose_t msg;
     memset(&msg, 0, sizeof msg);
     msg.x = pose->x_mm;

@@ -28,12 +28,14 @@ static float wrap_deg(float deg)
 
 void gyro_init(gyro_t *gyro)
 {
+    FW_ASSERT(gyro != NULL);
     memset(gyro, 0, sizeof *gyro);
     can_link_rx_init(&gyro->rx);
 }
 
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    FW_ASSERT(gyro != NULL && frame != NULL);
     struct dynaqpc_can_gyro_rate_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH) ||
         dynaqpc_can_gyro_rate_unpack(&msg, frame->data, frame->dlc) != 0 ||
@@ -123,6 +125,7 @@ void gyro_set_stationary(gyro_t *gyro, bool stationary)
 int gyro_encode_rate(uint8_t *counter, int16_t rate_cdeg_s, int8_t temperature_c, uint8_t status,
                      hal_can_frame_t *out)
 {
+    FW_ASSERT(counter != NULL && out != NULL);
     struct dynaqpc_can_gyro_rate_t msg;
     memset(&msg, 0, sizeof msg);
     msg.yaw_rate = rate_cdeg_s;

@@ -14,12 +14,14 @@
 
 void motor_init(motor_t *motor)
 {
+    FW_ASSERT(motor != NULL);
     memset(motor, 0, sizeof *motor);
     can_link_rx_init(&motor->rx);
 }
 
 int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    FW_ASSERT(motor != NULL && frame != NULL);
     struct dynaqpc_can_motor_status_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH) ||
         dynaqpc_can_motor_status_unpack(&msg, frame->data, frame->dlc) != 0 ||
@@ -52,6 +54,7 @@ static void put_crc(hal_can_frame_t *frame)
 
 int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *out)
 {
+    FW_ASSERT(motor != NULL && cmd != NULL && out != NULL);
     struct dynaqpc_can_motor_cmd_t msg;
     memset(&msg, 0, sizeof msg);
     msg.speed_left = cmd->speed_left_mm_s;
@@ -72,6 +75,7 @@ int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *ou
 
 int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_frame_t *out)
 {
+    FW_ASSERT(counter != NULL && status != NULL && out != NULL);
     struct dynaqpc_can_motor_status_t msg;
     memset(&msg, 0, sizeof msg);
     msg.speed_left = status->speed_left_mm_s;
@@ -96,6 +100,7 @@ int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_
 
 int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *counter_out)
 {
+    FW_ASSERT(frame != NULL && out != NULL);
     struct dynaqpc_can_motor_cmd_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH) ||
         dynaqpc_can_motor_cmd_unpack(&msg, frame->data, frame->dlc) != 0 ||

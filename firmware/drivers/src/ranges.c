@@ -15,6 +15,7 @@
 
 void ranges_init(ranges_t *ranges)
 {
+    FW_ASSERT(ranges != NULL);
     memset(ranges, 0, sizeof *ranges);
     for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
         ranges->sonar_mm[i] = RANGES_NO_ECHO;
@@ -26,6 +27,7 @@ void ranges_init(ranges_t *ranges)
 
 int ranges_rx_ir(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    FW_ASSERT(ranges != NULL && frame != NULL);
     struct dynaqpc_can_ir_ranges_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_IR_RANGES_FRAME_ID, DYNAQPC_CAN_IR_RANGES_LENGTH) ||
         dynaqpc_can_ir_ranges_unpack(&msg, frame->data, frame->dlc) != 0 ||
@@ -62,6 +64,7 @@ static uint8_t sonar_raw_from_mm(uint16_t mm)
 
 int ranges_rx_sonar(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    FW_ASSERT(ranges != NULL && frame != NULL);
     uint8_t raw[8];
     uint8_t counter;
     unsigned half;

@@ -20,12 +20,14 @@ static uint32_t min_u32(uint32_t v, uint32_t hi)
 
 void tlm_init(tlm_t *tlm)
 {
+    FW_ASSERT(tlm != NULL);
     memset(tlm, 0, sizeof *tlm);
     can_link_rx_init(&tlm->tool_rx);
 }
 
 void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out)
 {
+    FW_ASSERT(tlm != NULL && pose != NULL && out != NULL);
     struct dynaqpc_can_tlm_pose_t m;
     int32_t h = pose->heading_cdeg % 36000;
     m.x = (int16_t)fw_clamp_i32(pose->x_mm, INT16_MIN, INT16_MAX);
@@ -39,6 +41,7 @@ void tlm_encode_pose(tlm_t *tlm, const tlm_pose_t *pose, hal_can_frame_t *out)
 
 void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out)
 {
+    FW_ASSERT(tlm != NULL && learn != NULL && out != NULL);
     struct dynaqpc_can_tlm_learn_t m;
     m.state = min_u32(learn->state, 0xFFFFFFu);
     m.action = (uint8_t)min_u32(learn->action, 15u);
@@ -52,6 +55,7 @@ void tlm_encode_learn(tlm_t *tlm, const tlm_learn_t *learn, hal_can_frame_t *out
 
 void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out)
 {
+    FW_ASSERT(tlm != NULL && sched != NULL && out != NULL);
     struct dynaqpc_can_tlm_sched_t m;
     m.plan_updates = (uint16_t)min_u32(sched->plan_updates, 0xFFFFu);
     m.deadline_misses = (uint16_t)(sched->deadline_misses & 0xFFFFu);
@@ -64,6 +68,7 @@ void tlm_encode_sched(tlm_t *tlm, const tlm_sched_t *sched, hal_can_frame_t *out
 
 void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out)
 {
+    FW_ASSERT(tlm != NULL && value != NULL && out != NULL);
     struct dynaqpc_can_tlm_value_t m;
     const float v = value->value * 10.0f;
     int32_t raw = 0;
@@ -84,6 +89,7 @@ void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out
 
 void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
 {
+    FW_ASSERT(episode != NULL && out != NULL);
     struct dynaqpc_can_tlm_episode_t m;
     m.episode = (uint16_t)(episode->episode & 0xFFFFu);
     m.steps = (uint16_t)min_u32(episode->steps, 0x7FFFu);
@@ -97,6 +103,7 @@ void tlm_encode_episode(const tlm_episode_t *episode, hal_can_frame_t *out)
 
 void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *out)
 {
+    FW_ASSERT(tlm != NULL && status != NULL && out != NULL);
     struct dynaqpc_can_fw_status_t m;
     uint8_t e = status->errors;
     m.mode = (uint8_t)min_u32(status->mode, TLM_MODE_FAULT);
@@ -120,6 +127,7 @@ void tlm_encode_status(tlm_t *tlm, const tlm_status_t *status, hal_can_frame_t *
 
 void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out)
 {
+    FW_ASSERT(ack != NULL && out != NULL);
     struct dynaqpc_can_tool_ack_t m;
     m.command = ack->command;
     m.counter = (uint8_t)(ack->counter & 0x0Fu);
@@ -133,6 +141,7 @@ void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out)
 
 int tlm_rx_tool_cmd(tlm_t *tlm, const hal_can_frame_t *frame, uint64_t now_us, tlm_tool_cmd_t *out)
 {
+    FW_ASSERT(tlm != NULL && frame != NULL && out != NULL);
     struct dynaqpc_can_tool_cmd_t m;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH) ||
         dynaqpc_can_tool_cmd_unpack(&m, frame->data, frame->dlc) != 0 ||

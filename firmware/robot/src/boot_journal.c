@@ -77,6 +77,7 @@ static bool scan_(boot_journal_t *j, uint32_t start, uint32_t end, boot_journal_
 
 bool boot_journal_open(boot_journal_t *j, const learned_store_t *st, boot_journal_entry_t *last)
 {
+    FW_ASSERT(j != NULL && st != NULL && last != NULL);
     memset(j, 0, sizeof *j);
     memset(last, 0, sizeof *last);
     uint32_t max_boot = 0u;
@@ -105,6 +106,7 @@ bool boot_journal_open(boot_journal_t *j, const learned_store_t *st, boot_journa
 
 void boot_journal_follow(boot_journal_t *j, const learned_store_t *st)
 {
+    FW_ASSERT(j != NULL && st != NULL);
     uint32_t start, end, next, max_boot = 0u;
     boot_journal_entry_t e;
     j->ok = false;
@@ -118,6 +120,7 @@ void boot_journal_follow(boot_journal_t *j, const learned_store_t *st)
 
 int boot_journal_append(boot_journal_t *j, uint32_t episode, uint32_t steps, bool running)
 {
+    FW_ASSERT(j != NULL);
     if (!j->ok) {
         return FW_ERR_NOSYS;
     }

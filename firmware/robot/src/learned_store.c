@@ -107,6 +107,7 @@ static void find_newest_(learned_store_t *st)
 
 int learned_store_init(learned_store_t *st)
 {
+    FW_ASSERT(st != NULL);
     *st = (learned_store_t){0};
     st->newest = -1;
     st->restored_slot = -1;
@@ -161,6 +162,7 @@ learned_slot_state_t learned_store_slot_state(const learned_store_t *st, const a
 
 uint32_t learned_store_record_size(const agent_t *ag)
 {
+    FW_ASSERT(ag != NULL);
     agent_region_t regions[AGENT_MAX_REGIONS];
     uint32_t n, payload;
     (void)layout_of_(ag, regions, &n, &payload);
@@ -203,6 +205,7 @@ static int write_payload_(const learned_store_t *st, uint32_t offset, const agen
 
 int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes)
 {
+    FW_ASSERT(st != NULL && ag != NULL);
     agent_region_t regions[AGENT_MAX_REGIONS];
     uint32_t n, payload;
     learned_header_t h = {0};
@@ -288,6 +291,7 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
 
 int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
 {
+    FW_ASSERT(st != NULL && ag != NULL);
     learned_slot_state_t state[2];
     uint32_t seq[2] = {0, 0};
     for (uint32_t i = 0; i < 2u; i++) {
@@ -317,6 +321,7 @@ int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
 
 int learned_store_restore_previous(learned_store_t *st, agent_t *ag, uint32_t *sequence, uint32_t *episodes)
 {
+    FW_ASSERT(st != NULL && ag != NULL);
     learned_slot_state_t state[2];
     uint32_t seq[2] = {0, 0};
     for (uint32_t i = 0; i < 2u; i++) {
@@ -350,6 +355,7 @@ int learned_store_restore_previous(learned_store_t *st, agent_t *ag, uint32_t *s
 
 bool learned_store_newest(const learned_store_t *st, uint32_t *sequence, uint32_t *episodes)
 {
+    FW_ASSERT(st != NULL);
     const learned_header_t *h = st->newest < 0 ? NULL : slot_header_(st, (uint32_t)st->newest);
     if (h == NULL) {
         return false;

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "fw/fw_assert.h"
+
 #define DEG_PER_RAD 57.2957795f
 #define HALF_PI 1.5707964f
 
@@ -21,6 +23,7 @@ static float wrap180_(float deg)
 
 void pose_trust_init(pose_trust_t *t, bool absolute)
 {
+    FW_ASSERT(t != NULL);
     memset(t, 0, sizeof *t);
     t->trusted = absolute;
     t->reason = absolute ? (uint8_t)POSE_TRUST_WHY_ABSOLUTE : (uint8_t)POSE_TRUST_WHY_BOOT;
@@ -28,6 +31,7 @@ void pose_trust_init(pose_trust_t *t, bool absolute)
 
 void pose_trust_lose(pose_trust_t *t, pose_trust_reason_t reason)
 {
+    FW_ASSERT(t != NULL);
     if (t->reason == POSE_TRUST_WHY_ABSOLUTE) {
         return;
     }
@@ -42,6 +46,7 @@ void pose_trust_lose(pose_trust_t *t, pose_trust_reason_t reason)
 
 void pose_trust_grant(pose_trust_t *t, pose_trust_reason_t reason)
 {
+    FW_ASSERT(t != NULL);
     t->trusted = true;
     if (t->reason != POSE_TRUST_WHY_ABSOLUTE) {
         t->reason = (uint8_t)reason;
@@ -51,6 +56,7 @@ void pose_trust_grant(pose_trust_t *t, pose_trust_reason_t reason)
 
 void pose_trust_cancel(pose_trust_t *t)
 {
+    FW_ASSERT(t != NULL);
     t->phase = POSE_TRUST_LEG_IDLE;
 }
 
@@ -78,6 +84,7 @@ static void stand_(pose_trust_t *t, pose_trust_phase_t phase, uint64_t now_us)
 bool pose_trust_leg_period(pose_trust_t *t, const robot_config_t *cfg, const pose_trust_in_t *in,
                            float *v_left, float *v_right, float *correction_deg)
 {
+    FW_ASSERT(t != NULL && cfg != NULL && in != NULL);
     *v_left = 0.0f;
     *v_right = 0.0f;
     if (t->trusted) {

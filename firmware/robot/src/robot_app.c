@@ -827,8 +827,10 @@ int robot_app_init(const robot_app_options_t *opt)
     if (sched_add_task(&app_.sched, &control) < 0 || sched_add_task(&app_.sched, &status) < 0) {
         return FW_ERR_NOMEM;
     }
-    (void)sched_on_event(&app_.sched, EV_CAN, on_can_event_, NULL);
-    (void)sched_on_event(&app_.sched, EV_UART, on_uart_event_, NULL);
+    // Event types below FW_CFG_SCHED_EVENT_TYPES on a live scheduler: only a programming error fails.
+    FW_UNUSED const int on_can = sched_on_event(&app_.sched, EV_CAN, on_can_event_, NULL);
+    FW_UNUSED const int on_uart = sched_on_event(&app_.sched, EV_UART, on_uart_event_, NULL);
+    FW_ASSERT(on_can == FW_OK && on_uart == FW_OK);
     err = hal_can_init(CAN_BITRATE, candev_rx_ids, CANDEV_RX_ID_COUNT, on_can_isr_, NULL);
     if (err) {
         return err;
@@ -869,7 +871,9 @@ void robot_app_run(const robot_config_t *cfg, agent_t *agent, const agent_storag
             hal_cpu_wait_until(UINT64_MAX);
         }
     }
-    (void)hal_cpu_watchdog_start(ROBOT_WATCHDOG_MS);
+    // A port without a watchdog says FW_ERR_NOSYS; a timeout it refuses is a programming error.
+    FW_UNUSED const int watchdog = hal_cpu_watchdog_start(ROBOT_WATCHDOG_MS);
+    FW_ASSERT(watchdog == FW_OK || watchdog == FW_ERR_NOSYS);
     for (;;) {
         robot_app_step();
     }

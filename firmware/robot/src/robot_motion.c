@@ -4,6 +4,7 @@
 
 #include <math.h>
 
+#include "fw/fw_assert.h"
 #include "fw/fw_util.h"
 
 // Radians in [0, 2 pi).
@@ -129,6 +130,7 @@ static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pos
 // lab robot's far-goal tuning rooms from 346 to 354 of 360 sets (docs/results/lab-motion.md).
 robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, const robot_pose_t *pose)
 {
+    FW_ASSERT(cfg != NULL && pose != NULL);
     robot_motion_t m = {0.0f, 0.0f, 0u};
     if (!cfg->aligned_actions) {
         return m;
@@ -163,6 +165,7 @@ robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, con
 
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose)
 {
+    FW_ASSERT(cfg != NULL && pose != NULL);
     float dist = cfg->step_m, turn = cfg->turn_rad;
     uint8_t periods = cfg->action_periods;
     if (cfg->aligned_actions) {
@@ -211,6 +214,7 @@ bool robot_closes_loop(const robot_config_t *cfg)
 
 void robot_run_init(robot_run_t *r)
 {
+    FW_ASSERT(r != NULL);
     *r = (robot_run_t){0};
     r->turn_gain = 1.0f;
 }
@@ -269,6 +273,7 @@ static bool is_turn_(const robot_motion_t *m)
 void robot_run_start(robot_run_t *r, const robot_config_t *cfg, const robot_motion_t *m, float heading,
                      float hold, float odom, bool odom_ok, float *vl, float *vr)
 {
+    FW_ASSERT(r != NULL && cfg != NULL && m != NULL);
     r->m = *m;
     r->turn = is_turn_(m);
     r->periods_left = m->periods;
@@ -292,6 +297,7 @@ void robot_run_start(robot_run_t *r, const robot_config_t *cfg, const robot_moti
 
 bool robot_run_period(robot_run_t *r, const robot_config_t *cfg, float heading, float odom, float *vl, float *vr)
 {
+    FW_ASSERT(r != NULL && cfg != NULL && vl != NULL && vr != NULL);
     (void)odom;  // a drive's distance is checked when it stands (robot_run_t)
     if (r->periods_left > 0u) {
         r->periods_left--;

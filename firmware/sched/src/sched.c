@@ -109,6 +109,7 @@ int sched_post(sched_t *s, const sched_event_t *event)
 
 uint32_t sched_pending_events(const sched_t *s)
 {
+    FW_ASSERT(s != NULL);
     hal_irq_state_t irq = hal_irq_save();
     uint32_t count = s->ev_tail - s->ev_head;
     hal_irq_restore(irq);
@@ -117,6 +118,7 @@ uint32_t sched_pending_events(const sched_t *s)
 
 uint64_t sched_next_wakeup(const sched_t *s)
 {
+    FW_ASSERT(s != NULL);
     uint64_t next = UINT64_MAX;
     for (uint32_t i = 0; i < s->task_count; i++) {
         if (s->tasks[i].next_release_us < next) {
@@ -280,6 +282,7 @@ static bool step_fits(const sched_t *s, uint64_t now, uint64_t next)
 
 void sched_step(sched_t *s)
 {
+    FW_ASSERT(s != NULL);
     uint64_t start = hal_time_us();
     s->stats.idle_us += start - s->idle_since_us;
     s->stats.passes++;
@@ -333,6 +336,7 @@ void sched_step(sched_t *s)
 
 void sched_get_stats(const sched_t *s, sched_stats_t *out)
 {
+    FW_ASSERT(s != NULL && out != NULL);
     // One block copy under the lock (a few hundred bytes, no loop over the task table), so the
     // event counters interrupt handlers write are consistent with each other.
     hal_irq_state_t irq = hal_irq_save();

@@ -50,7 +50,7 @@ typedef struct hal_can_stats {
 /// `on_rx`. Returns FW_OK, FW_ERR_INVAL (bitrate not reachable, too many ids for the filter
 /// bank), or FW_ERR_IO (controller did not leave initialisation mode).
 /// Context: thread, at boot, before interrupts are enabled.
-int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, hal_can_rx_fn on_rx,
+FW_CHECK_RETURN int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, hal_can_rx_fn on_rx,
                  void *ctx);
 
 /// Queues a frame for transmission. Never blocks and never waits for the bus.

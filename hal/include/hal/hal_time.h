@@ -21,7 +21,7 @@ uint64_t hal_time_us(void);
 
 /// Starts the clock at 0. Called once at boot, before interrupts are enabled.
 /// Returns FW_OK, or FW_ERR_IO if the timer cannot be started.
-int hal_time_init(void);
+FW_CHECK_RETURN int hal_time_init(void);
 
 #ifdef __cplusplus
 }

@@ -30,7 +30,7 @@ typedef struct hal_uart_stats {
 /// Opens the port at `baud`, 8 data bits, no parity, 1 stop bit; `on_rx` may be NULL.
 /// Returns FW_OK, FW_ERR_INVAL (baud not reachable within 2 %), or FW_ERR_IO.
 /// Context: thread, at boot.
-int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx);
+FW_CHECK_RETURN int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx);
 
 /// Copies up to `cap` received bytes into `buf`, oldest first. Returns how many (0 if none).
 /// Never blocks. Context: thread (one reader).

@@ -150,6 +150,7 @@ int hal_can_send(const hal_can_frame_t *frame)
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
+    FW_ASSERT(out != NULL);
     pthread_mutex_lock(&lock_);
     *out = stats_;
     pthread_mutex_unlock(&lock_);

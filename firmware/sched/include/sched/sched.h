@@ -171,14 +171,14 @@ typedef struct sched {
 /// Prepares an empty scheduler (no tasks, no handlers) whose epoch is hal_time_us() now.
 /// Call after hal_time_init(). Returns FW_OK, or FW_ERR_INVAL (NULL arguments).
 /// Context: thread, at boot, before interrupts that post are enabled.
-int sched_init(sched_t *s, const sched_config_t *cfg);
+FW_CHECK_RETURN int sched_init(sched_t *s, const sched_config_t *cfg);
 
 /// Adds a periodic task. Returns its id (>= 0), FW_ERR_INVAL (no fn, period 0, phase >= period),
 /// or FW_ERR_NOMEM (FW_CFG_SCHED_MAX_TASKS already added). A task added before the first
 /// sched_step() is first released at epoch + phase_us; one added later, at its first release
 /// (on the same grid) that is not in the past.
 /// Context: thread, at boot.
-int sched_add_task(sched_t *s, const sched_task_config_t *task);
+FW_CHECK_RETURN int sched_add_task(sched_t *s, const sched_task_config_t *task);
 
 /// Registers `fn` (NULL: unregisters) for events of `type`, replacing any previous handler.
 /// Returns FW_OK or FW_ERR_INVAL (type >= FW_CFG_SCHED_EVENT_TYPES).

@@ -7,6 +7,7 @@
 // handlers) and the Cortex-M specifics (PRIMASK, WFI, NVIC, SysTick).
 #include <string.h>
 
+#include "fw/fw_assert.h"
 #include "hal/hal_can.h"
 #include "hal/hal_cpu.h"
 #include "hal/hal_flash.h"
@@ -134,6 +135,7 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
 
 int hal_can_send(const hal_can_frame_t *frame)
 {
+    FW_ASSERT(frame != NULL);
     const uint32_t s = stm32f4_irq_save();  // thread and interrupt senders share the mailboxes
     const int rc = stm32f4_can_send(&can_, frame);
     stm32f4_irq_restore(s);
@@ -142,6 +144,7 @@ int hal_can_send(const hal_can_frame_t *frame)
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
+    FW_ASSERT(out != NULL);
     const uint32_t s = stm32f4_irq_save();
     *out = can_.stats;
     stm32f4_irq_restore(s);
@@ -197,11 +200,13 @@ static const stm32f4_flash_dev_t *flash_dev_(void)
 
 int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
+    FW_ASSERT(out != NULL);
     return stm32f4_flash_geometry(flash_dev_(), out);
 }
 
 int hal_flash_read(uint32_t offset, void *buf, size_t len)
 {
+    FW_ASSERT(buf != NULL || len == 0u);
     return stm32f4_flash_read(flash_dev_(), offset, buf, len);
 }
 
@@ -217,5 +222,6 @@ int hal_flash_erase(uint32_t sector)
 
 int hal_flash_write(uint32_t offset, const void *data, size_t len)
 {
+    FW_ASSERT(data != NULL || len == 0u);
     return stm32f4_flash_program(flash_dev_(), offset, data, len);
 }

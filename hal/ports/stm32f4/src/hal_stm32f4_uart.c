@@ -8,6 +8,7 @@
 // each after a bounded wait for TXE.
 #include <stddef.h>
 
+#include "fw/fw_assert.h"
 #include "hal/hal_cpu.h"
 #include "hal/hal_uart.h"
 #include "stm32f4/stm32f4_cpu.h"
@@ -51,11 +52,13 @@ void USART2_IRQHandler(void)
 
 size_t hal_uart_read(uint8_t *buf, size_t cap)
 {
+    FW_ASSERT(buf != NULL || cap == 0u);
     return stm32f4_usart_read(&uart_, buf, cap);
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
 {
+    FW_ASSERT(data != NULL || len == 0u);
 #if STM32F4_CFG_UART_TX_POLLED
     if (uart_.regs == NULL) {
         return 0u;
@@ -72,6 +75,7 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
 
 void hal_uart_get_stats(hal_uart_stats_t *out)
 {
+    FW_ASSERT(out != NULL);
     const uint32_t s = stm32f4_irq_save();
     *out = uart_.stats;
     stm32f4_irq_restore(s);

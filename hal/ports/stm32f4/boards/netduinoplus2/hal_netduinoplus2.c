@@ -11,6 +11,7 @@
 // for TXE (STM32F4_CFG_UART_TX_POLLED, set by board.cmake).
 #include <string.h>
 
+#include "fw/fw_assert.h"
 #include "hal/hal_can.h"
 #include "hal/hal_cpu.h"
 #include "hal/hal_flash.h"
@@ -247,6 +248,7 @@ int hal_can_init(uint32_t bitrate, const uint32_t *accept_ids, uint32_t n_ids, h
 
 int hal_can_send(const hal_can_frame_t *frame)
 {
+    FW_ASSERT(frame != NULL);
     uint8_t line[SLCAN_MAX_LINE];
     const size_t n = slcan_encode(frame, line);
     if (n == 0u) {
@@ -265,6 +267,7 @@ int hal_can_send(const hal_can_frame_t *frame)
 
 void hal_can_get_stats(hal_can_stats_t *out)
 {
+    FW_ASSERT(out != NULL);
     const uint32_t s = stm32f4_irq_save();
     *out = can_stats_;
     out->rx_overruns = can_uart_.stats.rx_overruns;
@@ -290,6 +293,7 @@ static uint32_t region_bytes_(void)
 
 int hal_flash_get_geometry(hal_flash_geometry_t *out)
 {
+    FW_ASSERT(out != NULL);
     out->sector_size = LD_VALUE(_dynaqpc_store_sector_bytes);
     out->sector_count = LD_VALUE(_dynaqpc_store_sectors);
     out->write_align = 4u;
@@ -303,6 +307,7 @@ static bool in_region_(uint32_t offset, size_t len)
 
 int hal_flash_read(uint32_t offset, void *buf, size_t len)
 {
+    FW_ASSERT(buf != NULL || len == 0u);
     if (!in_region_(offset, len)) {
         return FW_ERR_INVAL;
     }
@@ -327,6 +332,7 @@ int hal_flash_erase(uint32_t sector)
 
 int hal_flash_write(uint32_t offset, const void *data, size_t len)
 {
+    FW_ASSERT(data != NULL || len == 0u);
     if (!in_region_(offset, len) || offset % 4u != 0u || len % 4u != 0u) {
         return FW_ERR_INVAL;
     }

@@ -1,0 +1,32 @@
+# SPDX-License-Identifier: MIT
+# Runs PROGRAM, which breaks a contract, and passes only when it stopped (a non-zero result: the
+# hosted fw_assert_failed() aborts) and said where: "<EXPECT_FILE>:<the FW_ASSERT's line>:
+# assertion failed" on stderr, the line being the first FW_ASSERT in EXPECT_FILE after the line
+# that holds EXPECT_AFTER (the function's signature).
+execute_process(COMMAND ${PROGRAM} RESULT_VARIABLE result ERROR_VARIABLE err OUTPUT_QUIET)
+file(STRINGS ${SOURCE_DIR}/${EXPECT_FILE} lines)
+set(n 0)
+set(line 0)
+set(inside FALSE)
+foreach(text IN LISTS lines)
+    math(EXPR n "${n} + 1")
+    string(FIND "${text}" "${EXPECT_AFTER}" after)
+    if(after GREATER -1)
+        set(inside TRUE)
+    endif()
+    string(FIND "${text}" "FW_ASSERT(" at)
+    if(inside AND at GREATER -1 AND line EQUAL 0)
+        set(line ${n})
+    endif()
+endforeach()
+if(line EQUAL 0)
+    message(FATAL_ERROR "no FW_ASSERT after '${EXPECT_AFTER}' in ${EXPECT_FILE}")
+endif()
+if(result EQUAL 0)
+    message(FATAL_ERROR "the broken contract did not stop the program (result 0): ${err}")
+endif()
+string(FIND "${err}" "${EXPECT_FILE}:${line}: assertion failed" found)
+if(found EQUAL -1)
+    message(FATAL_ERROR "expected '${EXPECT_FILE}:${line}: assertion failed', got (result ${result}): ${err}")
+endif()
+message(STATUS "stopped (${result}) at ${EXPECT_FILE}:${line}")
