@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The ablation: where Dyna-QPC's speed comes from. Q-learning, Dyna-Q (last outcome, as
-# Sutton & Barto), Dyna-Q keeping the majority outcome (the rule Dyna-QPC's model uses), and Dyna-QPC
-# with each of its departures from the paper switched off in turn (`train --ablate`:
-# generalise = the relocatable model's predictions for untried pairs, majority = tried pairs keep
+# The ablation: where Dyna-QPC's speed comes from. Every registered algorithm (the firmware's
+# registry, `dynaqpc-sim agents --json`: Q-learning, Dyna-Q, Dyna-Q keeping the majority outcome,
+# Dyna-QPC, ...; or those --agents names), and Dyna-QPC with each of its departures from the
+# paper switched off in turn (`train --ablate`: generalise = the relocatable model's predictions for untried pairs, majority = tried pairs keep
 # the majority outcome, new-states = a new state queues its pairs, expected = backups over a
 # place's codes, stay = a step that stays in its cell is a share of its move) and all of them off (prioritized sweeping over the exact model with the complete
 # predecessor search), at the same planning budget, on paper-lab and paper-lab-motion (the
 # paper's own motion), paper-sim, and the lab evaluation rooms; fresh seeds.
 #
-#   tools/bench_ablation.sh [--seed S] [--out DIR] [--budget N] [--quick]
+#   tools/bench_ablation.sh [--seed S] [--out DIR] [--budget N] [--agents A,B,...] [--quick]
 #
 # Prints one markdown table: sets learned and mean real steps (lab) or robot hours (sonar robot)
 # to learn, a set that never learns counting its whole run (learned: trailing 5-episode mean
@@ -18,12 +18,13 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 py=$root/.venv/bin/python
-seed=9003 out=$root/results/ablation budget=1000 quick=0
+seed=9003 out=$root/results/ablation budget=1000 quick=0 agents=""
 while (($#)); do
     case $1 in
         --seed) seed=$2; shift 2 ;;
         --out) out=$2; shift 2 ;;
         --budget) budget=$2; shift 2 ;;
+        --agents) agents=${2//,/ }; shift 2 ;;
         --quick) quick=1; shift ;;
         *) echo "bench_ablation.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
@@ -34,8 +35,12 @@ lab_sets=20 sim_sets=4 sim_eps=40 room_sets=2 rooms=12
 ((quick)) && lab_sets=2 sim_sets=1 sim_eps=5 room_sets=1 rooms=1
 mkdir -p "$out"
 
-variants=("q-learning:q:" "dyna-q:dyna-q:" "dyna-q-majority:dyna-q-majority:" "dyna-qpc:dyna-qpc:" "no-generalise:dyna-qpc:generalise"
-          "no-majority:dyna-qpc:majority" "no-new-states:dyna-qpc:new-states"
+# The algorithms from the registry, so a new one is in the table without an edit here.
+[ -n "$agents" ] || agents=$("$py" -c 'import sys; from dynaqpc_tools.agents import registry
+print(" ".join(a["name"] for a in registry(sys.argv[1])))' "$sim")
+variants=()
+for a in $agents; do variants+=("$a:$a:"); done
+variants+=("no-generalise:dyna-qpc:generalise" "no-majority:dyna-qpc:majority" "no-new-states:dyna-qpc:new-states"
           "no-expected:dyna-qpc:expected" "no-stay:dyna-qpc:stay"
           "exact-model:dyna-qpc:generalise,majority,new-states,expected,stay")
 
@@ -62,6 +67,7 @@ done
 "$py" - "$out" "$budget" "$seed" "${variants[@]}" <<'EOF'
 import collections, csv, glob, os, sys
 sys.path.insert(0, os.path.join(os.path.dirname(sys.executable), "..", "..", "tools"))
+from dynaqpc_tools.agents import labels
 from dynaqpc_tools.experiment.stats import learned_episode_index
 
 out, budget, seed = sys.argv[1:4]
@@ -88,8 +94,9 @@ def cell(files, thr, hours):
 
 print(f"| variant (N = {budget}, seed {seed}) | paper-lab | paper-lab-motion | paper-sim | lab evaluation rooms |")
 print("|---|---:|---:|---:|---:|")
+label = labels()
 for n in names:
-    print(f"| {n} | {cell([f'{out}/paper-lab-{n}.csv'], 50, False)} "
+    print(f"| {label.get(n, n)} | {cell([f'{out}/paper-lab-{n}.csv'], 50, False)} "
           f"| {cell([f'{out}/paper-lab-motion-{n}.csv'], 50, False)} "
           f"| {cell([f'{out}/paper-sim-{n}.csv'], 500, True)} "
           f"| {cell(sorted(glob.glob(f'{out}/eval-*-{n}.csv')), 50, False)} |")
