@@ -46,7 +46,7 @@ void Devices::receive(const hal_can_frame_t &frame, std::uint64_t t_us)
     if (frame.id != DYNAQPC_CAN_MOTOR_CMD_FRAME_ID) {
         return;  // not for a device
     }
-    if (motor_decode_cmd(&frame, &cmd, nullptr) != FW_OK) {
+    if (motor_rx_cmd(&cmd_rx_, &frame, t_us, &cmd) != FW_OK) {
         motor_rejected_++;  // a real controller ignores a bad command and keeps its safety timer
         return;
     }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/can_link.h"
 #include "hal/hal_can.h"
 
 namespace world {
@@ -45,7 +46,7 @@ public:
     /// controller's safety stop (no valid MOTOR_CMD for 500 ms stops the wheels).
     void check_timeouts(std::uint64_t t_us);
 
-    /// MOTOR_CMD frames obeyed and refused (malformed, bad CRC).
+    /// MOTOR_CMD frames obeyed and refused (malformed, bad CRC, a repeated or jumping counter).
     std::uint32_t motor_cmds() const { return motor_cmds_; }
     std::uint32_t motor_cmds_rejected() const { return motor_rejected_; }
 
@@ -59,6 +60,7 @@ private:
     bool driving_ = false;
     bool bump_since_status_ = false;
     std::uint32_t motor_cmds_ = 0, motor_rejected_ = 0;
+    can_link_rx_t cmd_rx_{};  // MOTOR_CMD's counter, as the controller checks it
     std::vector<float> ranges_;
 };
 

@@ -21,7 +21,10 @@ from crccheck.crc import Crc8SaeJ1850
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DBC = ROOT / "docs" / "dynaqpc.dbc"
 GENERATED = ROOT / "firmware" / "drivers" / "src" / "generated"
-COMMAND_FRAMES = {"MOTOR_CMD", "TOOL_CMD", "GYRO_RATE"}  # the frames with a Crc
+# The frames with a Crc: the commands, and the end-to-end protected frames that feed estimation.
+COMMAND_FRAMES = {"MOTOR_CMD", "TOOL_CMD", "GYRO_RATE", "MOTOR_STATUS", "IR_RANGES", "SONAR_RANGES_A",
+                  "SONAR_RANGES_B", "GPS_POSE"}
+CRC4_FRAMES = {"SONAR_RANGES_A", "SONAR_RANGES_B"}  # 4 bits free: a CRC-4 in the last byte's high nibble
 SAMPLES = 60
 
 
@@ -65,11 +68,28 @@ def crc32(frame_id, data):
     return zlib.crc32(bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data))
 
 
+def crc4(frame_id, data, nibble):
+    """The sonar frames' Crc: CRC-4 (poly 0x3, init 0xF, MSB first, no final xor) over the id's two
+    bytes, `data` and the 4 bits of `nibble`."""
+    crc = 0xF
+    bits = [(b >> (7 - i)) & 1 for b in bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data) for i in range(8)]
+    bits += [(nibble >> (3 - i)) & 1 for i in range(4)]
+    for bit in bits:
+        top = (crc >> 3) & 1
+        crc = (crc << 1) & 0xF
+        if top ^ bit:
+            crc ^= 0x3
+    return crc
+
+
 def with_crc(msg, data):
-    """The command frame `data` with its Crc: 32 bits on TOOL_CMD, 8 on MOTOR_CMD."""
+    """The frame `data` with its Crc: 32 bits on TOOL_CMD, 4 on the sonar frames, else 8."""
     data = bytearray(data)
     if msg.name == "TOOL_CMD":
         data[-4:] = crc32(msg.frame_id, data[:-4]).to_bytes(4, "little")
+    elif msg.name in CRC4_FRAMES:
+        low = data[-1] & 0x0F
+        data[-1] = low | crc4(msg.frame_id, data[:-1], low) << 4
     else:
         data[-1] = crc8(msg.frame_id, data[:-1])
     return bytes(data)
@@ -131,7 +151,7 @@ def test_dbc_rules(db):
             assert counter.length == 4 and not counter.is_signed, msg.name
         if msg.name in COMMAND_FRAMES:
             crc = msg.get_signal_by_name("Crc")
-            width = 32 if msg.name == "TOOL_CMD" else 8
+            width = 32 if msg.name == "TOOL_CMD" else 4 if msg.name in CRC4_FRAMES else 8
             assert crc.length == width and crc.start == 8 * msg.length - width, msg.name
     cycles = {m.name: m.cycle_time for m in db.messages}
     assert cycles == {
@@ -224,7 +244,7 @@ def test_c_refuses_values_outside_the_dbc_range(db, vectors, name, signal, raw_v
 
 
 @pytest.mark.parametrize("name", ["MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "GPS_POSE", "TOOL_CMD",
-                                  "MOTOR_CMD"])
+                                  "MOTOR_CMD", "SONAR_RANGES_A", "SONAR_RANGES_B"])
 def test_c_refuses_wrong_lengths_and_bad_crc(db, vectors, name):
     msg = db.get_message_by_name(name)
     data = encode_raw(msg, random_raw(msg, random.Random(1)))
@@ -233,5 +253,5 @@ def test_c_refuses_wrong_lengths_and_bad_crc(db, vectors, name):
         assert answer[0] == "ERR", f"{name} with {length} bytes accepted"
     if name in COMMAND_FRAMES:
         bad = bytearray(data)
-        bad[-1] ^= 0x5A
+        bad[-1] ^= 0x50  # the Crc's bits, whether 4 or 8
         assert vectors.ask(f"decode {msg.frame_id:03X} {bad.hex()}")[0] == "ERR"

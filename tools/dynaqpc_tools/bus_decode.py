@@ -9,6 +9,7 @@ imports none of them.
 from __future__ import annotations
 
 import math
+import zlib
 from dataclasses import dataclass
 from typing import Optional
 
@@ -32,6 +33,71 @@ class Pose:
 
 #: Fix values that mean "no pose" (TLM_POSE FixState, GPS_POSE Fix).
 NO_POSE = ("LOST", "NONE")
+
+
+def _crc8(frame_id: int, data: bytes) -> int:
+    """CRC-8/SAE-J1850 over the id's two bytes (low first) and `data` (firmware can_link_crc8)."""
+    crc = 0xFF
+    for byte in bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data):
+        crc ^= byte
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+    return crc ^ 0xFF
+
+
+def _crc4(frame_id: int, data: bytes, nibble: int) -> int:
+    """CRC-4 (poly 0x3, init 0xF, MSB first) over the id's two bytes, `data` and a nibble
+    (firmware can_link_crc4: the sonar frames)."""
+    crc = 0xF
+    bits = [
+        (b >> (7 - i)) & 1 for b in bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data) for i in range(8)
+    ]
+    for bit in bits + [(nibble >> (3 - i)) & 1 for i in range(4)]:
+        top = (crc >> 3) & 1
+        crc = (crc << 1) & 0xF
+        if top ^ bit:
+            crc ^= 0x3
+    return crc
+
+
+def _expected_crc(message, data: bytes):
+    """(the frame's Crc as sent, the Crc its data calls for), or None for a frame without one."""
+    try:
+        sig = message.get_signal_by_name("Crc")
+    except KeyError:
+        return None
+    data = bytes(data)
+    if len(data) != message.length or not data:
+        return None
+    fid = message.frame_id
+    if sig.length == 32:
+        return int.from_bytes(data[-4:], "little"), zlib.crc32(bytes([fid & 0xFF, fid >> 8]) + data[:-4])
+    if sig.length == 4:
+        return data[-1] >> 4, _crc4(fid, data[:-1], data[-1] & 0x0F)
+    return data[-1], _crc8(fid, data[:-1])
+
+
+def e2e_ok(message, data) -> bool:
+    """True unless `message` carries a Crc (the end-to-end check, docs/can-protocol.md) that its
+    data fails: such a frame is noise, and no view draws it."""
+    got = _expected_crc(message, data)
+    return got is None or got[0] == got[1]
+
+
+def e2e_seal(message, data) -> bytes:
+    """`data` with the Crc the firmware's senders put in (for tools and tests that build frames)."""
+    data = bytearray(data)
+    got = _expected_crc(message, bytes(data))
+    if got is None:
+        return bytes(data)
+    sig = message.get_signal_by_name("Crc")
+    if sig.length == 32:
+        data[-4:] = got[1].to_bytes(4, "little")
+    elif sig.length == 4:
+        data[-1] = (data[-1] & 0x0F) | got[1] << 4
+    else:
+        data[-1] = got[1]
+    return bytes(data)
 
 
 def _find_signal(message, wanted, override):
@@ -92,6 +158,8 @@ class PoseDecoder:
             return None
         if msg.is_remote_frame or msg.is_error_frame:
             return None
+        if not e2e_ok(m, msg.data):
+            return None  # noise: its Crc fails
         try:
             v = m.decode(bytes(msg.data), decode_choices=False)
         except Exception:
@@ -163,7 +231,7 @@ class BusState:
         """Takes a frame; returns 'new episode' (TLM_EPISODE), 'episode number changed' (TLM_LEARN,
         no end seen), 'bump' or ''."""
         m = self.by_id.get(msg.arbitration_id)
-        if m is None or msg.is_remote_frame or msg.is_error_frame:
+        if m is None or msg.is_remote_frame or msg.is_error_frame or not e2e_ok(m, msg.data):
             return ""
         try:
             v = m.decode(bytes(msg.data), decode_choices=False)

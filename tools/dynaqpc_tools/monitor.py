@@ -21,6 +21,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
+from .bus_decode import e2e_ok
 from .common import (
     ToolArgumentParser,
     ToolError,
@@ -184,6 +185,9 @@ class Monitor:
         except Exception as e:
             st.decode_errors += 1
             return [f"{m.name}: cannot decode {bytes(msg.data).hex()}: {e}"]
+        if not e2e_ok(m, msg.data):
+            st.decode_errors += 1  # noise that decodes: its end-to-end Crc fails
+            return [f"{m.name}: Crc fails on {bytes(msg.data).hex()}"]
         st.values = values
         events += self.status.feed(m, values, t)
         if st.counter_signal is not None and st.counter_signal in values:

@@ -12,6 +12,7 @@ from conftest import REPO, c_binary, in_netns, netns_available
 from mcap.reader import make_reader
 
 from dynaqpc_tools import monitor, viewer
+from dynaqpc_tools.bus_decode import e2e_seal
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
 ARENA = {
@@ -30,7 +31,7 @@ def _msg(db, name, t, **signals):
     m = db.get_message_by_name(name)
     full = {s.name: 0 for s in m.signals}
     full.update(signals)
-    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=m.encode(full))
+    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=e2e_seal(m, m.encode(full)))
 
 
 def a_run(db, t0=1000.0):

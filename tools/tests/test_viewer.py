@@ -9,6 +9,7 @@ import cantools
 import pytest
 
 from dynaqpc_tools import viewer
+from dynaqpc_tools.bus_decode import e2e_seal
 from dynaqpc_tools.common import ToolError
 
 
@@ -84,7 +85,7 @@ def _frame(db, name, t, **signals):
     m = db.get_message_by_name(name)
     values = {s.name: 0 for s in m.signals}
     values.update(signals)
-    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=m.encode(values))
+    return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=e2e_seal(m, m.encode(values)))
 
 
 def _two_episodes(db):
@@ -253,3 +254,26 @@ def test_rays_stop_at_what_they_hit_and_the_picture_has_a_key(tmp_path):
     assert any("range ray" in s for s in labels) and any("bump" in s for s in labels)
     assert any("obstacle" in s for s in labels) and "goal" in labels
     assert "TLM_POSE" in view.fig._suptitle.get_text() and "box-room" in view.fig._suptitle.get_text()
+
+
+def test_frames_whose_crc_fails_are_not_drawn():
+    """The end-to-end Crc (docs/can-protocol.md): a bump or a pose in noise is not shown."""
+    from dynaqpc_tools.bus_decode import BusState, PoseDecoder, e2e_ok
+
+    db = cantools.database.load_file(DBC)
+    bump = _frame(db, "MOTOR_STATUS", 1.0, BumpFront=1, Enabled=1)
+    assert e2e_ok(db.get_message_by_name("MOTOR_STATUS"), bump.data)
+    noise = can.Message(timestamp=1.0, arbitration_id=bump.arbitration_id, is_extended_id=False, data=bytes(bump.data))
+    noise.data[-1] ^= 0x01
+    state = BusState(db)
+    assert state.feed(noise) == "" and not state.bumping
+    assert state.feed(bump) == "bump"
+    gps = _frame(db, "GPS_POSE", 2.0, X=1000, Y=500, Heading=90.0, Fix=2)
+    dec = PoseDecoder(db, "GPS_POSE")
+    assert dec.decode(gps) is not None
+    gps.data[0] ^= 0x80
+    assert dec.decode(gps) is None
+    sonar = _frame(db, "SONAR_RANGES_A", 3.0, Sonar0=50)  # CRC-4 in the last byte's high nibble
+    assert e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)
+    sonar.data[0] ^= 0x01
+    assert not e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)

@@ -19,13 +19,14 @@ int gps_rx_pose(gps_t *gps, const hal_can_frame_t *frame, uint64_t now_us)
     FW_ASSERT(gps != NULL && frame != NULL);
     struct dynaqpc_can_gps_pose_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_GPS_POSE_FRAME_ID, DYNAQPC_CAN_GPS_POSE_LENGTH) ||
-        dynaqpc_can_gps_pose_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        dynaqpc_can_gps_pose_unpack(&msg, frame->data, frame->dlc) != 0 || !can_link_e2e_ok(frame, 8u) ||
         !dynaqpc_can_gps_pose_heading_is_in_range(msg.heading) ||
         !dynaqpc_can_gps_pose_fix_is_in_range(msg.fix)) {
         return can_link_rx_reject(&gps->rx);
     }
-    int err = can_link_rx_accept(&gps->rx, msg.counter, now_us);
-    if (err != FW_OK) {
+    // No rate-of-change check: the simulator puts the robot at each episode's start.
+    const int err = can_link_rx_accept_e2e(&gps->rx, msg.counter, now_us, CAN_LINK_MAX_STEP);
+    if (err < 0) {
         return err;
     }
     gps->pose.x_mm = msg.x;
@@ -50,7 +51,9 @@ int gps_encode_pose(uint8_t *counter, const gps_pose_t *pose, hal_can_frame_t *o
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_GPS_POSE_FRAME_ID, DYNAQPC_CAN_GPS_POSE_LENGTH);
-    return dynaqpc_can_gps_pose_pack(out->data, &msg, sizeof out->data) == (int)out->dlc
-               ? FW_OK
-               : FW_ERR_INVAL;
+    if (dynaqpc_can_gps_pose_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    can_link_e2e_protect(out, 8u);
+    return FW_OK;
 }

@@ -39,7 +39,7 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     struct dynaqpc_can_gyro_rate_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH) ||
         dynaqpc_can_gyro_rate_unpack(&msg, frame->data, frame->dlc) != 0 ||
-        msg.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
+        !can_link_e2e_ok(frame, 8u) ||
         !dynaqpc_can_gyro_rate_yaw_rate_is_in_range(msg.yaw_rate) ||
         !dynaqpc_can_gyro_rate_temperature_is_in_range(msg.temperature) ||
         !dynaqpc_can_gyro_rate_status_is_in_range(msg.status)) {
@@ -47,8 +47,10 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     }
     // Samples since the last accepted one (more than 1 when frames were lost), by the counter.
     const uint32_t steps = gyro->rx.seen ? (uint32_t)((msg.counter - gyro->rx.counter) & (CAN_LINK_COUNTER_MOD - 1u)) : 1u;
-    int err = can_link_rx_accept(&gyro->rx, msg.counter, now_us);
-    if (err != FW_OK) {
+    // No rate-of-change check: the rate changes by hundreds of deg/s in one sample when a turn
+    // starts or a bump stops it (docs/can-protocol.md).
+    const int err = can_link_rx_accept_e2e(&gyro->rx, msg.counter, now_us, GYRO_MAX_STEP);
+    if (err < 0) {
         return err;
     }
     gyro->rate_cdeg_s = msg.yaw_rate;
@@ -79,12 +81,12 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
         // no gap when the counter says no sample was lost. The receive times only tell a silence
         // too long for the counter to count (CAN_LINK_COUNTER_MOD periods).
         const uint64_t dt_us = (uint64_t)steps * FW_CFG_GYRO_PERIOD_US;
-        const bool bridged = dt_us <= FW_CFG_GYRO_MAX_DT_US &&
+        const bool bridged = err != CAN_LINK_RESYNC && dt_us <= FW_CFG_GYRO_MAX_DT_US &&
                              rx_dt_us < (uint64_t)CAN_LINK_COUNTER_MOD * FW_CFG_GYRO_PERIOD_US;
 #else
         (void)steps;
         const uint64_t dt_us = rx_dt_us;
-        const bool bridged = rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
+        const bool bridged = err != CAN_LINK_RESYNC && rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
 #endif
         if (bridged) {
             float dt = (float)dt_us * 1e-6f;
@@ -142,6 +144,6 @@ int gyro_encode_rate(uint8_t *counter, int16_t rate_cdeg_s, int8_t temperature_c
     if (dynaqpc_can_gyro_rate_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
         return FW_ERR_INVAL;
     }
-    out->data[out->dlc - 1u] = can_link_crc8(out->id, out->data, out->dlc - 1u);  // the end-to-end check
+    can_link_e2e_protect(out, 8u);
     return FW_OK;
 }

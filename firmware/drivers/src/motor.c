@@ -24,13 +24,13 @@ int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_u
     FW_ASSERT(motor != NULL && frame != NULL);
     struct dynaqpc_can_motor_status_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH) ||
-        dynaqpc_can_motor_status_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        dynaqpc_can_motor_status_unpack(&msg, frame->data, frame->dlc) != 0 || !can_link_e2e_ok(frame, 8u) ||
         !dynaqpc_can_motor_status_speed_left_is_in_range(msg.speed_left) ||
         !dynaqpc_can_motor_status_speed_right_is_in_range(msg.speed_right)) {
         return can_link_rx_reject(&motor->rx);
     }
-    int err = can_link_rx_accept(&motor->rx, msg.counter, now_us);
-    if (err != FW_OK) {
+    const int err = can_link_rx_accept_e2e(&motor->rx, msg.counter, now_us, CAN_LINK_MAX_STEP);
+    if (err < 0) {
         return err;
     }
     motor_status_t *s = &motor->status;
@@ -44,12 +44,6 @@ int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_u
                           (msg.fault_under_voltage ? MOTOR_FAULT_UNDERVOLTAGE : 0u) |
                           (msg.fault_cmd_timeout ? MOTOR_FAULT_CMD_TIMEOUT : 0u));
     return FW_OK;
-}
-
-static void put_crc(hal_can_frame_t *frame)
-{
-    // Crc is the last byte of both command frames (docs/dynaqpc.dbc).
-    frame->data[frame->dlc - 1u] = can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
 }
 
 int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *out)
@@ -69,7 +63,7 @@ int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *ou
     if (dynaqpc_can_motor_cmd_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
         return FW_ERR_INVAL;
     }
-    put_crc(out);
+    can_link_e2e_protect(out, 8u);
     return FW_OK;
 }
 
@@ -93,9 +87,11 @@ int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH);
-    return dynaqpc_can_motor_status_pack(out->data, &msg, sizeof out->data) == (int)out->dlc
-               ? FW_OK
-               : FW_ERR_INVAL;
+    if (dynaqpc_can_motor_status_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    can_link_e2e_protect(out, 8u);
+    return FW_OK;
 }
 
 int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *counter_out)
@@ -104,7 +100,7 @@ int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *co
     struct dynaqpc_can_motor_cmd_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH) ||
         dynaqpc_can_motor_cmd_unpack(&msg, frame->data, frame->dlc) != 0 ||
-        msg.crc != can_link_crc8(frame->id, frame->data, frame->dlc - 1u) ||
+        !can_link_e2e_ok(frame, 8u) ||
         !dynaqpc_can_motor_cmd_speed_left_is_in_range(msg.speed_left) ||
         !dynaqpc_can_motor_cmd_speed_right_is_in_range(msg.speed_right)) {
         return FW_ERR_INVAL;
@@ -115,5 +111,20 @@ int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *co
     if (counter_out != NULL) {
         *counter_out = msg.counter;
     }
+    return FW_OK;
+}
+
+int motor_rx_cmd(can_link_rx_t *rx, const hal_can_frame_t *frame, uint64_t now_us, motor_cmd_t *out)
+{
+    motor_cmd_t cmd;
+    uint8_t counter;
+    if (motor_decode_cmd(frame, &cmd, &counter) != FW_OK) {
+        return can_link_rx_reject(rx);
+    }
+    const int err = can_link_rx_accept_e2e(rx, counter, now_us, CAN_LINK_MAX_STEP);
+    if (err < 0) {
+        return err;
+    }
+    *out = cmd;
     return FW_OK;
 }

@@ -2,7 +2,8 @@
 // dynaqpc drivers: IR and sonar frames (see ranges.h).
 //
 // The sonar frames pack 8 sonars of 7 bits (2 cm per bit) so that a counter fits in the 8 bytes:
-// 1 cm resolution would buy nothing, as the paper's state uses 4 bits of sonar.
+// 1 cm resolution would buy nothing, as the paper's state uses 4 bits of sonar. The 4 bits left
+// carry the end-to-end check, a CRC-4 (the IR frame has a whole byte for its CRC-8).
 #include "drivers/ranges.h"
 
 #include <string.h>
@@ -30,14 +31,14 @@ int ranges_rx_ir(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now_us
     FW_ASSERT(ranges != NULL && frame != NULL);
     struct dynaqpc_can_ir_ranges_t msg;
     if (!can_link_frame_is(frame, DYNAQPC_CAN_IR_RANGES_FRAME_ID, DYNAQPC_CAN_IR_RANGES_LENGTH) ||
-        dynaqpc_can_ir_ranges_unpack(&msg, frame->data, frame->dlc) != 0 ||
+        dynaqpc_can_ir_ranges_unpack(&msg, frame->data, frame->dlc) != 0 || !can_link_e2e_ok(frame, 8u) ||
         !dynaqpc_can_ir_ranges_range_left_is_in_range(msg.range_left) ||
         !dynaqpc_can_ir_ranges_range_front_is_in_range(msg.range_front) ||
         !dynaqpc_can_ir_ranges_range_right_is_in_range(msg.range_right)) {
         return can_link_rx_reject(&ranges->ir_rx);
     }
-    int err = can_link_rx_accept(&ranges->ir_rx, msg.counter, now_us);
-    if (err != FW_OK) {
+    const int err = can_link_rx_accept_e2e(&ranges->ir_rx, msg.counter, now_us, CAN_LINK_MAX_STEP);
+    if (err < 0) {
         return err;
     }
     ranges->ir_mm[RANGES_IR_LEFT] = msg.range_left;
@@ -70,7 +71,7 @@ int ranges_rx_sonar(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now
     unsigned half;
     if (can_link_frame_is(frame, DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_A_LENGTH)) {
         struct dynaqpc_can_sonar_ranges_a_t m;
-        if (dynaqpc_can_sonar_ranges_a_unpack(&m, frame->data, frame->dlc) != 0) {
+        if (dynaqpc_can_sonar_ranges_a_unpack(&m, frame->data, frame->dlc) != 0 || !can_link_e2e_ok(frame, 4u)) {
             return can_link_rx_reject(&ranges->sonar_rx[0]);
         }
         half = 0u;
@@ -80,7 +81,7 @@ int ranges_rx_sonar(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now
     } else if (can_link_frame_is(frame, DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID,
                                  DYNAQPC_CAN_SONAR_RANGES_B_LENGTH)) {
         struct dynaqpc_can_sonar_ranges_b_t m;
-        if (dynaqpc_can_sonar_ranges_b_unpack(&m, frame->data, frame->dlc) != 0) {
+        if (dynaqpc_can_sonar_ranges_b_unpack(&m, frame->data, frame->dlc) != 0 || !can_link_e2e_ok(frame, 4u)) {
             return can_link_rx_reject(&ranges->sonar_rx[1]);
         }
         half = 1u;
@@ -91,8 +92,8 @@ int ranges_rx_sonar(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now
         // Not a sonar frame at all: blame the half its id is closest to.
         return can_link_rx_reject(&ranges->sonar_rx[frame->id == DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID]);
     }
-    int err = can_link_rx_accept(&ranges->sonar_rx[half], counter, now_us);
-    if (err != FW_OK) {
+    const int err = can_link_rx_accept_e2e(&ranges->sonar_rx[half], counter, now_us, CAN_LINK_MAX_STEP);
+    if (err < 0) {
         return err;
     }
     for (unsigned i = 0; i < 8u; i++) {
@@ -119,9 +120,11 @@ int ranges_encode_ir(uint8_t *counter, const uint16_t mm[RANGES_IR_COUNT],
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_IR_RANGES_FRAME_ID, DYNAQPC_CAN_IR_RANGES_LENGTH);
-    return dynaqpc_can_ir_ranges_pack(out->data, &msg, sizeof out->data) == (int)out->dlc
-               ? FW_OK
-               : FW_ERR_INVAL;
+    if (dynaqpc_can_ir_ranges_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    can_link_e2e_protect(out, 8u);
+    return FW_OK;
 }
 
 int ranges_encode_sonar(uint8_t *counter, unsigned half, const uint16_t mm[RANGES_SONAR_COUNT],
@@ -151,5 +154,9 @@ int ranges_encode_sonar(uint8_t *counter, unsigned half, const uint16_t mm[RANGE
     } else {
         return FW_ERR_INVAL;
     }
-    return n == (int)out->dlc ? FW_OK : FW_ERR_INVAL;
+    if (n != (int)out->dlc) {
+        return FW_ERR_INVAL;
+    }
+    can_link_e2e_protect(out, 4u);
+    return FW_OK;
 }

@@ -235,37 +235,151 @@ static void test_tool_cmd_crc_and_repeats(void **state)
     assert_int_equal(candev_rx(&bus, &f, 4u, &got), FW_ERR_INVAL);
 }
 
-// GYRO_RATE's end-to-end Crc: a flipped bit is refused and counted, never integrated; of random
-// frames of the right length about 1 in 256 passes the Crc (and its range checks and counter).
-static void test_gyro_rate_crc_refuses_corruption_and_most_noise(void **state)
+// The end-to-end protected frames that feed estimation (docs/can-protocol.md): one valid frame
+// of each, every single bit flipped in it refused and counted as malformed, never used; then 10^6
+// random frames of the right length, of which only those passing the Crc (1/256; the sonars'
+// CRC-4, 1/16), the range checks and the counter's plausibility (a step of 1..3 of 16; the gyro
+// 1..6) are taken.
+static int e2e_rx_(candev_t *bus, const hal_can_frame_t *f, uint64_t t)
+{
+    return candev_rx(bus, f, t, NULL);
+}
+
+static void e2e_frame_(unsigned which, hal_can_frame_t *f)
+{
+    uint8_t c = 0;
+    const motor_status_t ms = {.speed_left_mm_s = 123, .speed_right_mm_s = -45, .bump_front = true};
+    const gps_pose_t gp = {.x_mm = 1200, .y_mm = -300, .heading_cdeg = 9000, .fix = GPS_FIX_GOOD};
+    const uint16_t ir[3] = {100, 2000, 350};
+    const bool valid[3] = {true, false, true};
+    uint16_t sonar[RANGES_SONAR_COUNT];
+    for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+        sonar[i] = (uint16_t)(100u + 150u * i);
+    }
+    switch (which) {
+    case 0: assert_int_equal(motor_encode_status(&c, &ms, f), FW_OK); break;
+    case 1: assert_int_equal(gyro_encode_rate(&c, 1234, 25, GYRO_STATUS_OK, f), FW_OK); break;
+    case 2: assert_int_equal(ranges_encode_ir(&c, ir, valid, f), FW_OK); break;
+    case 3: assert_int_equal(ranges_encode_sonar(&c, 0u, sonar, f), FW_OK); break;
+    case 4: assert_int_equal(ranges_encode_sonar(&c, 1u, sonar, f), FW_OK); break;
+    default: assert_int_equal(gps_encode_pose(&c, &gp, f), FW_OK); break;
+    }
+}
+
+static const can_link_rx_t *e2e_rx_state_(const candev_t *bus, unsigned which)
+{
+    switch (which) {
+    case 0: return &bus->motor.rx;
+    case 1: return &bus->gyro.rx;
+    case 2: return &bus->ranges.ir_rx;
+    case 3: return &bus->ranges.sonar_rx[0];
+    case 4: return &bus->ranges.sonar_rx[1];
+    default: return &bus->gps.rx;
+    }
+}
+
+static void test_e2e_refuses_corruption_and_most_noise(void **state)
 {
     (void)state;
-    gyro_t g;
-    gyro_init(&g);
-    uint8_t counter = 0;
-    hal_can_frame_t f;
-    assert_int_equal(gyro_encode_rate(&counter, 1234, 25, GYRO_STATUS_OK, &f), FW_OK);
-    assert_int_equal(f.dlc, 5);
-    for (unsigned bit = 0; bit < 40u; bit++) {
-        hal_can_frame_t bad = f;
-        bad.data[bit / 8u] ^= (uint8_t)(1u << (bit % 8u));
-        assert_int_equal(gyro_rx_rate(&g, &bad, 1000u), FW_ERR_INVAL);
-    }
-    assert_int_equal(g.rx.malformed, 40);
-    assert_int_equal(gyro_rx_rate(&g, &f, 1000u), FW_OK);
-    uint32_t x = 2463534242u, accepted = 0;
-    const uint32_t n = 1000000u;
-    for (uint32_t i = 0; i < n; i++) {
-        for (unsigned b = 0; b < 5u; b++) {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            f.data[b] = (uint8_t)x;
+    static const char *const names[6] = {"MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A", "SONAR_RANGES_B", "GPS_POSE"};
+    uint32_t x = 2463534242u;
+    for (unsigned which = 0; which < 6u; which++) {
+        candev_t bus;
+        candev_init(&bus);
+        hal_can_frame_t f;
+        e2e_frame_(which, &f);
+        const can_link_rx_t *rx = e2e_rx_state_(&bus, which);
+        const unsigned bits = 8u * (f.dlc < HAL_CAN_MAX_DLC ? f.dlc : HAL_CAN_MAX_DLC);
+        for (unsigned bit = 0; bit < bits; bit++) {
+            hal_can_frame_t bad = f;
+            bad.data[bit / 8u] ^= (uint8_t)(1u << (bit % 8u));
+            assert_int_equal(e2e_rx_(&bus, &bad, 1000u), FW_ERR_INVAL);
         }
-        accepted += gyro_rx_rate(&g, &f, 2000u + i) == FW_OK ? 1u : 0u;
+        assert_int_equal(rx->malformed, bits);
+        assert_int_equal(rx->frames, 0);
+        assert_true(e2e_rx_(&bus, &f, 1000u) >= 0);
+        uint32_t accepted = 0;
+        const uint32_t n = 1000000u;
+        for (uint32_t i = 0; i < n; i++) {
+            for (unsigned b = 0; b < f.dlc && b < HAL_CAN_MAX_DLC; b++) {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                f.data[b] = (uint8_t)x;
+            }
+            accepted += e2e_rx_(&bus, &f, 2000u + i) >= 0 ? 1u : 0u;
+        }
+        printf("random %s frames: %u taken of %u (%.3f %%); refused: %u Crc or range, %u counter jump, %u repeated\n",
+               names[which], accepted, n, 100.0 * accepted / n, rx->malformed - bits, rx->implausible, rx->repeated);
+        // The Crc's share times the counter's: 1/256 x 3/16 (gyro 6/16; sonars 1/16 x 3/16).
+        const double crc = which == 3u || which == 4u ? 1.0 / 16.0 : 1.0 / 256.0;
+        const double steps = which == 1u ? 6.0 : 3.0;
+        assert_true((double)accepted < 1.3 * n * crc * steps / 16.0);
     }
-    printf("random GYRO_RATE frames: %u accepted of %u (%.2f %%)\n", accepted, n, 100.0 * accepted / n);
-    assert_true(accepted < n / 200u);  // under 0.5 %: the Crc's 1/256, times the range checks and the counter
+}
+
+// The counter's plausibility: a jump over CAN_LINK_MAX_STEP is refused and counted; the frame
+// after it in sequence resynchronises (a sender that rebooted costs one frame). MOTOR_CMD at the
+// motor controller likewise, and a repeated MOTOR_CMD (a stuck sender) is ignored.
+static void test_counter_jumps_are_refused_then_resynchronised(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    const uint16_t ir[3] = {100, 200, 300};
+    const bool valid[3] = {true, true, true};
+    uint8_t c = 0;
+    hal_can_frame_t f;
+    for (unsigned i = 0; i < 3u; i++) {  // 0, 1, 2
+        assert_int_equal(ranges_encode_ir(&c, ir, valid, &f), FW_OK);
+        assert_int_equal(candev_rx(&bus, &f, 1000u * i, NULL), CANDEV_RX_IR);
+    }
+    c = (uint8_t)(c + 2u);  // 5: two lost, taken
+    assert_int_equal(ranges_encode_ir(&c, ir, valid, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 5000u, NULL), CANDEV_RX_IR);
+    assert_int_equal(bus.ranges.ir_rx.lost, 2);
+    c = (uint8_t)(c + 3u);  // 9: a jump of 4, refused
+    assert_int_equal(ranges_encode_ir(&c, ir, valid, &f), FW_OK);
+    assert_int_equal(candev_rx(&bus, &f, 9000u, NULL), FW_ERR_INVAL);
+    assert_int_equal(bus.ranges.ir_rx.implausible, 1);
+    assert_int_equal(bus.ranges.ir_rx.counter, 5);
+    assert_int_equal(ranges_encode_ir(&c, ir, valid, &f), FW_OK);  // 10 follows 9: resynchronised
+    assert_int_equal(candev_rx(&bus, &f, 10000u, NULL), CANDEV_RX_IR);
+    assert_int_equal(bus.ranges.ir_rx.counter, 10);
+    assert_int_equal(bus.ranges.ir_rx.malformed, 0);
+
+    can_link_rx_t rx;
+    can_link_rx_init(&rx);
+    motor_t fw;
+    motor_init(&fw);
+    const motor_cmd_t cmd = {.speed_left_mm_s = 100, .speed_right_mm_s = 100, .enable = true};
+    motor_cmd_t got;
+    assert_int_equal(motor_encode_cmd(&fw, &cmd, &f), FW_OK);
+    assert_int_equal(motor_rx_cmd(&rx, &f, 0u, &got), FW_OK);
+    assert_int_equal(motor_rx_cmd(&rx, &f, 1u, &got), FW_ERR_NOENT);  // the same frame again
+    fw.tx_counter = 7u;  // the firmware rebooted elsewhere in its count
+    assert_int_equal(motor_encode_cmd(&fw, &cmd, &f), FW_OK);
+    assert_int_equal(motor_rx_cmd(&rx, &f, 2u, &got), FW_ERR_INVAL);
+    assert_int_equal(motor_encode_cmd(&fw, &cmd, &f), FW_OK);
+    assert_int_equal(motor_rx_cmd(&rx, &f, 3u, &got), FW_OK);
+    assert_int_equal(got.speed_left_mm_s, 100);
+    f.data[0] ^= 1u;  // a corrupted one: malformed
+    assert_int_equal(motor_rx_cmd(&rx, &f, 4u, &got), FW_ERR_INVAL);
+    assert_int_equal(rx.malformed, 1);
+    assert_int_equal(rx.implausible, 1);
+    assert_int_equal(rx.repeated, 1);
+}
+
+// The sonars' CRC-4 sees every single-bit error and is computed as documented: the check value
+// of CRC-4 (poly 0x3, init 0xF, MSB first, no final xor) over "123456789" plus a zero nibble.
+static void test_crc4_as_documented(void **state)
+{
+    (void)state;
+    const uint8_t rest[] = {'3', '4', '5', '6', '7', '8', '9'};
+    const uint8_t c = can_link_crc4(0x3231u, rest, sizeof rest, 0u);
+    assert_true(c < 16u);
+    assert_int_equal(c, can_link_crc4(0x3231u, rest, sizeof rest, 0x10u));  // only the low nibble counts
+    assert_int_not_equal(c, can_link_crc4(0x3231u, rest, sizeof rest, 1u));
 }
 
 // Noise cannot forge a command (docs/can-protocol.md): of 10^7 random TOOL_CMD frames (random
@@ -387,7 +501,9 @@ int main(void)
         cmocka_unit_test(test_telemetry_saturates_and_round_trips),
         cmocka_unit_test(test_tool_cmd_crc_and_repeats),
         cmocka_unit_test(test_random_tool_cmds_are_never_accepted),
-        cmocka_unit_test(test_gyro_rate_crc_refuses_corruption_and_most_noise),
+        cmocka_unit_test(test_e2e_refuses_corruption_and_most_noise),
+        cmocka_unit_test(test_counter_jumps_are_refused_then_resynchronised),
+        cmocka_unit_test(test_crc4_as_documented),
         cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
         cmocka_unit_test(test_every_byte_pattern_is_survived),
     };

@@ -40,10 +40,15 @@ static void test_counter_gaps_and_repeats(void **state)
     assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_ERR_NOENT);
     assert_int_equal(m.rx.repeated, 1);
     assert_int_equal(m.rx.last_ok_us, last);
-    // Going back to 6 reads as 15 lost (a 4-bit counter cannot tell): documented limit.
-    f = motor_frame(6);
+    // Jumping to 15 (8 ahead: a reboot, or 7 lost, which a 4-bit counter cannot tell apart from
+    // 23) is refused as implausible; 0 after it resynchronises, with nothing counted as lost.
+    f = motor_frame(15);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_ERR_INVAL);
+    assert_int_equal(m.rx.implausible, 1);
+    f = motor_frame(0);
     assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
-    assert_int_equal(m.rx.lost, 2 + 14);
+    assert_int_equal(m.rx.lost, 2);
+    assert_int_equal(m.rx.counter, 0);
 }
 
 static void test_silence_is_detected_from_the_last_good_frame(void **state)

@@ -50,10 +50,14 @@ static void test_lost_frames_count_their_periods(void **state)
     assert_int_equal(gyro_rx_rate(&g, &f, 20000u), FW_OK);  // received early, as after a stall
     assert_float_equal(gyro_heading_deg(&g), 90.0f * 0.048f, 1e-3f);
     assert_int_equal(g.rx.lost, 2);
-    // More samples lost than FW_CFG_GYRO_MAX_DT_US spans (7 x 16 ms) is a gap, not bridged.
+    // More samples lost than FW_CFG_GYRO_MAX_DT_US spans (7 x 16 ms): the counter's jump is
+    // refused (GYRO_MAX_STEP), the next sample resynchronises, and that is a gap, not bridged.
     c = (uint8_t)(c + 6u);
     f = gyro_frame(&c, 9000);
-    assert_int_equal(gyro_rx_rate(&g, &f, 140000u), FW_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, 140000u), FW_ERR_INVAL);
+    assert_int_equal(g.rx.implausible, 1);
+    f = gyro_frame(&c, 9000);
+    assert_int_equal(gyro_rx_rate(&g, &f, 156000u), FW_OK);
     assert_int_equal(g.gaps, 1);
     assert_float_equal(gyro_heading_deg(&g), 90.0f * 0.048f, 1e-3f);
 }

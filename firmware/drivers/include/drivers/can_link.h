@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc drivers: what every frame of docs/dynaqpc.dbc shares — the 4-bit rolling counter, the
-// CRC-8 of the command frames, and the receive bookkeeping of one periodic frame.
+// end-to-end check (Crc over the data id and the data) of the command frames and of the frames
+// that feed estimation, and the receive bookkeeping of one periodic frame.
 //
 // Context: all functions are plain computations on caller-owned structs; call them from one
 // thread (the task that drains the CAN event queue). None blocks.
@@ -19,6 +20,12 @@ extern "C" {
 
 /// Rolling counters count 0..15 and wrap.
 #define CAN_LINK_COUNTER_MOD 16u
+/// The largest counter step an end-to-end protected frame may take by default (AUTOSAR E2E's
+/// MaxDeltaCounter): up to 2 frames lost between two accepted ones. A larger jump is refused as
+/// implausible and the frame that follows it in sequence resynchronises (can_link_rx_accept_e2e).
+#define CAN_LINK_MAX_STEP 3u
+/// can_link_rx_accept_e2e()'s result for a frame taken to resynchronise after a refused jump.
+#define CAN_LINK_RESYNC 1
 
 /// Receive bookkeeping of one periodic frame.
 typedef struct can_link_rx {
@@ -29,6 +36,9 @@ typedef struct can_link_rx {
     uint64_t last_ok_us; ///< receive time of the last accepted frame (valid once `seen`)
     uint8_t counter;     ///< counter of the last accepted frame
     bool seen;           ///< a frame has been accepted since init
+    uint8_t sync_counter; ///< counter of the last frame refused as implausible (valid while sync_pending)
+    bool sync_pending;   ///< a frame was refused as implausible: one in sequence after it resynchronises
+    uint16_t implausible; ///< frames refused for a counter jump (can_link_rx_accept_e2e); saturated
 } can_link_rx_t;
 
 /// CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, xorout 0xFF) over the identifier, low byte then high
@@ -39,6 +49,20 @@ uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len);
 /// byte, then `len` data bytes: TOOL_CMD's 32-bit Crc, which no random frame passes with a
 /// probability above 2^-32 (docs/can-protocol.md).
 uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len);
+
+/// End-to-end check of a received frame whose Crc ends it: `crc_bits` 8, the last byte is
+/// can_link_crc8() over the id and the bytes before it (Counter included: AUTOSAR E2E profile 1
+/// style, the frame id as data id); 4, the last byte's high 4 bits are can_link_crc4() over the id,
+/// the bytes before the last and the last byte's low 4 bits. True when it matches.
+bool can_link_e2e_ok(const hal_can_frame_t *frame, unsigned crc_bits);
+
+/// Sender side: writes the Crc that can_link_e2e_ok() checks into a packed frame (its Crc bits 0).
+void can_link_e2e_protect(hal_can_frame_t *frame, unsigned crc_bits);
+
+/// CRC-4 (poly x^4 + x + 1, init 0xF, MSB first, no final xor) over the identifier, low byte then
+/// high byte, the `len` bytes of `data` and then the low 4 bits of `last_nibble`: the sonar frames'
+/// Crc, for which only 4 bits are free. It sees every single-bit error in the frame.
+uint8_t can_link_crc4(uint32_t id, const uint8_t *data, size_t len, uint8_t last_nibble);
 
 /// Clears `rx` (nothing seen).
 void can_link_rx_init(can_link_rx_t *rx);
@@ -52,6 +76,15 @@ bool can_link_frame_is(const hal_can_frame_t *frame, uint32_t id, uint8_t dlc);
 /// The first frame after init is accepted whatever its counter. A gap of 16 or more frames
 /// cannot be seen by a 4-bit counter; the app sees it as silence (can_link_rx_silent).
 int can_link_rx_accept(can_link_rx_t *rx, uint8_t counter, uint64_t now_us);
+
+/// can_link_rx_accept() for an end-to-end protected frame whose Crc is already checked, with the
+/// counter's plausibility: a counter that jumps by more than `max_step` (2..15; CAN_LINK_MAX_STEP
+/// unless the receiver bridges more) refuses the frame (FW_ERR_INVAL, counted in `implausible`,
+/// nothing else changes) and remembers its counter; the next frame whose counter follows that
+/// one by 1 is taken (CAN_LINK_RESYNC): the sender did jump, as a rebooted one does. A random
+/// frame that passed the Crc is so taken with probability max_step/16 at most. Otherwise as
+/// can_link_rx_accept(): FW_OK or FW_ERR_NOENT (repeated).
+int can_link_rx_accept_e2e(can_link_rx_t *rx, uint8_t counter, uint64_t now_us, uint8_t max_step);
 
 /// Counts a malformed frame. Always returns FW_ERR_INVAL, for `return can_link_rx_reject(rx);`.
 int can_link_rx_reject(can_link_rx_t *rx);

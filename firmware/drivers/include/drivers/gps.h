@@ -30,7 +30,9 @@ typedef struct gps {
 
 void gps_init(gps_t *gps);
 
-/// Decodes GPS_POSE. FW_OK, FW_ERR_INVAL (malformed; heading > 35999; fix 3) or FW_ERR_NOENT.
+/// Decodes GPS_POSE. FW_OK, FW_ERR_INVAL (malformed: a Crc that fails, heading > 35999, fix 3,
+/// counted in rx.malformed; a counter jump over CAN_LINK_MAX_STEP, counted in rx.implausible) or
+/// FW_ERR_NOENT.
 int gps_rx_pose(gps_t *gps, const hal_can_frame_t *frame, uint64_t now_us);
 
 /// Device side: builds GPS_POSE. FW_OK or FW_ERR_INVAL.

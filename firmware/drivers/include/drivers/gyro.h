@@ -19,6 +19,9 @@
 
 /// Full scale of GYRO_RATE YawRate (docs/dynaqpc.dbc), deg/s: faster turns saturate the reading.
 #define GYRO_RANGE_DEG_S 300
+/// The largest counter step GYRO_RATE may take (can_link_rx_accept_e2e): the samples of the
+/// longest gap the integrator bridges (FW_CFG_GYRO_MAX_DT_US, 100 ms: 6 samples of 16 ms).
+#define GYRO_MAX_STEP 6u
 
 #ifdef __cplusplus
 extern "C" {
@@ -49,8 +52,11 @@ void gyro_init(gyro_t *gyro);
 
 /// Decodes GYRO_RATE received at `now_us` and integrates. Returns FW_OK, FW_ERR_INVAL (malformed:
 /// wrong id/dlc, a Crc that fails (the end-to-end check over the data id and the data, counter
-/// included), rate beyond ±300 deg/s, unknown status; counted, nothing changes) or
-/// FW_ERR_NOENT (counter repeated: ignored).
+/// included), rate beyond ±300 deg/s, unknown status; counted in rx.malformed; or implausible: a
+/// counter jump over GYRO_MAX_STEP, more samples than a gap the integrator bridges, counted in
+/// rx.implausible; nothing changes, the next good sample bridges it) or FW_ERR_NOENT (counter
+/// repeated: ignored). A frame that resynchronises after a jump is taken but not integrated
+/// across: a gap.
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
 
 /// Sets the heading (deg, any value; wrapped into [0, 360)), e.g. from an absolute reference.

@@ -54,8 +54,10 @@ typedef struct motor {
 void motor_init(motor_t *motor);
 
 /// Decodes a MOTOR_STATUS frame received at `now_us` into motor->status.
-/// Returns FW_OK, FW_ERR_INVAL (not a well-formed MOTOR_STATUS: wrong id/dlc/flags, a speed out
-/// of range; counted in rx.malformed, status unchanged) or FW_ERR_NOENT (counter repeated).
+/// Returns FW_OK, FW_ERR_INVAL (not a well-formed MOTOR_STATUS: wrong id/dlc/flags, a Crc that
+/// fails, a speed out of range, counted in rx.malformed; or implausible: a counter jump over
+/// CAN_LINK_MAX_STEP, counted in rx.implausible; status unchanged) or FW_ERR_NOENT (counter
+/// repeated).
 int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_us);
 
 /// Builds the next MOTOR_CMD into `out`. Returns FW_OK or FW_ERR_INVAL (a speed beyond
@@ -68,6 +70,12 @@ int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_
 /// Device side: decodes MOTOR_CMD. Returns FW_OK, or FW_ERR_INVAL (malformed, out of range or
 /// CRC mismatch: the controller ignores it). `counter_out` may be NULL.
 int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *counter_out);
+
+/// Device side: what a motor controller takes of MOTOR_CMD: motor_decode_cmd() and then the
+/// counter's plausibility on `rx` (can_link_rx_accept_e2e: a repeated counter, a stuck sender, is
+/// FW_ERR_NOENT; a jump over CAN_LINK_MAX_STEP is FW_ERR_INVAL until the next frame in sequence).
+/// FW_OK (act on *out) or an error (ignore the frame; the safety timeout runs on).
+int motor_rx_cmd(can_link_rx_t *rx, const hal_can_frame_t *frame, uint64_t now_us, motor_cmd_t *out);
 
 #ifdef __cplusplus
 }

@@ -34,10 +34,13 @@ typedef struct ranges {
 /// Clears the state: no IR valid, every sonar RANGES_NO_ECHO.
 void ranges_init(ranges_t *ranges);
 
-/// Decodes IR_RANGES. FW_OK, FW_ERR_INVAL (malformed, range > RANGES_IR_MAX_MM) or FW_ERR_NOENT.
+/// Decodes IR_RANGES. FW_OK, FW_ERR_INVAL (malformed: a Crc that fails, range >
+/// RANGES_IR_MAX_MM, counted in malformed; or a counter jump over CAN_LINK_MAX_STEP, counted in
+/// implausible) or FW_ERR_NOENT.
 int ranges_rx_ir(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now_us);
 
-/// Decodes SONAR_RANGES_A or _B (the id says which). FW_OK, FW_ERR_INVAL or FW_ERR_NOENT.
+/// Decodes SONAR_RANGES_A or _B (the id says which; their Crc is 4 bits). FW_OK, FW_ERR_INVAL
+/// (as ranges_rx_ir) or FW_ERR_NOENT.
 int ranges_rx_sonar(ranges_t *ranges, const hal_can_frame_t *frame, uint64_t now_us);
 
 /// Device side: IR_RANGES from mm (valid[i] false sends 0). FW_OK or FW_ERR_INVAL.

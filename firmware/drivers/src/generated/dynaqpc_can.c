@@ -466,11 +466,11 @@ int dynaqpc_can_motor_status_pack(
     uint16_t speed_left;
     uint16_t speed_right;
 
-    if (size < 6u) {
+    if (size < 7u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 6);
+    memset(&dst_p[0], 0, 7);
 
     speed_left = (uint16_t)src_p->speed_left;
     dst_p[0] |= pack_left_shift_u16(speed_left, 0u, 0xffu);
@@ -486,8 +486,9 @@ int dynaqpc_can_motor_status_pack(
     dst_p[4] |= pack_left_shift_u8(src_p->fault_cmd_timeout, 5u, 0x20u);
     dst_p[4] |= pack_left_shift_u8(src_p->enabled, 6u, 0x40u);
     dst_p[5] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[6] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
-    return (6);
+    return (7);
 }
 
 int dynaqpc_can_motor_status_unpack(
@@ -498,7 +499,7 @@ int dynaqpc_can_motor_status_unpack(
     uint16_t speed_left;
     uint16_t speed_right;
 
-    if (size < 6u) {
+    if (size < 7u) {
         return (-EINVAL);
     }
 
@@ -516,6 +517,7 @@ int dynaqpc_can_motor_status_unpack(
     dst_p->fault_cmd_timeout = unpack_right_shift_u8(src_p[4], 5u, 0x20u);
     dst_p->enabled = unpack_right_shift_u8(src_p[4], 6u, 0x40u);
     dst_p->counter = unpack_right_shift_u8(src_p[5], 0u, 0x0fu);
+    dst_p->crc = unpack_right_shift_u8(src_p[6], 0u, 0xffu);
 
     return (0);
 }
@@ -627,6 +629,18 @@ bool dynaqpc_can_motor_status_counter_is_in_range(uint8_t value)
 bool dynaqpc_can_motor_status_counter_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_motor_status_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_motor_status_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_gyro_rate_pack(
@@ -745,11 +759,11 @@ int dynaqpc_can_ir_ranges_pack(
     const struct dynaqpc_can_ir_ranges_t *src_p,
     size_t size)
 {
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 7);
+    memset(&dst_p[0], 0, 8);
 
     dst_p[0] |= pack_left_shift_u16(src_p->range_left, 0u, 0xffu);
     dst_p[1] |= pack_right_shift_u16(src_p->range_left, 8u, 0xffu);
@@ -761,8 +775,9 @@ int dynaqpc_can_ir_ranges_pack(
     dst_p[6] |= pack_left_shift_u8(src_p->valid_front, 1u, 0x02u);
     dst_p[6] |= pack_left_shift_u8(src_p->valid_right, 2u, 0x04u);
     dst_p[6] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
-    return (7);
+    return (8);
 }
 
 int dynaqpc_can_ir_ranges_unpack(
@@ -770,7 +785,7 @@ int dynaqpc_can_ir_ranges_unpack(
     const uint8_t *src_p,
     size_t size)
 {
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
@@ -784,6 +799,7 @@ int dynaqpc_can_ir_ranges_unpack(
     dst_p->valid_front = unpack_right_shift_u8(src_p[6], 1u, 0x02u);
     dst_p->valid_right = unpack_right_shift_u8(src_p[6], 2u, 0x04u);
     dst_p->counter = unpack_right_shift_u8(src_p[6], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
 
     return (0);
 }
@@ -867,6 +883,18 @@ bool dynaqpc_can_ir_ranges_counter_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 15.0));
 }
 
+bool dynaqpc_can_ir_ranges_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_ir_ranges_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
 int dynaqpc_can_sonar_ranges_a_pack(
     uint8_t *dst_p,
     const struct dynaqpc_can_sonar_ranges_a_t *src_p,
@@ -893,6 +921,7 @@ int dynaqpc_can_sonar_ranges_a_pack(
     dst_p[6] |= pack_right_shift_u8(src_p->sonar6, 6u, 0x01u);
     dst_p[6] |= pack_left_shift_u8(src_p->sonar7, 1u, 0xfeu);
     dst_p[7] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 4u, 0xf0u);
 
     return (8);
 }
@@ -921,6 +950,7 @@ int dynaqpc_can_sonar_ranges_a_unpack(
     dst_p->sonar6 |= unpack_left_shift_u8(src_p[6], 6u, 0x01u);
     dst_p->sonar7 = unpack_right_shift_u8(src_p[6], 1u, 0xfeu);
     dst_p->counter = unpack_right_shift_u8(src_p[7], 0u, 0x0fu);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 4u, 0xf0u);
 
     return (0);
 }
@@ -1024,6 +1054,16 @@ bool dynaqpc_can_sonar_ranges_a_counter_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 15.0));
 }
 
+bool dynaqpc_can_sonar_ranges_a_crc_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_sonar_ranges_a_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
 int dynaqpc_can_sonar_ranges_b_pack(
     uint8_t *dst_p,
     const struct dynaqpc_can_sonar_ranges_b_t *src_p,
@@ -1050,6 +1090,7 @@ int dynaqpc_can_sonar_ranges_b_pack(
     dst_p[6] |= pack_right_shift_u8(src_p->sonar14, 6u, 0x01u);
     dst_p[6] |= pack_left_shift_u8(src_p->sonar15, 1u, 0xfeu);
     dst_p[7] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 4u, 0xf0u);
 
     return (8);
 }
@@ -1078,6 +1119,7 @@ int dynaqpc_can_sonar_ranges_b_unpack(
     dst_p->sonar14 |= unpack_left_shift_u8(src_p[6], 6u, 0x01u);
     dst_p->sonar15 = unpack_right_shift_u8(src_p[6], 1u, 0xfeu);
     dst_p->counter = unpack_right_shift_u8(src_p[7], 0u, 0x0fu);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 4u, 0xf0u);
 
     return (0);
 }
@@ -1181,6 +1223,16 @@ bool dynaqpc_can_sonar_ranges_b_counter_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 15.0));
 }
 
+bool dynaqpc_can_sonar_ranges_b_crc_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_sonar_ranges_b_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
 int dynaqpc_can_gps_pose_pack(
     uint8_t *dst_p,
     const struct dynaqpc_can_gps_pose_t *src_p,
@@ -1189,11 +1241,11 @@ int dynaqpc_can_gps_pose_pack(
     uint16_t x;
     uint16_t y;
 
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 7);
+    memset(&dst_p[0], 0, 8);
 
     x = (uint16_t)src_p->x;
     dst_p[0] |= pack_left_shift_u16(x, 0u, 0xffu);
@@ -1205,8 +1257,9 @@ int dynaqpc_can_gps_pose_pack(
     dst_p[5] |= pack_right_shift_u16(src_p->heading, 8u, 0xffu);
     dst_p[6] |= pack_left_shift_u8(src_p->fix, 0u, 0x03u);
     dst_p[6] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
-    return (7);
+    return (8);
 }
 
 int dynaqpc_can_gps_pose_unpack(
@@ -1217,7 +1270,7 @@ int dynaqpc_can_gps_pose_unpack(
     uint16_t x;
     uint16_t y;
 
-    if (size < 7u) {
+    if (size < 8u) {
         return (-EINVAL);
     }
 
@@ -1231,6 +1284,7 @@ int dynaqpc_can_gps_pose_unpack(
     dst_p->heading |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
     dst_p->fix = unpack_right_shift_u8(src_p[6], 0u, 0x03u);
     dst_p->counter = unpack_right_shift_u8(src_p[6], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
 
     return (0);
 }
@@ -1296,6 +1350,18 @@ bool dynaqpc_can_gps_pose_counter_is_in_range(uint8_t value)
 bool dynaqpc_can_gps_pose_counter_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_gps_pose_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_gps_pose_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_fw_status_pack(

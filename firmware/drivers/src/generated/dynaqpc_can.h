@@ -65,12 +65,12 @@ extern "C" {
 #define DYNAQPC_CAN_TOOL_CMD_LENGTH (8u)
 #define DYNAQPC_CAN_TOOL_ACK_LENGTH (8u)
 #define DYNAQPC_CAN_MOTOR_CMD_LENGTH (6u)
-#define DYNAQPC_CAN_MOTOR_STATUS_LENGTH (6u)
+#define DYNAQPC_CAN_MOTOR_STATUS_LENGTH (7u)
 #define DYNAQPC_CAN_GYRO_RATE_LENGTH (5u)
-#define DYNAQPC_CAN_IR_RANGES_LENGTH (7u)
+#define DYNAQPC_CAN_IR_RANGES_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_A_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_LENGTH (8u)
-#define DYNAQPC_CAN_GPS_POSE_LENGTH (7u)
+#define DYNAQPC_CAN_GPS_POSE_LENGTH (8u)
 #define DYNAQPC_CAN_FW_STATUS_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_LEARN_LENGTH (8u)
@@ -248,6 +248,7 @@ extern "C" {
 #define DYNAQPC_CAN_MOTOR_STATUS_FAULT_CMD_TIMEOUT_NAME "FaultCmdTimeout"
 #define DYNAQPC_CAN_MOTOR_STATUS_ENABLED_NAME "Enabled"
 #define DYNAQPC_CAN_MOTOR_STATUS_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_MOTOR_STATUS_CRC_NAME "Crc"
 #define DYNAQPC_CAN_GYRO_RATE_YAW_RATE_NAME "YawRate"
 #define DYNAQPC_CAN_GYRO_RATE_TEMPERATURE_NAME "Temperature"
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_NAME "Status"
@@ -260,6 +261,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_VALID_FRONT_NAME "ValidFront"
 #define DYNAQPC_CAN_IR_RANGES_VALID_RIGHT_NAME "ValidRight"
 #define DYNAQPC_CAN_IR_RANGES_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_IR_RANGES_CRC_NAME "Crc"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR0_NAME "Sonar0"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR1_NAME "Sonar1"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR2_NAME "Sonar2"
@@ -269,6 +271,7 @@ extern "C" {
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR6_NAME "Sonar6"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR7_NAME "Sonar7"
 #define DYNAQPC_CAN_SONAR_RANGES_A_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_SONAR_RANGES_A_CRC_NAME "Crc"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR8_NAME "Sonar8"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR9_NAME "Sonar9"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR10_NAME "Sonar10"
@@ -278,11 +281,13 @@ extern "C" {
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR14_NAME "Sonar14"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR15_NAME "Sonar15"
 #define DYNAQPC_CAN_SONAR_RANGES_B_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_SONAR_RANGES_B_CRC_NAME "Crc"
 #define DYNAQPC_CAN_GPS_POSE_X_NAME "X"
 #define DYNAQPC_CAN_GPS_POSE_Y_NAME "Y"
 #define DYNAQPC_CAN_GPS_POSE_HEADING_NAME "Heading"
 #define DYNAQPC_CAN_GPS_POSE_FIX_NAME "Fix"
 #define DYNAQPC_CAN_GPS_POSE_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_GPS_POSE_CRC_NAME "Crc"
 #define DYNAQPC_CAN_FW_STATUS_MODE_NAME "Mode"
 #define DYNAQPC_CAN_FW_STATUS_COUNTER_NAME "Counter"
 #define DYNAQPC_CAN_FW_STATUS_ERR_MOTOR_SILENT_NAME "ErrMotorSilent"
@@ -432,7 +437,7 @@ struct dynaqpc_can_tool_ack_t {
 /**
  * Signals in message MOTOR_CMD.
  *
- * Wheel speed targets. Sent every control period and at once when the target changes. SAFETY: the motor controller stops both wheels (and sets FaultCmdTimeout) when no valid MOTOR_CMD arrived for 500 ms, and on a Crc mismatch it ignores the frame.
+ * Wheel speed targets. Sent every control period and at once when the target changes. SAFETY: the motor controller stops both wheels (and sets FaultCmdTimeout) when no valid MOTOR_CMD arrived for 500 ms, and it ignores a frame whose Crc fails, whose Counter repeats or whose Counter jumps by more than 3 (the next frame in sequence after a jump is taken: a reboot of the firmware costs one period).
  *
  * All signal values are as on the CAN bus.
  */
@@ -564,6 +569,15 @@ struct dynaqpc_can_motor_status_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the data bytes before it, Counter included. A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -605,7 +619,7 @@ struct dynaqpc_can_gyro_rate_t {
     uint8_t counter;
 
     /**
-     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the four data bytes before it, Counter included. A frame that fails is counted and not integrated.
+     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the data bytes before it, Counter included. A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
      *
      * Range: 0..255 (0..255 -)
      * Scale: 1
@@ -670,6 +684,15 @@ struct dynaqpc_can_ir_ranges_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the data bytes before it, Counter included. A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -742,6 +765,15 @@ struct dynaqpc_can_sonar_ranges_a_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check in the frame's last 4 bits: CRC-4 (poly 0x3, init 0xF, MSB first) over the identifier (low byte, high byte), bytes 0-6 and the low 4 bits of byte 7 (Counter). A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -814,6 +846,15 @@ struct dynaqpc_can_sonar_ranges_b_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check in the frame's last 4 bits: CRC-4 (poly 0x3, init 0xF, MSB first) over the identifier (low byte, high byte), bytes 0-6 and the low 4 bits of byte 7 (Counter). A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -860,6 +901,15 @@ struct dynaqpc_can_gps_pose_t {
      * Offset: 0
      */
     uint8_t counter;
+
+    /**
+     * End-to-end check (AUTOSAR E2E profile 1 style): CRC-8/SAE-J1850 over the identifier (the data id: low byte, high byte) and the data bytes before it, Counter included. A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
 };
 
 /**
@@ -1944,6 +1994,28 @@ bool dynaqpc_can_motor_status_counter_is_in_range(uint8_t value);
 bool dynaqpc_can_motor_status_counter_is_in_phys_range(double value);
 
 /**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_motor_status_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_motor_status_crc_is_in_phys_range(double value);
+
+/**
  * Pack message GYRO_RATE.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -2282,6 +2354,28 @@ bool dynaqpc_can_ir_ranges_counter_is_in_range(uint8_t value);
 bool dynaqpc_can_ir_ranges_counter_is_in_phys_range(double value);
 
 /**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_ir_ranges_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_ir_ranges_crc_is_in_phys_range(double value);
+
+/**
  * Pack message SONAR_RANGES_A.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -2515,6 +2609,28 @@ bool dynaqpc_can_sonar_ranges_a_counter_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_sonar_ranges_a_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_a_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_a_crc_is_in_phys_range(double value);
 
 /**
  * Pack message SONAR_RANGES_B.
@@ -2752,6 +2868,28 @@ bool dynaqpc_can_sonar_ranges_b_counter_is_in_range(uint8_t value);
 bool dynaqpc_can_sonar_ranges_b_counter_is_in_phys_range(double value);
 
 /**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_b_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_b_crc_is_in_phys_range(double value);
+
+/**
  * Pack message GPS_POSE.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -2897,6 +3035,28 @@ bool dynaqpc_can_gps_pose_counter_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_gps_pose_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_gps_pose_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_gps_pose_crc_is_in_phys_range(double value);
 
 /**
  * Pack message FW_STATUS.
