@@ -31,6 +31,7 @@
 
 #include "agent_pick.h"
 #include "bus_link.h"
+#include "dynaqpc_can.h"
 #include "hal/hal_can.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
@@ -233,6 +234,10 @@ int run(const std::vector<std::string> &args)
     ao.persist = true;
     ao.auto_start = s.auto_start;
     ao.plan_budget_us = ROBOT_PLAN_BUDGET_US;
+    // In real time the host delivers gyro frames late and in bunches (a loaded machine, a stall):
+    // integrate over the samples' own 16 ms clock, as the emulated board does. The lock-step
+    // simulator (dynaqpc-sim) keeps the receive times, which there are the sample times.
+    ao.gyro_period_ms = static_cast<std::uint8_t>(DYNAQPC_CAN_GYRO_RATE_CYCLE_TIME_MS);
     const int err = robot_app_init(&ao);
     if (err != 0) {
         throw std::runtime_error("robot_app_init failed (" + std::to_string(err) + ")");

@@ -31,6 +31,12 @@ void gyro_init(gyro_t *gyro)
     FW_ASSERT(gyro != NULL);
     memset(gyro, 0, sizeof *gyro);
     can_link_rx_init(&gyro->rx);
+    gyro->period_us = (uint16_t)FW_CFG_GYRO_PERIOD_US;
+}
+
+void gyro_set_sample_period(gyro_t *gyro, uint16_t period_us)
+{
+    gyro->period_us = period_us;
 }
 
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
@@ -76,18 +82,16 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     }
     if (gyro->have_prev && now_us >= gyro->prev_us) {
         const uint64_t rx_dt_us = now_us - gyro->prev_us;
-#if FW_CFG_GYRO_PERIOD_US != 0u
-        // The samples' own spacing decides: a frame delivered late by a stalled bridge or host is
-        // no gap when the counter says no sample was lost. The receive times only tell a silence
-        // too long for the counter to count (CAN_LINK_COUNTER_MOD periods).
-        const uint64_t dt_us = (uint64_t)steps * FW_CFG_GYRO_PERIOD_US;
-        const bool bridged = err != CAN_LINK_RESYNC && dt_us <= FW_CFG_GYRO_MAX_DT_US &&
-                             rx_dt_us < (uint64_t)CAN_LINK_COUNTER_MOD * FW_CFG_GYRO_PERIOD_US;
-#else
-        (void)steps;
-        const uint64_t dt_us = rx_dt_us;
-        const bool bridged = err != CAN_LINK_RESYNC && rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
-#endif
+        uint64_t dt_us = rx_dt_us;
+        bool bridged = err != CAN_LINK_RESYNC && rx_dt_us <= FW_CFG_GYRO_MAX_DT_US;
+        if (gyro->period_us != 0u) {
+            // The samples' own spacing decides: a frame delivered late by a stalled bridge or
+            // host is no gap when the counter says no sample was lost. The receive times only
+            // tell a silence too long for the counter to count (CAN_LINK_COUNTER_MOD periods).
+            dt_us = (uint64_t)steps * gyro->period_us;
+            bridged = err != CAN_LINK_RESYNC && dt_us <= FW_CFG_GYRO_MAX_DT_US &&
+                      rx_dt_us < (uint64_t)CAN_LINK_COUNTER_MOD * gyro->period_us;
+        }
         if (bridged) {
             float dt = (float)dt_us * 1e-6f;
             float mean = 0.5f * (gyro->prev_rate_deg_s + rate) - gyro->bias_deg_s;

@@ -798,6 +798,9 @@ int robot_app_init(const robot_app_options_t *opt)
     app_.stats.boot_count = app_.journal.boot;
 
     candev_init(&app_.dev);
+    if (opt->gyro_period_ms != 0u) {
+        gyro_set_sample_period(&app_.dev.gyro, (uint16_t)(opt->gyro_period_ms * 1000u));
+    }
     if (cfg->pose_source == ROBOT_POSE_CRICKET) {
         struct cricket_config cc;
         cricket_default_config(&cc);

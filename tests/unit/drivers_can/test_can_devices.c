@@ -188,12 +188,37 @@ static void test_gyro_bias_ignores_a_turn_still_ending(void **state)
     assert_float_equal(gyro_heading_deg(&g), 90.0f + turned, 0.01f);
 }
 
+// gyro_set_sample_period (dynaqpc-fw in real time): frames that arrive late and in a bunch
+// (a loaded host, a stalled task) are integrated over the samples' own 16 ms, as the counter
+// counts them, not over the receive times; 0 goes back to the receive times.
+static void test_gyro_integrates_over_the_sample_clock_when_asked(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    gyro_set_sample_period(&g, 16000u);
+    uint8_t c = 0;
+    hal_can_frame_t f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, 1000000u), FW_OK);
+    for (unsigned i = 0; i < 10u; i++) {  // ten samples in 1 ms, 90 ms late
+        f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+        assert_int_equal(gyro_rx_rate(&g, &f, 1090000u + 100u * i), FW_OK);
+    }
+    assert_float_equal(gyro_heading_deg(&g), 90.0f * 0.160f, 1e-3f);
+    assert_int_equal(g.gaps, 0);
+    gyro_set_sample_period(&g, 0u);
+    f = gyro_frame(&c, 9000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, 1092000u), FW_OK);  // 1.1 ms after the last: receive time
+    assert_float_equal(gyro_heading_deg(&g), 90.0f * (0.160f + 0.0011f), 1e-3f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_counter_gaps_and_repeats),
         cmocka_unit_test(test_silence_is_detected_from_the_last_good_frame),
         cmocka_unit_test(test_gyro_integrates_rate_over_receive_time),
+        cmocka_unit_test(test_gyro_integrates_over_the_sample_clock_when_asked),
         cmocka_unit_test(test_gyro_skips_gaps_and_unusable_samples),
         cmocka_unit_test(test_gyro_learns_bias_while_stationary),
         cmocka_unit_test(test_gyro_bias_ignores_a_turn_still_ending),

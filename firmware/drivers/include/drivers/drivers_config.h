@@ -26,7 +26,8 @@
 #ifndef FW_CFG_GYRO_MAX_DT_US
 #define FW_CFG_GYRO_MAX_DT_US 100000u
 #endif
-/// The gyro's sample period (GYRO_RATE's cycle time, docs/dynaqpc.dbc), µs, or 0. With a period,
+/// The gyro's sample period (GYRO_RATE's cycle time, docs/dynaqpc.dbc), µs, or 0: the default of
+/// gyro_set_sample_period (robot_app_options_t gyro_period_ms overrides it at run time). With a period,
 /// the heading integrates each interval over the samples' own spacing (the frame counter's steps
 /// times the period), not over the frames' receive times, which a bus or a bridge bunches: the
 /// emulated board's receive times jitter by tens of ms on a loaded host, and its heading was

@@ -34,6 +34,7 @@ typedef struct gyro {
     int16_t rate_cdeg_s;    ///< last yaw rate, 0.01 deg/s, counter-clockwise positive
     int8_t temperature_c;
     uint8_t status;         ///< enum gyro_status of the last frame
+    uint16_t period_us;     ///< the samples' period (0: integrate over receive times); gyro_set_sample_period
     can_link_rx_t rx;
     // Integrator.
     float heading_deg;      ///< [0, 360), counter-clockwise
@@ -58,6 +59,11 @@ void gyro_init(gyro_t *gyro);
 /// repeated: ignored). A frame that resynchronises after a jump is taken but not integrated
 /// across: a gap.
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
+
+/// Integrates over the samples' own clock: each interval is the counter's steps times `period_us`
+/// (GYRO_RATE's cycle, 16000), whatever the receive times, which a loaded host or a stalled
+/// task bunches up; 0 integrates over receive times. gyro_init sets FW_CFG_GYRO_PERIOD_US.
+void gyro_set_sample_period(gyro_t *gyro, uint16_t period_us);
 
 /// Sets the heading (deg, any value; wrapped into [0, 360)), e.g. from an absolute reference.
 void gyro_set_heading(gyro_t *gyro, float heading_deg);

@@ -54,6 +54,8 @@ typedef struct robot_app_options {
     bool evaluate;          ///< replay greedily, no learning, no saving
     bool persist;           ///< restore at boot, save at episode ends (needs a flash region)
     bool auto_start;        ///< start an episode at boot and after each end (no operator)
+    uint8_t gyro_period_ms; ///< GYRO_RATE's period: integrate the gyro over the samples' clock
+                            ///< (gyro_set_sample_period); 0 keeps the build's FW_CFG_GYRO_PERIOD_US
     uint32_t plan_cycles;   ///< CPU cycles of one planning update (scheduler accounting; 0 none)
     uint32_t plan_budget_us;///< worst-case time of one planning update (idle fitting)
 } robot_app_options_t;
