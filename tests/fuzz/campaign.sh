@@ -25,7 +25,7 @@ while getopts "r:t:T:" opt; do
 done
 shift $((OPTIND - 1))
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(maze scenario cricket vcan store firmware)
+[ ${#targets[@]} -gt 0 ] || targets=(maze scenario cricket vcan store firmware frames)
 for t in "${targets[@]}"; do
     if [ ! -x "$bin/fuzz_$t" ]; then
         echo "$bin/fuzz_$t: not built (cmake --preset fuzz && cmake --build --preset fuzz)" >&2

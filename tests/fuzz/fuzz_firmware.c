@@ -3,7 +3,8 @@
 // CAN frames, TOOL_CMDs with valid CRCs, Cricket bytes and the passing of time, as a bus, a serial
 // line and an operator could. The first byte picks paper-lab (Cricket pose, Dyna-QPC) or
 // paper-sim (GPS pose), and evaluate mode. Ops, each a byte then its arguments:
-//   0 a frame: id (an index into the ids the firmware listens to, or raw), dlc, data
+//   0 a frame: id (an index into the ids the firmware listens to, or raw), dlc (bit 7: seal the
+//     frame with its end-to-end Crc, so that sensor frames reach the firmware past the check), data
 //   1 a TOOL_CMD: command (any of the seven, RESTORE_PREVIOUS too), argument (encoded as the
 //     operator's tool would); a fourth SAVE_LEARNED or RESET_LEARNING and later ones are sent as
 //     NOP (the slot orders are all reached by three)
@@ -117,9 +118,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             hal_can_frame_t f = {0};
             const uint32_t id = fuzz_u16(&in);
             f.id = id < 0x8000u ? candev_rx_ids[id % CANDEV_RX_ID_COUNT] : (id & 0x7FFu);
-            f.dlc = (uint8_t)(fuzz_u8(&in) % 9u);
+            const uint8_t dlc = fuzz_u8(&in);
+            f.dlc = (uint8_t)((dlc & 0x7Fu) % 9u);
             for (uint32_t i = 0; i < f.dlc; i++) {
                 f.data[i] = fuzz_u8(&in);
+            }
+            // candev_rx_ids: [0] TOOL_CMD (its own CRC-32, op 1), [4] and [5] the sonars (CRC-4).
+            if ((dlc & 0x80u) != 0u && f.dlc > 0u && f.id != candev_rx_ids[0]) {
+                const bool sonar = f.id == candev_rx_ids[4] || f.id == candev_rx_ids[5];
+                can_link_e2e_protect(&f, sonar ? 4u : 8u);
             }
             (void)hal_host_can_deliver(&f);
         } else if (op == 1u) {
