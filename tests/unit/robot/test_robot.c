@@ -559,16 +559,16 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     assert_true(bench_.ctrl.step_done);
     assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
     // The step hits something at once and goes nowhere.
-    for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING && !bench_.ctrl.backing_off; i++) {
+    for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING && !bench_.ctrl.move.backing_off; i++) {
         bench_.sense.bump = true;
         bench_period_();
         bench_.sense.pose = blocked;
     }
-    for (int i = 0; i < 5 && !bench_.ctrl.backing_off; i++) {
+    for (int i = 0; i < 5 && !bench_.ctrl.move.backing_off; i++) {
         bench_.sense.pose = blocked;
         bench_period_();  // waiting for the fix; then the back-off's first period
     }
-    assert_true(bench_.ctrl.backing_off);
+    assert_true(bench_.ctrl.move.backing_off);
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
     assert_true(bench_.ctrl.v_left < 0.0f);
     assert_int_equal(agent_paper_sim.stats.real_steps, 0);  // not observed yet
@@ -579,7 +579,7 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     assert_int_equal(agent_paper_sim.stats.real_steps, 1);
     assert_float_equal(bench_.ctrl.last_step.reward, -100.0f, 0);
     assert_float_equal(bench_.sense.pose.x, 2.0f * cw + bench_.cfg.step_past_m, 2e-3);
-    assert_false(bench_.ctrl.backing_off);
+    assert_false(bench_.ctrl.move.backing_off);
     assert_int_equal(bench_.ctrl.last_episode.bumps, 0);  // the episode goes on
     assert_int_equal(bench_.ctrl.bumps, 1);
 }
@@ -746,7 +746,7 @@ static void test_waits_for_a_fix_taken_after_stopping(void **state)
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
     assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
     // A fix measured before the wheels stopped is not the outcome of the action.
-    const uint64_t stopped = bench_.ctrl.stopped_at_us;
+    const uint64_t stopped = bench_.ctrl.move.stopped_at_us;
     robot_sense_t in = bench_.sense;
     in.now_us = stopped + 300000;
     in.pose_time_us = stopped - 1;
@@ -774,7 +774,7 @@ static void test_safe_stop_while_waiting_for_a_fix_keeps_the_step(void **state)
         bench_period_();
     }
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
-    const uint64_t stopped = bench_.ctrl.stopped_at_us;
+    const uint64_t stopped = bench_.ctrl.move.stopped_at_us;
     robot_sense_t in = bench_.sense;
     in.now_us = stopped + 100000;
     in.pose_time_us = stopped - 1;
@@ -969,25 +969,25 @@ static void test_heading_follows_the_fixes_of_a_straight_step(void **state)
     const agent_state_t s0 = robot_encode_state(&bench_.cfg, &bench_.sense.pose, 0);
     qstore_set(&agent_paper_sim.q, qstore_row_for_update(&agent_paper_sim.q, s0), ROBOT_FORWARD, 10.0f);
     robot_ctrl_start_episode(&bench_.ctrl);
-    for (int i = 0; i < 20 && !(bench_.ctrl.step_done && bench_.ctrl.have_s); i++) {
+    for (int i = 0; i < 20 && !(bench_.ctrl.step_done && robot_move_pending(&bench_.ctrl.move)); i++) {
         bench_period_();  // settling (nothing to do along x), then the first state: forward
     }
     assert_int_equal(bench_.ctrl.a, ROBOT_FORWARD);
-    const float x0 = bench_.ctrl.step_x0, y0 = bench_.ctrl.step_y0;
+    const float x0 = bench_.ctrl.move.x0, y0 = bench_.ctrl.move.y0;
     for (int i = 0; i < 20 && bench_.ctrl.mode == ROBOT_MODE_ACTING; i++) {
         bench_period_();
     }
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
-    assert_float_equal(bench_.ctrl.heading_offset, 0.0f, 0);
+    assert_float_equal(bench_.ctrl.move.heading_offset, 0.0f, 0);
     const float d = bench_.sense.pose.x - x0;
     assert_true(d > 0.3f);
     bench_.sense.pose.y = y0 + d * tanf(10.0f * 3.14159265f / 180.0f);
     bench_period_();  // the fix after the step: observed
     assert_true(bench_.ctrl.step_done);
-    assert_float_equal(bench_.ctrl.heading_offset, 0.2f * 10.0f * 3.14159265f / 180.0f, 1e-3);
+    assert_float_equal(bench_.ctrl.move.heading_offset, 0.2f * 10.0f * 3.14159265f / 180.0f, 1e-3);
     // A new episode starts from the heading the operator gives.
     robot_ctrl_start_episode(&bench_.ctrl);
-    assert_float_equal(bench_.ctrl.heading_offset, 0.0f, 0);
+    assert_float_equal(bench_.ctrl.move.heading_offset, 0.0f, 0);
 }
 
 int main(void)

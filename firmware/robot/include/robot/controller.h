@@ -4,9 +4,10 @@
 // Pure logic, no I/O: each control period the application hands it what the sensors say and gets
 // back the wheel speeds to command. One real step of the agent is: observe the state, pick an
 // action, drive it for cfg->action_periods periods, (paper-lab) stop and wait for a fresh pose
-// fix, observe the outcome and its reward, learn, and pick the next action. A step that bumped
-// backs off before its outcome is observed, and an episode's first state is observed after
-// settling onto the grid, on a robot narrower than its cells (robot_motion.h).
+// fix, observe the outcome and its reward, learn, and pick the next action. Everything between
+// two observations — the step's motion, its heading held in closed loop, its end, the back-off
+// after a bump, settling onto the grid before a first state — is robot_move.h's, called once a
+// period; this file decides what is observed, learned and chosen.
 #ifndef ROBOT_CONTROLLER_H
 #define ROBOT_CONTROLLER_H
 
@@ -17,6 +18,7 @@
 #include "robot/robot_config.h"
 #include "robot/robot_geometry.h"
 #include "robot/robot_motion.h"
+#include "robot/robot_move.h"
 
 /// With idle-time planning (config planning 0), the planning updates made when a step is
 /// observed, before the next action is chosen; the idle time plans on after it. Each costs
@@ -31,20 +33,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/// What the sensors say at the start of a control period.
-typedef struct robot_sense {
-    uint64_t now_us;
-    bool pose_ok;            ///< `pose` is a usable fix (Cricket: fresh and taken while still)
-    robot_pose_t pose;
-    uint64_t pose_time_us;   ///< when the pose was measured
-    float range_m[ROBOT_MAX_RANGES];
-    uint8_t n_ranges;
-    bool bump;               ///< a bumper touched something during the last period
-    bool bus_ok;             ///< the motor controller has been heard within cfg->bus_timeout_us
-    float odom_m;            ///< the wheels' odometer: metres the axle's midpoint travelled along the body (signed, summed)
-    bool odom_ok;            ///< the odometer counts (the motor controller reports its wheel speeds)
-} robot_sense_t;
 
 typedef enum robot_mode {
     ROBOT_MODE_IDLE = 0,       ///< stopped, waiting for the start of an episode
@@ -78,19 +66,9 @@ typedef struct robot_ctrl {
     agent_t *agent;
     robot_mode_t mode;
     robot_mode_t resume_mode;  ///< the mode a safe stop interrupted: WAIT_FIX keeps the step
-    bool have_s;               // s and a are the pending step
-    agent_state_t s;
-    uint8_t a;
-    uint8_t periods_left;
-    bool bump_latched;
-    bool backing_off;          ///< the pending step bumped, and the robot is backing off (robot_backs_off())
-    float act_heading;         ///< the heading the pending step started with
-    uint8_t settle_phase;      ///< the next robot_settle_phase_t of settling onto the grid (robot_settles())
-    robot_run_t run;           ///< the motion in closed loop (robot_closes_loop())
-    bool run_check;            ///< a closed-loop motion's periods are over: check it once the robot stands
-    float heading_offset;      ///< rad added to the sensed heading: what Cricket fixes said of the gyro's (controller.c)
-    float step_x0, step_y0;    ///< the fix the pending step started from
-    uint64_t stopped_at_us;    // when the wheels stopped after the last action
+    agent_state_t s;           ///< the pending step's state (robot_move_pending())
+    uint8_t a;                 ///< and its action
+    robot_move_t move;         ///< the step's life on the wheels (robot_move.h)
     uint32_t step, episode, bumps;
     float episode_reward;
     uint64_t episode_start_us;
