@@ -48,7 +48,7 @@ void write_file(const std::string &path, const std::string &text)
 
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
 {
-    std::string robot, base, out, check, far, floor, changed, users;
+    std::string robot, base, out, check, far, floor, changed, users, profile = "exact";
     std::uint32_t seed = 1, count = 10;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     o.add_choice("--robot", "R", "whose scenario the rooms keep: paper-lab or paper-sim", &robot,
@@ -56,6 +56,10 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     o.add_string("--base", "FILE",
                  "instead of --robot: the scenario file whose lines the rooms keep (files are named after its stem)",
                  &base);
+    o.add_choice("--profile", "P",
+                 "with --robot: exact (its scenario, default) or real (the realistic profile's, R-real: every "
+                 "imperfection of a real base, docs/scenarios.md; files named R-real-...)",
+                 &profile, {"exact", "real"});
     o.add_uint("--seed", "S", "seed of the rooms; room i depends on S and i only (default 1)", &seed, 0,
                UINT32_MAX);
     o.add_uint("--count", "N", "rooms 1..N (default 10)", &count, 1, 999);
@@ -96,7 +100,8 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         return kExitOk;
     }
     if (o.seen("--check")) {
-        for (const char *other : {"--robot", "--base", "--seed", "--count", "--out", "--far", "--floor", "--users"}) {
+        for (const char *other :
+             {"--robot", "--base", "--profile", "--seed", "--count", "--out", "--far", "--floor", "--users"}) {
             if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
         }
         auto load = [](const std::string &file, world::Scenario &s) {
@@ -151,8 +156,13 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     if (o.seen("--floor") && !o.seen("--far")) throw UsageError("--floor: needs --far");
     if (o.seen("--users") && o.seen("--far")) throw UsageError("--users: cannot be combined with --far");
     if (o.seen("--changed")) throw UsageError("--changed: only with --check");
-
-    const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(robot) : base;
+    if (o.seen("--profile") && o.seen("--base")) {
+        throw UsageError("--profile: only with --robot (a --base file carries its own imperfections)");
+    }
+    // The realistic profile: the robot's scenario on a real base (host_sim/scenarios/R-real.scn);
+    // the same layouts, room for room, as the exact robot's.
+    const std::string scn = profile == "real" ? robot + "-real" : robot;
+    const std::string base_path = o.seen("--robot") ? world::resolve_scenario_path(scn) : base;
     std::string base_text;
     double floor_w = 0, floor_h = 0;
     try {
@@ -176,8 +186,9 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
             }
         }
     }
-    std::string prefix = robot, label = "host_sim/scenarios/" + robot + ".scn";
-    std::string command = program + " rooms --robot " + robot + " --seed " + std::to_string(seed);
+    std::string prefix = scn, label = "host_sim/scenarios/" + scn + ".scn";
+    std::string command = program + " rooms --robot " + robot + (profile == "real" ? " --profile real" : "") +
+                          " --seed " + std::to_string(seed);
     if (o.seen("--base")) {
         const std::size_t slash = base.find_last_of('/');
         prefix = base.substr(slash == std::string::npos ? 0 : slash + 1);
