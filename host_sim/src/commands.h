@@ -37,6 +37,9 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
 /// `rooms`: seeded random rooms for a robot, one scenario file each (cmd_rooms.cpp).
 int cmd_rooms(const std::string &program, const std::vector<std::string> &args);
 
+/// `speed`: lock-step's speed against the bare world's, in the same run (cmd_speed.cpp).
+int cmd_speed(const std::string &program, const std::vector<std::string> &args);
+
 /// `agents`: the learning algorithms the firmware registers (cmd_agents.cpp).
 int cmd_agents(const std::string &program, const std::vector<std::string> &args);
 

@@ -19,6 +19,7 @@ const dynaqpc::Command kCommands[] = {
     {"devices", "the simulated robot's devices in real time on the virtual CAN bus, for dynaqpc-fw", dynaqpc::cmd_devices},
     {"maze", "gridworld experiments: Q-learning, Dyna-Q and Dyna-QPC on a map", dynaqpc::cmd_maze},
     {"rooms", "seeded random rooms for paper-lab or paper-sim, one scenario file each", dynaqpc::cmd_rooms},
+    {"speed", "lock-step's speed (firmware + devices + world) against the bare world's, in the same run", dynaqpc::cmd_speed},
     {"agents", "the learning algorithms the firmware registers: names, labels, models, counters", dynaqpc::cmd_agents},
     {"firmware-config", "the MCU images' built-in scenarios as C, from the scenario files", dynaqpc::cmd_firmware_config},
 };
