@@ -110,7 +110,7 @@ void declare(Options &o, TrainSettings &s)
                  &s.kappa, 0.0, 1000.0);
     o.add_string("--ablate", "PARTS",
                  "Dyna-QPC with its departures from the paper switched off, for the ablation: a comma-separated "
-                 "list of generalise, majority, new-states, expected, stay (docs/results/ablation.md)",
+                 "list of generalise, majority, new-states, expected, stay, alias (docs/results/ablation.md)",
                  &s.ablate);
     o.add_string("--model", "NAME",
                  "Dyna-QPC's world model: relocatable (ours) or paper (the paper's CMAC-Model and CMAC-R); "

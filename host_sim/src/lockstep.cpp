@@ -237,8 +237,31 @@ struct Lockstep::Impl {
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
           << " trust_losses=" << st.trust_losses << " episodes_interrupted=" << st.episodes_interrupted
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
-          << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary();
+          << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary() << aliasing_cells();
         return o.str();
+    }
+
+    // The cells the aliasing watch counts (alias.h), most first: " aliasing=x,y:count;...", or
+    // nothing when none aliased.
+    std::string aliasing_cells() const
+    {
+        struct Cells {
+            agent_space_t space;
+            std::ostringstream out;
+            static int take(void *data, const agent_fact_t *fact)
+            {
+                auto &c = *static_cast<Cells *>(data);
+                if (fact->kind != AGENT_FACT_ALIAS) return 0;
+                uint32_t comp[FW_CFG_MAX_COMPONENTS] = {0};
+                space_unpack(&c.space, fact->u.alias.cell, comp);
+                c.out << (c.out.tellp() == 0 ? " aliasing=" : ";") << comp[0] << "," << comp[1] << ":"
+                      << fact->u.alias.count;
+                return 0;
+            }
+        } cells;
+        robot_config_space(&cfg, &cells.space);
+        (void)agent_walk(agent, AGENT_FACT_ALIAS, Cells::take, &cells);
+        return cells.out.str();
     }
 };
 

@@ -207,7 +207,8 @@ uint8_t ablate_mask(const std::string &list)
                  {"majority", AGENT_ABLATE_MAJORITY},
                  {"new-states", AGENT_ABLATE_NEW_STATES},
                  {"expected", AGENT_ABLATE_EXPECTED},
-                 {"stay", AGENT_ABLATE_STAY}};
+                 {"stay", AGENT_ABLATE_STAY},
+                 {"alias", AGENT_ABLATE_ALIAS}};
     uint8_t mask = 0;
     std::stringstream in(list);
     std::string word;
@@ -221,7 +222,7 @@ uint8_t ablate_mask(const std::string &list)
             }
         }
         if (!known) {
-            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected, stay)");
+            throw UsageError("--ablate: unknown part '" + word + "' (generalise, majority, new-states, expected, stay, alias)");
         }
     }
     return mask;

@@ -96,7 +96,8 @@ static void decode(const hal_can_frame_t *f)
     case DYNAQPC_CAN_TLM_VALUE_FRAME_ID: {
         tlm_value_t v;
         if ((rc = tlm_decode_value(f, &v)) == FW_OK) {
-            printf("OK TLM_VALUE State=%lu Action=%u Value=%.1f\n", (unsigned long)v.state, v.action, v.value);
+            printf("OK TLM_VALUE State=%lu Action=%u Value=%.1f Aliasing=%u\n", (unsigned long)v.state, v.action,
+                   v.value, v.aliasing);
             return;
         }
         break;
@@ -240,7 +241,7 @@ static void encode(const char *name, int argc, char **argv)
         tlm_tool_cmd_t c = {(uint8_t)A("Command"), (uint32_t)A("Argument")};
         rc = tlm_encode_tool_cmd(&counter, &c, &f);
     } else if (strcmp(name, "TLM_VALUE") == 0) {
-        tlm_value_t v = {(uint32_t)A("State"), (uint8_t)A("Action"), (float)A("Value")};
+        tlm_value_t v = {(uint32_t)A("State"), (uint8_t)A("Action"), (float)A("Value"), (uint8_t)A("Aliasing")};
         tlm_encode_value(&tlm, &v, &f);
         rc = FW_OK;
     } else if (strcmp(name, "TOOL_ACK") == 0) {

@@ -179,6 +179,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
         explore_init(&ag->tried, st->tried_keys, st->tried_at, st->tried_pairs) != FW_OK) {
         return FW_ERR_INVAL;
     }
+    alias_init(&ag->alias, sp);
     prng_seed(&ag->rng, cfg->seed);
     ag->stats = (agent_stats_t){0};
     return FW_OK;
@@ -192,6 +193,7 @@ void agent_reset(agent_t *ag, uint32_t seed)
     if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
         explore_clear(&ag->tried);
     }
+    alias_clear(&ag->alias);
     prng_seed(&ag->rng, seed);
     ag->stats = (agent_stats_t){0};
 }
@@ -288,6 +290,26 @@ float agent_q(const agent_t *ag, agent_state_t s, uint8_t a)
 
 // ---- Learning ---------------------------------------------------------------------------------
 
+// A cell's real steps learn at alpha / (1 + k) after k aliasing steps there, k at most this.
+// One unlucky outcome of a pair that usually passes (a bump from a place that the state cannot
+// tell from its neighbour) then moves its value by a share of the difference instead of
+// overwriting it (alpha 0.9), and the value tends to the mean over the cell's outcomes, as a
+// backup over the outcomes' counts would (Moore & Atkeson's prioritized sweeping); the bound
+// keeps a cell that aliased long ago learning at alpha / 8 (0.11 for alpha 0.9).
+#define ALIAS_DAMP_MAX 7u
+
+// Compares the real step with the algorithm's own experience of (s, a) and counts the cell
+// (alias.h): returns s's cell's count, 0 when the algorithm keeps no outcome for the pair.
+static uint32_t watch_aliasing_(agent_t *ag, agent_state_t s, uint8_t a, float r,
+                                agent_state_t s_next, bool terminal)
+{
+    agent_outcome_t kept;
+    if (ag->algorithm->predict == NULL || !ag->algorithm->predict(ag, s, a, &kept)) {
+        return alias_count(&ag->alias, s);
+    }
+    return alias_note(&ag->alias, s, agent_outcome_differs_(&kept, r, s_next, terminal));
+}
+
 void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
                    bool terminal)
 {
@@ -296,11 +318,15 @@ void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state
     ASSERT_ACTION_(ag, a);
     const float target = agent_target_(ag, r, s_next, terminal);
     const float priority = agent_abs_(target - agent_q(ag, s, a));
+    const uint32_t aliased = watch_aliasing_(ag, s, a, r, s_next, terminal);
     ag->stats.real_steps++;
     if (ag->params.explore != AGENT_EXPLORE_EGREEDY) {
         explore_tried(&ag->tried, agent_pair_(ag, s, a), ag->stats.real_steps);
     }
-    if (agent_q_update_(ag, s, a, target, ag->params.alpha, false)) {
+    const float alpha = (ag->params.ablate & AGENT_ABLATE_ALIAS) != 0u
+                            ? ag->params.alpha
+                            : ag->params.alpha / (float)(1u + (aliased < ALIAS_DAMP_MAX ? aliased : ALIAS_DAMP_MAX));
+    if (agent_q_update_(ag, s, a, target, alpha, false)) {
         ag->stats.real_updates++;
     }
     ag->algorithm->observe(ag, s, a, r, s_next, terminal, priority);
@@ -384,6 +410,25 @@ int agent_walk_rows_as_visits_(const agent_t *ag, agent_visit_t visit, void *dat
     return 0;
 }
 
+// The aliasing watch's counters and cells (alias.h).
+static int walk_alias_(const agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
+{
+    alias_cell_t cells[FW_CFG_ALIAS_CELLS];
+    const uint32_t n = alias_cells(&ag->alias, cells);
+    if (what & AGENT_FACT_COUNTER) {
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "alias_checked", ag->alias.checked, 0u));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "alias_steps", ag->alias.aliased, 0u));
+        AGENT_VISIT_(agent_visit_counter_(visit, data, "alias_cells", n, FW_CFG_ALIAS_CELLS));
+    }
+    for (uint32_t i = 0; (what & AGENT_FACT_ALIAS) && i < n; i++) {
+        agent_fact_t f;
+        f.kind = AGENT_FACT_ALIAS;
+        f.u.alias = cells[i];
+        AGENT_VISIT_(visit(data, &f));
+    }
+    return 0;
+}
+
 int agent_walk(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
 {
     FW_ASSERT(ag != NULL && ag->algorithm != NULL && visit != NULL);
@@ -393,7 +438,7 @@ int agent_walk(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
         AGENT_VISIT_(agent_visit_counter_(visit, data, "tried_pairs", ag->tried.used, ag->tried.capacity));
         AGENT_VISIT_(agent_visit_counter_(visit, data, "tried_forgotten", ag->tried.forgotten, 0u));
     }
-    return 0;
+    return ag->algorithm->predict == NULL ? 0 : walk_alias_(ag, what, visit, data);
 }
 
 typedef struct {
@@ -414,6 +459,11 @@ uint32_t agent_counters(agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS])
     counter_list_t list = {out, 0u};
     (void)agent_walk(ag, AGENT_FACT_COUNTER, list_counter_, &list);
     return list.n;
+}
+
+uint32_t agent_aliasing(const agent_t *ag, agent_state_t s)
+{
+    return alias_count(&ag->alias, s);
 }
 
 float agent_value(const agent_t *ag, agent_state_t s)

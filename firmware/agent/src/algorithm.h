@@ -13,6 +13,22 @@
 /// One learning algorithm. agent.c does what every algorithm does (the Q store, acting, the
 /// real step's Q update, the counters of steps and updates) and calls these for the rest. Every
 /// operation is given (a trivial one where the algorithm has nothing to do).
+/// An outcome of one step, as an algorithm's experience keeps it.
+typedef struct agent_outcome {
+    agent_state_t next;
+    float reward;
+    bool terminal;
+} agent_outcome_t;
+
+/// Whether a real step's outcome disagrees with a kept one: another next state, another end, or a
+/// reward more than 0.5 away (the models' own test: model.c, dyna_q_majority.c).
+AGENT_ALWAYS_INLINE bool agent_outcome_differs_(const agent_outcome_t *kept, float r,
+                                                agent_state_t s_next, bool terminal)
+{
+    const float d = kept->reward - r;
+    return kept->next != s_next || kept->terminal != terminal || d > 0.5f || d < -0.5f;
+}
+
 typedef struct agent_algorithm {
     /// Takes the algorithm's own part of `st` (FW_ERR_INVAL when a part it needs is missing)
     /// and prepares it knowing nothing.
@@ -36,6 +52,11 @@ typedef struct agent_algorithm {
     /// counters (at most AGENT_MAX_COUNTERS - 5), its tables' fill and the states it knows
     /// something of; 0, or the nonzero a visit returned.
     int (*walk)(agent_t *ag, uint32_t what, agent_visit_t visit, void *data);
+    /// What the algorithm's own experience says taking `a` in `s` does (the outcome its model
+    /// keeps for a tried pair; never a generalised guess), without changing anything: false when
+    /// it has none. Called before the real step is learned, to watch for aliasing (alias.h).
+    /// NULL: the algorithm keeps no outcomes (Q-learning).
+    bool (*predict)(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out);
     /// Planning work waiting (agent_backlog()).
     uint32_t (*backlog)(const agent_t *ag);
     /// MCU cycles one planning update takes (agent_info_t.plan_cycles), as measured.
@@ -120,6 +141,10 @@ uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t 
 /// What a transition table knows (dyna_q.c), for an algorithm's walk: its counters `table`
 /// (records of capacity) and `table_evicted`, its fill, and its states: each recorded state
 /// visited, with its tried actions (n 1), and each state a tried action led to visited.
+/// A Dyna-Q table's outcome for a tried (s, a) (its `predict`), shared with Dyna-Q (majority).
+bool agent_dyna_q_table_predict_(const dynaq_table_t *table, agent_state_t s, uint8_t a,
+                                 agent_outcome_t *out);
+
 int agent_dyna_q_table_walk_(const agent_t *ag, const dynaq_table_t *table, uint32_t what,
                              agent_visit_t visit, void *data);
 

@@ -363,6 +363,16 @@ static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
     return (what & AGENT_FACT_STATE) ? walk_states_(ag, visit, data) : 0;
 }
 
+static bool predict_(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out)
+{
+    model_step_t step;
+    if (!model_tried_outcome(&ag->alg.dyna_qpc.model, s, a, &step)) {
+        return false;
+    }
+    *out = (agent_outcome_t){step.next, step.reward, step.terminal != 0u};
+    return true;
+}
+
 int agent_dyna_qpc_queue_counters_(const agent_t *ag, agent_visit_t visit, void *data)
 {
     const pqueue_t *pq = &ag->alg.dyna_qpc.pq;
@@ -384,6 +394,7 @@ const agent_algorithm_t agent_dyna_qpc_algorithm = {
     .check = check_,
     .restored = restored_,
     .walk = walk_,
+    .predict = predict_,
     .backlog = agent_dyna_qpc_backlog_,
     // cortex-m4.bench.insn_paper_lab: 4,213 when it was set (issue 13; 4,161 when the others were
     // first measured, 4,647 with main merged at 23fef33), kept so that the idle-time figures in

@@ -480,7 +480,7 @@ static void train_class_(model_class_t *c, const int8_t *delta, int16_t reward, 
 // CMAC-Model's prediction for taking `a` in the state `from` (its components, and its tiles for
 // any action): the next state, the reward and the terminal flag to `out`. False if (s, a) was not tried (a cell trained fewer than min_count
 // times) or the prediction leaves the space.
-static bool predict_exact_(world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
+static bool predict_exact_(const world_model_t *m, const uint32_t *from, const cmac_tiles_t *tiles,
                            uint32_t a, model_step_t *out)
 {
     int32_t pred[CMAC_MAX_OUTPUTS];
@@ -750,6 +750,13 @@ void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q)
     q->state = s;
     space_unpack(m->space, s, q->comp);
     cmac_tiles_of_packed(&m->forward, s, q->comp, 0, &q->tiles);
+}
+
+bool model_tried_outcome(const world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out)
+{
+    model_query_t q;
+    model_query_init(m, s, &q);
+    return predict_exact_(m, q.comp, &q.tiles, a, out);
 }
 
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out)

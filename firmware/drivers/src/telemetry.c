@@ -82,6 +82,7 @@ void tlm_encode_value(tlm_t *tlm, const tlm_value_t *value, hal_can_frame_t *out
     m.state = min_u32(value->state, 0xFFFFFFu);
     m.action = (uint8_t)min_u32(value->action, 15u);
     m.value = (int16_t)raw;
+    m.aliasing = value->aliasing;
     m.counter = can_link_tx_counter_next(&tlm->value_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_TLM_VALUE_FRAME_ID, DYNAQPC_CAN_TLM_VALUE_LENGTH);
     (void)dynaqpc_can_tlm_value_pack(out->data, &m, sizeof out->data);
@@ -298,5 +299,6 @@ int tlm_decode_value(const hal_can_frame_t *frame, tlm_value_t *out)
     out->state = m.state;
     out->action = m.action;
     out->value = (float)m.value * 0.1f;
+    out->aliasing = m.aliasing;
     return FW_OK;
 }

@@ -500,7 +500,9 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
         // step's), its greedy action and V. A start state (step 0) changed nothing.
         if (st->step >= 1u && app_.have_prev_state && app_.ctrl.learning) {
             const uint8_t g = agent_greedy(app_.opt.agent, app_.prev_state);
-            const tlm_value_t tv = {app_.prev_state, g, agent_q(app_.opt.agent, app_.prev_state, g)};
+            const uint32_t aliasing = agent_aliasing(app_.opt.agent, app_.prev_state);
+            const tlm_value_t tv = {app_.prev_state, g, agent_q(app_.opt.agent, app_.prev_state, g),
+                                    (uint8_t)(aliasing < 255u ? aliasing : 255u)};
             tlm_encode_value(&app_.dev.tlm, &tv, &f);
             send_(&f);
         }

@@ -41,7 +41,7 @@ static void init_rejects_bad_configurations(void **state)
     c.storage = NULL;
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config(AGENT_DYNA_QPC);
-    c.params.ablate = 0x20;  // not a part the ablation knows
+    c.params.ablate = 0x40;  // not a part the ablation knows
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);
     c = config((agent_kind_t)7);
     assert_int_equal(agent_init(&agent_, &c), FW_ERR_INVAL);

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "agent/alias.h"
 #include "agent/algorithms.h"
 #include "agent/explore.h"
 #include "fw/fw_prng.h"
@@ -96,8 +97,11 @@ bool agent_kind_has_model(agent_kind_t kind, uint8_t model);
 /// Dyna-QPC: a step that stays in its cell is an outcome like any other, not a share of its move
 /// (model.h, MODEL_ABLATE_STAY).
 #define AGENT_ABLATE_STAY MODEL_ABLATE_STAY
+/// Every real step learns at alpha, however often its cell's outcomes disagreed (alias.h); by
+/// default a cell that aliased k times learns from a real step at alpha / (1 + min(k, 7)).
+#define AGENT_ABLATE_ALIAS 0x20u
 /// Every AGENT_ABLATE_* bit.
-#define AGENT_ABLATE_ALL 0x1Fu
+#define AGENT_ABLATE_ALL 0x3Fu
 
 /// The elements of array `a`, for the storage initializers (AGENT_STORAGE_<id>, agent_profiles.h).
 #define AGENT_COUNT_OF(a) ((uint32_t)(sizeof(a) / sizeof((a)[0])))
@@ -154,6 +158,7 @@ typedef struct agent {
     prng_t rng;
     agent_stats_t stats;
     explore_table_t tried;  ///< when pairs were last tried (bonus modes only; explore.h)
+    alias_watch_t alias;    ///< where real outcomes disagreed with the agent's own experience
     union {
         AGENT_ALGORITHMS(AGENT_STATE_MEMBER_)
     } alg;
@@ -261,15 +266,16 @@ typedef struct agent_counter {
 } agent_counter_t;
 
 /// The most counters agent_counters() lists.
-#define AGENT_MAX_COUNTERS 16u
+#define AGENT_MAX_COUNTERS 19u
 
 /// The kinds of fact agent_walk() hands over; its `what` is a mask of them.
 typedef enum agent_fact_kind {
     AGENT_FACT_COUNTER = 1, ///< `counter`: one of agent_counters()' counters
     AGENT_FACT_TABLE = 2,   ///< `table`: how full one of its tables is
     AGENT_FACT_STATE = 4,   ///< `state`: what it knows of one state
+    AGENT_FACT_ALIAS = 8,   ///< `alias`: a cell whose real outcomes disagreed (alias.h), most first
 } agent_fact_kind_t;
-#define AGENT_WALK_ALL 7u
+#define AGENT_WALK_ALL 15u
 
 /// How full a table is, for the learned-map view (`dynaqpc-sim learned`'s "fill").
 typedef struct agent_table_fill {
@@ -295,6 +301,7 @@ typedef struct agent_fact {
         agent_counter_t counter;
         agent_table_fill_t table;
         agent_state_facts_t state;
+        alias_cell_t alias;
     } u;
 } agent_fact_t;
 
@@ -313,9 +320,16 @@ int agent_walk(agent_t *ag, uint32_t what, agent_visit_t visit, void *data);
 
 /// Lists the agent's counters (agent_walk()'s AGENT_FACT_COUNTER facts): the Q store's (q_rows
 /// of its capacity, q_dropped, q_plan_refused), then the algorithm's own, then in a bonus mode
-/// the tried-pairs table's (tried_pairs of its capacity, tried_forgotten). Returns how many were
+/// the tried-pairs table's (tried_pairs of its capacity, tried_forgotten), then, for an algorithm
+/// with a model of its own experience (algorithm.h's `predict`), the aliasing watch's (alias.h:
+/// alias_checked, the real steps whose pair had been tried; alias_steps, those whose outcome
+/// disagreed; alias_cells, the cells counted, of FW_CFG_ALIAS_CELLS). Returns how many were
 /// written to `out`. Counting changes nothing.
 uint32_t agent_counters(agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS]);
+
+/// The aliasing count of s's cell (alias.h): real steps there whose outcome disagreed with the
+/// algorithm's own experience of the same state and action; 0 without such experience.
+uint32_t agent_aliasing(const agent_t *ag, agent_state_t s);
 
 /// max_a Q(s, a): the value of s.
 float agent_value(const agent_t *ag, agent_state_t s);

@@ -256,6 +256,11 @@ typedef struct model_query {
 /// Prepares the queries about s.
 void model_query_init(const world_model_t *m, agent_state_t s, model_query_t *q);
 
+/// CMAC-Model's outcome for (s, a) when the pair was tried (its cells trained at least
+/// min_count times): the outcome its learning kept (the majority rule of model_learn()), no
+/// relocatable guess and no stay share. Counts nothing. False when the pair was not tried.
+bool model_tried_outcome(const world_model_t *m, agent_state_t s, uint8_t a, model_step_t *out);
+
 /// model_predict() for the query's state.
 bool model_query_predict(world_model_t *m, const model_query_t *q, uint8_t a, model_step_t *out);
 

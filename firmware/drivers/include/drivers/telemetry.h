@@ -85,6 +85,7 @@ typedef struct tlm_value {
     uint32_t state;         ///< saturated to 24 bits
     uint8_t action;         ///< the greedy action, saturated to 15
     float value;            ///< V; sent in 0.1 steps, saturated to -3276.8..3276.7 (NaN as 0)
+    uint8_t aliasing;       ///< the state's cell's aliasing count (agent_aliasing())
 } tlm_value_t;
 
 typedef struct tlm_sched {

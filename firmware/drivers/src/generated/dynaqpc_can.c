@@ -1949,11 +1949,11 @@ int dynaqpc_can_tlm_value_pack(
 {
     uint16_t value;
 
-    if (size < 6u) {
+    if (size < 7u) {
         return (-EINVAL);
     }
 
-    memset(&dst_p[0], 0, 6);
+    memset(&dst_p[0], 0, 7);
 
     dst_p[0] |= pack_left_shift_u32(src_p->state, 0u, 0xffu);
     dst_p[1] |= pack_right_shift_u32(src_p->state, 8u, 0xffu);
@@ -1963,8 +1963,9 @@ int dynaqpc_can_tlm_value_pack(
     value = (uint16_t)src_p->value;
     dst_p[4] |= pack_left_shift_u16(value, 0u, 0xffu);
     dst_p[5] |= pack_right_shift_u16(value, 8u, 0xffu);
+    dst_p[6] |= pack_left_shift_u8(src_p->aliasing, 0u, 0xffu);
 
-    return (6);
+    return (7);
 }
 
 int dynaqpc_can_tlm_value_unpack(
@@ -1974,7 +1975,7 @@ int dynaqpc_can_tlm_value_unpack(
 {
     uint16_t value;
 
-    if (size < 6u) {
+    if (size < 7u) {
         return (-EINVAL);
     }
 
@@ -1986,6 +1987,7 @@ int dynaqpc_can_tlm_value_unpack(
     value = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
     value |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
     dst_p->value = (int16_t)value;
+    dst_p->aliasing = unpack_right_shift_u8(src_p[6], 0u, 0xffu);
 
     return (0);
 }
@@ -2039,6 +2041,18 @@ bool dynaqpc_can_tlm_value_value_is_in_range(int16_t value)
 bool dynaqpc_can_tlm_value_value_is_in_phys_range(double value)
 {
     return ((value >= -3276.8) && (value <= 3276.7));
+}
+
+bool dynaqpc_can_tlm_value_aliasing_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_tlm_value_aliasing_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_tlm_episode_pack(

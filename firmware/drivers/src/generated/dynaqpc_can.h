@@ -75,7 +75,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_LEARN_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_SCHED_LENGTH (8u)
-#define DYNAQPC_CAN_TLM_VALUE_LENGTH (6u)
+#define DYNAQPC_CAN_TLM_VALUE_LENGTH (7u)
 #define DYNAQPC_CAN_TLM_EPISODE_LENGTH (8u)
 
 /* Extended or standard frame types. */
@@ -323,6 +323,7 @@ extern "C" {
 #define DYNAQPC_CAN_TLM_VALUE_ACTION_NAME "Action"
 #define DYNAQPC_CAN_TLM_VALUE_COUNTER_NAME "Counter"
 #define DYNAQPC_CAN_TLM_VALUE_VALUE_NAME "Value"
+#define DYNAQPC_CAN_TLM_VALUE_ALIASING_NAME "Aliasing"
 #define DYNAQPC_CAN_TLM_EPISODE_EPISODE_NAME "Episode"
 #define DYNAQPC_CAN_TLM_EPISODE_STEPS_NAME "Steps"
 #define DYNAQPC_CAN_TLM_EPISODE_INTERRUPTED_NAME "Interrupted"
@@ -1234,6 +1235,15 @@ struct dynaqpc_can_tlm_value_t {
      * Offset: 0
      */
     int16_t value;
+
+    /**
+     * How often real steps in State's cell (its x and y) had an outcome other than the agent's experience of the same state and action said: the aliasing count of the firmware's watch (docs/agent.md, "Aliasing"), saturated at 255; 0 for an agent without a model.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t aliasing;
 };
 
 /**
@@ -4012,6 +4022,28 @@ bool dynaqpc_can_tlm_value_value_is_in_range(int16_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_tlm_value_value_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_aliasing_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_tlm_value_aliasing_is_in_phys_range(double value);
 
 /**
  * Pack message TLM_EPISODE.
