@@ -179,7 +179,7 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
         explore_init(&ag->tried, st->tried_keys, st->tried_at, st->tried_pairs) != FW_OK) {
         return FW_ERR_INVAL;
     }
-    alias_init(&ag->alias, sp);
+    alias_init(&ag->alias);
     prng_seed(&ag->rng, cfg->seed);
     ag->stats = (agent_stats_t){0};
     return FW_OK;
@@ -304,10 +304,11 @@ static uint32_t watch_aliasing_(agent_t *ag, agent_state_t s, uint8_t a, float r
                                 agent_state_t s_next, bool terminal)
 {
     agent_outcome_t kept;
+    const agent_state_t cell = s & space_position_mask(ag->space);
     if (ag->algorithm->predict == NULL || !ag->algorithm->predict(ag, s, a, &kept)) {
-        return alias_count(&ag->alias, s);
+        return alias_count(&ag->alias, cell);
     }
-    return alias_note(&ag->alias, s, agent_outcome_differs_(&kept, r, s_next, terminal));
+    return alias_note(&ag->alias, cell, agent_outcome_differs_(&kept, r, s_next, terminal));
 }
 
 void agent_observe(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_state_t s_next,
@@ -463,7 +464,7 @@ uint32_t agent_counters(agent_t *ag, agent_counter_t out[AGENT_MAX_COUNTERS])
 
 uint32_t agent_aliasing(const agent_t *ag, agent_state_t s)
 {
-    return alias_count(&ag->alias, s);
+    return alias_count(&ag->alias, s & space_position_mask(ag->space));
 }
 
 float agent_value(const agent_t *ag, agent_state_t s)

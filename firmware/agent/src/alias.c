@@ -15,18 +15,9 @@ FW_STATIC_ASSERT(FW_CFG_ALIAS_CELLS >= 1, alias_watch_has_an_entry);
 #define CELL_(e) ((e) >> 8)
 #define COUNT_(e) ((e) & 0xFFu)
 
-void alias_init(alias_watch_t *w, const agent_space_t *space)
+void alias_init(alias_watch_t *w)
 {
-    FW_ASSERT(w != NULL && space != NULL);
-    const uint32_t outside_position = (uint32_t)space->context_mask | space->absolute_mask;
-    uint32_t shift = 0;
-    w->position_mask = 0;
-    for (uint32_t k = 0; k < space->n_components; k++) {
-        if (((outside_position >> k) & 1u) == 0u) {
-            w->position_mask |= ((1u << space->bits[k]) - 1u) << shift;
-        }
-        shift += space->bits[k];
-    }
+    FW_ASSERT(w != NULL);
     alias_clear(w);
 }
 
@@ -49,9 +40,8 @@ static int32_t find_(const alias_watch_t *w, agent_state_t cell)
     return -1;
 }
 
-uint32_t alias_note(alias_watch_t *w, agent_state_t s, bool aliased)
+uint32_t alias_note(alias_watch_t *w, agent_state_t cell, bool aliased)
 {
-    const agent_state_t cell = s & w->position_mask;
     w->checked++;
     int32_t i = find_(w, cell);
     if (!aliased) {
@@ -78,9 +68,9 @@ uint32_t alias_note(alias_watch_t *w, agent_state_t s, bool aliased)
     return count;
 }
 
-uint32_t alias_count(const alias_watch_t *w, agent_state_t s)
+uint32_t alias_count(const alias_watch_t *w, agent_state_t cell)
 {
-    const int32_t i = find_(w, s & w->position_mask);
+    const int32_t i = find_(w, cell);
     return i < 0 ? 0u : COUNT_(w->entry[i]);
 }
 

@@ -73,3 +73,17 @@ agent_state_t space_pack(const agent_space_t *sp, const uint32_t *comp)
     }
     return s;
 }
+
+uint32_t space_position_mask(const agent_space_t *sp)
+{
+    const uint32_t outside_position = (uint32_t)sp->context_mask | sp->absolute_mask;
+    uint32_t mask = 0;
+    uint32_t shift = 0;
+    for (uint32_t k = 0; k < sp->n_components; k++) {
+        if (((outside_position >> k) & 1u) == 0u) {
+            mask |= ((1u << sp->bits[k]) - 1u) << shift;
+        }
+        shift += sp->bits[k];
+    }
+    return mask;
+}

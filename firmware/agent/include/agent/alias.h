@@ -35,27 +35,28 @@ typedef struct alias_cell {
 typedef struct alias_watch {
     /// cell << 8 | count; a count of 0 is a free entry
     uint32_t entry[FW_CFG_ALIAS_CELLS];
-    uint32_t position_mask;  ///< the state bits of the position components
-    uint32_t checked;        ///< real steps whose state and action had been seen before
-    uint32_t aliased;        ///< of them, those whose outcome disagreed
+    uint32_t checked;  ///< real steps whose state and action had been seen before
+    uint32_t aliased;  ///< of them, those whose outcome disagreed
 } alias_watch_t;
 
-/// Prepares an empty watch over `space`: its position is every component outside context_mask
-/// and absolute_mask (x and y on the robots, row and column on a gridworld).
-void alias_init(alias_watch_t *w, const agent_space_t *space);
+/// Prepares an empty watch.
+void alias_init(alias_watch_t *w);
 
 /// Forgets every count.
 void alias_clear(alias_watch_t *w);
 
-/// Notes a real step from s whose pair had been seen before; `aliased`: its outcome differed.
-/// Returns s's cell's count after it. Space-Saving (Metwally, Agrawal & El Abbadi, 2005): a cell
+/// A cell is a state with every component outside its position cleared:
+/// s & space_position_mask(space).
+
+/// Notes a real step from `cell` whose pair had been seen before; `aliased`: its outcome differed.
+/// Returns the cell's count after it. Space-Saving (Metwally, Agrawal & El Abbadi, 2005): a cell
 /// not in the table takes a free entry or else the entry with the smallest count, inheriting
 /// that count plus one, so a count is never below the cell's true count and the cells that
 /// alias most keep their entries.
-uint32_t alias_note(alias_watch_t *w, agent_state_t s, bool aliased);
+uint32_t alias_note(alias_watch_t *w, agent_state_t cell, bool aliased);
 
-/// s's cell's count (0 when it has no entry).
-uint32_t alias_count(const alias_watch_t *w, agent_state_t s);
+/// The cell's count (0 when it has no entry).
+uint32_t alias_count(const alias_watch_t *w, agent_state_t cell);
 
 /// The cells with a count, most first (ties: lower cell first); returns how many.
 uint32_t alias_cells(const alias_watch_t *w, alias_cell_t out[FW_CFG_ALIAS_CELLS]);

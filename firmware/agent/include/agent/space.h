@@ -55,6 +55,10 @@ uint32_t space_state_bits(const agent_space_t *sp);
 /// Checks a space's limits. Returns FW_OK or FW_ERR_INVAL.
 int space_validate(const agent_space_t *sp);
 
+/// The state bits of its position: every component outside context_mask and absolute_mask (x and
+/// y on the robots, row and column on a gridworld). s & this is s's cell.
+uint32_t space_position_mask(const agent_space_t *sp);
+
 /// Splits a state into its components.
 void space_unpack(const agent_space_t *sp, agent_state_t s, uint32_t *comp);
 
