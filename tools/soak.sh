@@ -11,6 +11,9 @@
 #
 #   tools/soak.sh                       # the issue's table: 240 s a run, each fault, then all at once
 #   tools/soak.sh --seconds 60 --only all --cuts 2 --stalls 3   # one short run
+#   tools/soak.sh --only reboots --reboots 50   # power cuts at random times (seeded), then per boot:
+#                                       # was the episode it cut reported interrupted, and the heading
+#                                       # error of the first step learned after it
 # Columns: episodes; the last quarter's mean steps and bumps per episode; interrupted episodes;
 # the firmware's heading error at its learned steps (mean over episodes' means, and the steps
 # learned with it over 20 deg); boots that restored the flash's record of the cuts; frames the
@@ -22,7 +25,8 @@ PY=$REPO/.venv/bin/python
 SECS=240
 SPEED=10
 ONLY=""
-CUTS=5; STALLS=10; GARBAGE=100; FRAMES=100; COMMANDS=1000
+CUTS=5; STALLS=10; GARBAGE=100; FRAMES=100; COMMANDS=1000; REBOOTS=50; SEED=1
+RANDOM_CUTS=0
 INSIDE=0
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -35,6 +39,8 @@ while [ $# -gt 0 ]; do
     --garbage) GARBAGE=$2; shift ;;
     --frames) FRAMES=$2; shift ;;
     --commands) COMMANDS=$2; shift ;;
+    --reboots) REBOOTS=$2; shift ;;
+    --seed) SEED=$2; shift ;;
     --inside) INSIDE=1 ;;
     *) echo "soak: unknown argument $1" >&2; exit 2 ;;
     esac
@@ -46,7 +52,8 @@ done
 if [ $INSIDE -eq 0 ]; then
     unshare -n true 2>/dev/null || { echo "soak: cannot create a private network namespace (unshare -n)" >&2; exit 77; }
     exec unshare -n sh "$0" --inside --seconds "$SECS" --speed "$SPEED" --bin "$BIN" --only "${ONLY:-table}" \
-        --cuts "$CUTS" --stalls "$STALLS" --garbage "$GARBAGE" --frames "$FRAMES" --commands "$COMMANDS"
+        --cuts "$CUTS" --stalls "$STALLS" --garbage "$GARBAGE" --frames "$FRAMES" --commands "$COMMANDS" \
+        --reboots "$REBOOTS" --seed "$SEED"
 fi
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || { echo "soak: cannot route multicast over lo" >&2; exit 1; }
 TMP=$(mktemp -d) || exit 1
@@ -80,11 +87,22 @@ run() {
             --duration "$SECS" > "$D/inject.out" 2>&1 &
         INJ=$!
     fi
-    # The schedule, in tenths of a second of wall time: cut k at k/(cuts+1) of the run, stall k at
-    # (k-1/2)/stalls of it.
+    # The schedule, in tenths of a second of wall time: cut k at k/(cuts+1) of the run (or, with
+    # RANDOM_CUTS, at a uniform time within the k-th of `cuts` equal slots between 5 % and 85 % of
+    # the run, at least 2 s after the slot's start so that every boot is heard; the schedule's
+    # clock lags the wall by its own work, so the last 15 % keep the last cuts within the run),
+    # stall k at (k-1/2)/stalls of it.
     t=0; end=$((SECS * 10)); k=1; s=1
+    : > "$D/cut_times"
+    if [ "$RANDOM_CUTS" -eq 1 ]; then
+        awk -v n="$cuts" -v end="$end" -v seed="$SEED" 'BEGIN { srand(seed); b = end / 20; l = (end * 17 / 20 - b) / n
+            for (i = 0; i < n; i++) printf "%d\n", b + i * l + 20 + rand() * (l - 20) }' > "$D/cut_times"
+    fi
+    cut_due() {  # cut_due K: the time (tenths of a second) of cut K
+        if [ "$RANDOM_CUTS" -eq 1 ]; then sed -n "${1}p" "$D/cut_times"; else echo $((end * $1 / (cuts + 1))); fi
+    }
     while [ $t -lt $end ] && kill -0 $DEV 2>/dev/null; do
-        if [ $k -le "$cuts" ] && [ $t -ge $((end * k / (cuts + 1))) ]; then
+        if [ $k -le "$cuts" ] && [ $t -ge "$(cut_due $k)" ]; then
             kill -9 $FWPID 2>/dev/null; wait $FWPID 2>/dev/null
             start_fw
             k=$((k + 1))
@@ -129,11 +147,30 @@ table)
     run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0
     ;;
 none) run none 0 0 0 0 0 ;;
+reboots)
+    RANDOM_CUTS=1
+    run reboots "$REBOOTS" 0 0 0 0
+    # Per boot after a cut, from the supervisor's lines: the episode the cut ended reported as
+    # interrupted (the firmware reports it in its first control period, 1 ms before its first
+    # FW_STATUS tells the supervisor of the boot: the episode line just before the reboot line, or
+    # else the next one), and the heading error of the first step learned after it.
+    echo
+    awk '/supervisor: the firmware rebooted/ { boots++; if (last_int) { rep++; last_int = 0 } else pending = 1; next }
+        /^episode=/ { if (pending) { pending = 0; if ($0 ~ / interrupted=1 /) rep++; else notrep++ }
+            else last_int = $0 ~ / interrupted=1 /; next }
+        /supervisor: the start cut/ { if (pending) { pending = 0; rep++ } else last_int = 1; next }
+        /first learned step after boot/ { sub(/.*head_err_deg=/, ""); n++; e = $1 + 0; s += e;
+            if (e > m) m = e; if (e <= 10) ok++ }
+        END { printf "reboots seen: %d; the episode each cut reported interrupted: %d, not: %d, none before the next boot: %d\n",
+                boots, rep, notrep, boots - rep - notrep
+              printf "first learned step after a reboot: %d steps, heading error <= 10 deg: %d, mean %.1f deg, worst %.1f deg\n",
+                n, ok, n ? s / n : 0, m }' "$TMP/reboots/devices.out"
+    ;;
 all) run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0 ;;
 commands) run commands 0 0 0 0 "$COMMANDS" ;;
 cuts) run cuts "$CUTS" 0 0 0 0 ;;
 stalls) run stalls 0 "$STALLS" 0 0 0 ;;
 frames) run frames 0 0 0 "$FRAMES" 0 ;;
 garbage) run garbage 0 0 "$GARBAGE" 0 0 ;;
-*) echo "soak: --only none|cuts|stalls|frames|garbage|commands|all (or leave it out for the whole table)" >&2; exit 2 ;;
+*) echo "soak: --only none|cuts|stalls|frames|garbage|commands|all|reboots (or leave it out for the whole table)" >&2; exit 2 ;;
 esac

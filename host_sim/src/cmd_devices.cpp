@@ -88,7 +88,16 @@ public:
         if (!fw_seen_ && from_firmware(f)) {
             fw_seen_ = true;
         }
-        if (running_) check_.on_frame(f, world_.pose());
+        if (running_) {
+            check_.on_frame(f, world_.pose());
+            if (first_after_boot_ && f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID && check_.last_learned()) {
+                // The reboot target (docs/reliability.md): the heading of the first step learned.
+                std::printf("supervisor: first learned step after boot %u: head_err_deg=%.1f\n", boot_,
+                            check_.last_heading_err_deg());
+                std::fflush(stdout);
+                first_after_boot_ = false;
+            }
+        }
         if (f.id == DYNAQPC_CAN_FW_STATUS_FRAME_ID) {
             tlm_status_t st;
             if (tlm_decode_status(&f, &st) == 0) {
@@ -97,6 +106,7 @@ public:
                     // A new boot: the episode it cut comes as an interrupted TLM_EPISODE (the
                     // firmware's flash journal); a retried start sends the robot's heading now.
                     reboots_++;
+                    first_after_boot_ = true;
                     std::printf("supervisor: the firmware rebooted (boot %u, reset cause %u, pose %s)\n", st.boot_count,
                                 st.reset_cause, st.pose_trusted ? "trusted" : "not trusted");
                     std::fflush(stdout);
@@ -217,6 +227,7 @@ private:
     std::uint8_t counter_ = 0;
     std::uint32_t done_ = 0, retries_ = 0;
     bool have_boot_ = false;
+    bool first_after_boot_ = false;  // a reboot seen, no step learned since
     bool awaiting_ack_ = false;  // a START_EPISODE sent and not answered yet
     std::uint32_t cut_ = 0;      // firmware episodes our starts cut
     std::uint32_t boot_ = 0, reboots_ = 0;

@@ -58,7 +58,9 @@ void PoseCheck::on_frame(const hal_can_frame_t &f, const world::Pose &truth)
         heading_sum_ += e;
         heading_max_ = std::max(heading_max_, e);
         tlm_learn_t l;
-        if (e > 20.0 && tlm_decode_learn(&f, &l) == 0 && l.step >= 1u) over20_++;  // a step learned from
+        last_learned_ = tlm_decode_learn(&f, &l) == 0 && l.step >= 1u;  // a step learned from
+        last_err_deg_ = e;
+        if (e > 20.0 && last_learned_) over20_++;
         position_sum_ += std::hypot(fw_x_ - truth.x, fw_y_ - truth.y);
         if (grid_rad_ > 0.0) {
             // How far the true heading is from the nearest heading of the turn grid.

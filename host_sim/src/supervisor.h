@@ -43,6 +43,10 @@ public:
     std::uint32_t off_grid_steps() const { return off_grid_; }
     /// Steps learned from (TLM_LEARN Step >= 1) with the firmware's heading over 20 degrees off.
     std::uint32_t learned_over_20deg() const { return over20_; }
+    /// The last TLM_LEARN seen: whether it was a step learned from (Step >= 1), and the heading
+    /// error then, degrees (-1: none seen since reset).
+    bool last_learned() const { return last_learned_; }
+    double last_heading_err_deg() const { return last_err_deg_; }
     /// "head_err_mean_deg=.. head_err_max_deg=.. pos_err_mean_m=.. off_grid_10deg=K/N"
     std::string summary() const;
 
@@ -54,6 +58,8 @@ private:
     double grid_rad_ = 0.0;
     std::uint32_t off_grid_ = 0;
     std::uint32_t over20_ = 0;  // learned steps (TLM_LEARN Step >= 1) with the heading over 20 degrees off
+    bool last_learned_ = false;
+    double last_err_deg_ = -1.0;
 };
 
 }  // namespace dynaqpc
