@@ -12,6 +12,9 @@
 #                              (77) without the project's venv (tools/dev.sh setup).
 #   cortex-m4.emu.closed_loop_idle_planning  the same with Dyna-Q: fails unless the idle loop
 #                              made at least 1,000 planning updates
+#   cortex-m4.emu.closed_loop_real  the same on the realistic robot (scenario paper-lab-real: wheels
+#                              that do not match, motor noise and deadband, slip, a gyro scale
+#                              error, Cricket dropouts and outliers), the board closing its motions
 find_program(DYNAQPC_QEMU NAMES qemu-system-arm)
 find_program(DYNAQPC_TIMEOUT NAMES timeout)
 if(NOT DYNAQPC_QEMU OR NOT DYNAQPC_TIMEOUT)
@@ -31,5 +34,8 @@ add_test(NAME cortex-m4.emu.closed_loop
 add_test(NAME cortex-m4.emu.closed_loop_idle_planning
     COMMAND ${CMAKE_CURRENT_LIST_DIR}/closed_loop.sh ${DYNAQPC_EMU_ELF} ${DYNAQPC_EMU_SIM} ${PROJECT_SOURCE_DIR}
         --agent dyna-q --min-idle-loop-updates 1000)
-set_tests_properties(cortex-m4.emu.closed_loop cortex-m4.emu.closed_loop_idle_planning PROPERTIES
+add_test(NAME cortex-m4.emu.closed_loop_real
+    COMMAND ${CMAKE_CURRENT_LIST_DIR}/closed_loop.sh ${DYNAQPC_EMU_ELF} ${DYNAQPC_EMU_SIM} ${PROJECT_SOURCE_DIR}
+        --scenario paper-lab-real)
+set_tests_properties(cortex-m4.emu.closed_loop cortex-m4.emu.closed_loop_idle_planning cortex-m4.emu.closed_loop_real PROPERTIES
     SKIP_RETURN_CODE 77 TIMEOUT 180 RESOURCE_LOCK emu_cpu)

@@ -367,7 +367,7 @@ def cmd_run(args) -> int:
             sim,
             "devices",
             "--scenario",
-            "paper-lab",
+            args.scenario,
             "--supervise",
             "--seed",
             str(args.seed),
@@ -437,7 +437,7 @@ def cmd_run(args) -> int:
         bridge = Bridge(m.group(1), dbc).start()
         print(
             f"emu: QEMU netduinoplus2 ({os.path.basename(args.elf)}), SLCAN on {m.group(1)}, "
-            f"Cricket on {cricket_tty}, devices: paper-lab",
+            f"Cricket on {cricket_tty}, devices: {args.scenario}",
             flush=True,
         )
 
@@ -594,6 +594,13 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=0,
         help="fail with fewer planning updates made in the idle loop (the board's count)",
+    )
+    r.add_argument(
+        "--scenario",
+        default="paper-lab",
+        help="the devices' world: paper-lab (default), paper-lab-real (the realistic profile: wheels "
+        "that do not match, motor noise and deadband, slip, a gyro scale error, Cricket dropouts and "
+        "outliers) or a scenario file with paper-lab's robot (the board runs the paper-lab image)",
     )
     r.add_argument("--step-cap", type=int, default=0, help="the board's step cap (default: the image's)")
     r.add_argument("--planning", type=int, default=None, help="the board's planning (default: the image's, 0)")

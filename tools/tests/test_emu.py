@@ -68,6 +68,9 @@ def test_the_board_gets_the_devices_seed():
     assert seeds[0] != seeds[1] and seeds[1] == seeds[2] and seeds[0] != 1
     args = emu.build_parser().parse_args(["run", "--seed", "1", "--set", "2"])
     assert args.set == 2 and args.seed == 1
+    assert args.scenario == "paper-lab"
+    real = emu.build_parser().parse_args(["run", "--scenario", "paper-lab-real"])
+    assert real.scenario == "paper-lab-real"
 
 
 class _FakeLines:
