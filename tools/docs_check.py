@@ -27,6 +27,7 @@ ROOT = Path(__file__).resolve().parent.parent
 # where each figure is "sets" (sets learned, e.g. 20/20), "steps" (real steps to learn, the mean)
 # or "hours" (robot hours to learn, the mean), read from the run's Table 1 row.
 LAB = ["--scenario", "paper-lab", "--sets", "20", "--episodes", "20", "--seed", "9001"]
+LAB_REAL = ["--scenario", "paper-lab-real", "--sets", "20", "--episodes", "20", "--seed", "9001"]
 SIM = ["--scenario", "paper-sim", "--sets", "8", "--episodes", "60", "--seed", "9001"]
 CHECKS = [
     (
@@ -34,7 +35,7 @@ CHECKS = [
         ["--agent", "dyna-qpc", "--planning", "1000", *LAB],
         50,
         [
-            ("README.md", r"\*\*Dyna-QPC ([\d,]+)\*\* \((\d+/\d+) sets\)", ("steps", "sets")),
+            ("README.md", r"exact robot \(`paper-lab`\): Dyna-QPC ([\d,]+) \((\d+/\d+) sets\)", ("steps", "sets")),
             ("docs/results/README.md", r"Dyna-QPC ([\d,]+) real steps to learn, (\d+/\d+) sets", ("steps", "sets")),
             (
                 "docs/results/paper-lab.md",
@@ -48,9 +49,43 @@ CHECKS = [
         ["--agent", "dyna-q", "--planning", "1000", *LAB],
         50,
         [
-            ("README.md", r"\(\d+/\d+ sets\), Dyna-Q ([\d,]+) \((\d+/\d+)\)", ("steps", "sets")),
+            (
+                "README.md",
+                r"exact robot \(`paper-lab`\): Dyna-QPC [\d,]+ \(\d+/\d+ sets\), Dyna-Q ([\d,]+) \((\d+/\d+)\)",
+                ("steps", "sets"),
+            ),
             ("docs/results/README.md", r"against Dyna-Q's ([\d,]+) \(N = 1,000", ("steps",)),
             ("docs/results/paper-lab.md", r"\| Dyna-Q \| 1,000 \| (\d+/\d+) \| ([\d,]+) \|", ("sets", "steps")),
+        ],
+    ),
+    (
+        "paper-lab-real dyna-qpc N=1000",
+        ["--agent", "dyna-qpc", "--planning", "1000", *LAB_REAL],
+        50,
+        [
+            ("README.md", r"\*\*Dyna-QPC ([\d,]+)\*\* \((\d+/\d+) sets\)", ("steps", "sets")),
+            (
+                "docs/results/paper-lab.md",
+                r"\| \*\*Dyna-QPC\*\* \| realistic \(`paper-lab-real`\) \| \*\*(\d+/\d+)\*\* \| \*\*([\d,]+) ±",
+                ("sets", "steps"),
+            ),
+        ],
+    ),
+    (
+        "paper-lab-real dyna-q N=1000",
+        ["--agent", "dyna-q", "--planning", "1000", *LAB_REAL],
+        50,
+        [
+            (
+                "README.md",
+                r"\*\*Dyna-QPC [\d,]+\*\* \(\d+/\d+ sets\), Dyna-Q ([\d,]+) \((\d+/\d+)\)",
+                ("steps", "sets"),
+            ),
+            (
+                "docs/results/paper-lab.md",
+                r"\| Dyna-Q \| realistic \(`paper-lab-real`\) \| (\d+/\d+) \| ([\d,]+) ±",
+                ("sets", "steps"),
+            ),
         ],
     ),
     (
@@ -78,7 +113,7 @@ CHECKS = [
         ["--agent", "dyna-qpc", "--planning", "1000", *SIM],
         500,
         [
-            ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets\)", ("hours", "sets")),
+            ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets[;)]", ("hours", "sets")),
             (
                 "docs/results/README.md",
                 r"Dyna-QPC ([\d.]+) h of robot time to learn, (\d+/\d+) sets",

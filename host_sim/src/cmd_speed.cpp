@@ -81,14 +81,14 @@ double median(std::vector<double> v)
 int cmd_speed(const std::string &program, const std::vector<std::string> &args)
 {
     std::string scenario = "paper-lab-real", agent = "dyna-qpc";
-    std::uint32_t planning = 0, episodes = 20, rounds = 3, seed = 9001;
+    std::uint32_t planning = 0, episodes = 60, rounds = 3, seed = 9001;
     Options o("speed", "lock-step's speed against the bare world's, measured in the same run");
     o.add_string("--scenario", "S", "paper-lab-real (default), paper-sim-real, any shipped name or a file",
                  &scenario);
     o.add_choice("--agent", "NAME", agent_kind_list() + " (default dyna-qpc)", &agent, agent_kind_names());
     o.add_uint("--planning", "N", "planning updates per real step (default: the scenario's, idle time)",
                &planning, 0, 1000000);
-    o.add_uint("--episodes", "E", "episodes of the lock-step set in each round (default 20)", &episodes, 1,
+    o.add_uint("--episodes", "E", "episodes of the lock-step set in each round (default 60: mostly a learnt robot, as in use)", &episodes, 1,
                100000);
     o.add_uint("--rounds", "R", "rounds, each a lock-step set then the bare world (default 3; medians)",
                &rounds, 1, 100);
