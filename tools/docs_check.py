@@ -29,6 +29,7 @@ ROOT = Path(__file__).resolve().parent.parent
 LAB = ["--scenario", "paper-lab", "--sets", "20", "--episodes", "20", "--seed", "9001"]
 LAB_REAL = ["--scenario", "paper-lab-real", "--sets", "20", "--episodes", "20", "--seed", "9001"]
 SIM = ["--scenario", "paper-sim", "--sets", "8", "--episodes", "60", "--seed", "9001"]
+SIM_REAL = ["--scenario", "paper-sim-real", "--sets", "8", "--episodes", "60", "--seed", "9001"]
 CHECKS = [
     (
         "paper-lab dyna-qpc N=1000",
@@ -113,7 +114,7 @@ CHECKS = [
         ["--agent", "dyna-qpc", "--planning", "1000", *SIM],
         500,
         [
-            ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets[;)]", ("hours", "sets")),
+            ("README.md", r"exact robot \(`paper-sim`\): Dyna-QPC ([\d.]+) h \((\d+/\d+) sets[;)]", ("hours", "sets")),
             (
                 "docs/results/README.md",
                 r"Dyna-QPC ([\d.]+) h of robot time to learn, (\d+/\d+) sets",
@@ -123,6 +124,20 @@ CHECKS = [
                 "docs/results/paper-sim.md",
                 r"\| \*\*Dyna-QPC\*\* \| 1,000 \| [\d.,]+ \| \*\*(\d+/\d+)\*\* \| [\d,]+ ± [\d,]+ \| "
                 r"\*\*([\d.]+) ± [\d.]+\*\* \|",
+                ("sets", "hours"),
+            ),
+        ],
+    ),
+    (
+        "paper-sim-real dyna-qpc N=1000",
+        ["--agent", "dyna-qpc", "--planning", "1000", *SIM_REAL],
+        500,
+        [
+            ("README.md", r"\*\*Dyna-QPC ([\d.]+) h\*\* \((\d+/\d+) sets[;)]", ("hours", "sets")),
+            (
+                "docs/results/paper-sim.md",
+                r"\| \*\*Dyna-QPC, realistic robot\*\* \(`paper-sim-real`\) \| 1,000 \| [\d.,]+ \| \*\*(\d+/\d+)\*\* \| "
+                r"[\d,]+ ± [\d,]+ \| \*\*([\d.]+) ±",
                 ("sets", "hours"),
             ),
         ],
