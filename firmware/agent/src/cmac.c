@@ -10,41 +10,32 @@
 #include "inline.h"
 #include "agent/oa_table.h"
 
-int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *counts,
-              int16_t *weights, uint32_t capacity)
+static bool config_ok_(const cmac_config_t *cfg, uint32_t capacity)
 {
-    if (cmac == NULL || cfg == NULL || keys == NULL || counts == NULL || weights == NULL) {
-        return FW_ERR_INVAL;
-    }
     if (cfg->n_inputs < 1u || cfg->n_inputs > FW_CFG_MAX_COMPONENTS ||  //
         cfg->n_actions < 1u || cfg->n_actions > FW_CFG_MAX_ACTIONS ||     //
         !FW_IS_POW2(cfg->n_tilings) || cfg->n_tilings > FW_CFG_MAX_TILINGS ||
         cfg->n_outputs < 1u || cfg->n_outputs > CMAC_MAX_OUTPUTS ||  //
         !(cfg->learning_rate > 0.0f && cfg->learning_rate <= 1.0f) ||    //
         !FW_IS_POW2(capacity) || capacity < 16u || (cfg->circular_mask >> cfg->n_inputs)) {
-        return FW_ERR_INVAL;
+        return false;
     }
     for (uint32_t k = 0; k < cfg->n_inputs; k++) {
         if (cfg->input_bits[k] < 1u || cfg->input_bits[k] > 16u ||
             cfg->tile_shift[k] > cfg->input_bits[k]) {
-            return FW_ERR_INVAL;
+            return false;
         }
     }
-    cmac->cfg = *cfg;
-    // The cells' keys: bounded windows of FW_CFG_MAX_PROBE cells, homes from the top bits of the
-    // key's hash.
-    if (oa_init(&cmac->index, keys, capacity, oa_probe_limit(capacity), OA_HOME_HIGH) != FW_OK) {
-        return FW_ERR_INVAL;
-    }
-    cmac->counts = counts;
-    cmac->weights = weights;
-    cmac->capacity = capacity;
-    const uint32_t tiling_bits = fw_log2_ceil(cfg->n_tilings);
+    return true;
+}
 
-    // Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
-    // factors (Miller and Glanz's asymmetric displacement) keep the tilings from sliding along
-    // the diagonal together. On integer inputs that is a whole number of values, and tilings
-    // with equal displacements are the same tiling: keep one pattern per distinct displacement.
+// Tiling t is displaced along input k by ((t * (2k + 1)) mod T) / T of a tile: the odd
+// factors (Miller and Glanz's asymmetric displacement) keep the tilings from sliding along
+// the diagonal together. On integer inputs that is a whole number of values, and tilings
+// with equal displacements are the same tiling: keep one pattern per distinct displacement.
+static void init_patterns_(cmac_t *cmac, uint32_t tiling_bits)
+{
+    const cmac_config_t *cfg = &cmac->cfg;
     cmac->n_patterns = 0;
     for (uint32_t t = 0; t < cfg->n_tilings; t++) {
         uint8_t off[FW_CFG_MAX_COMPONENTS];
@@ -71,10 +62,15 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         }
         cmac->copies[p]++;
     }
+}
 
-    // Key layout, low bits first: pattern number, action, then each input's tile index. A
-    // circular input of b bits and tile width 2^w has 2^(b-w) tiles; an ordinal one has one more,
-    // because the displacements push the last values into an extra tile.
+// Key layout, low bits first: pattern number, action, then each input's tile index. A
+// circular input of b bits and tile width 2^w has 2^(b-w) tiles; an ordinal one has one more,
+// because the displacements push the last values into an extra tile. False if the key needs
+// more than 31 bits.
+static bool init_key_layout_(cmac_t *cmac, uint32_t tiling_bits)
+{
+    const cmac_config_t *cfg = &cmac->cfg;
     uint32_t shift = tiling_bits;
     cmac->action_shift = (uint8_t)shift;
     shift += fw_log2_ceil(cfg->n_actions);
@@ -90,7 +86,7 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         }
     }
     if (shift > 31u) {
-        return FW_ERR_INVAL;
+        return false;
     }
     cmac->action_field = ((1u << (cmac->key_shift[0] - cmac->action_shift)) - 1u)
                          << cmac->action_shift;
@@ -100,11 +96,17 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
             cmac->tiled[cmac->n_tiled++] = (uint8_t)k;
         }
     }
-    // The fast path of cmac_tiles_of() adds every tiled input's displacement at once, in a word
-    // where input k's low bits (v mod 2^sh) and displacement sit just below bit key_shift[k], so
-    // that their carry lands on bit key_shift[k], the lowest bit of k's tile index. That needs
-    // the inputs' sh + 1 bit wide places in the word not to overlap, and no tiled input to wrap
-    // (a carry into a circular tile index would have to wrap around).
+    return true;
+}
+
+// The fast path of cmac_tiles_of() adds every tiled input's displacement at once, in a word
+// where input k's low bits (v mod 2^sh) and displacement sit just below bit key_shift[k], so
+// that their carry lands on bit key_shift[k], the lowest bit of k's tile index. That needs
+// the inputs' sh + 1 bit wide places in the word not to overlap, and no tiled input to wrap
+// (a carry into a circular tile index would have to wrap around).
+static void init_fast_path_(cmac_t *cmac)
+{
+    const cmac_config_t *cfg = &cmac->cfg;
     cmac->carry_bits = 0;
     uint32_t low = 0;  // the lowest bit still free in the word
     bool fits = true;
@@ -131,6 +133,30 @@ int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *c
         cmac->low_shift[k] = (uint8_t)(cmac->key_shift[k] - cfg->tile_shift[k]);
         cmac->low_field[k] = ((1u << cfg->tile_shift[k]) - 1u) << cmac->low_shift[k];
     }
+}
+
+int cmac_init(cmac_t *cmac, const cmac_config_t *cfg, uint32_t *keys, uint8_t *counts,
+              int16_t *weights, uint32_t capacity)
+{
+    if (cmac == NULL || cfg == NULL || keys == NULL || counts == NULL || weights == NULL ||
+        !config_ok_(cfg, capacity)) {
+        return FW_ERR_INVAL;
+    }
+    cmac->cfg = *cfg;
+    // The cells' keys: bounded windows of FW_CFG_MAX_PROBE cells, homes from the top bits of the
+    // key's hash.
+    if (oa_init(&cmac->index, keys, capacity, oa_probe_limit(capacity), OA_HOME_HIGH) != FW_OK) {
+        return FW_ERR_INVAL;
+    }
+    cmac->counts = counts;
+    cmac->weights = weights;
+    cmac->capacity = capacity;
+    const uint32_t tiling_bits = fw_log2_ceil(cfg->n_tilings);
+    init_patterns_(cmac, tiling_bits);
+    if (!init_key_layout_(cmac, tiling_bits)) {
+        return FW_ERR_INVAL;
+    }
+    init_fast_path_(cmac);
     cmac->rate_q = (int32_t)(cfg->learning_rate * (float)CMAC_ONE + 0.5f);
     cmac_clear(cmac);
     return FW_OK;

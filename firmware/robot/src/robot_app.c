@@ -188,6 +188,146 @@ static uint8_t save_reason_(int err)
     return err == FW_ERR_NOSYS ? TLM_WHY_NO_STORE : err == FW_ERR_NOMEM ? TLM_WHY_NO_ROOM : TLM_WHY_FLASH_ERROR;
 }
 
+static void refuse_(tlm_ack_t *ack, uint8_t why)
+{
+    ack->result = TLM_ACK_REFUSED;
+    ack->reason = why;
+}
+
+static void cmd_start_episode_(const tlm_tool_cmd_t *cmd)
+{
+    // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
+    // source has no heading of its own (a gyro only integrates), 0xFFFFFF to keep it.
+    // A heading from the operator makes it trusted (the operator put the robot down: the
+    // last fix's position is no reference for a jump). Without one an untrusted robot first
+    // finds its heading (pose_trust.h), then starts.
+    if (cmd->argument <= 35999u) {
+        gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
+        if (!heading_absolute_()) {
+            pose_trust_grant(&app_.trust, POSE_TRUST_WHY_OPERATOR);
+            app_.trusted_at_us = hal_time_us();
+            app_.have_fix_ref = false;
+            app_.fix_ref_us = hal_time_us();  // the next reference: a fix all taken from now on
+        }
+    }
+    interrupt_episode_();
+    if (app_.trust.trusted) {
+        app_.start_pending = false;
+        start_episode_();
+    } else {
+        app_.start_pending = true;
+    }
+}
+
+// Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-32 and a new counter make a
+// command; but evaluate mode is a lock on what was learned, and wiping it takes a robot the
+// operator has stopped first, so no single stray frame erases it mid-run.
+static void cmd_save_learned_(tlm_ack_t *ack)
+{
+    if (app_.opt.evaluate) {
+        refuse_(ack, TLM_WHY_EVALUATE_MODE);
+    } else if ((app_.ctrl.mode == ROBOT_MODE_ACTING || app_.trust.phase == POSE_TRUST_LEG_DRIVE) &&
+               app_.opt.cfg->wait_for_fix) {
+        // A robot that stands still between actions saves while it stands, as at an episode's
+        // end: erasing flash stalls the MCU for longer than the motor timeout. (One that never
+        // stands mid-episode, the simulated robot, saves at once.)
+        refuse_(ack, TLM_WHY_BUSY);
+    } else {
+        const int err = app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
+                                      : FW_ERR_NOSYS;
+        note_save_(err);
+        if (err == FW_OK) {
+            ack->sequence = app_.store.newest_sequence;
+        } else {
+            ack->result = TLM_ACK_FAILED;
+            ack->reason = save_reason_(err);
+        }
+    }
+}
+
+static void cmd_reset_learning_(const tlm_tool_cmd_t *cmd, tlm_ack_t *ack)
+{
+    if (app_.opt.evaluate) {
+        refuse_(ack, TLM_WHY_EVALUATE_MODE);
+    } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
+        refuse_(ack, TLM_WHY_NOT_IDLE);
+    } else if ((app_.stats.saves > 0u || app_.stats.restore_result == FW_OK) &&
+               cmd->argument != TLM_RESET_CONFIRM) {
+        // Learning saved since boot, or restored at it: the operator must say so.
+        refuse_(ack, TLM_WHY_CONFIRM);
+    } else {
+        // What is wiped is saved first (the robot stands: the time to write flash), so the
+        // newest record is that learning and RESTORE_PREVIOUS undoes the wipe. The saves of
+        // the new learning (episodes from 0 again) keep it (learned_store.h). A copy that
+        // cannot be written leaves the learning as it was. A second wipe before any save keeps
+        // the first one's copy as the newest record (the agent holds only the unsaved remains).
+        const bool copy = app_.store_ok && !app_.wiped_unsaved;
+        const int err = copy ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) : FW_OK;
+        if (copy) {
+            note_save_(err);
+        }
+        if (err != FW_OK) {
+            ack->result = TLM_ACK_FAILED;
+            ack->reason = save_reason_(err);
+        } else {
+            if (app_.store_ok) {
+                ack->sequence = app_.store.newest_sequence;
+            }
+            agent_reset(app_.opt.agent, app_.opt.seed);
+            app_.wiped_unsaved = app_.store_ok;
+            app_.ctrl.episode = 0;
+            app_.stats.resets++;
+            ack->episodes = 0;
+        }
+    }
+}
+
+static void cmd_restore_previous_(tlm_ack_t *ack)
+{
+    if (app_.opt.evaluate) {
+        refuse_(ack, TLM_WHY_EVALUATE_MODE);
+    } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
+        refuse_(ack, TLM_WHY_NOT_IDLE);
+    } else if (!app_.store_ok) {
+        ack->result = TLM_ACK_FAILED;
+        ack->reason = TLM_WHY_NO_STORE;
+    } else {
+        // After a wipe not saved over since, the newest record is the learning it wiped (saved
+        // by RESET_LEARNING); otherwise the record before the newest, which after a wipe and
+        // saves of the new learning is still the wiped learning (learned_store.h).
+        uint32_t episodes = 0;
+        int err;
+        if (app_.wiped_unsaved) {
+            err = learned_store_load(&app_.store, app_.opt.agent, &episodes);
+            if (err == FW_OK) {
+                (void)learned_store_slot_state(&app_.store, app_.opt.agent, (uint32_t)app_.store.restored_slot,
+                                               &ack->sequence);
+            }
+        } else {
+            err = learned_store_restore_previous(&app_.store, app_.opt.agent, &ack->sequence, &episodes);
+        }
+        if (err == FW_OK) {
+            app_.wiped_unsaved = false;
+            app_.ctrl.episode = episodes;
+            ack->episodes = episodes;
+            app_.stats.restores++;
+            // Saved at once as the newest record, so a reboot boots what was restored (the
+            // store keeps the other record: the one with more episodes, or the older).
+            const int serr = learned_store_save(&app_.store, app_.opt.agent, episodes);
+            note_save_(serr);
+            if (serr != FW_OK) {
+                ack->result = TLM_ACK_FAILED;
+                ack->reason = save_reason_(serr);
+            }
+        } else if (err == FW_ERR_NOENT) {
+            refuse_(ack, TLM_WHY_NO_PREVIOUS);
+        } else {
+            ack->result = TLM_ACK_FAILED;
+            ack->reason = TLM_WHY_RECORD_DAMAGED;
+        }
+    }
+}
+
 static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
 {
     tlm_ack_t ack = {cmd->command, counter, TLM_ACK_DONE, TLM_WHY_NONE, 0u, app_.ctrl.episode};
@@ -195,30 +335,9 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
         uint32_t episodes;
         (void)learned_store_newest(&app_.store, &ack.sequence, &episodes);
     }
-#define REFUSE(why) (ack.result = TLM_ACK_REFUSED, ack.reason = (why))
     switch (cmd->command) {
     case TLM_CMD_START_EPISODE:
-        // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
-        // source has no heading of its own (a gyro only integrates), 0xFFFFFF to keep it.
-        // A heading from the operator makes it trusted (the operator put the robot down: the
-        // last fix's position is no reference for a jump). Without one an untrusted robot first
-        // finds its heading (pose_trust.h), then starts.
-        if (cmd->argument <= 35999u) {
-            gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
-            if (!heading_absolute_()) {
-                pose_trust_grant(&app_.trust, POSE_TRUST_WHY_OPERATOR);
-                app_.trusted_at_us = hal_time_us();
-                app_.have_fix_ref = false;
-                app_.fix_ref_us = hal_time_us();  // the next reference: a fix all taken from now on
-            }
-        }
-        interrupt_episode_();
-        if (app_.trust.trusted) {
-            app_.start_pending = false;
-            start_episode_();
-        } else {
-            app_.start_pending = true;
-        }
+        cmd_start_episode_(cmd);
         break;
     case TLM_CMD_STOP:
         interrupt_episode_();
@@ -231,112 +350,18 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
         app_.start_pending = false;
         pose_trust_cancel(&app_.trust);
         break;
-    // Authority (docs/can-protocol.md): the bus is trusted, a valid CRC-32 and a new counter make a
-    // command; but evaluate mode is a lock on what was learned, and wiping it takes a robot the
-    // operator has stopped first, so no single stray frame erases it mid-run.
     case TLM_CMD_SAVE_LEARNED:
-        if (app_.opt.evaluate) {
-            REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if ((app_.ctrl.mode == ROBOT_MODE_ACTING || app_.trust.phase == POSE_TRUST_LEG_DRIVE) &&
-                   app_.opt.cfg->wait_for_fix) {
-            // A robot that stands still between actions saves while it stands, as at an episode's
-            // end: erasing flash stalls the MCU for longer than the motor timeout. (One that never
-            // stands mid-episode, the simulated robot, saves at once.)
-            REFUSE(TLM_WHY_BUSY);
-        } else {
-            const int err = app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
-                                          : FW_ERR_NOSYS;
-            note_save_(err);
-            if (err == FW_OK) {
-                ack.sequence = app_.store.newest_sequence;
-            } else {
-                ack.result = TLM_ACK_FAILED;
-                ack.reason = save_reason_(err);
-            }
-        }
+        cmd_save_learned_(&ack);
         break;
     case TLM_CMD_RESET_LEARNING:
-        if (app_.opt.evaluate) {
-            REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
-            REFUSE(TLM_WHY_NOT_IDLE);
-        } else if ((app_.stats.saves > 0u || app_.stats.restore_result == FW_OK) &&
-                   cmd->argument != TLM_RESET_CONFIRM) {
-            REFUSE(TLM_WHY_CONFIRM);  // learning saved since boot, or restored at it: the operator must say so
-        } else {
-            // What is wiped is saved first (the robot stands: the time to write flash), so the
-            // newest record is that learning and RESTORE_PREVIOUS undoes the wipe. The saves of
-            // the new learning (episodes from 0 again) keep it (learned_store.h). A copy that
-            // cannot be written leaves the learning as it was. A second wipe before any save keeps
-            // the first one's copy as the newest record (the agent holds only the unsaved remains).
-            const bool copy = app_.store_ok && !app_.wiped_unsaved;
-            const int err = copy ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode) : FW_OK;
-            if (copy) {
-                note_save_(err);
-            }
-            if (err != FW_OK) {
-                ack.result = TLM_ACK_FAILED;
-                ack.reason = save_reason_(err);
-            } else {
-                if (app_.store_ok) {
-                    ack.sequence = app_.store.newest_sequence;
-                }
-                agent_reset(app_.opt.agent, app_.opt.seed);
-                app_.wiped_unsaved = app_.store_ok;
-                app_.ctrl.episode = 0;
-                app_.stats.resets++;
-                ack.episodes = 0;
-            }
-        }
+        cmd_reset_learning_(cmd, &ack);
         break;
     case TLM_CMD_RESTORE_PREVIOUS:
-        if (app_.opt.evaluate) {
-            REFUSE(TLM_WHY_EVALUATE_MODE);
-        } else if (app_.ctrl.mode != ROBOT_MODE_IDLE || app_.start_pending) {
-            REFUSE(TLM_WHY_NOT_IDLE);
-        } else if (!app_.store_ok) {
-            ack.result = TLM_ACK_FAILED;
-            ack.reason = TLM_WHY_NO_STORE;
-        } else {
-            // After a wipe not saved over since, the newest record is the learning it wiped (saved
-            // by RESET_LEARNING); otherwise the record before the newest, which after a wipe and
-            // saves of the new learning is still the wiped learning (learned_store.h).
-            uint32_t episodes = 0;
-            int err;
-            if (app_.wiped_unsaved) {
-                err = learned_store_load(&app_.store, app_.opt.agent, &episodes);
-                if (err == FW_OK) {
-                    (void)learned_store_slot_state(&app_.store, app_.opt.agent, (uint32_t)app_.store.restored_slot,
-                                                   &ack.sequence);
-                }
-            } else {
-                err = learned_store_restore_previous(&app_.store, app_.opt.agent, &ack.sequence, &episodes);
-            }
-            if (err == FW_OK) {
-                app_.wiped_unsaved = false;
-                app_.ctrl.episode = episodes;
-                ack.episodes = episodes;
-                app_.stats.restores++;
-                // Saved at once as the newest record, so a reboot boots what was restored (the
-                // store keeps the other record: the one with more episodes, or the older).
-                const int serr = learned_store_save(&app_.store, app_.opt.agent, episodes);
-                note_save_(serr);
-                if (serr != FW_OK) {
-                    ack.result = TLM_ACK_FAILED;
-                    ack.reason = save_reason_(serr);
-                }
-            } else if (err == FW_ERR_NOENT) {
-                REFUSE(TLM_WHY_NO_PREVIOUS);
-            } else {
-                ack.result = TLM_ACK_FAILED;
-                ack.reason = TLM_WHY_RECORD_DAMAGED;
-            }
-        }
+        cmd_restore_previous_(&ack);
         break;
     default:  // NOP
         break;
     }
-#undef REFUSE
     answer_(&ack);
 }
 
@@ -740,6 +765,85 @@ static bool idle_(void *ctx)
 
 // ---- Boot ---------------------------------------------------------------------------------------
 
+// The learning saved in flash, if the build keeps it and its record fits the store's slots.
+static void restore_learning_(const robot_app_options_t *opt)
+{
+    app_.stats.restore_result = FW_ERR_NOENT;
+    if (opt->persist) {
+        app_.store_ok = learned_store_init(&app_.store) == FW_OK &&
+                        learned_store_record_size(opt->agent) <= app_.store.slot_size;
+        if (app_.store_ok) {
+            app_.stats.restore_result =
+                learned_store_load(&app_.store, opt->agent, &app_.stats.restored_episodes);
+            // Refused or damaged records, a fallback to an older one: reported, not silent.
+            app_.stats.records_refused = app_.store.refused_records + app_.store.corrupt_records;
+            app_.stats.restore_fell_back = app_.store.fell_back;
+            app_.flash_fault = app_.stats.restore_result == FW_ERR_CORRUPT || app_.store.fell_back;
+        }
+    }
+}
+
+// What the robot did when it last stopped (the boot journal): an episode still running was cut by
+// this boot, and the numbering goes on after it.
+static void open_journal_(void)
+{
+    if (!app_.store_ok) {
+        return;
+    }
+    boot_journal_entry_t last;
+    if (boot_journal_open(&app_.journal, &app_.store, &last)) {
+        if (last.running) {
+            app_.boot_report = true;
+            app_.stats.episodes_interrupted++;
+            app_.stats.boot_cut_episode = last.episode;
+            app_.stats.boot_cut_steps = last.steps;
+        }
+        // Numbers go on after the cut episode's (the record holds only the finished ones).
+        app_.ctrl.episode = last.episode > app_.ctrl.episode ? last.episode : app_.ctrl.episode;
+    }
+    (void)boot_journal_append(&app_.journal, app_.ctrl.episode, 0u, false);
+}
+
+static int init_cricket_(const robot_config_t *cfg)
+{
+    if (cfg->pose_source != ROBOT_POSE_CRICKET) {
+        return FW_OK;
+    }
+    struct cricket_config cc;
+    cricket_default_config(&cc);
+    for (uint32_t i = 0; i < cfg->n_beacons; i++) {
+        app_.beacons[i] = (cricket_beacon_t){cfg->beacons[i].id, cfg->beacons[i].x * 1000.0f,
+                                             cfg->beacons[i].y * 1000.0f, cfg->beacons[i].z * 1000.0f};
+    }
+    cc.beacons = app_.beacons;
+    cc.n_beacons = cfg->n_beacons;
+    cc.listener_z_mm = cfg->listener_z * 1000.0f;
+    return cricket_init(&app_.cricket, &cc);
+}
+
+// The control and status tasks and the CAN and UART events on the scheduler.
+static int init_sched_(const robot_app_options_t *opt, const robot_config_t *cfg)
+{
+    const sched_config_t sc = {idle_, NULL, opt->plan_budget_us, 0u, opt->plan_cycles};
+    int err = sched_init(&app_.sched, &sc);
+    if (err) {
+        return err;
+    }
+    // A run more than FW_CFG_SCHED_TOLERANCE_PERMILLE of its period late is a deadline miss.
+    const sched_task_config_t control = {"control", control_task_, NULL, cfg->period_us, 0u,
+                                         sched_tolerance_us(cfg->period_us), 0u};
+    const sched_task_config_t status = {"status", status_task_, NULL, STATUS_PERIOD_US, 1000u,
+                                        sched_tolerance_us(STATUS_PERIOD_US), 0u};
+    if (sched_add_task(&app_.sched, &control) < 0 || sched_add_task(&app_.sched, &status) < 0) {
+        return FW_ERR_NOMEM;
+    }
+    // Event types below FW_CFG_SCHED_EVENT_TYPES on a live scheduler: only a programming error fails.
+    FW_UNUSED const int on_can = sched_on_event(&app_.sched, EV_CAN, on_can_event_, NULL);
+    FW_UNUSED const int on_uart = sched_on_event(&app_.sched, EV_UART, on_uart_event_, NULL);
+    FW_ASSERT(on_can == FW_OK && on_uart == FW_OK);
+    return FW_OK;
+}
+
 int robot_app_init(const robot_app_options_t *opt)
 {
     if (opt == NULL || opt->agent == NULL || opt->storage == NULL || robot_config_check(opt->cfg) != FW_OK) {
@@ -764,78 +868,27 @@ int robot_app_init(const robot_app_options_t *opt)
     if (err) {
         return err;
     }
-    app_.stats.restore_result = FW_ERR_NOENT;
-    if (opt->persist) {
-        app_.store_ok = learned_store_init(&app_.store) == FW_OK &&
-                        learned_store_record_size(opt->agent) <= app_.store.slot_size;
-        if (app_.store_ok) {
-            app_.stats.restore_result =
-                learned_store_load(&app_.store, opt->agent, &app_.stats.restored_episodes);
-            // Refused or damaged records, a fallback to an older one: reported, not silent.
-            app_.stats.records_refused = app_.store.refused_records + app_.store.corrupt_records;
-            app_.stats.restore_fell_back = app_.store.fell_back;
-            app_.flash_fault = app_.stats.restore_result == FW_ERR_CORRUPT || app_.store.fell_back;
-        }
-    }
+    restore_learning_(opt);
     robot_ctrl_init(&app_.ctrl, cfg, opt->agent);
     pose_trust_init(&app_.trust, cfg->pose_source != ROBOT_POSE_CRICKET);
     app_.tlm_planning_updates = opt->agent->stats.planning_updates;
     app_.ctrl.learning = !opt->evaluate;
     app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
-    if (app_.store_ok) {
-        // What the robot did when it last stopped: an episode still running was cut by this boot.
-        boot_journal_entry_t last;
-        if (boot_journal_open(&app_.journal, &app_.store, &last)) {
-            if (last.running) {
-                app_.boot_report = true;
-                app_.stats.episodes_interrupted++;
-                app_.stats.boot_cut_episode = last.episode;
-                app_.stats.boot_cut_steps = last.steps;
-            }
-            // Numbers go on after the cut episode's (the record holds only the finished ones).
-            app_.ctrl.episode = last.episode > app_.ctrl.episode ? last.episode : app_.ctrl.episode;
-        }
-        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, 0u, false);
-    }
+    open_journal_();
     app_.stats.boot_count = app_.journal.boot;
 
     candev_init(&app_.dev);
     if (opt->gyro_period_ms != 0u) {
         gyro_set_sample_period(&app_.dev.gyro, (uint16_t)(opt->gyro_period_ms * 1000u));
     }
-    if (cfg->pose_source == ROBOT_POSE_CRICKET) {
-        struct cricket_config cc;
-        cricket_default_config(&cc);
-        for (uint32_t i = 0; i < cfg->n_beacons; i++) {
-            app_.beacons[i] = (cricket_beacon_t){cfg->beacons[i].id, cfg->beacons[i].x * 1000.0f,
-                                                 cfg->beacons[i].y * 1000.0f, cfg->beacons[i].z * 1000.0f};
-        }
-        cc.beacons = app_.beacons;
-        cc.n_beacons = cfg->n_beacons;
-        cc.listener_z_mm = cfg->listener_z * 1000.0f;
-        err = cricket_init(&app_.cricket, &cc);
-        if (err) {
-            return err;
-        }
-    }
-
-    const sched_config_t sc = {idle_, NULL, opt->plan_budget_us, 0u, opt->plan_cycles};
-    err = sched_init(&app_.sched, &sc);
+    err = init_cricket_(cfg);
     if (err) {
         return err;
     }
-    // A run more than FW_CFG_SCHED_TOLERANCE_PERMILLE of its period late is a deadline miss.
-    const sched_task_config_t control = {"control", control_task_, NULL, cfg->period_us, 0u,
-                                         sched_tolerance_us(cfg->period_us), 0u};
-    const sched_task_config_t status = {"status", status_task_, NULL, STATUS_PERIOD_US, 1000u,
-                                        sched_tolerance_us(STATUS_PERIOD_US), 0u};
-    if (sched_add_task(&app_.sched, &control) < 0 || sched_add_task(&app_.sched, &status) < 0) {
-        return FW_ERR_NOMEM;
+    err = init_sched_(opt, cfg);
+    if (err) {
+        return err;
     }
-    // Event types below FW_CFG_SCHED_EVENT_TYPES on a live scheduler: only a programming error fails.
-    FW_UNUSED const int on_can = sched_on_event(&app_.sched, EV_CAN, on_can_event_, NULL);
-    FW_UNUSED const int on_uart = sched_on_event(&app_.sched, EV_UART, on_uart_event_, NULL);
-    FW_ASSERT(on_can == FW_OK && on_uart == FW_OK);
     err = hal_can_init(CAN_BITRATE, candev_rx_ids, CANDEV_RX_ID_COUNT, on_can_isr_, NULL);
     if (err) {
         return err;
