@@ -168,10 +168,8 @@ void print_task_timing(sched_task_id_t id, const sched_task_stats_t &ts, double 
     std::printf("\n");
 }
 
-int run(const std::vector<std::string> &args)
+void declare_options(Options &o, Settings &s)
 {
-    Settings s;
-    Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
     o.add_string("--scenario", "S", "paper-sim, paper-lab or a scenario file: the robot's configuration",
                  &s.scenario);
     o.add_choice("--agent", "NAME", agent_kind_list() + " (default dyna-qpc)", &s.agent,
@@ -193,21 +191,11 @@ int run(const std::vector<std::string> &args)
                &s.auto_start);
     o.add_double("--duration", "SEC", "stop after SEC seconds of wall time (default: until SIGINT/SIGTERM)",
                  &s.duration, 0.0, 1e9, true, false);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, "dynaqpc-fw");
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) {
-        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
-    }
-    const ScenarioBundle sb = load_scenario(s.scenario);
-    robot_config_t cfg = sb.robot;
-    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, nullptr, nullptr, nullptr}, &cfg);
-    if (cfg.pose_source == ROBOT_POSE_CRICKET && s.cricket_tty.empty()) {
-        throw UsageError("--cricket-tty: required, " + sb.name + " finds its pose with Cricket beacons");
-    }
+}
 
+// The host port in real time at --speed, its flash (from --flash) and the virtual CAN bus.
+void start_host(const Settings &s)
+{
     hal_host_reset();
     hal_host_time_set_mode(HAL_HOST_CLOCK_REALTIME);
     if (hal_host_time_set_speed(s.speed) != 0) {
@@ -222,7 +210,11 @@ int run(const std::vector<std::string> &args)
     }
     g_bus.open();
     hal_host_can_set_transport(&kTransport);
+}
 
+// robot_app_init() with the scenario's agent profile; returns the agent.
+agent_t *boot_firmware(const robot_config_t &cfg, const Settings &s)
+{
     agent_t *agent = nullptr;
     const agent_storage_t *storage = nullptr;
     pick_agent_profile(cfg, &agent, &storage);
@@ -247,17 +239,11 @@ int run(const std::vector<std::string> &args)
             throw UsageError("--cricket-tty: cannot open " + s.cricket_tty + " as a serial line");
         }
     }
+    return agent;
+}
 
-    struct sigaction sa {};
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-
-    pthread_t rx;
-    if (pthread_create(&rx, nullptr, rx_thread, nullptr) != 0) {
-        throw std::runtime_error("cannot start the CAN receiver thread");
-    }
+void print_ready(const ScenarioBundle &sb, const robot_config_t &cfg, const Settings &s)
+{
     robot_app_stats_t st0;
     robot_app_get_stats(&st0);
     std::printf("dynaqpc-fw: %s, %s, speed %gx, planning %s, restored %s; ready\n", sb.name.c_str(),
@@ -271,7 +257,11 @@ int run(const std::vector<std::string> &args)
                     st0.restore_result == 0 ? "restored an older good one" : "starting fresh");
     }
     std::fflush(stdout);
+}
 
+// Steps the firmware until SIGINT/SIGTERM or --duration; returns the wall time it ran.
+double run_loop(const Settings &s)
+{
     // Linux lets a sleeping thread wake up to 50 us late by default (timer slack) to batch
     // wake-ups; at --speed X that is X times as much firmware time, for nothing: ask for 1 ns.
     (void)prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
@@ -288,31 +278,41 @@ int run(const std::vector<std::string> &args)
             cricket_lost_reported = true;  // the firmware keeps running and reports a lost fix
         }
     }
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    // The firmware's counters as it stopped: what the drain below receives is never handled, and
-    // would count as dropped events (hundreds at 10x).
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+}
+
+// The firmware's counters as it stopped.
+struct FinalCounts {
     robot_app_stats_t st;
-    robot_app_get_stats(&st);
     sched_stats_t ss;
-    sched_get_stats(robot_app_sched(), &ss);
     cricket_stats_t ck;
-    robot_app_get_cricket_stats(&ck);
     hal_uart_stats_t us;
-    hal_uart_get_stats(&us);
-    const std::uint32_t uart_discarded = hal_host_uart_discarded();
-    const std::uint32_t uart_stall_lost = hal_host_uart_stall_lost();
-    const std::uint32_t uart_stalls = hal_host_uart_stalls();
+    std::uint32_t uart_discarded;
+    std::uint32_t uart_stall_lost;
+    std::uint32_t uart_stalls;
+    agent_counter_t q_rows;
+};
+
+void collect_final(agent_t *agent, FinalCounts &f)
+{
+    robot_app_get_stats(&f.st);
+    sched_get_stats(robot_app_sched(), &f.ss);
+    robot_app_get_cricket_stats(&f.ck);
+    hal_uart_get_stats(&f.us);
+    f.uart_discarded = hal_host_uart_discarded();
+    f.uart_stall_lost = hal_host_uart_stall_lost();
+    f.uart_stalls = hal_host_uart_stalls();
     agent_counter_t counters[AGENT_MAX_COUNTERS];
     (void)agent_counters(agent, counters);
-    const agent_counter_t q_rows = counters[0];  // agent_counters() lists the Q store's rows first
-    // Stop sending; keep receiving a little while for frames still in flight, then stop.
-    hal_host_can_set_transport(nullptr);
-    struct timespec drain = {0, kDrainMs * 1000000L};
-    nanosleep(&drain, nullptr);
-    g_rx_run.store(false);
-    pthread_join(rx, nullptr);
-    hal_host_uart_close_path();
+    f.q_rows = counters[0];  // agent_counters() lists the Q store's rows first
+}
 
+void print_final(const FinalCounts &f, const agent_t *agent, double wall_s, double speed)
+{
+    const robot_app_stats_t &st = f.st;
+    const sched_stats_t &ss = f.ss;
+    const cricket_stats_t &ck = f.ck;
+    const hal_uart_stats_t &us = f.us;
     hal_can_stats_t cs;
     hal_can_get_stats(&cs);
     std::printf("dynaqpc-fw: stopped after %.1f s wall, %.1f s firmware time\n", wall_s,
@@ -322,8 +322,8 @@ int run(const std::vector<std::string> &args)
                 "uart_overruns=%u uart_discarded=%u uart_stall_lost=%u uart_stalls=%u\n",
                 st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
-                q_rows.value, q_rows.capacity, us.rx_bytes, us.rx_overruns,
-                uart_discarded, uart_stall_lost, uart_stalls);
+                f.q_rows.value, f.q_rows.capacity, us.rx_bytes, us.rx_overruns,
+                f.uart_discarded, f.uart_stall_lost, f.uart_stalls);
     // Planning: all of it (after each step, N or the first updates before acting) and the idle
     // loop's share (the scheduler's idle steps).
     {
@@ -352,12 +352,61 @@ int run(const std::vector<std::string> &args)
                 ck.lines, ck.ranges, ck.overlong, ck.garbage, ck.malformed, ck.no_range, ck.unknown_beacon,
                 ck.bad_range, ck.bad_geometry, ck.inconsistent);
     for (std::uint32_t i = 0; i < ss.task_count; i++) {
-        print_task_timing(static_cast<sched_task_id_t>(i), ss.task[i], s.speed);
+        print_task_timing(static_cast<sched_task_id_t>(i), ss.task[i], speed);
     }
     std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64
                 " malformed=%" PRIu64 " can_rx_accepted=%u\n",
                 g_bus.frames_sent(), g_bus.send_errors(), g_bus.frames_received(), g_bus.frames_malformed(),
                 cs.rx_frames);
+}
+
+int run(const std::vector<std::string> &args)
+{
+    Settings s;
+    Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
+    declare_options(o, s);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, "dynaqpc-fw");
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) {
+        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    }
+    const ScenarioBundle sb = load_scenario(s.scenario);
+    robot_config_t cfg = sb.robot;
+    apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, nullptr, nullptr, nullptr}, &cfg);
+    if (cfg.pose_source == ROBOT_POSE_CRICKET && s.cricket_tty.empty()) {
+        throw UsageError("--cricket-tty: required, " + sb.name + " finds its pose with Cricket beacons");
+    }
+    start_host(s);
+    agent_t *agent = boot_firmware(cfg, s);
+
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    pthread_t rx;
+    if (pthread_create(&rx, nullptr, rx_thread, nullptr) != 0) {
+        throw std::runtime_error("cannot start the CAN receiver thread");
+    }
+    print_ready(sb, cfg, s);
+    const double wall_s = run_loop(s);
+    // The firmware's counters as it stopped: what the drain below receives is never handled, and
+    // would count as dropped events (hundreds at 10x).
+    FinalCounts final_counts{};
+    collect_final(agent, final_counts);
+    // Stop sending; keep receiving a little while for frames still in flight, then stop.
+    hal_host_can_set_transport(nullptr);
+    struct timespec drain = {0, kDrainMs * 1000000L};
+    nanosleep(&drain, nullptr);
+    g_rx_run.store(false);
+    pthread_join(rx, nullptr);
+    hal_host_uart_close_path();
+
+    print_final(final_counts, agent, wall_s, s.speed);
     hal_host_flash_detach_file();
     g_bus.close();
     return kExitOk;

@@ -249,12 +249,8 @@ void receive_until(BusLink &bus, Clock::time_point until, F on_frame)
     }
 }
 
-}  // namespace
-
-int cmd_devices(const std::string &program, const std::vector<std::string> &args)
+void declare_options(Options &o, DevicesSettings &s)
 {
-    DevicesSettings s;
-    Options o("devices", "the simulated robot's devices in real time on the virtual CAN bus");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)", &s.scenario);
     o.add_double("--speed", "X", "world time runs X times faster than real time (default 1; the firmware's "
                  "--speed must match)", &s.speed, 0.0, 1000.0, true, false);
@@ -270,6 +266,83 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     o.add_flag("--wait-firmware", "send nothing (no frames, no Cricket lines) until the firmware is heard on "
                "the bus; world time starts then (for an exact frame count: tools/bench_bus.sh)",
                &s.wait_firmware);
+}
+
+// --wait-firmware: the devices are switched on once the firmware runs, so the firmware hears their
+// first frame and the Cricket line's first byte. The heard frame goes to the supervisor. False if
+// stopped (SIGINT/SIGTERM) before.
+bool wait_for_firmware(BusLink &bus, Supervisor &sup, const DevicesSettings &s)
+{
+    const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                            std::chrono::duration<double>(s.duration > 0.0 ? s.duration : 1e9));
+    bool heard = false;
+    hal_can_frame_t first{};
+    while (!heard && !g_stop.load() && Clock::now() < give_up) {
+        receive_until(bus, std::min(give_up, Clock::now() + std::chrono::milliseconds(100)),
+                      [&](const hal_can_frame_t &f) {
+                          if (!heard && from_firmware(f)) {
+                              heard = true;
+                              first = f;
+                          }
+                      });
+    }
+    if (!heard) {
+        if (g_stop.load()) return false;
+        throw std::runtime_error("--wait-firmware: the firmware was not heard on the bus");
+    }
+    if (s.supervise) (void)sup.on_frame(first, 0);
+    std::printf("devices: firmware heard; starting\n");
+    std::fflush(stdout);
+    return true;
+}
+
+// The devices' frames at t_us onto the bus, and the Cricket listener's bytes into its pty (nullptr:
+// none); the buffers are the caller's, kept from step to step.
+void emit(Devices &devices, BusLink &bus, pty_t *pty, std::uint64_t t_us, std::vector<hal_can_frame_t> *frames,
+          std::string *serial, std::uint64_t *pty_bytes, std::uint64_t *pty_dropped)
+{
+    frames->clear();
+    serial->clear();
+    devices.emit(t_us, frames, serial);
+    for (const hal_can_frame_t &f : *frames) (void)bus.send(f);
+    if (pty != nullptr && !serial->empty()) {
+        const int n = pty_write(pty, serial->data(), serial->size());
+        const std::uint64_t written = n > 0 ? static_cast<std::uint64_t>(n) : 0u;
+        *pty_bytes += written;
+        *pty_dropped += serial->size() - written;  // nobody reading yet, or a reader too slow
+    }
+}
+
+// What the run counted, for the last lines.
+struct RunCounts {
+    double wall_s;
+    std::uint64_t t_us, late_steps, pty_bytes, pty_dropped;
+};
+
+void print_stopped(const RunCounts &c, const Supervisor &sup, const Devices &devices, const PoseCheck &pose_check,
+                   const BusLink &bus)
+{
+    std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
+                "safe_stops=%u safe_stop_restarts=%u reboots=%u cut_by_start=%u "
+                "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
+                " pty_dropped=%" PRIu64 "\n",
+                c.wall_s, static_cast<double>(c.t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
+                sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(), sup.episodes_cut_by_start(),
+                devices.motor_cmds(), devices.motor_cmds_rejected(), c.late_steps, c.pty_bytes, c.pty_dropped);
+    std::printf("pose: learned_steps=%u %s learned_over_20deg=%u\n", pose_check.steps(), pose_check.summary().c_str(),
+                pose_check.learned_over_20deg());
+    std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
+                bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int cmd_devices(const std::string &program, const std::vector<std::string> &args)
+{
+    DevicesSettings s;
+    Options o("devices", "the simulated robot's devices in real time on the virtual CAN bus");
+    declare_options(o, s);
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
@@ -311,30 +384,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     std::vector<hal_can_frame_t> frames;
     std::string serial;
     std::uint64_t t_us = 0, late_steps = 0, pty_bytes = 0, pty_dropped = 0;
-    if (s.wait_firmware) {
-        // The devices are switched on once the firmware runs: the firmware then hears their first
-        // frame and the Cricket line's first byte. The heard frame goes to the supervisor below.
-        const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(s.duration > 0.0 ? s.duration : 1e9));
-        bool heard = false;
-        hal_can_frame_t first{};
-        while (!heard && !g_stop.load() && Clock::now() < give_up) {
-            receive_until(bus, std::min(give_up, Clock::now() + std::chrono::milliseconds(100)),
-                          [&](const hal_can_frame_t &f) {
-                              if (!heard && from_firmware(f)) {
-                                  heard = true;
-                                  first = f;
-                              }
-                          });
-        }
-        if (!heard) {
-            if (g_stop.load()) return kExitOk;
-            throw std::runtime_error("--wait-firmware: the firmware was not heard on the bus");
-        }
-        if (s.supervise) (void)sup.on_frame(first, 0);
-        std::printf("devices: firmware heard; starting\n");
-        std::fflush(stdout);
-    }
+    if (s.wait_firmware && !wait_for_firmware(bus, sup, s)) return kExitOk;
     const auto wall0 = Clock::now();
     const auto wall_of = [&](std::uint64_t t) {
         return wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(t) * 1000.0 / s.speed));
@@ -351,16 +401,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     while (!g_stop.load() && !finished) {
         if (s.duration > 0.0 && std::chrono::duration<double>(Clock::now() - wall0).count() >= s.duration) break;
         if (s.supervise) sup.poll(t_us);
-        frames.clear();
-        serial.clear();
-        devices.emit(t_us, &frames, &serial);
-        for (const hal_can_frame_t &f : frames) (void)bus.send(f);
-        if (cricket && !serial.empty()) {
-            const int n = pty_write(&pty, serial.data(), serial.size());
-            const std::uint64_t written = n > 0 ? static_cast<std::uint64_t>(n) : 0u;
-            pty_bytes += written;
-            pty_dropped += serial.size() - written;  // nobody reading yet, or a reader too slow
-        }
+        emit(devices, bus, cricket ? &pty : nullptr, t_us, &frames, &serial, &pty_bytes, &pty_dropped);
         const auto due = wall_of(t_us + dt_us);
         if (Clock::now() > due) late_steps++;
         receive_until(bus, due, on_frame);
@@ -371,18 +412,8 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
     receive_until(bus, Clock::now() + std::chrono::milliseconds(kDrainMs), [&](const hal_can_frame_t &) {});
     if (cricket) pty_close(&pty);
-    std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
-                "safe_stops=%u safe_stop_restarts=%u reboots=%u cut_by_start=%u "
-                "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
-                " pty_dropped=%" PRIu64 "\n",
-                wall_s, static_cast<double>(t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
-                sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(), sup.episodes_cut_by_start(),
-                devices.motor_cmds(), devices.motor_cmds_rejected(), late_steps, pty_bytes, pty_dropped);
-    std::printf("pose: learned_steps=%u %s learned_over_20deg=%u\n", pose_check.steps(), pose_check.summary().c_str(),
-                pose_check.learned_over_20deg());
-    std::printf("bus: frames_sent=%" PRIu64 " send_errors=%" PRIu64 " frames_received=%" PRIu64 " malformed=%" PRIu64 "\n",
-                bus.frames_sent(), bus.send_errors(), bus.frames_received(), bus.frames_malformed());
-    std::fflush(stdout);
+    const RunCounts counts{wall_s, t_us, late_steps, pty_bytes, pty_dropped};
+    print_stopped(counts, sup, devices, pose_check, bus);
     return kExitOk;
 }
 

@@ -116,33 +116,10 @@ std::vector<SlotInfo> slots_of(const agent_t *ag)
     return out;
 }
 
-std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t *ag, const std::vector<SlotInfo> &slots)
+// The state grid: cells, their edges (a grid fitted to the room has cells of different sizes) and
+// the goal's cells.
+void write_grid(std::ostringstream &o, const robot_config_t &cfg)
 {
-    agent_space_t sp;
-    robot_config_space(&cfg, &sp);
-    const std::uint32_t bits = space_state_bits(&sp);
-    const std::uint32_t n_states = 1u << bits;
-    const std::uint32_t na = sp.n_actions;
-    robot_app_stats_t rs;
-    robot_app_get_stats(&rs);
-
-    std::ostringstream o;
-    o << "{\"format\":\"dynaqpc-learned 1\",\"scenario\":\"" << sb.name << "\",\"agent\":\"" << kind_name(cfg.agent)
-      << "\",\n\"record\":{\"episodes\":" << rs.restored_episodes << ",\"fell_back\":" << (rs.restore_fell_back ? "true" : "false")
-      << ",\"slots\":[";
-    for (std::size_t i = 0; i < slots.size(); i++) {
-        o << (i ? "," : "") << "{\"state\":\"" << slot_state_name(slots[i].state) << "\",\"sequence\":" << slots[i].sequence
-          << ",\"episodes\":" << slots[i].episodes << "}";
-    }
-    o << "]},\n\"space\":{\"components\":[";
-    const char *names[4] = {"x", "y", "heading", "code"};
-    std::uint32_t shift = 0;
-    for (std::uint32_t k = 0; k < sp.n_components; k++) {
-        o << (k ? "," : "") << "{\"name\":\"" << names[k] << "\",\"bits\":" << unsigned(sp.bits[k]) << ",\"shift\":" << shift << "}";
-        shift += sp.bits[k];
-    }
-    o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
-      << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << "},\n";
     const std::uint32_t nx = robot_grid_cells(&cfg, ROBOT_AXIS_X), ny = robot_grid_cells(&cfg, ROBOT_AXIS_Y);
     float x0, cw, y0, ch;
     robot_grid_span(&cfg, ROBOT_AXIS_X, 0, &x0, &cw);
@@ -178,27 +155,18 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
             }
         }
     }
-    std::string arena = arena_json(*sb.world);
-    while (!arena.empty() && arena.back() == '\n') arena.pop_back();
-    o << "]},\n\"arena\":" << arena << ",\n";
+    o << "]";
+}
 
-    // What the agent knows, as its modules describe it (agent_walk).
-    Knowledge k(n_states, na);
-    (void)agent_walk(ag, AGENT_FACT_TABLE | AGENT_FACT_STATE, Knowledge::take, &k);
-    o << "\"fill\":{";
-    for (std::size_t i = 0; i < k.fill.size(); i++) {
-        const agent_table_fill_t &t = k.fill[i];
-        o << (i ? "," : "") << "\"" << t.name << "\":{\"" << t.unit << "\":" << t.used << ",\"capacity\":" << t.capacity;
-        if (t.dense >= 0) o << ",\"dense\":" << (t.dense ? "true" : "false");
-        o << "}";
-    }
-    o << "},\n";
-
+void write_states(std::ostringstream &o, const agent_space_t &sp, agent_t *ag, const Knowledge &k)
+{
+    const std::uint32_t n_states = 1u << space_state_bits(&sp);
+    const std::uint32_t na = sp.n_actions;
     // Per state: whether it has a Q row, was visited (perceived on a real step), is modelled (the
     // model predicts an action there, tried or generalised); its Q values and real experience.
     o << "\"states_columns\":[\"s\",\"x\",\"y\",\"heading\",\"code\",\"row\",\"visited\",\"modelled\",\"greedy\",\"v\",\"q\",\"n\"],\n"
       << "\"states\":[";
-    first = true;
+    bool first = true;
     for (std::uint32_t s = 0; s < n_states; s++) {
         const bool row = k.row[s] != 0, vis = k.visited[s] != 0, modelled = k.modelled[s] != 0;
         if (!row && !vis && !modelled) continue;
@@ -216,6 +184,53 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
         o << "]]";
         first = false;
     }
+}
+
+std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t *ag, const std::vector<SlotInfo> &slots)
+{
+    agent_space_t sp;
+    robot_config_space(&cfg, &sp);
+    const std::uint32_t bits = space_state_bits(&sp);
+    const std::uint32_t n_states = 1u << bits;
+    const std::uint32_t na = sp.n_actions;
+    robot_app_stats_t rs;
+    robot_app_get_stats(&rs);
+
+    std::ostringstream o;
+    o << "{\"format\":\"dynaqpc-learned 1\",\"scenario\":\"" << sb.name << "\",\"agent\":\"" << kind_name(cfg.agent)
+      << "\",\n\"record\":{\"episodes\":" << rs.restored_episodes << ",\"fell_back\":" << (rs.restore_fell_back ? "true" : "false")
+      << ",\"slots\":[";
+    for (std::size_t i = 0; i < slots.size(); i++) {
+        o << (i ? "," : "") << "{\"state\":\"" << slot_state_name(slots[i].state) << "\",\"sequence\":" << slots[i].sequence
+          << ",\"episodes\":" << slots[i].episodes << "}";
+    }
+    o << "]},\n\"space\":{\"components\":[";
+    const char *names[4] = {"x", "y", "heading", "code"};
+    std::uint32_t shift = 0;
+    for (std::uint32_t k = 0; k < sp.n_components; k++) {
+        o << (k ? "," : "") << "{\"name\":\"" << names[k] << "\",\"bits\":" << unsigned(sp.bits[k]) << ",\"shift\":" << shift << "}";
+        shift += sp.bits[k];
+    }
+    o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
+      << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << "},\n";
+    write_grid(o, cfg);
+    std::string arena = arena_json(*sb.world);
+    while (!arena.empty() && arena.back() == '\n') arena.pop_back();
+    o << "},\n\"arena\":" << arena << ",\n";
+
+    // What the agent knows, as its modules describe it (agent_walk).
+    Knowledge k(n_states, na);
+    (void)agent_walk(ag, AGENT_FACT_TABLE | AGENT_FACT_STATE, Knowledge::take, &k);
+    o << "\"fill\":{";
+    for (std::size_t i = 0; i < k.fill.size(); i++) {
+        const agent_table_fill_t &t = k.fill[i];
+        o << (i ? "," : "") << "\"" << t.name << "\":{\"" << t.unit << "\":" << t.used << ",\"capacity\":" << t.capacity;
+        if (t.dense >= 0) o << ",\"dense\":" << (t.dense ? "true" : "false");
+        o << "}";
+    }
+    o << "},\n";
+
+    write_states(o, sp, ag, k);
     o << "]}\n";
     return o.str();
 }

@@ -22,111 +22,112 @@
 
 namespace dynaqpc {
 
-int cmd_run(const std::string &program, const std::vector<std::string> &args)
-{
+namespace {
+
+struct RunArgs {
     std::string scenario, load, trajectory, arena, agent = "dyna-qpc", changed_arg, model, model_tiles, explore;
     double kappa = 0;
     std::uint32_t starts = 10, seed = 1, step_cap = 0, planning = 0, change_at = 0;
     bool learn = false;
-    Options o("run", "replay a learned policy greedily from random start poses");
-    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &scenario);
-    o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &load);
+};
+
+void declare_options(Options &o, RunArgs &a)
+{
+    o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file", &a.scenario);
+    o.add_string("--load", "FILE", "the flash image `dynaqpc-sim train --save FILE` wrote", &a.load);
     o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default dyna-qpc)",
-                 &agent, agent_kind_names());
+                 &a.agent, agent_kind_names());
     o.add_string("--model", "NAME",
-                 "Dyna-QPC's model it learned with: relocatable or paper (default: the scenario's)", &model);
+                 "Dyna-QPC's model it learned with: relocatable or paper (default: the scenario's)", &a.model);
     o.add_string("--model-tiles", "X,Y,H,C", "with --model paper: the tile widths it learned with (default: the scenario's)",
-                 &model_tiles);
-    o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &starts, 1, 1000000);
-    o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &seed, 0, UINT32_MAX);
-    o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &step_cap, 1,
+                 &a.model_tiles);
+    o.add_uint("--starts", "K", "random start poses, one episode each (default 10)", &a.starts, 1, 1000000);
+    o.add_uint("--seed", "S", "seed of the start poses and sensor noise (default 1)", &a.seed, 0, UINT32_MAX);
+    o.add_uint("--step-cap", "N", "steps before giving up on a start (default: the scenario's)", &a.step_cap, 1,
                100000000);
     o.add_flag("--learn",
                "keep learning while driving, as a robot in service does: greedy actions (epsilon 0), "
                "every real step learned and planned on; the --load file is not changed "
                "(default: frozen, no learning)",
-               &learn);
+               &a.learn);
     o.add_uint("--planning", "N",
                "with --learn: planning updates after each real step, 0 = as many as the MCU's idle "
                "time allows (default: the scenario's)",
-               &planning, 0, 1000000);
+               &a.planning, 0, 1000000);
     o.add_choice("--explore", "MODE",
                  "with --learn: egreedy, plan-bonus or act-bonus (train --explore; default: the scenario's)",
-                 &explore, explore_mode_names());
-    o.add_double("--kappa", "K", "with --learn: the exploration bonus's scale (default: the scenario's)", &kappa,
+                 &a.explore, explore_mode_names());
+    o.add_double("--kappa", "K", "with --learn: the exploration bonus's scale (default: the scenario's)", &a.kappa,
                  0.0, 1000.0);
     o.add_uint("--change-at", "K",
                "the room changes: from start K on, the obstacles are --changed's (the firmware is not "
                "told; default: never). To start in the changed room, give it as --scenario",
-               &change_at, 1, 1000000);
+               &a.change_at, 1, 1000000);
     o.add_string("--changed", "FILE",
                  "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
                  "--scenario's (docs/scenarios.md, \"Rooms that change\")",
-                 &changed_arg);
+                 &a.changed_arg);
     o.add_string("--trajectory", "OUT",
-                 "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &trajectory);
-    o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &arena);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
-    if (o.seen("--planning") && !learn) {
-        throw UsageError("--planning: only with --learn (a frozen replay plans nothing)");
-    }
-    if (!o.seen("--load")) throw UsageError("--load: required (a file written by train --save)");
-    struct stat st;
-    if (stat(load.c_str(), &st) != 0) {
-        throw UsageError("--load: cannot open '" + load + "': " + std::strerror(errno));
-    }
-    const ScenarioBundle sb = load_scenario(scenario);
+                 "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &a.trajectory);
+    o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &a.arena);
+}
+
+// --changed: the room the replay changes to at start --change-at.
+ScenarioBundle load_change(const Options &o, const RunArgs &a, const ScenarioBundle &sb)
+{
     if (o.seen("--change-at") != o.seen("--changed")) {
         throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
                                                : "--changed: needs --change-at K (the first start in it)");
     }
     ScenarioBundle changed;
     if (o.seen("--changed")) {
-        changed = load_changed_scenario(sb, changed_arg);
-        if (change_at > starts) {
-            throw UsageError("--change-at: start " + std::to_string(change_at) + " is past the last (" +
-                             std::to_string(starts) + ")");
+        changed = load_changed_scenario(sb, a.changed_arg);
+        if (a.change_at > a.starts) {
+            throw UsageError("--change-at: start " + std::to_string(a.change_at) + " is past the last (" +
+                             std::to_string(a.starts) + ")");
         }
     }
-    robot_config_t cfg = sb.robot;
-    if ((o.seen("--explore") || o.seen("--kappa")) && !learn) {
-        throw UsageError(std::string(o.seen("--explore") ? "--explore" : "--kappa") +
-                         ": only with --learn (a frozen replay acts greedily)");
-    }
-    apply_overrides(o, {&agent, &planning, &step_cap, nullptr, nullptr, nullptr, &model, &model_tiles, &explore, &kappa}, &cfg);
-    if (learn) cfg.params.epsilon = 0.0f;
-    if (!arena.empty()) {
-        std::FILE *f = std::fopen(arena.c_str(), "w");
-        if (f == nullptr) throw UsageError("--arena: cannot open '" + arena + "': " + std::strerror(errno));
+    return changed;
+}
+
+// --arena's JSON, and --trajectory's file with its header (nullptr without one).
+std::FILE *open_outputs(const RunArgs &a, const ScenarioBundle &sb)
+{
+    if (!a.arena.empty()) {
+        std::FILE *f = std::fopen(a.arena.c_str(), "w");
+        if (f == nullptr) throw UsageError("--arena: cannot open '" + a.arena + "': " + std::strerror(errno));
         std::fputs(arena_json(*sb.world).c_str(), f);
         std::fclose(f);
     }
     std::FILE *traj = nullptr;
-    if (!trajectory.empty()) {
-        traj = trajectory == "-" ? stdout : std::fopen(trajectory.c_str(), "w");
-        if (traj == nullptr) throw UsageError("--trajectory: cannot open '" + trajectory + "': " + std::strerror(errno));
+    if (!a.trajectory.empty()) {
+        traj = a.trajectory == "-" ? stdout : std::fopen(a.trajectory.c_str(), "w");
+        if (traj == nullptr) {
+            throw UsageError("--trajectory: cannot open '" + a.trajectory + "': " + std::strerror(errno));
+        }
         std::fputs("start,step,time_s,x,y,heading,action,reward,bump,in_goal\n", traj);
     }
+    return traj;
+}
+
+// The simulated robot booted from --load's flash image, which must hold a record it restores.
+std::unique_ptr<Lockstep> boot_from_load(const std::string &program, const RunArgs &a, const ScenarioBundle &sb,
+                                         const robot_config_t &cfg)
+{
     LockstepOptions lo;
-    lo.seed = seed;
-    lo.flash_file = load;
-    lo.evaluate = !learn;
+    lo.seed = a.seed;
+    lo.flash_file = a.load;
+    lo.evaluate = !a.learn;
     lo.flash_read_only = true;
     lo.plan_update_cycles = plan_cycles_of(cfg.agent);  // a scenario with planning 0 plans in idle time
-    std::unique_ptr<Lockstep> sim_ptr;
+    std::unique_ptr<Lockstep> sim;
     try {
-        sim_ptr = std::make_unique<Lockstep>(*sb.world, cfg, lo);
+        sim = std::make_unique<Lockstep>(*sb.world, cfg, lo);
     } catch (const std::runtime_error &e) {
         throw UsageError(std::string("--load: ") + e.what());
     }
-    Lockstep &sim = *sim_ptr;
-    if (!sim.restored()) {
-        throw UsageError("--load: '" + load + "' holds no record this firmware can restore (" + agent + " on " +
+    if (!sim->restored()) {
+        throw UsageError("--load: '" + a.load + "' holds no record this firmware can restore (" + a.agent + " on " +
                          sb.name + ")");
     }
     robot_app_stats_t restored;
@@ -137,8 +138,46 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         std::fprintf(stderr,
                      "%s run: warning: the newest record in '%s' is damaged or refused; running the older one "
                      "(%u episodes), as the firmware would\n",
-                     program.c_str(), load.c_str(), restored.restored_episodes);
+                     program.c_str(), a.load.c_str(), restored.restored_episodes);
     }
+    return sim;
+}
+
+}  // namespace
+
+int cmd_run(const std::string &program, const std::vector<std::string> &args)
+{
+    RunArgs a;
+    Options o("run", "replay a learned policy greedily from random start poses");
+    declare_options(o, a);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    if (o.seen("--planning") && !a.learn) {
+        throw UsageError("--planning: only with --learn (a frozen replay plans nothing)");
+    }
+    if (!o.seen("--load")) throw UsageError("--load: required (a file written by train --save)");
+    struct stat st;
+    if (stat(a.load.c_str(), &st) != 0) {
+        throw UsageError("--load: cannot open '" + a.load + "': " + std::strerror(errno));
+    }
+    const ScenarioBundle sb = load_scenario(a.scenario);
+    const ScenarioBundle changed = load_change(o, a, sb);
+    robot_config_t cfg = sb.robot;
+    if ((o.seen("--explore") || o.seen("--kappa")) && !a.learn) {
+        throw UsageError(std::string(o.seen("--explore") ? "--explore" : "--kappa") +
+                         ": only with --learn (a frozen replay acts greedily)");
+    }
+    apply_overrides(o, {&a.agent, &a.planning, &a.step_cap, nullptr, nullptr, nullptr, &a.model, &a.model_tiles,
+                        &a.explore, &a.kappa},
+                    &cfg);
+    if (a.learn) cfg.params.epsilon = 0.0f;
+    std::FILE *traj = open_outputs(a, sb);
+    const std::unique_ptr<Lockstep> sim_ptr = boot_from_load(program, a, sb, cfg);
+    Lockstep &sim = *sim_ptr;
     std::uint32_t current = 0;
     if (traj != nullptr) {
         sim.set_trajectory_sink([&](const TrajectoryPoint &p) {
@@ -150,8 +189,8 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     std::uint32_t reached = 0;
     std::uint64_t updates = 0;
     std::printf("start,steps,reached_goal,bumps,robot_time_s\n");
-    for (current = 1; current <= starts; current++) {
-        if (changed.world && current == change_at) {
+    for (current = 1; current <= a.starts; current++) {
+        if (changed.world && current == a.change_at) {
             sim.change_layout(*changed.world);
         }
         const EpisodeRow r = sim.run_episode();
@@ -165,9 +204,9 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     if (traj != nullptr && traj != stdout) std::fclose(traj);
     std::sort(steps.begin(), steps.end());
     std::string room = sb.name;
-    if (changed.world) room += ", " + changed.name + " from start " + std::to_string(change_at);
-    std::fprintf(stderr, "%s on %s (%s): reached the goal from %u of %u starts", agent.c_str(), room.c_str(),
-                 learn ? "learning" : "frozen", reached, starts);
+    if (changed.world) room += ", " + changed.name + " from start " + std::to_string(a.change_at);
+    std::fprintf(stderr, "%s on %s (%s): reached the goal from %u of %u starts", a.agent.c_str(), room.c_str(),
+                 a.learn ? "learning" : "frozen", reached, a.starts);
     if (!steps.empty()) {
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
     }

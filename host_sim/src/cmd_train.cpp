@@ -66,6 +66,7 @@ std::string plan_cycles_list()
     return list;
 }
 
+// What the sets run: the scenario, the agent and their settings.
 void declare(Options &o, TrainSettings &s)
 {
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (docs/scenarios.md)",
@@ -120,6 +121,11 @@ void declare(Options &o, TrainSettings &s)
                  "with --model paper: the CMACs' tile widths of x, y, heading and range code as powers of two "
                  "(default: the scenario's, else 0,0,0,1)",
                  &s.model_tiles);
+}
+
+// What train writes and keeps, and the room changing mid-run.
+void declare_outputs(Options &o, TrainSettings &s)
+{
     o.add_string("--csv", "OUT", "write one row per set and episode to OUT ('-': stdout)", &s.csv);
     o.add_string("--sets-csv", "OUT",
                  "write one row per set to OUT: the first learned episode, the real steps before it, the "
@@ -251,26 +257,17 @@ private:
     int last_ = -1;
 };
 
-}  // namespace
+// Per episode, sums over sets for the summary; per set, its episodes in order for the learning
+// record.
+struct TrainTally {
+    std::vector<double> steps_sum, time_sum;
+    std::map<std::uint32_t, std::vector<EpisodeOutcome>> outcomes;
+    std::uint64_t done = 0;
+};
 
-int cmd_train(const std::string &program, const std::vector<std::string> &args)
+// A user's room (a file, not a shipped name) on equal cells that its walls cut.
+void warn_cut_cells(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
-    TrainSettings s;
-    Options o("train", "the firmware learns on the simulated robot: sets of episodes, one CSV row each");
-    declare(o, s);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) {
-        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
-    }
-    if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (" + agent_kind_list() + ")");
-    }
-    const ScenarioBundle sb = load_scenario(s.scenario);
-    // A user's room (a file, not a shipped name) on equal cells that its walls cut.
     if (!s.quiet && s.scenario.find('/') != std::string::npos) {
         if (const int faces = world::faces_inside_cells(*sb.world)) {
             std::fprintf(stderr,
@@ -279,6 +276,11 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
                          program.c_str(), s.scenario.c_str(), faces);
         }
     }
+}
+
+// The scenario's robot with the command line's overrides; fills in the scenario's defaults.
+robot_config_t configure(const Options &o, TrainSettings &s, const ScenarioBundle &sb)
+{
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, &s.epsilon, &s.alpha, &s.gamma, &s.model, &s.model_tiles,
                         &s.explore, &s.kappa},
@@ -291,7 +293,12 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     if (!o.seen("--episodes")) s.episodes = sb.episodes;
     if (!o.seen("--sets")) s.sets = sb.sets;
     if (cfg.planning == 0 && s.plan_cycles == 0) s.plan_cycles = plan_cycles_of(cfg.agent);
+    return cfg;
+}
 
+// --changed: the room the sets change to at --change-at.
+ScenarioBundle load_change(const Options &o, TrainSettings &s, const ScenarioBundle &sb)
+{
     if (o.seen("--change-at") != o.seen("--changed")) {
         throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
                                                : "--changed: needs --change-at K (the first episode in it)");
@@ -305,9 +312,11 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
         }
         s.changed_world = changed.world.get();
     }
-    if (!s.save.empty()) {
-        check_save_target(s.save);
-    }
+    return changed;
+}
+
+std::FILE *open_csv(const TrainSettings &s)
+{
     std::FILE *out = nullptr;
     if (!s.csv.empty()) {
         out = s.csv == "-" ? stdout : std::fopen(s.csv.c_str(), "w");
@@ -316,124 +325,163 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
         }
         std::fputs("agent,set,episode,steps,reward,reached_goal,bumps,robot_time_s,updates,wall_s\n", out);
     }
+    return out;
+}
+
+// One process per job, each writing its rows into a pipe; rows are then written in set order, so
+// the CSV does not depend on --jobs.
+void run_sets_in_jobs(const std::string &program, const ScenarioBundle &sb, const robot_config_t &cfg,
+                      const TrainSettings &s, std::uint32_t jobs, std::FILE *out, TrainTally &tally,
+                      Progress &progress)
+{
+    const std::uint64_t total = static_cast<std::uint64_t>(s.sets) * s.episodes;
+    std::fflush(nullptr);
+    std::vector<pid_t> pids;
+    std::vector<int> fds;
+    for (std::uint32_t j = 0; j < jobs; j++) {
+        int p[2];
+        if (pipe(p) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+        const pid_t pid = fork();
+        if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+        if (pid == 0) {
+            close(p[0]);
+            std::FILE *w = fdopen(p[1], "w");
+            int status = 0;
+            try {
+                run_sets(sb, cfg, s, s.first_set + j, jobs, [&](std::uint32_t set, const EpisodeRow &r) {
+                    std::fputs(csv_row(s.agent, set, r, s.no_wall_time).c_str(), w);
+                    std::fflush(w);
+                });
+            } catch (const std::exception &e) {
+                std::fprintf(stderr, "%s train: set worker: %s\n", program.c_str(), e.what());
+                status = kExitFailure;
+            }
+            std::fclose(w);
+            _exit(status);
+        }
+        close(p[1]);
+        pids.push_back(pid);
+        fds.push_back(p[0]);
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<EpisodeRow, std::string>> rows;
+    for (int fd : fds) {
+        std::FILE *r = fdopen(fd, "r");
+        char line[512];
+        while (std::fgets(line, sizeof line, r) != nullptr) {
+            EpisodeRow row;
+            unsigned set = 0, ep = 0, steps = 0, bumps = 0;
+            int goal = 0;
+            char agent[32];
+            unsigned long long upd = 0;
+            if (std::sscanf(line, "%31[^,],%u,%u,%u,%lf,%d,%u,%lf,%llu,%lf", agent, &set, &ep, &steps,
+                            &row.reward, &goal, &bumps, &row.robot_time_s, &upd, &row.wall_s) == 10) {
+                row.episode = ep;
+                row.steps = steps;
+                row.bumps = bumps;
+                row.reached_goal = goal != 0;
+                row.updates = upd;
+                rows[{set, ep}] = {row, line};
+                tally.steps_sum[ep] += steps;
+                tally.outcomes[set].resize(std::max<std::size_t>(tally.outcomes[set].size(), ep));
+                tally.outcomes[set][ep - 1] = {steps, row.reached_goal};
+                tally.time_sum[ep] += row.robot_time_s;
+                progress.tick(++tally.done);
+            }
+        }
+        std::fclose(r);
+    }
+    int failed = 0;
+    for (pid_t pid : pids) {
+        int st = 0;
+        waitpid(pid, &st, 0);
+        failed += !(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    }
+    for (const auto &kv : rows) {
+        if (out != nullptr) std::fputs(kv.second.second.c_str(), out);
+    }
+    if (failed) throw std::runtime_error(std::to_string(failed) + " set worker(s) failed");
+    if (rows.size() != total) throw std::runtime_error("missing rows from the set workers");
+}
+
+void print_summary(const TrainSettings &s, const ScenarioBundle &sb, const ScenarioBundle &changed,
+                   const robot_config_t &cfg, const TrainTally &tally, const std::vector<SetRecord> &records,
+                   std::uint32_t threshold)
+{
+    std::FILE *sum = s.csv == "-" ? stderr : stdout;
+    const std::string plan = cfg.planning == 0
+                                 ? "planning in idle time (" + std::to_string(s.plan_cycles) + " cycles per update)"
+                                 : "planning " + std::to_string(cfg.planning) + " per real step";
+    std::fprintf(sum, "%s on %s, %u sets, %s: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(), s.sets,
+                 plan.c_str());
+    if (s.changed_world != nullptr) {
+        std::fprintf(sum, "  the room is %s from episode %u on\n", changed.name.c_str(), s.change_at);
+    }
+    for (std::uint32_t e = 1; e <= s.episodes; e++) {
+        const bool near_change = s.changed_world != nullptr && e + 1 >= s.change_at && e <= s.change_at + 9;
+        if (e <= 10 || near_change || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
+            std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, tally.steps_sum[e] / s.sets,
+                         tally.time_sum[e] / s.sets);
+        }
+    }
+    print_learning_summary(sum, records, threshold);
+}
+
+}  // namespace
+
+int cmd_train(const std::string &program, const std::vector<std::string> &args)
+{
+    TrainSettings s;
+    Options o("train", "the firmware learns on the simulated robot: sets of episodes, one CSV row each");
+    declare(o, s);
+    declare_outputs(o, s);
+    o.parse(args);
+    if (o.help_requested()) {
+        o.print_usage(std::cout, program);
+        return kExitOk;
+    }
+    if (!o.seen("--scenario")) {
+        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    }
+    if (!o.seen("--agent")) {
+        throw UsageError("--agent: required (" + agent_kind_list() + ")");
+    }
+    const ScenarioBundle sb = load_scenario(s.scenario);
+    warn_cut_cells(program, s, sb);
+    const robot_config_t cfg = configure(o, s, sb);
+    const ScenarioBundle changed = load_change(o, s, sb);
+    if (!s.save.empty()) {
+        check_save_target(s.save);
+    }
+    std::FILE *out = open_csv(s);
     const std::uint64_t total = static_cast<std::uint64_t>(s.sets) * s.episodes;
     Progress progress(total, !s.quiet);
-    // Per episode: sums over sets, for the summary.
-    std::vector<double> steps_sum(s.episodes + 1, 0.0), time_sum(s.episodes + 1, 0.0);
-    // Per set, its episodes in order, for the learning record.
-    std::map<std::uint32_t, std::vector<EpisodeOutcome>> outcomes;
-    std::uint64_t done = 0;
-    auto take = [&](std::uint32_t set, const EpisodeRow &r, const std::string &line) {
-        outcomes[set].push_back({r.steps, r.reached_goal});
-        if (out != nullptr) {
-            std::fputs(line.c_str(), out);
-            std::fflush(out);  // a row per episode as it ends: dynaqpc-experiment counts them for its progress bar
-        }
-        steps_sum[r.episode] += r.steps;
-        time_sum[r.episode] += r.robot_time_s;
-        progress.tick(++done);
-    };
+    TrainTally tally;
+    tally.steps_sum.assign(s.episodes + 1, 0.0);
+    tally.time_sum.assign(s.episodes + 1, 0.0);
     const std::uint32_t jobs = std::min(s.jobs, s.sets);
     if (jobs <= 1) {
         run_sets(sb, cfg, s, s.first_set, 1, [&](std::uint32_t set, const EpisodeRow &r) {
-            take(set, r, csv_row(s.agent, set, r, s.no_wall_time));
+            tally.outcomes[set].push_back({r.steps, r.reached_goal});
+            if (out != nullptr) {
+                // A row per episode as it ends: dynaqpc-experiment counts them for its progress bar.
+                std::fputs(csv_row(s.agent, set, r, s.no_wall_time).c_str(), out);
+                std::fflush(out);
+            }
+            tally.steps_sum[r.episode] += r.steps;
+            tally.time_sum[r.episode] += r.robot_time_s;
+            progress.tick(++tally.done);
         });
     } else {
-        // One process per job, each writing its rows into a pipe; rows are then written in set
-        // order, so the CSV does not depend on --jobs.
-        std::fflush(nullptr);
-        std::vector<pid_t> pids;
-        std::vector<int> fds;
-        for (std::uint32_t j = 0; j < jobs; j++) {
-            int p[2];
-            if (pipe(p) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-            const pid_t pid = fork();
-            if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-            if (pid == 0) {
-                close(p[0]);
-                std::FILE *w = fdopen(p[1], "w");
-                int status = 0;
-                try {
-                    run_sets(sb, cfg, s, s.first_set + j, jobs, [&](std::uint32_t set, const EpisodeRow &r) {
-                        std::fputs(csv_row(s.agent, set, r, s.no_wall_time).c_str(), w);
-                        std::fflush(w);
-                    });
-                } catch (const std::exception &e) {
-                    std::fprintf(stderr, "%s train: set worker: %s\n", program.c_str(), e.what());
-                    status = kExitFailure;
-                }
-                std::fclose(w);
-                _exit(status);
-            }
-            close(p[1]);
-            pids.push_back(pid);
-            fds.push_back(p[0]);
-        }
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<EpisodeRow, std::string>> rows;
-        for (int fd : fds) {
-            std::FILE *r = fdopen(fd, "r");
-            char line[512];
-            while (std::fgets(line, sizeof line, r) != nullptr) {
-                EpisodeRow row;
-                unsigned set = 0, ep = 0, steps = 0, bumps = 0;
-                int goal = 0;
-                char agent[32];
-                unsigned long long upd = 0;
-                if (std::sscanf(line, "%31[^,],%u,%u,%u,%lf,%d,%u,%lf,%llu,%lf", agent, &set, &ep, &steps,
-                                &row.reward, &goal, &bumps, &row.robot_time_s, &upd, &row.wall_s) == 10) {
-                    row.episode = ep;
-                    row.steps = steps;
-                    row.bumps = bumps;
-                    row.reached_goal = goal != 0;
-                    row.updates = upd;
-                    rows[{set, ep}] = {row, line};
-                    steps_sum[ep] += steps;
-                    outcomes[set].resize(std::max<std::size_t>(outcomes[set].size(), ep));
-                    outcomes[set][ep - 1] = {steps, row.reached_goal};
-                    time_sum[ep] += row.robot_time_s;
-                    progress.tick(++done);
-                }
-            }
-            std::fclose(r);
-        }
-        int failed = 0;
-        for (pid_t pid : pids) {
-            int st = 0;
-            waitpid(pid, &st, 0);
-            failed += !(WIFEXITED(st) && WEXITSTATUS(st) == 0);
-        }
-        for (const auto &kv : rows) {
-            if (out != nullptr) std::fputs(kv.second.second.c_str(), out);
-        }
-        if (failed) throw std::runtime_error(std::to_string(failed) + " set worker(s) failed");
-        if (rows.size() != total) throw std::runtime_error("missing rows from the set workers");
+        run_sets_in_jobs(program, sb, cfg, s, jobs, out, tally, progress);
     }
     if (out != nullptr && out != stdout && std::fclose(out) != 0) {
         throw std::runtime_error("--csv: cannot write '" + s.csv + "'");
     }
     const std::uint32_t threshold = s.threshold != 0 ? s.threshold : default_learned_threshold(cfg);
     std::vector<SetRecord> records;
-    for (const auto &kv : outcomes) records.push_back(record_of_set(kv.second, threshold));
-    if (!s.sets_csv.empty()) write_set_records(s.sets_csv, s.agent, outcomes, records);
-    if (!s.quiet) {
-        std::FILE *sum = s.csv == "-" ? stderr : stdout;
-        const std::string plan = cfg.planning == 0
-                                     ? "planning in idle time (" + std::to_string(s.plan_cycles) + " cycles per update)"
-                                     : "planning " + std::to_string(cfg.planning) + " per real step";
-        std::fprintf(sum, "%s on %s, %u sets, %s: mean steps per episode\n", s.agent.c_str(), sb.name.c_str(),
-                     s.sets, plan.c_str());
-        if (s.changed_world != nullptr) {
-            std::fprintf(sum, "  the room is %s from episode %u on\n", changed.name.c_str(), s.change_at);
-        }
-        for (std::uint32_t e = 1; e <= s.episodes; e++) {
-            const bool near_change = s.changed_world != nullptr && e + 1 >= s.change_at && e <= s.change_at + 9;
-            if (e <= 10 || near_change || e == s.episodes || e % std::max<std::uint32_t>(1, s.episodes / 10) == 0) {
-                std::fprintf(sum, "  episode %5u: %9.1f steps, %8.1f s robot time\n", e, steps_sum[e] / s.sets,
-                             time_sum[e] / s.sets);
-            }
-        }
-        print_learning_summary(sum, records, threshold);
-    }
+    for (const auto &kv : tally.outcomes) records.push_back(record_of_set(kv.second, threshold));
+    if (!s.sets_csv.empty()) write_set_records(s.sets_csv, s.agent, tally.outcomes, records);
+    if (!s.quiet) print_summary(s, sb, changed, cfg, tally, records, threshold);
     return kExitOk;
 }
 

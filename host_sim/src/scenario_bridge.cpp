@@ -46,6 +46,102 @@ std::uint64_t beacon_id(const std::string &text, const std::string &path)
     return id;
 }
 
+// The arena, the goal and the state encoding (cells fitted to the room: world/grid_fit.h).
+void set_geometry(robot_config_t &r, const world::Scenario &sc)
+{
+    r.arena_w = static_cast<float>(sc.arena_w);
+    r.arena_h = static_cast<float>(sc.arena_h);
+    r.goal_x = static_cast<float>(sc.goal.cx);
+    r.goal_y = static_cast<float>(sc.goal.cy);
+    r.goal_r = static_cast<float>(sc.goal.radius);
+    r.goal_cells = sc.goal.cells ? 1u : 0u;
+    r.bits_x = static_cast<uint8_t>(sc.encoding.x_bits);
+    r.bits_y = static_cast<uint8_t>(sc.encoding.y_bits);
+    r.bits_heading = static_cast<uint8_t>(sc.encoding.heading_bits);
+    r.bits_code = static_cast<uint8_t>(sc.code_bits.size());
+    if (sc.encoding.fitted) {  // the cells fitted to the room (world/grid_fit.h)
+        const std::vector<double> *edges[2] = {&sc.encoding.x_edges, &sc.encoding.y_edges};
+        for (int axis = 0; axis < 2; axis++) {
+            robot_grid_axis_t &g = r.grid[axis];
+            g.cells = static_cast<uint8_t>(edges[axis]->size() - 1);
+            for (std::size_t k = 0; k < edges[axis]->size(); k++) g.edge[k] = static_cast<float>((*edges[axis])[k]);
+        }
+    }
+    for (std::size_t k = 0; k < sc.code_bits.size(); k++) {
+        for (int ray : sc.code_bits[k].rays) {
+            r.rays_of_bit[k] |= 1u << ray;
+        }
+        r.code_threshold_m[k] = static_cast<float>(sc.code_bits[k].threshold);
+    }
+}
+
+// The ranger, the actions and the control timing.
+void set_actions(robot_config_t &r, const world::Scenario &sc)
+{
+    r.n_ranges = static_cast<uint8_t>(sc.ranger.rays.size());
+    r.step_m = static_cast<float>(sc.actions.step);
+    r.turn_rad = static_cast<float>(sc.actions.turn);
+    r.aligned_actions = static_cast<uint8_t>(sc.actions.aligned);
+    r.step_past_m = static_cast<float>(sc.actions.past);
+    r.track_m = static_cast<float>(sc.robot.track);
+    r.period_us = static_cast<uint32_t>(std::lround(sc.timing.control_period * 1e6));
+    // An action takes as many whole periods as the wheels need at their top speed, and a turn as
+    // many as keep it within 80 % of the gyro's measuring range (a saturated gyro loses heading).
+    const double wheel_travel = std::max(sc.actions.step, sc.actions.turn * sc.robot.track / 2.0);
+    const double max_turn_rate = 0.8 * GYRO_RANGE_DEG_S * FW_PI / 180.0;
+    const double periods = std::ceil(std::max(wheel_travel / sc.robot.max_speed, sc.actions.turn / max_turn_rate) /
+                                         sc.timing.control_period -
+                                     1e-9);
+    r.action_periods = static_cast<uint8_t>(std::clamp(periods, 1.0, 255.0));
+}
+
+// Rewards and the learning lines.
+void set_learning(robot_config_t &r, const world::Scenario &sc)
+{
+    r.reward_goal = static_cast<float>(sc.rewards.goal);
+    r.reward_bump = static_cast<float>(sc.rewards.bump);
+    r.reward_step = static_cast<float>(sc.rewards.step);
+    r.params.alpha = r.params.plan_alpha = static_cast<float>(sc.learning.alpha);
+    if (sc.learning.gamma == world::Learning::kGammaFromRoom) {
+        r.values = ROBOT_VALUES_ROOM;  // gamma and theta from the room: robot_config_agent_params()
+    } else {
+        r.values = ROBOT_VALUES_PAPER;
+        r.params.gamma = static_cast<float>(sc.learning.gamma);
+    }
+    r.params.epsilon = static_cast<float>(sc.learning.epsilon);
+    r.params.explore = explore_mode_of(sc.learning.explore, "learning explore");
+    r.params.kappa = static_cast<float>(sc.learning.kappa);
+    r.params.model = agent_model_of(sc.learning.model);
+    for (std::size_t k = 0; k < sc.learning.model_tiles.size() && k < FW_CFG_MAX_COMPONENTS; k++) {
+        r.params.model_tile_shift[k] = static_cast<std::uint8_t>(sc.learning.model_tiles[k]);
+    }
+    r.planning = static_cast<uint32_t>(sc.learning.planning);
+    r.step_cap = static_cast<uint32_t>(sc.learning.step_cap);
+}
+
+// GPS or the Cricket beacons.
+void set_pose_source(robot_config_t &r, const world::Scenario &sc, const std::string &path)
+{
+    if (sc.gps.enabled) {
+        r.pose_source = ROBOT_POSE_GPS;
+        r.wait_for_fix = 0;
+        r.pose_timeout_us = 1000000u;
+    } else {
+        r.pose_source = ROBOT_POSE_CRICKET;
+        r.wait_for_fix = 1;  // the paper's lab robot waited, still, for a stable fix
+        r.pose_timeout_us = 5000000u;
+    }
+    r.n_beacons = static_cast<uint8_t>(sc.cricket.beacons.size());
+    for (std::size_t i = 0; i < sc.cricket.beacons.size(); i++) {
+        const world::Beacon &bc = sc.cricket.beacons[i];
+        r.beacons[i].id = beacon_id(bc.id, path);
+        r.beacons[i].x = static_cast<float>(bc.x);
+        r.beacons[i].y = static_cast<float>(bc.y);
+        r.beacons[i].z = static_cast<float>(bc.z);
+    }
+    r.listener_z = static_cast<float>(sc.cricket.listener_height);
+}
+
 }  // namespace
 
 ScenarioBundle load_scenario(const std::string &arg)
@@ -62,84 +158,12 @@ ScenarioBundle load_scenario(const std::string &arg)
 
     robot_config_t &r = b.robot;
     robot_config_defaults(&r);  // what the scenario does not say
-    r.arena_w = static_cast<float>(sc->arena_w);
-    r.arena_h = static_cast<float>(sc->arena_h);
-    r.goal_x = static_cast<float>(sc->goal.cx);
-    r.goal_y = static_cast<float>(sc->goal.cy);
-    r.goal_r = static_cast<float>(sc->goal.radius);
-    r.goal_cells = sc->goal.cells ? 1u : 0u;
-    r.bits_x = static_cast<uint8_t>(sc->encoding.x_bits);
-    r.bits_y = static_cast<uint8_t>(sc->encoding.y_bits);
-    r.bits_heading = static_cast<uint8_t>(sc->encoding.heading_bits);
-    r.bits_code = static_cast<uint8_t>(sc->code_bits.size());
-    if (sc->encoding.fitted) {  // the cells fitted to the room (world/grid_fit.h)
-        const std::vector<double> *edges[2] = {&sc->encoding.x_edges, &sc->encoding.y_edges};
-        for (int axis = 0; axis < 2; axis++) {
-            robot_grid_axis_t &g = r.grid[axis];
-            g.cells = static_cast<uint8_t>(edges[axis]->size() - 1);
-            for (std::size_t k = 0; k < edges[axis]->size(); k++) g.edge[k] = static_cast<float>((*edges[axis])[k]);
-        }
-    }
-    for (std::size_t k = 0; k < sc->code_bits.size(); k++) {
-        for (int ray : sc->code_bits[k].rays) {
-            r.rays_of_bit[k] |= 1u << ray;
-        }
-        r.code_threshold_m[k] = static_cast<float>(sc->code_bits[k].threshold);
-    }
-    r.n_ranges = static_cast<uint8_t>(sc->ranger.rays.size());
-    r.step_m = static_cast<float>(sc->actions.step);
-    r.turn_rad = static_cast<float>(sc->actions.turn);
-    r.aligned_actions = static_cast<uint8_t>(sc->actions.aligned);
-    r.step_past_m = static_cast<float>(sc->actions.past);
-    r.track_m = static_cast<float>(sc->robot.track);
-    r.period_us = static_cast<uint32_t>(std::lround(sc->timing.control_period * 1e6));
-    // An action takes as many whole periods as the wheels need at their top speed, and a turn as
-    // many as keep it within 80 % of the gyro's measuring range (a saturated gyro loses heading).
-    const double wheel_travel = std::max(sc->actions.step, sc->actions.turn * sc->robot.track / 2.0);
-    const double max_turn_rate = 0.8 * GYRO_RANGE_DEG_S * FW_PI / 180.0;
-    const double periods = std::ceil(std::max(wheel_travel / sc->robot.max_speed, sc->actions.turn / max_turn_rate) /
-                                         sc->timing.control_period -
-                                     1e-9);
-    r.action_periods = static_cast<uint8_t>(std::clamp(periods, 1.0, 255.0));
-    r.reward_goal = static_cast<float>(sc->rewards.goal);
-    r.reward_bump = static_cast<float>(sc->rewards.bump);
-    r.reward_step = static_cast<float>(sc->rewards.step);
-    r.params.alpha = r.params.plan_alpha = static_cast<float>(sc->learning.alpha);
-    if (sc->learning.gamma == world::Learning::kGammaFromRoom) {
-        r.values = ROBOT_VALUES_ROOM;  // gamma and theta from the room: robot_config_agent_params()
-    } else {
-        r.values = ROBOT_VALUES_PAPER;
-        r.params.gamma = static_cast<float>(sc->learning.gamma);
-    }
-    r.params.epsilon = static_cast<float>(sc->learning.epsilon);
-    r.params.explore = explore_mode_of(sc->learning.explore, "learning explore");
-    r.params.kappa = static_cast<float>(sc->learning.kappa);
-    r.params.model = agent_model_of(sc->learning.model);
-    for (std::size_t k = 0; k < sc->learning.model_tiles.size() && k < FW_CFG_MAX_COMPONENTS; k++) {
-        r.params.model_tile_shift[k] = static_cast<std::uint8_t>(sc->learning.model_tiles[k]);
-    }
-    r.planning = static_cast<uint32_t>(sc->learning.planning);
-    r.step_cap = static_cast<uint32_t>(sc->learning.step_cap);
+    set_geometry(r, *sc);
+    set_actions(r, *sc);
+    set_learning(r, *sc);
     b.sets = static_cast<uint32_t>(sc->learning.sets);
     b.episodes = static_cast<uint32_t>(sc->learning.episodes);
-    if (sc->gps.enabled) {
-        r.pose_source = ROBOT_POSE_GPS;
-        r.wait_for_fix = 0;
-        r.pose_timeout_us = 1000000u;
-    } else {
-        r.pose_source = ROBOT_POSE_CRICKET;
-        r.wait_for_fix = 1;  // the paper's lab robot waited, still, for a stable fix
-        r.pose_timeout_us = 5000000u;
-    }
-    r.n_beacons = static_cast<uint8_t>(sc->cricket.beacons.size());
-    for (std::size_t i = 0; i < sc->cricket.beacons.size(); i++) {
-        const world::Beacon &bc = sc->cricket.beacons[i];
-        r.beacons[i].id = beacon_id(bc.id, b.path);
-        r.beacons[i].x = static_cast<float>(bc.x);
-        r.beacons[i].y = static_cast<float>(bc.y);
-        r.beacons[i].z = static_cast<float>(bc.z);
-    }
-    r.listener_z = static_cast<float>(sc->cricket.listener_height);
+    set_pose_source(r, *sc, b.path);
     b.world = sc;
     r.name = b.world->name.c_str();
     r.params = robot_config_agent_params(&r);  // what the firmware will use, for all to read
