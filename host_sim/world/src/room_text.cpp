@@ -147,4 +147,15 @@ bool check_drawn_room(Room *room, const std::string &file, std::string *problem)
     return true;
 }
 
+void extents(const Obstacle &o, double *ex, double *ey)
+{
+    if (o.shape == Obstacle::Shape::Circle) {
+        *ex = *ey = o.radius;
+        return;
+    }
+    const double c = std::fabs(std::cos(o.angle)), s = std::fabs(std::sin(o.angle));
+    *ex = (o.w * c + o.h * s) / 2.0;
+    *ey = (o.w * s + o.h * c) / 2.0;
+}
+
 }  // namespace world::room_text

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc world, internal: how generated rooms are written (rooms.cpp, user_rooms.cpp).
+// dynaqpc world, internal: how generated rooms are written and checked (rooms.cpp, user_rooms.cpp,
+// room_check.cpp).
 #ifndef WORLD_ROOM_TEXT_H
 #define WORLD_ROOM_TEXT_H
 
@@ -30,6 +31,9 @@ std::string stem(const std::string &file);
 std::string replace_key(const std::string &text, const std::string &key, const std::string &lines);
 /// Eight Cricket beacons for a w x h floor on the base's ceiling, ids counted on from its first.
 std::string beacon_lines(const Scenario &base, double w, double h);
+
+/// Half extents of an obstacle's axis-aligned bounding box.
+void extents(const Obstacle &o, double *ex, double *ey);
 
 /// A drawn room's text (room->text) as `file`: parsed into room->scenario, its passages checked
 /// (room->passages), its longest path found (room->path). False with *problem, the first thing

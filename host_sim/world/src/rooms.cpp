@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// dynaqpc world: seeded random rooms and the passage check.
+// dynaqpc world: seeded random rooms, drawn (the passage check: room_check.cpp; the families'
+// and floors' names: room_names.cpp).
 //
 // Sizes are in units of the robot's diagonal D, so that one set of rules serves a 25 cm lab
 // robot in a 4.3 x 3.2 m room and a 60 cm Pioneer in an 8 x 8 m one (both rooms are about 100-130
@@ -115,18 +116,6 @@ double gap_between(const Obstacle &a, const Obstacle &b)
     for (const auto &p : corners(a)) d = std::min(d, obstacle_distance(b, p.first, p.second));
     for (const auto &p : corners(b)) d = std::min(d, obstacle_distance(a, p.first, p.second));
     return d;
-}
-
-// Half extents of an obstacle's axis-aligned bounding box.
-void extents(const Obstacle &o, double *ex, double *ey)
-{
-    if (o.shape == Obstacle::Shape::Circle) {
-        *ex = *ey = o.radius;
-        return;
-    }
-    const double c = std::fabs(std::cos(o.angle)), s = std::fabs(std::sin(o.angle));
-    *ex = (o.w * c + o.h * s) / 2.0;
-    *ey = (o.w * s + o.h * c) / 2.0;
 }
 
 Obstacle box(double cx, double cy, double w, double h, double angle_deg = 0.0)
@@ -746,313 +735,6 @@ std::string layout_text(const Drawer &dr)
 
 namespace {
 
-// The passage check's grid (start_grid_step()): which points are free, may hold a start, are in
-// the goal. check_passages() and longest_path() both stand on it.
-enum : unsigned char { kFree = 1, kStart = 2, kGoal = 4, kReached = 8 };
-
-struct FreeGrid {
-    double step = 0;
-    long nx = 0, ny = 0;
-    std::vector<unsigned char> cell;  // kFree | kStart | kGoal per point, j * nx + i
-    double x(long i) const { return step / 2 + i * step; }
-    double y(long j) const { return step / 2 + j * step; }
-};
-
-FreeGrid free_grid(const Scenario &s, PassageReport *rep)
-{
-    FreeGrid g;
-    g.step = start_grid_step(s);
-    const double step = g.step;
-    const long nx = g.nx = static_cast<long>(std::ceil(s.arena_w / step - 0.5));
-    const long ny = g.ny = static_cast<long>(std::ceil(s.arena_h / step - 0.5));
-    const double need = robot_radius(s.robot);
-    g.cell.assign(static_cast<std::size_t>(nx * ny), 0);
-    // clear[k]: the clearance of point k where it is below `enough`, else at least `enough`. Each
-    // obstacle is measured only over the points its bounding box, grown by `enough`, covers: the
-    // others are farther from it.
-    const double enough = need + s.start.margin + step;
-    std::vector<double> clear(static_cast<std::size_t>(nx * ny));
-    for (long j = 0; j < ny; j++) {
-        for (long i = 0; i < nx; i++) {
-            const double x = step / 2 + i * step, y = step / 2 + j * step;
-            clear[static_cast<std::size_t>(j * nx + i)] = std::min({x, s.arena_w - x, y, s.arena_h - y});
-        }
-    }
-    for (const Obstacle &o : s.obstacles) {
-        double ex = 0, ey = 0;
-        extents(o, &ex, &ey);
-        const long i0 = std::max(0L, static_cast<long>(std::floor((o.cx - ex - enough) / step - 0.5)));
-        const long i1 = std::min(nx - 1, static_cast<long>(std::ceil((o.cx + ex + enough) / step - 0.5)));
-        const long j0 = std::max(0L, static_cast<long>(std::floor((o.cy - ey - enough) / step - 0.5)));
-        const long j1 = std::min(ny - 1, static_cast<long>(std::ceil((o.cy + ey + enough) / step - 0.5)));
-        for (long j = j0; j <= j1; j++) {
-            for (long i = i0; i <= i1; i++) {
-                double &c = clear[static_cast<std::size_t>(j * nx + i)];
-                c = std::min(c, obstacle_distance(o, step / 2 + i * step, step / 2 + j * step));
-            }
-        }
-    }
-    for (long j = 0; j < ny; j++) {
-        for (long i = 0; i < nx; i++) {
-            const double x = step / 2 + i * step, y = step / 2 + j * step;
-            const double cl = clear[static_cast<std::size_t>(j * nx + i)];
-            unsigned char &c = g.cell[static_cast<std::size_t>(j * nx + i)];
-            if (cl < need) continue;
-            c = kFree;
-            rep->free_points++;
-            // The world's own rule decides a start; where the clearance is too small it cannot hold.
-            if (cl >= need + s.start.margin - 1e-12 && start_position_ok(s, x, y)) {
-                c |= kStart;
-                rep->start_points++;
-            }
-            if (in_goal(s, x, y)) {
-                c |= kGoal;
-                rep->goal_points++;
-            }
-        }
-    }
-    return g;
-}
-
-}  // namespace
-
-PassageReport check_passages(const Scenario &s)
-{
-    PassageReport rep;
-    FreeGrid g = free_grid(s, &rep);
-    const long nx = g.nx, ny = g.ny;
-    const double step = g.step, need = robot_radius(s.robot);
-    std::vector<unsigned char> &cell = g.cell;
-    std::vector<long> queue;
-    for (long k = 0; k < nx * ny; k++) {
-        if (cell[static_cast<std::size_t>(k)] & kGoal) {
-            cell[static_cast<std::size_t>(k)] |= kReached;
-            queue.push_back(k);
-        }
-    }
-    char buf[256];
-    const double diag = 2.0 * need;
-    if (rep.goal_points == 0) {
-        std::snprintf(buf, sizeof buf,
-                      "the robot (diagonal %.3f m) fits nowhere in the goal at (%.3f, %.3f)", diag,
-                      s.goal.cx, s.goal.cy);
-        rep.problem = buf;
-        return rep;
-    }
-    for (std::size_t head = 0; head < queue.size(); head++) {
-        const long k = queue[head], i = k % nx, j = k / nx;
-        const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
-                              j + 1 < ny ? k + nx : -1};
-        for (long n : next) {
-            if (n < 0) continue;
-            unsigned char &c = cell[static_cast<std::size_t>(n)];
-            if ((c & kFree) && !(c & kReached)) {
-                c |= kReached;
-                queue.push_back(n);
-            }
-        }
-    }
-    long first = -1;
-    for (long k = 0; k < nx * ny; k++) {
-        const unsigned char c = cell[static_cast<std::size_t>(k)];
-        if ((c & kStart) && !(c & kReached)) {
-            if (first < 0) first = k;
-            rep.stranded_points++;
-        }
-    }
-    if (first >= 0) {
-        std::snprintf(buf, sizeof buf,
-                      "%ld of %ld start points cannot reach the goal, the first at (%.3f, %.3f): "
-                      "no passage at least the robot's diagonal (%.3f m) wide",
-                      rep.stranded_points, rep.start_points, step / 2 + (first % nx) * step,
-                      step / 2 + (first / nx) * step, diag);
-        rep.problem = buf;
-        return rep;
-    }
-    rep.ok = true;
-    return rep;
-}
-
-PathReport longest_path(const Scenario &s)
-{
-    PathReport rep;
-    PassageReport counts;
-    const FreeGrid g = free_grid(s, &counts);
-    const long nx = g.nx, ny = g.ny, n = nx * ny;
-    const int cx = rep.nx = grid_cells(s, 0), cy = rep.ny = grid_cells(s, 1);
-    const double cw = s.arena_w / cx, ch = s.arena_h / cy;
-    auto cell_of = [&](long k) {
-        if (s.encoding.fitted) return grid_cell(s, 1, g.y(k / nx)) * cx + grid_cell(s, 0, g.x(k % nx));
-        const int i = std::min(cx - 1, static_cast<int>(g.x(k % nx) / cw));
-        const int j = std::min(cy - 1, static_cast<int>(g.y(k / nx) / ch));
-        return j * cx + i;
-    };
-    // Places: free points joined to their four neighbours within one state cell.
-    std::vector<long> place(static_cast<std::size_t>(n), -1);
-    std::vector<int> place_cell;
-    std::vector<long> queue;
-    for (long k0 = 0; k0 < n; k0++) {
-        if (!(g.cell[static_cast<std::size_t>(k0)] & kFree) || place[static_cast<std::size_t>(k0)] >= 0) continue;
-        const long id = static_cast<long>(place_cell.size());
-        const int c = cell_of(k0);
-        place_cell.push_back(c);
-        queue.assign(1, k0);
-        place[static_cast<std::size_t>(k0)] = id;
-        for (std::size_t head = 0; head < queue.size(); head++) {
-            const long k = queue[head], i = k % nx, j = k / nx;
-            const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
-                                  j + 1 < ny ? k + nx : -1};
-            for (long m : next) {
-                if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree) ||
-                    place[static_cast<std::size_t>(m)] >= 0 || cell_of(m) != c) {
-                    continue;
-                }
-                place[static_cast<std::size_t>(m)] = id;
-                queue.push_back(m);
-            }
-        }
-    }
-    const long places = rep.places = static_cast<long>(place_cell.size());
-    // next[p][h]: the places one cell away along heading h (0 +x, 1 +y, 2 -x, 3 -y) that p joins.
-    std::vector<std::array<std::vector<long>, 4>> next(static_cast<std::size_t>(places));
-    std::vector<unsigned char> flags(static_cast<std::size_t>(places), 0);
-    for (long k = 0; k < n; k++) {
-        const unsigned char c = g.cell[static_cast<std::size_t>(k)];
-        if (!(c & kFree)) continue;
-        const long p = place[static_cast<std::size_t>(k)];
-        flags[static_cast<std::size_t>(p)] |= c;
-        const long i = k % nx, j = k / nx;
-        const long right = i + 1 < nx ? k + 1 : -1, up = j + 1 < ny ? k + nx : -1;
-        for (int d = 0; d < 2; d++) {
-            const long m = d == 0 ? right : up;
-            if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree)) continue;
-            const long q = place[static_cast<std::size_t>(m)];
-            if (place_cell[static_cast<std::size_t>(q)] == place_cell[static_cast<std::size_t>(p)]) continue;
-            next[static_cast<std::size_t>(p)][d].push_back(q);      // +x or +y
-            next[static_cast<std::size_t>(q)][d + 2].push_back(p);  // -x or -y
-        }
-    }
-    for (auto &per_heading : next) {
-        for (std::vector<long> &v : per_heading) {
-            std::sort(v.begin(), v.end());
-            v.erase(std::unique(v.begin(), v.end()), v.end());
-        }
-    }
-    // Every move has its reverse (forward / backward along the same heading, left / right), so
-    // the distances from the goal are the distances to it.
-    std::vector<long> dist(static_cast<std::size_t>(places * 4), -1);
-    queue.clear();
-    for (long p = 0; p < places; p++) {
-        if (!(flags[static_cast<std::size_t>(p)] & kGoal)) continue;
-        for (int h = 0; h < 4; h++) {
-            dist[static_cast<std::size_t>(p * 4 + h)] = 0;
-            queue.push_back(p * 4 + h);
-        }
-    }
-    for (std::size_t head = 0; head < queue.size(); head++) {
-        const long st = queue[head], p = st / 4, d = dist[static_cast<std::size_t>(st)];
-        const int h = static_cast<int>(st % 4);
-        auto visit = [&](long to) {
-            if (dist[static_cast<std::size_t>(to)] < 0) {
-                dist[static_cast<std::size_t>(to)] = d + 1;
-                queue.push_back(to);
-            }
-        };
-        visit(p * 4 + (h + 1) % 4);
-        visit(p * 4 + (h + 3) % 4);
-        for (long q : next[static_cast<std::size_t>(p)][h]) visit(q * 4 + h);
-        for (long q : next[static_cast<std::size_t>(p)][(h + 2) % 4]) visit(q * 4 + h);
-    }
-    long longest = 0;
-    for (long p = 0; p < places; p++) {
-        if (!(flags[static_cast<std::size_t>(p)] & kStart)) continue;
-        for (int h = 0; h < 4; h++) {
-            rep.start_states++;
-            const long d = dist[static_cast<std::size_t>(p * 4 + h)];
-            if (d < 0) rep.stranded++;
-            longest = std::max(longest, d);
-        }
-    }
-    rep.longest = rep.stranded > 0 || rep.start_states == 0 ? -1 : longest;
-    return rep;
-}
-
-const char *far_family_name(FarFamily f)
-{
-    switch (f) {
-    case FarFamily::Hall: return "hall";
-    case FarFamily::Open: return "open";
-    case FarFamily::CulDeSac: return "culdesac";
-    case FarFamily::Serpentine: return "serpentine";
-    }
-    return "?";
-}
-
-bool far_family_from_name(const std::string &name, FarFamily *out)
-{
-    for (int k = 0; k < kFarFamilies; k++) {
-        if (name == far_family_name(static_cast<FarFamily>(k))) {
-            *out = static_cast<FarFamily>(k);
-            return true;
-        }
-    }
-    return false;
-}
-
-FarFamily far_family_of_index(std::uint32_t index)
-{
-    return static_cast<FarFamily>((index + kFarFamilies - 1) % kFarFamilies);
-}
-
-bool floor_check(const Scenario &base, double w, double h, int *x_bits, int *y_bits, std::string *error)
-{
-    int bits[2] = {0, 0};
-    const double side[2] = {w, h}, base_side[2] = {base.arena_w, base.arena_h};
-    const int base_bits[2] = {base.encoding.x_bits, base.encoding.y_bits};
-    for (int a = 0; a < 2; a++) {
-        const double ratio = side[a] / base_side[a];
-        const int k = ratio > 0 && std::isfinite(ratio) ? static_cast<int>(std::lround(std::log2(ratio))) : 99;
-        bits[a] = base_bits[a] + k;
-        if (k < -2 || k > 2 || std::fabs(ratio - std::ldexp(1.0, k)) > 1e-6 * ratio || bits[a] < 1 || bits[a] > 16) {
-            if (error != nullptr) {
-                *error = num(w) + "x" + num(h) + ": each side must be the base's (" + num(base.arena_w) + " x " +
-                         num(base.arena_h) + " m) times 1/4, 1/2, 1, 2 or 4, so that the state cells keep their size (" +
-                         num(base.arena_w / (1 << base.encoding.x_bits)) + " x " +
-                         num(base.arena_h / (1 << base.encoding.y_bits)) + " m)";
-            }
-            return false;
-        }
-    }
-    if (bits[0] + bits[1] + base.encoding.heading_bits + base.encoding.sensor_bits > 32) {
-        if (error != nullptr) *error = num(w) + "x" + num(h) + ": its encoding would need more than 32 bits";
-        return false;
-    }
-    if (x_bits != nullptr) *x_bits = bits[0];
-    if (y_bits != nullptr) *y_bits = bits[1];
-    return true;
-}
-
-std::string floor_name(double w, double h)
-{
-    return num(w) + "x" + num(h);
-}
-
-std::string room_file_name(const std::string &prefix, const RoomSpec &spec, double floor_w, double floor_h,
-                           std::uint32_t seed, std::uint32_t index)
-{
-    char idx[16];
-    std::snprintf(idx, sizeof idx, "%03u", index);
-    std::string name = prefix + "-";
-    if (spec.far) {
-        name += std::string(far_family_name(spec.family)) + "-" + floor_name(floor_w, floor_h) + "-";
-    }
-    return name + std::to_string(seed) + "-" + idx + ".scn";
-}
-
-namespace {
-
-
-
 // The base's lines for a far room on a w x h floor: its arena and encoding (and beacons) new.
 void far_base_lines(const Scenario &base, double w, double h, int xb, int yb, std::string *before,
                     std::string *after)
@@ -1073,6 +755,40 @@ void far_base_lines(const Scenario &base, double w, double h, int xb, int yb, st
                                           std::to_string(base.encoding.sensor_bits),
                                       states));
     if (!base.cricket.beacons.empty()) *after = replace_key(*after, "beacon", beacon_lines(base, w, h));
+}
+
+// The comment lines at the head of a drawn room's file: what made it and what was checked.
+std::string room_head(const Scenario &base, const Scenario &floor, const RoomSpec &spec,
+                      const std::string &base_label, const std::string &command, const std::string &file,
+                      std::uint32_t index, std::uint32_t draw)
+{
+    char head[640];
+    if (!spec.far) {
+        std::snprintf(head, sizeof head,
+                      "# %s: a generated room; regenerate it rather than edit it (docs/scenarios.md, "
+                      "\"Generated rooms\").\n"
+                      "# %s: room %u, draw %u.\n"
+                      "# Only the layout is new: every other line is %s's own.\n"
+                      "# Passages: at least %.1f x the robot's diagonal (%.3f m) as drawn; checked "
+                      "at least the diagonal on a %.0f cm grid.\n\n",
+                      stem(file).c_str(), command.c_str(), index, draw, base_label.c_str(), kGap,
+                      2.0 * robot_radius(base.robot), start_grid_step(base) * 100.0);
+    } else {
+        std::snprintf(head, sizeof head,
+                      "# %s: a generated far-goal room (%s, floor %s x %s m); regenerate it rather "
+                      "than edit it\n# (docs/scenarios.md, \"Far-goal rooms\").\n"
+                      "# %s: room %u, draw %u.\n"
+                      "# Only the layout%s new: every other line is %s's own.\n"
+                      "# Passages: at least the robot's diagonal (%.3f m), checked on a %.0f cm grid.\n",
+                      stem(file).c_str(), far_family_name(spec.family), num(floor.arena_w).c_str(),
+                      num(floor.arena_h).c_str(), command.c_str(), index, draw,
+                      floor.arena_w == base.arena_w && floor.arena_h == base.arena_h
+                          ? " is"
+                          : base.cricket.beacons.empty() ? ", the arena and the encoding are"
+                                                         : ", the arena, the encoding and the beacons are",
+                      base_label.c_str(), 2.0 * robot_radius(base.robot), start_grid_step(floor) * 100.0);
+    }
+    return head;
 }
 
 }  // namespace
@@ -1120,32 +836,7 @@ bool generate_room(std::string_view base_text, const std::string &base_label,
             last_problem = std::string("the ") + far_family_name(spec.family) + " does not fit this draw";
             continue;
         }
-        char head[640];
-        if (!spec.far) {
-            std::snprintf(head, sizeof head,
-                          "# %s: a generated room; regenerate it rather than edit it (docs/scenarios.md, "
-                          "\"Generated rooms\").\n"
-                          "# %s: room %u, draw %u.\n"
-                          "# Only the layout is new: every other line is %s's own.\n"
-                          "# Passages: at least %.1f x the robot's diagonal (%.3f m) as drawn; checked "
-                          "at least the diagonal on a %.0f cm grid.\n\n",
-                          stem(file).c_str(), command.c_str(), index, draw, base_label.c_str(), kGap,
-                          2.0 * robot_radius(base.robot), start_grid_step(base) * 100.0);
-        } else {
-            std::snprintf(head, sizeof head,
-                          "# %s: a generated far-goal room (%s, floor %s x %s m); regenerate it rather "
-                          "than edit it\n# (docs/scenarios.md, \"Far-goal rooms\").\n"
-                          "# %s: room %u, draw %u.\n"
-                          "# Only the layout%s new: every other line is %s's own.\n"
-                          "# Passages: at least the robot's diagonal (%.3f m), checked on a %.0f cm grid.\n",
-                          stem(file).c_str(), far_family_name(spec.family), num(floor.arena_w).c_str(),
-                          num(floor.arena_h).c_str(), command.c_str(), index, draw,
-                          floor.arena_w == base.arena_w && floor.arena_h == base.arena_h
-                              ? " is"
-                              : base.cricket.beacons.empty() ? ", the arena and the encoding are"
-                                                             : ", the arena, the encoding and the beacons are",
-                          base_label.c_str(), 2.0 * robot_radius(base.robot), start_grid_step(floor) * 100.0);
-        }
+        const std::string head = room_head(base, floor, spec, base_label, command, file, index, draw);
         Room room;
         const std::string body = before + "\n" + layout_text(dr) + after;
         room.text = head + std::string(spec.far ? "\n" : "") + body;

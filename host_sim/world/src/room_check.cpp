@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: MIT
+// dynaqpc world: the passage check and the longest path of a room (rooms.h), on the parsed file:
+// every start reaches the goal through passages at least the robot's diagonal wide, and how many
+// actions the farthest start needs at best.
+#include "world/rooms.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "room_text.h"
+
+namespace world {
+
+using namespace room_text;
+
+namespace {
+
+// The passage check's grid (start_grid_step()): which points are free, may hold a start, are in
+// the goal. check_passages() and longest_path() both stand on it.
+enum : unsigned char { kFree = 1, kStart = 2, kGoal = 4, kReached = 8 };
+
+struct FreeGrid {
+    double step = 0;
+    long nx = 0, ny = 0;
+    std::vector<unsigned char> cell;  // kFree | kStart | kGoal per point, j * nx + i
+    double x(long i) const { return step / 2 + i * step; }
+    double y(long j) const { return step / 2 + j * step; }
+};
+
+FreeGrid free_grid(const Scenario &s, PassageReport *rep)
+{
+    FreeGrid g;
+    g.step = start_grid_step(s);
+    const double step = g.step;
+    const long nx = g.nx = static_cast<long>(std::ceil(s.arena_w / step - 0.5));
+    const long ny = g.ny = static_cast<long>(std::ceil(s.arena_h / step - 0.5));
+    const double need = robot_radius(s.robot);
+    g.cell.assign(static_cast<std::size_t>(nx * ny), 0);
+    // clear[k]: the clearance of point k where it is below `enough`, else at least `enough`. Each
+    // obstacle is measured only over the points its bounding box, grown by `enough`, covers: the
+    // others are farther from it.
+    const double enough = need + s.start.margin + step;
+    std::vector<double> clear(static_cast<std::size_t>(nx * ny));
+    for (long j = 0; j < ny; j++) {
+        for (long i = 0; i < nx; i++) {
+            const double x = step / 2 + i * step, y = step / 2 + j * step;
+            clear[static_cast<std::size_t>(j * nx + i)] = std::min({x, s.arena_w - x, y, s.arena_h - y});
+        }
+    }
+    for (const Obstacle &o : s.obstacles) {
+        double ex = 0, ey = 0;
+        extents(o, &ex, &ey);
+        const long i0 = std::max(0L, static_cast<long>(std::floor((o.cx - ex - enough) / step - 0.5)));
+        const long i1 = std::min(nx - 1, static_cast<long>(std::ceil((o.cx + ex + enough) / step - 0.5)));
+        const long j0 = std::max(0L, static_cast<long>(std::floor((o.cy - ey - enough) / step - 0.5)));
+        const long j1 = std::min(ny - 1, static_cast<long>(std::ceil((o.cy + ey + enough) / step - 0.5)));
+        for (long j = j0; j <= j1; j++) {
+            for (long i = i0; i <= i1; i++) {
+                double &c = clear[static_cast<std::size_t>(j * nx + i)];
+                c = std::min(c, obstacle_distance(o, step / 2 + i * step, step / 2 + j * step));
+            }
+        }
+    }
+    for (long j = 0; j < ny; j++) {
+        for (long i = 0; i < nx; i++) {
+            const double x = step / 2 + i * step, y = step / 2 + j * step;
+            const double cl = clear[static_cast<std::size_t>(j * nx + i)];
+            unsigned char &c = g.cell[static_cast<std::size_t>(j * nx + i)];
+            if (cl < need) continue;
+            c = kFree;
+            rep->free_points++;
+            // The world's own rule decides a start; where the clearance is too small it cannot hold.
+            if (cl >= need + s.start.margin - 1e-12 && start_position_ok(s, x, y)) {
+                c |= kStart;
+                rep->start_points++;
+            }
+            if (in_goal(s, x, y)) {
+                c |= kGoal;
+                rep->goal_points++;
+            }
+        }
+    }
+    return g;
+}
+
+using PlaceLinks = std::vector<std::array<std::vector<long>, 4>>;
+
+// The actions from every (place, heading) to the goal at best, -1 where none leads there. Every
+// move has its reverse (forward / backward along the same heading, left / right), so the
+// distances from the goal are the distances to it.
+std::vector<long> distances_from_goal(const PlaceLinks &next, const std::vector<unsigned char> &flags)
+{
+    const long places = static_cast<long>(next.size());
+    std::vector<long> dist(static_cast<std::size_t>(places * 4), -1);
+    std::vector<long> queue;
+    for (long p = 0; p < places; p++) {
+        if (!(flags[static_cast<std::size_t>(p)] & kGoal)) continue;
+        for (int h = 0; h < 4; h++) {
+            dist[static_cast<std::size_t>(p * 4 + h)] = 0;
+            queue.push_back(p * 4 + h);
+        }
+    }
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        const long st = queue[head], p = st / 4, d = dist[static_cast<std::size_t>(st)];
+        const int h = static_cast<int>(st % 4);
+        auto visit = [&](long to) {
+            if (dist[static_cast<std::size_t>(to)] < 0) {
+                dist[static_cast<std::size_t>(to)] = d + 1;
+                queue.push_back(to);
+            }
+        };
+        visit(p * 4 + (h + 1) % 4);
+        visit(p * 4 + (h + 3) % 4);
+        for (long q : next[static_cast<std::size_t>(p)][h]) visit(q * 4 + h);
+        for (long q : next[static_cast<std::size_t>(p)][(h + 2) % 4]) visit(q * 4 + h);
+    }
+    return dist;
+}
+
+}  // namespace
+
+PassageReport check_passages(const Scenario &s)
+{
+    PassageReport rep;
+    FreeGrid g = free_grid(s, &rep);
+    const long nx = g.nx, ny = g.ny;
+    const double step = g.step, need = robot_radius(s.robot);
+    std::vector<unsigned char> &cell = g.cell;
+    std::vector<long> queue;
+    for (long k = 0; k < nx * ny; k++) {
+        if (cell[static_cast<std::size_t>(k)] & kGoal) {
+            cell[static_cast<std::size_t>(k)] |= kReached;
+            queue.push_back(k);
+        }
+    }
+    char buf[256];
+    const double diag = 2.0 * need;
+    if (rep.goal_points == 0) {
+        std::snprintf(buf, sizeof buf,
+                      "the robot (diagonal %.3f m) fits nowhere in the goal at (%.3f, %.3f)", diag,
+                      s.goal.cx, s.goal.cy);
+        rep.problem = buf;
+        return rep;
+    }
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        const long k = queue[head], i = k % nx, j = k / nx;
+        const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
+                              j + 1 < ny ? k + nx : -1};
+        for (long n : next) {
+            if (n < 0) continue;
+            unsigned char &c = cell[static_cast<std::size_t>(n)];
+            if ((c & kFree) && !(c & kReached)) {
+                c |= kReached;
+                queue.push_back(n);
+            }
+        }
+    }
+    long first = -1;
+    for (long k = 0; k < nx * ny; k++) {
+        const unsigned char c = cell[static_cast<std::size_t>(k)];
+        if ((c & kStart) && !(c & kReached)) {
+            if (first < 0) first = k;
+            rep.stranded_points++;
+        }
+    }
+    if (first >= 0) {
+        std::snprintf(buf, sizeof buf,
+                      "%ld of %ld start points cannot reach the goal, the first at (%.3f, %.3f): "
+                      "no passage at least the robot's diagonal (%.3f m) wide",
+                      rep.stranded_points, rep.start_points, step / 2 + (first % nx) * step,
+                      step / 2 + (first / nx) * step, diag);
+        rep.problem = buf;
+        return rep;
+    }
+    rep.ok = true;
+    return rep;
+}
+
+PathReport longest_path(const Scenario &s)
+{
+    PathReport rep;
+    PassageReport counts;
+    const FreeGrid g = free_grid(s, &counts);
+    const long nx = g.nx, ny = g.ny, n = nx * ny;
+    const int cx = rep.nx = grid_cells(s, 0), cy = rep.ny = grid_cells(s, 1);
+    const double cw = s.arena_w / cx, ch = s.arena_h / cy;
+    auto cell_of = [&](long k) {
+        if (s.encoding.fitted) return grid_cell(s, 1, g.y(k / nx)) * cx + grid_cell(s, 0, g.x(k % nx));
+        const int i = std::min(cx - 1, static_cast<int>(g.x(k % nx) / cw));
+        const int j = std::min(cy - 1, static_cast<int>(g.y(k / nx) / ch));
+        return j * cx + i;
+    };
+    // Places: free points joined to their four neighbours within one state cell.
+    std::vector<long> place(static_cast<std::size_t>(n), -1);
+    std::vector<int> place_cell;
+    std::vector<long> queue;
+    for (long k0 = 0; k0 < n; k0++) {
+        if (!(g.cell[static_cast<std::size_t>(k0)] & kFree) || place[static_cast<std::size_t>(k0)] >= 0) continue;
+        const long id = static_cast<long>(place_cell.size());
+        const int c = cell_of(k0);
+        place_cell.push_back(c);
+        queue.assign(1, k0);
+        place[static_cast<std::size_t>(k0)] = id;
+        for (std::size_t head = 0; head < queue.size(); head++) {
+            const long k = queue[head], i = k % nx, j = k / nx;
+            const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
+                                  j + 1 < ny ? k + nx : -1};
+            for (long m : next) {
+                if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree) ||
+                    place[static_cast<std::size_t>(m)] >= 0 || cell_of(m) != c) {
+                    continue;
+                }
+                place[static_cast<std::size_t>(m)] = id;
+                queue.push_back(m);
+            }
+        }
+    }
+    const long places = rep.places = static_cast<long>(place_cell.size());
+    // next[p][h]: the places one cell away along heading h (0 +x, 1 +y, 2 -x, 3 -y) that p joins.
+    PlaceLinks next(static_cast<std::size_t>(places));
+    std::vector<unsigned char> flags(static_cast<std::size_t>(places), 0);
+    for (long k = 0; k < n; k++) {
+        const unsigned char c = g.cell[static_cast<std::size_t>(k)];
+        if (!(c & kFree)) continue;
+        const long p = place[static_cast<std::size_t>(k)];
+        flags[static_cast<std::size_t>(p)] |= c;
+        const long i = k % nx, j = k / nx;
+        const long right = i + 1 < nx ? k + 1 : -1, up = j + 1 < ny ? k + nx : -1;
+        for (int d = 0; d < 2; d++) {
+            const long m = d == 0 ? right : up;
+            if (m < 0 || !(g.cell[static_cast<std::size_t>(m)] & kFree)) continue;
+            const long q = place[static_cast<std::size_t>(m)];
+            if (place_cell[static_cast<std::size_t>(q)] == place_cell[static_cast<std::size_t>(p)]) continue;
+            next[static_cast<std::size_t>(p)][d].push_back(q);      // +x or +y
+            next[static_cast<std::size_t>(q)][d + 2].push_back(p);  // -x or -y
+        }
+    }
+    for (auto &per_heading : next) {
+        for (std::vector<long> &v : per_heading) {
+            std::sort(v.begin(), v.end());
+            v.erase(std::unique(v.begin(), v.end()), v.end());
+        }
+    }
+    const std::vector<long> dist = distances_from_goal(next, flags);
+    long longest = 0;
+    for (long p = 0; p < places; p++) {
+        if (!(flags[static_cast<std::size_t>(p)] & kStart)) continue;
+        for (int h = 0; h < 4; h++) {
+            rep.start_states++;
+            const long d = dist[static_cast<std::size_t>(p * 4 + h)];
+            if (d < 0) rep.stranded++;
+            longest = std::max(longest, d);
+        }
+    }
+    rep.longest = rep.stranded > 0 || rep.start_states == 0 ? -1 : longest;
+    return rep;
+}
+
+}  // namespace world
