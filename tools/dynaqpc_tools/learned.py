@@ -336,6 +336,112 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
     return handles
 
 
+def _draw_heading_panel(ax, view, arena, h, visited, cmap, norm, scale) -> None:
+    """One heading's panel: each cell's V as its colour, the greedy action as its mark."""
+    from matplotlib.patches import Rectangle
+
+    from .arena import draw_arena
+
+    grid = view["grid"]
+    cw, ch, nh = grid["cell_w"], grid["cell_h"], grid["headings"]
+    by_h = [c for c in view["cells"] if c["heading"] == h]
+    for c in by_h:
+        x0, y0 = c["x"] * cw, c["y"] * ch
+        ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor=cmap(norm(c["v"])), edgecolor="none", alpha=0.85))
+    draw_arena(ax, arena)
+    goal_cells = {tuple(g) for g in grid["goal_cells"]}
+    for c in by_h:
+        if (c["x"], c["y"]) in goal_cells:
+            continue  # the episode ends there: no action is taken in a goal cell
+        vis = h in visited.get((c["x"], c["y"]), ())
+        _arrow(ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"], "white" if vis else "0.75", scale)
+    deg = 360.0 * h / nh
+    ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h)} cells", fontsize=9)
+    ax.set_xlabel("")
+    ax.set_ylabel("")
+
+
+def _draw_visited_panel(ax, view, arena, visited, plt) -> None:
+    """Visited and modelled cells, over all headings."""
+    from matplotlib.patches import Rectangle
+
+    from .arena import draw_arena
+
+    grid = view["grid"]
+    cw, ch, nx, ny, nh = grid["cell_w"], grid["cell_h"], grid["cells_x"], grid["cells_y"], grid["headings"]
+    modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
+    oranges = plt.get_cmap("Oranges")
+    for x, y in set(visited) | set(modelled):
+        nv = len(visited.get((x, y), ()))
+        if nv:
+            ax.add_patch(
+                Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none")
+            )
+        else:  # predicted by the model, never visited
+            ax.add_patch(
+                Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//", linewidth=0)
+            )
+        if max(nx, ny) <= 16:  # beyond, the shades say it
+            ax.text(
+                (x + 0.5) * cw,
+                (y + 0.5) * ch,
+                f"{nv}/{len(modelled.get((x, y), ()))}",
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="black",
+            )
+    draw_arena(ax, arena)
+    ax.set_title(
+        "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)", fontsize=8
+    )
+    ax.set_xlabel("")
+    ax.set_ylabel("")
+
+
+def _draw_fill_panel(ax, view) -> None:
+    """The tables' fill."""
+    names, used, caps = [], [], []
+    for name, f in view["fill"].items():
+        u = f.get("rows", f.get("cells", f.get("places", f.get("used", f.get("records")))))
+        if name == "q" and f.get("dense"):
+            u = sum(1 for _ in view["cells"])
+        names.append(name)
+        used.append(u)
+        caps.append(f["capacity"])
+    ys = range(len(names))
+    ax.barh(ys, [u / c if c else 0 for u, c in zip(used, caps)], color="tab:blue")
+    for yy, u, c in zip(ys, used, caps):
+        ax.text(0.02, yy, f"{u:,} / {c:,}", va="center", fontsize=8, color="white" if c and u / c > 0.35 else "black")
+    ax.set_yticks(list(ys))
+    ax.set_yticklabels(names, fontsize=8)
+    ax.set_xlim(0, 1)
+    ax.invert_yaxis()
+    ax.set_title("tables' fill", fontsize=9)
+
+
+def _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax) -> None:
+    """The key: what every mark means, in the first free panel, else under the figure."""
+    handles = _key_handles(arena, cmap, norm, vmax)
+    if n_panels < nrows * ncols:
+        key_ax = axes[n_panels // ncols][n_panels % ncols]
+        key_ax.legend(
+            handles=handles,
+            loc="center left",
+            fontsize=8.5,
+            frameon=False,
+            title="key",
+            handlelength=2.6,
+            handleheight=1.4,
+            title_fontsize=9,
+            handler_map=_KEY_HANDLERS,
+        )
+    else:
+        fig.legend(
+            handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False, handler_map=_KEY_HANDLERS
+        )
+
+
 def draw(
     view: Dict[str, Any], arena: Dict[str, Any], out: str, headings: str = "used", title: Optional[str] = None
 ) -> None:
@@ -343,13 +449,10 @@ def draw(
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.patches import Rectangle
-
-    from .arena import draw_arena
 
     arena = dict(arena, beacons=[])  # their labels would cover the arrows
     grid = view["grid"]
-    cw, ch, nx, ny, nh = grid["cell_w"], grid["cell_h"], grid["cells_x"], grid["cells_y"], grid["headings"]
+    nx, ny, nh = grid["cells_x"], grid["cells_y"], grid["headings"]
     by_h: Dict[int, List[Dict[str, Any]]] = {}
     for c in view["cells"]:
         by_h.setdefault(c["heading"], []).append(c)
@@ -379,72 +482,9 @@ def draw(
     norm = matplotlib.colors.Normalize(vmin=vmin, vmax=vmax)
     visited = {(x, y): set(h) for x, y, h in view["visited_cells"]}
     for i, h in enumerate(hs):
-        ax = axes[i // ncols][i % ncols]
-        for c in by_h.get(h, []):
-            x0, y0 = c["x"] * cw, c["y"] * ch
-            ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor=cmap(norm(c["v"])), edgecolor="none", alpha=0.85))
-        draw_arena(ax, arena)
-        goal_cells = {tuple(g) for g in grid["goal_cells"]}
-        for c in by_h.get(h, []):
-            if (c["x"], c["y"]) in goal_cells:
-                continue  # the episode ends there: no action is taken in a goal cell
-            vis = h in visited.get((c["x"], c["y"]), ())
-            _arrow(
-                ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"], "white" if vis else "0.75", scale
-            )
-        deg = 360.0 * h / nh
-        ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h.get(h, []))} cells", fontsize=9)
-        ax.set_xlabel("")
-        ax.set_ylabel("")
-    # Visited and modelled cells, over all headings.
-    ax = axes[len(hs) // ncols][len(hs) % ncols]
-    modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
-    oranges = plt.get_cmap("Oranges")
-    for x, y in set(visited) | set(modelled):
-        nv = len(visited.get((x, y), ()))
-        if nv:
-            ax.add_patch(
-                Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none")
-            )
-        else:  # predicted by the model, never visited
-            ax.add_patch(
-                Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//", linewidth=0)
-            )
-        if max(nx, ny) <= 16:  # beyond, the shades say it
-            ax.text(
-                (x + 0.5) * cw,
-                (y + 0.5) * ch,
-                f"{nv}/{len(modelled.get((x, y), ()))}",
-                ha="center",
-                va="center",
-                fontsize=7,
-                color="black",
-            )
-    draw_arena(ax, arena)
-    ax.set_title(
-        "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)", fontsize=8
-    )
-    ax.set_xlabel("")
-    ax.set_ylabel("")
-    # The tables' fill.
-    ax = axes[(len(hs) + 1) // ncols][(len(hs) + 1) % ncols]
-    names, used, caps = [], [], []
-    for name, f in view["fill"].items():
-        u = f.get("rows", f.get("cells", f.get("places", f.get("used", f.get("records")))))
-        if name == "q" and f.get("dense"):
-            u = sum(1 for _ in view["cells"])
-        names.append(name)
-        used.append(u)
-        caps.append(f["capacity"])
-    ys = range(len(names))
-    ax.barh(ys, [u / c if c else 0 for u, c in zip(used, caps)], color="tab:blue")
-    for yy, u, c in zip(ys, used, caps):
-        ax.text(0.02, yy, f"{u:,} / {c:,}", va="center", fontsize=8, color="white" if c and u / c > 0.35 else "black")
-    ax.set_yticks(list(ys))
-    ax.set_yticklabels(names, fontsize=8)
-    ax.set_xlim(0, 1)
-    ax.invert_yaxis()
-    ax.set_title("tables' fill", fontsize=9)
+        _draw_heading_panel(axes[i // ncols][i % ncols], view, arena, h, visited, cmap, norm, scale)
+    _draw_visited_panel(axes[len(hs) // ncols][len(hs) % ncols], view, arena, visited, plt)
+    _draw_fill_panel(axes[(len(hs) + 1) // ncols][(len(hs) + 1) % ncols], view)
     for j in range(n_panels, nrows * ncols):
         axes[j // ncols][j % ncols].axis("off")
     heading_axes = [axes[i // ncols][i % ncols] for i in range(len(hs))]
@@ -457,25 +497,7 @@ def draw(
         aspect=30,
         label="V = max_a Q (cell colour)",
     )
-    # The key: what every mark means, in the first free panel, else under the figure.
-    handles = _key_handles(arena, cmap, norm, vmax)
-    if n_panels < nrows * ncols:
-        key_ax = axes[n_panels // ncols][n_panels % ncols]
-        key_ax.legend(
-            handles=handles,
-            loc="center left",
-            fontsize=8.5,
-            frameon=False,
-            title="key",
-            handlelength=2.6,
-            handleheight=1.4,
-            title_fontsize=9,
-            handler_map=_KEY_HANDLERS,
-        )
-    else:
-        fig.legend(
-            handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False, handler_map=_KEY_HANDLERS
-        )
+    _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax)
     rec = view["record"]
     shown = (
         f"all {nh} headings"
