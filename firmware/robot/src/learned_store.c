@@ -203,28 +203,21 @@ static int write_payload_(const learned_store_t *st, uint32_t offset, const agen
     return FW_OK;
 }
 
-int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes)
+// The slot a save writes: never over the agent's newest good copy. Without one: an empty or damaged
+// slot before a refused record, before another layout's record, and of two alike the older.
+// state[] gets both slots' states, *whole whether flash holds any whole record, *top the highest
+// sequence number in flash.
+static uint32_t slot_to_write_(const learned_store_t *st, const agent_t *ag, learned_slot_state_t state[2],
+                               bool *whole, uint32_t *top)
 {
-    FW_ASSERT(st != NULL && ag != NULL);
-    agent_region_t regions[AGENT_MAX_REGIONS];
-    uint32_t n, payload;
-    learned_header_t h = {0};
-    h.layout = layout_of_(ag, regions, &n, &payload);
-    if (payload > st->slot_size - header_span_(st)) {
-        st->save_errors++;
-        return FW_ERR_NOMEM;
-    }
-    // Never over the agent's newest good copy. Without one: an empty or damaged slot before a
-    // refused record, before another layout's record, and of two alike the older.
-    learned_slot_state_t state[2];
     uint32_t seq[2] = {0, 0};
-    bool whole = false;
-    uint32_t top = 0;  // the highest sequence number in flash
+    *whole = false;
+    *top = 0;
     for (uint32_t i = 0; i < 2u; i++) {
         state[i] = learned_store_slot_state(st, ag, i, &seq[i]);
         if (state[i] >= LEARNED_SLOT_FOREIGN) {
-            top = !whole || newer_(seq[i], top) ? seq[i] : top;
-            whole = true;
+            *top = !*whole || newer_(seq[i], *top) ? seq[i] : *top;
+            *whole = true;
         }
     }
     uint32_t slot;
@@ -248,6 +241,24 @@ int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes
             slot = state[0] >= LEARNED_SLOT_FOREIGN && newer_(seq[0], seq[1]) ? 1u : 0u;
         }
     }
+    return slot;
+}
+
+int learned_store_save(learned_store_t *st, const agent_t *ag, uint32_t episodes)
+{
+    FW_ASSERT(st != NULL && ag != NULL);
+    agent_region_t regions[AGENT_MAX_REGIONS];
+    uint32_t n, payload;
+    learned_header_t h = {0};
+    h.layout = layout_of_(ag, regions, &n, &payload);
+    if (payload > st->slot_size - header_span_(st)) {
+        st->save_errors++;
+        return FW_ERR_NOMEM;
+    }
+    learned_slot_state_t state[2];
+    bool whole = false;
+    uint32_t top = 0;  // the highest sequence number in flash
+    const uint32_t slot = slot_to_write_(st, ag, state, &whole, &top);
     if (state[slot] == LEARNED_SLOT_FOREIGN) {
         st->foreign_overwritten++;
     }

@@ -81,6 +81,30 @@ static void stand_(pose_trust_t *t, pose_trust_phase_t phase, uint64_t now_us)
     t->stopped_us = now_us;
 }
 
+// The leg's second fix: a track long enough gives the heading's correction and trust (true); a
+// short one (the robot was blocked) turns and tries again.
+static bool leg_end_(pose_trust_t *t, const robot_config_t *cfg, const pose_trust_in_t *in, float *v_left,
+                     float *v_right, float *correction_deg)
+{
+    const float dx = in->x_m - t->ax_m;
+    const float dy = in->y_m - t->ay_m;
+    if (sqrtf(dx * dx + dy * dy) < POSE_TRUST_MIN_TRACK_M) {
+        t->legs_failed++;
+        t->turns = 0u;
+        turn_(t, cfg, v_left, v_right);
+        return false;
+    }
+    // The robot drove straight: the track's direction is its heading over the leg, which the
+    // gyro measured as the mean of its readings at either end.
+    const float track_deg = atan2f(dy, dx) * DEG_PER_RAD;
+    const float mid_deg = t->a_heading_deg + 0.5f * wrap180_(in->heading_deg - t->a_heading_deg);
+    t->correction_deg = wrap180_(track_deg - mid_deg);
+    *correction_deg = t->correction_deg;
+    t->legs++;
+    pose_trust_grant(t, POSE_TRUST_WHY_LEG);
+    return true;
+}
+
 bool pose_trust_leg_period(pose_trust_t *t, const robot_config_t *cfg, const pose_trust_in_t *in,
                            float *v_left, float *v_right, float *correction_deg)
 {
@@ -128,28 +152,8 @@ bool pose_trust_leg_period(pose_trust_t *t, const robot_config_t *cfg, const pos
             *v_right = POSE_TRUST_LEG_SPEED_M_S;
         }
         break;
-    case POSE_TRUST_LEG_FIX_B: {
-        if (!fix_since_stop) {
-            break;
-        }
-        const float dx = in->x_m - t->ax_m;
-        const float dy = in->y_m - t->ay_m;
-        if (sqrtf(dx * dx + dy * dy) < POSE_TRUST_MIN_TRACK_M) {
-            t->legs_failed++;
-            t->turns = 0u;
-            turn_(t, cfg, v_left, v_right);
-            break;
-        }
-        // The robot drove straight: the track's direction is its heading over the leg, which the
-        // gyro measured as the mean of its readings at either end.
-        const float track_deg = atan2f(dy, dx) * DEG_PER_RAD;
-        const float mid_deg = t->a_heading_deg + 0.5f * wrap180_(in->heading_deg - t->a_heading_deg);
-        t->correction_deg = wrap180_(track_deg - mid_deg);
-        *correction_deg = t->correction_deg;
-        t->legs++;
-        pose_trust_grant(t, POSE_TRUST_WHY_LEG);
-        return true;
-    }
+    case POSE_TRUST_LEG_FIX_B:
+        return fix_since_stop && leg_end_(t, cfg, in, v_left, v_right, correction_deg);
     case POSE_TRUST_LEG_TURN:
     default:
         if (t->periods_left > 0u) {
