@@ -421,6 +421,30 @@ private:
     std::FILE *file_ = nullptr;
 };
 
+// The runs' configuration from the options (the sink and clock are set by the caller).
+maze_run_config_t run_config(const MazeSettings &s, const maze_t *maze)
+{
+    maze_run_config_t cfg = maze_run_default_config();
+    cfg.maze = maze;
+    cfg.kind = agent_kind_of(s.agent);
+    cfg.params.alpha = static_cast<float>(s.alpha);
+    cfg.params.plan_alpha = static_cast<float>(s.plan_alpha);
+    cfg.params.gamma = static_cast<float>(s.gamma);
+    cfg.params.epsilon = static_cast<float>(s.epsilon);
+    cfg.params.theta = static_cast<float>(s.theta);
+    cfg.storage = &agent_storage_maze;
+    cfg.runs = s.runs;
+    cfg.episodes = s.episodes;
+    cfg.until_optimal = s.until_optimal;
+    cfg.max_episodes = s.max_episodes;
+    cfg.planning = s.planning;
+    cfg.max_steps = s.max_steps;
+    cfg.step_reward = static_cast<float>(s.step_reward);
+    cfg.goal_reward = static_cast<float>(s.goal_reward);
+    cfg.seed = s.seed;
+    return cfg;
+}
+
 }  // namespace
 
 // ---- The command --------------------------------------------------------------------------------
@@ -460,25 +484,7 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
         }
     }
 
-    maze_run_config_t cfg = maze_run_default_config();
-    cfg.maze = maze.get();
-    cfg.kind = agent_kind_of(s.agent);
-    cfg.params.alpha = static_cast<float>(s.alpha);
-    cfg.params.plan_alpha = static_cast<float>(s.plan_alpha);
-    cfg.params.gamma = static_cast<float>(s.gamma);
-    cfg.params.epsilon = static_cast<float>(s.epsilon);
-    cfg.params.theta = static_cast<float>(s.theta);
-    cfg.storage = &agent_storage_maze;
-    cfg.runs = s.runs;
-    cfg.episodes = s.episodes;
-    cfg.until_optimal = s.until_optimal;
-    cfg.max_episodes = s.max_episodes;
-    cfg.planning = s.planning;
-    cfg.max_steps = s.max_steps;
-    cfg.step_reward = static_cast<float>(s.step_reward);
-    cfg.goal_reward = static_cast<float>(s.goal_reward);
-    cfg.seed = s.seed;
-
+    maze_run_config_t cfg = run_config(s, maze.get());
     const char *why = nullptr;
     if (maze_run_check(&cfg, &why) != 0) {
         // The only check the options cannot have made already is the map's size against the

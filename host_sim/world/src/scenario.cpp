@@ -118,6 +118,12 @@ private:
     bool key_rewards(const Tokens &t, Scenario *s);
     bool key_learning(const Tokens &t, Scenario *s);
     bool validate(Scenario *s);
+    bool validate_sensors(Scenario *s);
+    bool validate_encoding(Scenario *s);
+    bool validate_layout(const Scenario &s);
+    bool validate_goal_cells(const Scenario &s);
+    bool validate_beacons(const Scenario &s);
+    bool validate_start_room(const Scenario &s);
 };
 
 bool Parser::number(std::string_view tok, const std::string &what, double lo, double hi,
@@ -719,6 +725,13 @@ bool Parser::validate(Scenario *s)
     if (s->ranger.rays.empty()) {
         return fail("missing required key 'ray' (at least one)");
     }
+    return validate_sensors(s) && validate_encoding(s) && validate_layout(*s) && validate_goal_cells(*s) &&
+           validate_beacons(*s) && validate_start_room(*s);
+}
+
+// The rays' mounts (on the outline where not given) and the code bits' rays.
+bool Parser::validate_sensors(Scenario *s)
+{
     const RobotSpec &r = s->robot;
     for (std::size_t i = 0; i < s->ranger.rays.size(); ++i) {
         Ray &ray = s->ranger.rays[i];
@@ -738,6 +751,12 @@ bool Parser::validate(Scenario *s)
             }
         }
     }
+    return true;
+}
+
+// The state bits: the code bits counted, the cells fitted or equal, `actions past` inside the next.
+bool Parser::validate_encoding(Scenario *s)
+{
     Encoding &e = s->encoding;
     int n_bits = static_cast<int>(s->code_bits.size());
     if (sensor_bits_given_ && e.sensor_bits != n_bits) {
@@ -762,7 +781,13 @@ bool Parser::validate(Scenario *s)
         return fail_at(encode_line_ != 0 ? encode_line_ : last_line_,
                        "encode: more than 32 state bits in all");
     }
-    for (const Obstacle &o : s->obstacles) {
+    return true;
+}
+
+// Obstacles and the goal inside the arena, the goal clear of every obstacle.
+bool Parser::validate_layout(const Scenario &s)
+{
+    for (const Obstacle &o : s.obstacles) {
         double ex = 0.0, ey = 0.0;  // half extents of the bounding box
         if (o.shape == Obstacle::Shape::Box) {
             double c = std::fabs(std::cos(o.angle)), sn = std::fabs(std::sin(o.angle));
@@ -772,19 +797,19 @@ bool Parser::validate(Scenario *s)
             ex = ey = o.radius;
         }
         const double eps = 1e-9;
-        if (o.cx - ex < -eps || o.cx + ex > s->arena_w + eps || o.cy - ey < -eps ||
-            o.cy + ey > s->arena_h + eps) {
+        if (o.cx - ex < -eps || o.cx + ex > s.arena_w + eps || o.cy - ey < -eps ||
+            o.cy + ey > s.arena_h + eps) {
             return fail_at(o.line, "obstacle outside the arena");
         }
     }
-    const Goal &g = s->goal;
-    if (g.cx - g.radius < 0.0 || g.cx + g.radius > s->arena_w || g.cy - g.radius < 0.0 ||
-        g.cy + g.radius > s->arena_h) {
+    const Goal &g = s.goal;
+    if (g.cx - g.radius < 0.0 || g.cx + g.radius > s.arena_w || g.cy - g.radius < 0.0 ||
+        g.cy + g.radius > s.arena_h) {
         return fail_at(goal_line_, "goal outside the arena");
     }
     {
-        Scenario one = *s;
-        for (const Obstacle &o : s->obstacles) {
+        Scenario one = s;
+        for (const Obstacle &o : s.obstacles) {
             one.obstacles.assign(1, o);
             if (clearance(one, g.cx, g.cy) < g.radius) {
                 return fail_at(goal_line_, "goal overlaps the obstacle on line " +
@@ -792,56 +817,75 @@ bool Parser::validate(Scenario *s)
             }
         }
     }
+    return true;
+}
+
+// `goal ... cells`: some cell of the state grid has its centre in the circle.
+bool Parser::validate_goal_cells(const Scenario &s)
+{
+    const Goal &g = s.goal;
     if (g.cells) {  // some cell of the state grid must have its centre in the circle
         // Bounded work for every start drawn later: at most 64 x 64 cells under the circle.
-        const double cw = s->arena_w / std::ldexp(1.0, s->encoding.x_bits);
-        const double ch = s->arena_h / std::ldexp(1.0, s->encoding.y_bits);
-        if (!s->encoding.fitted && (2.0 * g.radius / cw > 63.0 || 2.0 * g.radius / ch > 63.0)) {
+        const double cw = s.arena_w / std::ldexp(1.0, s.encoding.x_bits);
+        const double ch = s.arena_h / std::ldexp(1.0, s.encoding.y_bits);
+        if (!s.encoding.fitted && (2.0 * g.radius / cw > 63.0 || 2.0 * g.radius / ch > 63.0)) {
             return fail_at(goal_line_, "goal ... cells: the circle spans more than 64 cells of the "
                                        "state grid (fewer bits, or drop 'cells')");
         }
         // The firmware decides in single precision: a centre on the circle could be the goal
         // here and not there.
-        if (goal_cell_centre_margin(*s) < 1e-4) {
+        if (goal_cell_centre_margin(s) < 1e-4) {
             return fail_at(goal_line_, "goal ... cells: a cell centre lies on the circle "
                                        "(within 0.1 mm), where the firmware's single "
                                        "precision may disagree; change the radius");
         }
-        if (goal_cells(*s).empty()) {
+        if (goal_cells(s).empty()) {
             return fail_at(goal_line_, "goal ... cells: no cell of the state grid has its centre "
                                        "in the circle (make it larger, or drop 'cells')");
         }
     }
+    return true;
+}
+
+// GPS's range, the beacons above the listener and inside the arena.
+bool Parser::validate_beacons(const Scenario &s)
+{
     // GPS_POSE carries x and y in int16 millimetres (docs/can-protocol.md): a larger arena would
     // have its poses clamped at 32.767 m.
-    if (s->gps.enabled && (s->arena_w > 32.767 || s->arena_h > 32.767)) {
+    if (s.gps.enabled && (s.arena_w > 32.767 || s.arena_h > 32.767)) {
         return fail_at(arena_line_, "arena larger than 32.767 m with gps: GPS_POSE carries int16 mm");
     }
-    for (std::size_t i = 0; i < s->cricket.beacons.size(); ++i) {
-        const Beacon &b = s->cricket.beacons[i];
-        if (b.x < 0.0 || b.x > s->arena_w || b.y < 0.0 || b.y > s->arena_h) {
+    for (std::size_t i = 0; i < s.cricket.beacons.size(); ++i) {
+        const Beacon &b = s.cricket.beacons[i];
+        if (b.x < 0.0 || b.x > s.arena_w || b.y < 0.0 || b.y > s.arena_h) {
             return fail_at(beacon_lines_[i], "beacon outside the arena");
         }
-        if (b.z <= s->cricket.listener_height) {
+        if (b.z <= s.cricket.listener_height) {
             return fail_at(beacon_lines_[i], "beacon not above the listener (listener_height " +
-                                                 fmt_num(s->cricket.listener_height) + ")");
+                                                 fmt_num(s.cricket.listener_height) + ")");
         }
     }
-    if (cricket_line_ != 0 && s->cricket.beacons.empty()) {
+    if (cricket_line_ != 0 && s.cricket.beacons.empty()) {
         return fail_at(cricket_line_, "cricket without any beacon line");
     }
-    // Room for a start pose: some point of the start grid must be a valid start.
-    const double step = start_grid_step(*s);
+    return true;
+}
+
+// Room for a start pose: some point of the start grid must be a valid start.
+bool Parser::validate_start_room(const Scenario &s)
+{
+    const RobotSpec &r = s.robot;
+    const double step = start_grid_step(s);
     bool room = false;
-    for (double y = step / 2; y < s->arena_h && !room; y += step) {
-        for (double x = step / 2; x < s->arena_w && !room; x += step) {
-            room = start_position_ok(*s, x, y);
+    for (double y = step / 2; y < s.arena_h && !room; y += step) {
+        for (double x = step / 2; x < s.arena_w && !room; x += step) {
+            room = start_position_ok(s, x, y);
         }
     }
     if (!room) {
         return fail_at(arena_line_, "no room for a start pose: nowhere keeps the robot's radius " +
                                         fmt_num(robot_radius(r)) + " m + margin " +
-                                        fmt_num(s->start.margin) + " m clear of walls, "
+                                        fmt_num(s.start.margin) + " m clear of walls, "
                                         "obstacles and the goal");
     }
     return true;
@@ -912,31 +956,41 @@ bool parse_scenario(std::string_view text, const std::string &file, Scenario *ou
     return true;
 }
 
+namespace {
+
+// Doubles are compared exactly: both files are parsed by this parser, so the same text gives the
+// same value, and a different value is a different robot or task.
+bool rays_same(const std::vector<Ray> &x, const std::vector<Ray> &y)
+{
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (x[i].angle != y[i].angle || x[i].x != y[i].x || x[i].y != y[i].y) return false;
+    }
+    return true;
+}
+
+bool bits_same(const std::vector<CodeBit> &x, const std::vector<CodeBit> &y)
+{
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (x[i].threshold != y[i].threshold || x[i].rays != y[i].rays) return false;
+    }
+    return true;
+}
+
+bool beacons_same(const std::vector<Beacon> &x, const std::vector<Beacon> &y)
+{
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (x[i].id != y[i].id || x[i].x != y[i].x || x[i].y != y[i].y || x[i].z != y[i].z) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 std::string layout_change_problem(const Scenario &a, const Scenario &b)
 {
-    // Doubles are compared exactly: both files are parsed by this parser, so the same text
-    // gives the same value, and a different value is a different robot or task.
-    auto rays_same = [](const std::vector<Ray> &x, const std::vector<Ray> &y) {
-        if (x.size() != y.size()) return false;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            if (x[i].angle != y[i].angle || x[i].x != y[i].x || x[i].y != y[i].y) return false;
-        }
-        return true;
-    };
-    auto bits_same = [](const std::vector<CodeBit> &x, const std::vector<CodeBit> &y) {
-        if (x.size() != y.size()) return false;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            if (x[i].threshold != y[i].threshold || x[i].rays != y[i].rays) return false;
-        }
-        return true;
-    };
-    auto beacons_same = [](const std::vector<Beacon> &x, const std::vector<Beacon> &y) {
-        if (x.size() != y.size()) return false;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            if (x[i].id != y[i].id || x[i].x != y[i].x || x[i].y != y[i].y || x[i].z != y[i].z) return false;
-        }
-        return true;
-    };
     const struct {
         bool same;
         const char *what;
