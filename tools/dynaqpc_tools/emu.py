@@ -470,6 +470,37 @@ def cmd_run(args) -> int:
     return summarise(args, board, qrc, watch, bridge)
 
 
+def _problems(args, last, reports, watch, bridge, plan, idle_loop, goals, fault, fell_behind) -> List[str]:
+    """What failed the run, each a line for FAIL: (none: PASS)."""
+    problems = []
+    if bridge.to_bus == 0 or watch.frames == 0:
+        problems.append("no frame from the firmware on the bus")
+    if bridge.to_board == 0:
+        problems.append("no frame from the devices reached the board")
+    if watch.plan_updates == 0 or plan == 0:
+        problems.append("no planning update")
+    if watch.deadline_misses or last.get("misses", 0):
+        # Exit 1 as before; the message says whose they are. A clock that fell behind without a
+        # miss is only reported (above): the firmware met every deadline of its own time.
+        problems.append(
+            f"deadline misses: bus {watch.deadline_misses}, board {last.get('misses', 0)}"
+            + (" — the emulation fell behind (above): the host's, not the firmware's" if fell_behind else "")
+        )
+    if fault:
+        problems.append("hard fault (or an unexpected exception) on the board")
+    if not reports:
+        problems.append("no report line from the board")
+    if idle_loop < args.min_idle_loop_updates:
+        problems.append(
+            f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}"
+        )
+    if len(watch.episodes) < args.min_episodes:
+        problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
+    if goals < args.min_goals:
+        problems.append(f"the goal reached in {goals} episodes, expected at least {args.min_goals}")
+    return problems
+
+
 def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge: Bridge) -> int:
     reports = [r for r in (parse_report(ln) for ln in board.lines) if r]
     last = reports[-1] if reports else {}
@@ -528,32 +559,7 @@ def summarise(args, board: "Lines", qrc: Optional[int], watch: BusWatch, bridge:
         f"stack_unused={last.get('stack_unused', 0)} can_tx_dropped={last.get('can_tx_dropped', 0)} "
         f"slcan_errors={last.get('slcan_errors', 0)} qemu_exit={qrc}"
     )
-    problems = []
-    if bridge.to_bus == 0 or watch.frames == 0:
-        problems.append("no frame from the firmware on the bus")
-    if bridge.to_board == 0:
-        problems.append("no frame from the devices reached the board")
-    if watch.plan_updates == 0 or plan == 0:
-        problems.append("no planning update")
-    if watch.deadline_misses or last.get("misses", 0):
-        # Exit 1 as before; the message says whose they are. A clock that fell behind without a
-        # miss is only reported (above): the firmware met every deadline of its own time.
-        problems.append(
-            f"deadline misses: bus {watch.deadline_misses}, board {last.get('misses', 0)}"
-            + (" — the emulation fell behind (above): the host's, not the firmware's" if fell_behind else "")
-        )
-    if fault:
-        problems.append("hard fault (or an unexpected exception) on the board")
-    if not reports:
-        problems.append("no report line from the board")
-    if idle_loop < args.min_idle_loop_updates:
-        problems.append(
-            f"{idle_loop} planning updates in the idle loop, expected at least {args.min_idle_loop_updates}"
-        )
-    if len(watch.episodes) < args.min_episodes:
-        problems.append(f"{len(watch.episodes)} episodes finished, expected at least {args.min_episodes}")
-    if goals < args.min_goals:
-        problems.append(f"the goal reached in {goals} episodes, expected at least {args.min_goals}")
+    problems = _problems(args, last, reports, watch, bridge, plan, idle_loop, goals, fault, fell_behind)
     for p in problems:
         print(f"FAIL: {p}", flush=True)
     if not problems:

@@ -189,6 +189,24 @@ class _SetProcess:
         return n
 
 
+def _merge_sets(tmp: str, done: List[int], csv_path: str, sim: str, agent: str, sets: int, episodes: int) -> None:
+    """The sets' rows in set order, checked whole, into csv_path."""
+    merged = os.path.join(tmp, "merged.csv")
+    with open(merged, "w", encoding="utf-8") as out:
+        out.write(",".join(COLUMNS) + "\n")
+        for k in sorted(done):
+            with open(os.path.join(tmp, f"set{k}.csv"), encoding="utf-8") as f:
+                f.readline()
+                out.write(f.read())
+    runs = read_runs(merged).get(agent)
+    if runs is None or len(runs.sets) != sets or len(runs.episodes) != episodes:
+        raise ToolError(f"{sim} train for {agent}: rows missing from the simulator's output")
+    try:
+        os.replace(merged, csv_path)
+    except OSError as e:
+        raise ToolError(f"cannot write {csv_path}: {e.strerror or e}") from None
+
+
 def run_sets(
     sim: str,
     scenario: str,
@@ -257,20 +275,7 @@ def run_sets(
                 sp.proc.kill()
                 sp.proc.wait()
             bar.close()
-        merged = os.path.join(tmp, "merged.csv")
-        with open(merged, "w", encoding="utf-8") as out:
-            out.write(",".join(COLUMNS) + "\n")
-            for k in sorted(done):
-                with open(os.path.join(tmp, f"set{k}.csv"), encoding="utf-8") as f:
-                    f.readline()
-                    out.write(f.read())
-        runs = read_runs(merged).get(agent)
-        if runs is None or len(runs.sets) != sets or len(runs.episodes) != episodes:
-            raise ToolError(f"{sim} train for {agent}: rows missing from the simulator's output")
-        try:
-            os.replace(merged, csv_path)
-        except OSError as e:
-            raise ToolError(f"cannot write {csv_path}: {e.strerror or e}") from None
+        _merge_sets(tmp, done, csv_path, sim, agent, sets, episodes)
     if not bar.disable:
         return
     print(f"{desc or agent}: {sets} sets x {episodes} episodes in {time.monotonic() - started:.0f} s", flush=True)
