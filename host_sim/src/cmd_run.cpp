@@ -72,24 +72,6 @@ void declare_options(Options &o, RunArgs &a)
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &a.arena);
 }
 
-// --changed: the room the replay changes to at start --change-at.
-ScenarioBundle load_change(const Options &o, const RunArgs &a, const ScenarioBundle &sb)
-{
-    if (o.seen("--change-at") != o.seen("--changed")) {
-        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
-                                               : "--changed: needs --change-at K (the first start in it)");
-    }
-    ScenarioBundle changed;
-    if (o.seen("--changed")) {
-        changed = load_changed_scenario(sb, a.changed_arg);
-        if (a.change_at > a.starts) {
-            throw UsageError("--change-at: start " + std::to_string(a.change_at) + " is past the last (" +
-                             std::to_string(a.starts) + ")");
-        }
-    }
-    return changed;
-}
-
 // --arena's JSON, and --trajectory's file with its header (nullptr without one).
 std::FILE *open_outputs(const RunArgs &a, const ScenarioBundle &sb)
 {
@@ -165,7 +147,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         throw UsageError("--load: cannot open '" + a.load + "': " + std::strerror(errno));
     }
     const ScenarioBundle sb = load_scenario(a.scenario);
-    const ScenarioBundle changed = load_change(o, a, sb);
+    const ScenarioBundle changed = load_change_options(o, sb, a.changed_arg, a.change_at, a.starts, "start");
     robot_config_t cfg = sb.robot;
     if ((o.seen("--explore") || o.seen("--kappa")) && !a.learn) {
         throw UsageError(std::string(o.seen("--explore") ? "--explore" : "--kappa") +

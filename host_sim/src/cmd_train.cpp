@@ -296,25 +296,6 @@ robot_config_t configure(const Options &o, TrainSettings &s, const ScenarioBundl
     return cfg;
 }
 
-// --changed: the room the sets change to at --change-at.
-ScenarioBundle load_change(const Options &o, TrainSettings &s, const ScenarioBundle &sb)
-{
-    if (o.seen("--change-at") != o.seen("--changed")) {
-        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
-                                               : "--changed: needs --change-at K (the first episode in it)");
-    }
-    ScenarioBundle changed;
-    if (o.seen("--changed")) {
-        changed = load_changed_scenario(sb, s.changed);
-        if (s.change_at > s.episodes) {
-            throw UsageError("--change-at: episode " + std::to_string(s.change_at) + " is past the last (" +
-                             std::to_string(s.episodes) + ")");
-        }
-        s.changed_world = changed.world.get();
-    }
-    return changed;
-}
-
 std::FILE *open_csv(const TrainSettings &s)
 {
     std::FILE *out = nullptr;
@@ -448,7 +429,8 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     const ScenarioBundle sb = load_scenario(s.scenario);
     warn_cut_cells(program, s, sb);
     const robot_config_t cfg = configure(o, s, sb);
-    const ScenarioBundle changed = load_change(o, s, sb);
+    const ScenarioBundle changed = load_change_options(o, sb, s.changed, s.change_at, s.episodes, "episode");
+    s.changed_world = changed.world.get();
     if (!s.save.empty()) {
         check_save_target(s.save);
     }

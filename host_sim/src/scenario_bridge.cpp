@@ -199,6 +199,25 @@ ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::stri
     return b;
 }
 
+ScenarioBundle load_change_options(const Options &o, const ScenarioBundle &base, const std::string &changed,
+                                   std::uint32_t change_at, std::uint32_t last, const char *unit)
+{
+    if (o.seen("--change-at") != o.seen("--changed")) {
+        throw UsageError(o.seen("--change-at") ? "--change-at: needs --changed FILE (the changed room)"
+                                               : std::string("--changed: needs --change-at K (the first ") + unit +
+                                                     " in it)");
+    }
+    ScenarioBundle b;
+    if (o.seen("--changed")) {
+        b = load_changed_scenario(base, changed);
+        if (change_at > last) {
+            throw UsageError("--change-at: " + std::string(unit) + " " + std::to_string(change_at) +
+                             " is past the last (" + std::to_string(last) + ")");
+        }
+    }
+    return b;
+}
+
 agent_kind_t agent_kind_of(const std::string &name)
 {
     agent_kind_t kind;

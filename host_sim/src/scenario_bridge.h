@@ -37,6 +37,11 @@ ScenarioBundle load_scenario(const std::string &arg);
 /// obstacles may change)".
 ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg);
 
+/// `--change-at K --changed FILE` of train (unit "episode") and run ("start"): both or neither,
+/// K at most `last`; the changed room (load_changed_scenario()), or an empty bundle without them.
+ScenarioBundle load_change_options(const Options &o, const ScenarioBundle &base, const std::string &changed,
+                                   std::uint32_t change_at, std::uint32_t last, const char *unit);
+
 /// The agent an `--agent` option names (agent/algorithms.h: q, dyna-q, dyna-qpc, ...); another
 /// name throws UsageError.
 agent_kind_t agent_kind_of(const std::string &name);
