@@ -72,7 +72,7 @@ FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 128 && SPACE_MAX_STATE_BITS <= 24,
 // `target` without the planning bonus, which this adds (Dyna-Q+; 0 in the other modes).
 static void queue_if_urgent_(agent_t *ag, agent_state_t s, uint8_t a, float target)
 {
-    const float p = agent_abs_(target + agent_plan_bonus_(ag, s, a) - agent_q(ag, s, a));
+    const float p = agent_abs_(target + agent_plan_bonus_(ag, s, a) - qstore_get(&ag->q, s, a));
     if (p > ag->params.theta) {
         (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, s, a), p);
     }
