@@ -51,8 +51,8 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     const dynaq_record_t *rec = dynaq_find(&me->table, s);
     if (rec != NULL && dynaq_bit(rec->tried, a)) {
         uint8_t *count = count_of_(me, rec, a);
-        const bool agrees = rec->next[a] == s_next && dynaq_bit(rec->terminal, a) == terminal &&
-                            agent_abs_(rec->reward[a] - r) <= 0.5f;
+        const agent_outcome_t kept = {rec->next[a], rec->reward[a], dynaq_bit(rec->terminal, a)};
+        const bool agrees = !agent_outcome_differs_(&kept, r, s_next, terminal);
         if (agrees) {
             if (*count < UINT8_MAX) {
                 (*count)++;
