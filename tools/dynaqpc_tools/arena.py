@@ -12,11 +12,10 @@ Format (metres, degrees)::
 
 from __future__ import annotations
 
-import json
 import math
 from typing import Any, Dict
 
-from .common import ToolError
+from .common import ToolError, read_json
 
 
 def _num(obj: Dict[str, Any], key: str, where: str, positive: bool = False) -> float:
@@ -30,11 +29,7 @@ def _num(obj: Dict[str, Any], key: str, where: str, positive: bool = False) -> f
 
 def load_arena(path: str) -> Dict[str, Any]:
     """Reads and checks an arena file; a ToolError names the first problem."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            a = json.load(f)
-    except (OSError, ValueError) as e:
-        raise ToolError(f"cannot read arena {path}: {e}") from e
+    a = read_json(path, "arena ")
     if not isinstance(a, dict):
         raise ToolError(f"arena {path}: not a JSON object")
     _num(a, "width", "arena", True)
@@ -157,19 +152,7 @@ def arena_key(arena: Dict[str, Any]) -> list:
     from matplotlib.patches import Patch
 
     keys = [Patch(facecolor="0.6", edgecolor="0.3", label="obstacle (black frame: the walls)")]
-    goal = arena.get("goal") or {}
-    if goal.get("cells"):
-        keys.append(
-            Patch(
-                facecolor="tab:green",
-                alpha=0.35,
-                edgecolor="tab:green",
-                label="goal: the state cells that end an episode",
-            )
-        )
-        keys.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
-    elif goal:
-        keys.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
+    keys += goal_key(arena, "goal: the state cells that end an episode")
     beacons = arena.get("beacons", [])
     if beacons:
         keys.append(
@@ -185,6 +168,36 @@ def arena_key(arena: Dict[str, Any]) -> list:
             )
         )
     return keys
+
+
+def goal_key(arena: Dict[str, Any], cells_label: str) -> list:
+    """Legend entries for the goal draw_arena draws: its state cells (labelled `cells_label`) and
+    the circle that chose them, or the circle alone; none without a goal."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    goal = arena.get("goal") or {}
+    if goal.get("cells"):
+        return [
+            Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label=cells_label),
+            Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"),
+        ]
+    if goal:
+        return [Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal")]
+    return []
+
+
+def save_figure(fig, path: str, dpi: int) -> None:
+    """Saves a PNG and closes the figure; a folder that is missing or not writable is a ToolError
+    naming the path."""
+    import matplotlib.pyplot as plt
+
+    try:
+        fig.savefig(path, dpi=dpi)
+    except OSError as e:
+        raise ToolError(f"cannot write {path}: {e.strerror or e}") from None
+    finally:
+        plt.close(fig)
 
 
 def ray_hit(arena: Dict[str, Any], x: float, y: float, angle: float, max_len: float) -> float:

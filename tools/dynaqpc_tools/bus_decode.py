@@ -13,7 +13,7 @@ import zlib
 from dataclasses import dataclass
 from typing import Optional
 
-from .common import ToolError
+from .common import ToolError, crc8_sae_j1850
 
 _LENGTH_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
 _ANGLE_SCALE = {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3, "": math.pi / 180.0}
@@ -37,12 +37,7 @@ NO_POSE = ("LOST", "NONE")
 
 def _crc8(frame_id: int, data: bytes) -> int:
     """CRC-8/SAE-J1850 over the id's two bytes (low first) and `data` (firmware can_link_crc8)."""
-    crc = 0xFF
-    for byte in bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data):
-        crc ^= byte
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
-    return crc ^ 0xFF
+    return crc8_sae_j1850(bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data))
 
 
 def _crc4(frame_id: int, data: bytes, nibble: int) -> int:

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -47,6 +48,16 @@ def load_dbc(path: str):
         raise ToolError(f"cannot parse DBC {path}: {e}") from e
 
 
+def read_json(path: str, what: str = "") -> object:
+    """A JSON file's value; one that cannot be read or parsed is a ToolError ("cannot read
+    {what}{path}: why")."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        raise ToolError(f"cannot read {what}{path}: {e}") from e
+
+
 def parse_bus_kwargs(items: Iterable[str]) -> dict:
     """KEY=VALUE strings to keyword arguments; ints and floats are converted."""
     out = {}
@@ -85,6 +96,7 @@ def open_bus(interface: str, channel: str, bitrate: Optional[int] = None, **kwar
 
 
 def add_bus_arguments(parser) -> None:
+    """The bus to open (bus_from_args) and the CAN database that decodes it (--dbc, load_dbc)."""
     parser.add_argument(
         "--interface",
         "-i",
@@ -111,6 +123,7 @@ def add_bus_arguments(parser) -> None:
         metavar="KEY=VALUE",
         help="extra python-can bus argument, e.g. port=43114 (repeatable)",
     )
+    parser.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
 
 
 def bus_from_args(args):

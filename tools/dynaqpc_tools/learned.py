@@ -38,7 +38,8 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 from . import agents as registry
-from .common import ToolArgumentParser, ToolError, repo_root, run_main
+from .arena import goal_key, save_figure
+from .common import ToolArgumentParser, ToolError, read_json, repo_root, run_main
 
 ACTIONS = ("forward", "backward", "left", "right")
 FORMAT = "dynaqpc-learned 1"
@@ -83,11 +84,7 @@ def dump_image(sim: str, scenario: str, image: str, agent: Optional[str] = None)
 
 
 def load_dump(path: str) -> Dict[str, Any]:
-    try:
-        with open(path, encoding="utf-8") as f:
-            d = json.load(f)
-    except (OSError, ValueError) as e:
-        raise ToolError(f"cannot read {path}: {e}") from e
+    d = read_json(path)
     if not isinstance(d, dict) or d.get("format") != FORMAT:
         raise ToolError(f"{path}: not the output of dynaqpc-sim learned ({FORMAT})")
     return d
@@ -320,20 +317,7 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
         handles.append(h)
     handles.append(Patch(facecolor="white", edgecolor="0.5", label="white cell: no value for this heading"))
     handles.append(Patch(facecolor="0.6", edgecolor="0.3", label="obstacle"))
-    goal = arena.get("goal") or {}
-    if goal.get("cells"):
-        handles.append(
-            Patch(
-                facecolor="tab:green",
-                alpha=0.35,
-                edgecolor="tab:green",
-                label="goal cells (the episode ends there:\nno action drawn)",
-            )
-        )
-        handles.append(Line2D([], [], color="tab:green", linestyle="--", label="the goal's circle, which chose them"))
-    elif goal:
-        handles.append(Patch(facecolor="tab:green", alpha=0.35, edgecolor="tab:green", label="goal"))
-    return handles
+    return handles + goal_key(arena, "goal cells (the episode ends there:\nno action drawn)")
 
 
 def _draw_heading_panel(ax, view, arena, h, visited, cmap, norm, scale) -> None:
@@ -516,12 +500,7 @@ def draw(
         ),
         fontsize=10,
     )
-    try:
-        fig.savefig(out, dpi=110)
-    except OSError as e:
-        raise ToolError(f"cannot write {out}: {e.strerror or e}") from None
-    finally:
-        plt.close(fig)
+    save_figure(fig, out, dpi=110)
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -27,7 +27,6 @@ from .common import (
     ToolError,
     add_bus_arguments,
     bus_from_args,
-    default_dbc_path,
     float_in,
     int_in,
     load_dbc,
@@ -263,7 +262,6 @@ def build_parser() -> argparse.ArgumentParser:
         prog="dynaqpc-monitor", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     add_bus_arguments(p)
-    p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf, ...) instead of a bus")
     p.add_argument(
         "--log", metavar="FILE", help="also record: .mcap (Foxglove: decoded signals, pose, raw frames) or .asc/.blf"

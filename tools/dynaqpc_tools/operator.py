@@ -53,7 +53,6 @@ from .common import (
     ToolError,
     add_bus_arguments,
     bus_from_args,
-    default_dbc_path,
     float_in,
     load_dbc,
     run_main,
@@ -255,6 +254,18 @@ class Report:
         if not self.as_json:
             print(text, file=self.out)
 
+    def text(self, text: str) -> None:
+        """The command's outcome in words: the line printed, and the JSON's "text"."""
+        self.obj["text"] = text
+        self.line(text)
+
+    def silent(self, waited_for: str, timeout: float, tail: str = "") -> int:
+        """No answer came: says so (exit status 1)."""
+        self.text(
+            f"no {waited_for} within {timeout:g} s: the firmware is silent (is dynaqpc-fw running on this bus?){tail}"
+        )
+        return self.done(1)
+
     def done(self, rc: int) -> int:
         if self.as_json:
             self.obj["exit"] = rc
@@ -314,15 +325,8 @@ def command(bus, db, args, out) -> int:
         answer_ms=round((time.monotonic() - sent) * 1000.0, 1) if ack is not None else None,
     )
     if ack is None:
-        rep.obj["text"] = (
-            f"no answer (TOOL_ACK) within {args.timeout:g} s: the firmware is silent "
-            "(is dynaqpc-fw running on this bus?) or predates answers"
-        )
-        rep.line(rep.obj["text"])
-        return rep.done(1)
-    text = ack_text(ack) + (f" (sent {retries + 1} times while busy)" if retries else "")
-    rep.obj["text"] = text
-    rep.line(text)
+        return rep.silent("answer (TOOL_ACK)", args.timeout, " or predates answers")
+    rep.text(ack_text(ack) + (f" (sent {retries + 1} times while busy)" if retries else ""))
     if ack["result"] != "DONE":
         return rep.done(1)
     want = EXPECT[args.command]
@@ -390,12 +394,7 @@ def run(args, out=None) -> int:
             st = wait_status(bus, db, args.timeout)
             rep.obj.update(command="status", status=st)
             if st is None:
-                rep.obj["text"] = (
-                    f"no FW_STATUS within {args.timeout:g} s: the firmware is silent "
-                    "(is dynaqpc-fw running on this bus?)"
-                )
-                rep.line(rep.obj["text"])
-                return rep.done(1)
+                return rep.silent("FW_STATUS", args.timeout)
             rep.line(f"FW_STATUS: {status_text(st)}")
             return rep.done(1 if st["mode"] == "FAULT" else 0)
         return command(bus, db, args, out)
@@ -406,7 +405,6 @@ def run(args, out=None) -> int:
 def build_parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     add_bus_arguments(common)
-    common.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     common.add_argument("--json", action="store_true", help="print one JSON object (watch: one per line)")
     timed = argparse.ArgumentParser(add_help=False)
     timed.add_argument(

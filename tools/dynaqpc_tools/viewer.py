@@ -37,7 +37,6 @@ from .common import (
     ToolError,
     add_bus_arguments,
     bus_from_args,
-    default_dbc_path,
     float_in,
     int_in,
     load_dbc,
@@ -262,7 +261,6 @@ def build_parser() -> argparse.ArgumentParser:
         prog="dynaqpc-viewer", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     add_bus_arguments(p)
-    p.add_argument("--dbc", default=default_dbc_path(), help="CAN database (default %(default)s)")
     p.add_argument("--frame", default="TLM_POSE", help="pose frame name in the DBC (default %(default)s)")
     p.add_argument("--x-signal"), p.add_argument("--y-signal")
     p.add_argument("--heading-signal"), p.add_argument("--fix-signal")

@@ -7,7 +7,7 @@ import os
 from typing import List, Optional, Sequence
 
 from .. import agents as registry
-from ..common import ToolError
+from .. import arena as arena_mod
 from .runs import AgentRuns, read_trajectory
 from .stats import agent_rank
 
@@ -22,14 +22,8 @@ def _pyplot():
 
 
 def save_figure(fig, path: str) -> None:
-    """Saves a PNG; a folder that is missing or not writable is a ToolError naming the path."""
-    plt = _pyplot()
-    try:
-        fig.savefig(path, dpi=120)
-    except OSError as e:
-        raise ToolError(f"cannot write {path}: {e.strerror or e}") from None
-    finally:
-        plt.close(fig)
+    """Saves a PNG at the experiment's resolution (arena.save_figure)."""
+    arena_mod.save_figure(fig, path, dpi=120)
 
 
 def _curve_label(r: AgentRuns, repeated: bool) -> str:
@@ -104,8 +98,6 @@ def plot_trajectories(
 ) -> None:
     """The replayed greedy paths over the room, with a key of every mark."""
     from matplotlib.lines import Line2D
-
-    from .. import arena as arena_mod
 
     plt = _pyplot()
     paths = read_trajectory(traj_csv)

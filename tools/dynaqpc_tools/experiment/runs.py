@@ -12,7 +12,7 @@ import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence
+from typing import Dict, Iterator, List, Optional, Sequence, Tuple
 
 from .. import agents as _registry
 from ..common import ToolError
@@ -66,6 +66,23 @@ def _open_text(path: str):
         raise ToolError(f"cannot read {path}: {e.strerror or e}") from None
 
 
+def _csv_rows(path: str, kind: str, columns: Sequence[str]) -> Iterator[Tuple[int, Dict[str, str]]]:
+    """The rows of a `kind` CSV ("training", "trajectory") whose header must be `columns`, each with
+    its line number; a file that cannot be read, another header, text that is not UTF-8 or not CSV
+    is a ToolError."""
+    try:
+        with _open_text(path) as f:
+            reader = csv.DictReader(f)
+            if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != list(columns):
+                raise ToolError(f"{path}: not a {kind} CSV (columns {reader.fieldnames}, want {','.join(columns)})")
+            for row in reader:
+                yield reader.line_num, row
+    except UnicodeDecodeError:
+        raise ToolError(f"{path}: not a {kind} CSV (not UTF-8 text)") from None
+    except csv.Error as e:
+        raise ToolError(f"{path}: not a {kind} CSV ({e})") from None
+
+
 def _parse_row(row: Dict[str, str], path: str, line: int):
     try:
         return (
@@ -97,27 +114,18 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
     cells: Dict[str, Dict[tuple, tuple]] = {}
     wall: Dict[str, float] = {}
     extra: Dict[str, Dict[str, str]] = {}
-    try:
-        with _open_text(path) as f:
-            reader = csv.DictReader(f)
-            if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != want:
-                raise ToolError(f"{path}: not a training CSV (columns {reader.fieldnames}, want {','.join(want)})")
-            for row in reader:
-                if None in row or any(v is None for v in row.values()):
-                    raise ToolError(f"{path}:{reader.line_num}: {len(row)} fields, want {len(want)}")
-                agent, s, e, steps, rt, w, u, goal = _parse_row(row, path, reader.line_num)
-                if steps < 0 or rt < 0 or u < 0 or e < 1:
-                    raise ToolError(f"{path}:{reader.line_num}: negative steps/time/updates or episode < 1")
-                per = cells.setdefault(agent, {})
-                if (s, e) in per:
-                    raise ToolError(f"{path}:{reader.line_num}: agent {agent} set {s} episode {e} twice")
-                per[(s, e)] = (steps, rt, u, 1 if goal else 0)
-                wall[agent] = wall.get(agent, 0.0) + w
-                extra.setdefault(agent, {c: row[c] for c in extra_columns})
-    except UnicodeDecodeError:
-        raise ToolError(f"{path}: not a training CSV (not UTF-8 text)") from None
-    except csv.Error as e:
-        raise ToolError(f"{path}: not a training CSV ({e})") from None
+    for line, row in _csv_rows(path, "training", want):
+        if None in row or any(v is None for v in row.values()):
+            raise ToolError(f"{path}:{line}: {len(row)} fields, want {len(want)}")
+        agent, s, e, steps, rt, w, u, goal = _parse_row(row, path, line)
+        if steps < 0 or rt < 0 or u < 0 or e < 1:
+            raise ToolError(f"{path}:{line}: negative steps/time/updates or episode < 1")
+        per = cells.setdefault(agent, {})
+        if (s, e) in per:
+            raise ToolError(f"{path}:{line}: agent {agent} set {s} episode {e} twice")
+        per[(s, e)] = (steps, rt, u, 1 if goal else 0)
+        wall[agent] = wall.get(agent, 0.0) + w
+        extra.setdefault(agent, {c: row[c] for c in extra_columns})
     if not cells:
         raise ToolError(f"{path}: no rows")
     out = {}
@@ -189,30 +197,19 @@ def read_csv_dir(directory: str) -> List[AgentRuns]:
 
 def read_trajectory(path: str) -> Dict[int, List[dict]]:
     paths: Dict[int, List[dict]] = {}
-    try:
-        with _open_text(path) as f:
-            reader = csv.DictReader(f)
-            if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != TRAJECTORY_COLUMNS:
-                raise ToolError(
-                    f"{path}: not a trajectory CSV (columns {reader.fieldnames}, want {','.join(TRAJECTORY_COLUMNS)})"
-                )
-            for row in reader:
-                try:
-                    p = {
-                        "start": int(row["start"]),
-                        "step": int(row["step"]),
-                        "x": float(row["x"]),
-                        "y": float(row["y"]),
-                        "bump": int(row["bump"]) != 0,
-                        "in_goal": int(row["in_goal"]) != 0,
-                    }
-                except (ValueError, TypeError) as e:
-                    raise ToolError(f"{path}:{reader.line_num}: bad value ({e})") from None
-                paths.setdefault(p["start"], []).append(p)
-    except UnicodeDecodeError:
-        raise ToolError(f"{path}: not a trajectory CSV (not UTF-8 text)") from None
-    except csv.Error as e:
-        raise ToolError(f"{path}: not a trajectory CSV ({e})") from None
+    for line, row in _csv_rows(path, "trajectory", TRAJECTORY_COLUMNS):
+        try:
+            p = {
+                "start": int(row["start"]),
+                "step": int(row["step"]),
+                "x": float(row["x"]),
+                "y": float(row["y"]),
+                "bump": int(row["bump"]) != 0,
+                "in_goal": int(row["in_goal"]) != 0,
+            }
+        except (ValueError, TypeError) as e:
+            raise ToolError(f"{path}:{line}: bad value ({e})") from None
+        paths.setdefault(p["start"], []).append(p)
     if not paths:
         raise ToolError(f"{path}: no rows")
     return paths
