@@ -14,7 +14,7 @@ extern "C" {
 uint32_t fw_crc32(uint32_t crc, const void *data, uint32_t len);
 
 /// CRC-8/SAE-J1850 (polynomial 0x1D, init 0xFF, final xor 0xFF, not reflected): fw_crc8(0,
-/// "123456789", 9) is 0x4B. Bit-wise: the frames it covers are a few bytes.
+/// "123456789", 9) is 0x4B. A byte a step (a 256-byte table in flash).
 uint8_t fw_crc8(uint8_t crc, const void *data, uint32_t len);
 
 #ifdef __cplusplus

@@ -67,6 +67,57 @@ static void crc8_check_value(void **state)
     assert_int_equal(fw_crc8(0, "123456789", 9), 0x4Bu);  // CRC-8/SAE-J1850
     assert_int_equal(fw_crc8(fw_crc8(0, "123", 3), "456789", 6), 0x4Bu);
     assert_int_equal(fw_crc8(0, "", 0), 0u);
+    // AUTOSAR's CRC library (SWS_CRCLibrary, Crc_CalculateCRC8: SAE-J1850) check values.
+    static const struct {
+        uint8_t data[9];
+        uint32_t len;
+        uint8_t crc;
+    } autosar[] = {
+        {{0x00, 0x00, 0x00, 0x00}, 4, 0x59},
+        {{0xF2, 0x01, 0x83}, 3, 0x37},
+        {{0x0F, 0xAA, 0x00, 0x55}, 4, 0x79},
+        {{0x00, 0xFF, 0x55, 0x11}, 4, 0xB8},
+        {{0x33, 0x22, 0x55, 0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xFF}, 9, 0xCB},
+        {{0x92, 0x6B, 0x55}, 3, 0x8C},
+        {{0xFF, 0xFF, 0xFF, 0xFF}, 4, 0x74},
+    };
+    for (size_t i = 0; i < sizeof autosar / sizeof autosar[0]; i++) {
+        assert_int_equal(fw_crc8(0, autosar[i].data, autosar[i].len), autosar[i].crc);
+    }
+}
+
+// Bit-wise CRC-8/SAE-J1850, the definition the table is built from.
+static uint8_t crc8_bitwise_(uint8_t crc, const uint8_t *p, uint32_t len)
+{
+    crc = (uint8_t)~crc;
+    for (uint32_t i = 0; i < len; i++) {
+        crc ^= p[i];
+        for (int bit = 0; bit < 8; bit++) {
+            crc = (uint8_t)((crc & 0x80u) ? (((unsigned)crc << 1) ^ 0x1Du) : ((unsigned)crc << 1));
+        }
+    }
+    return (uint8_t)~crc;
+}
+
+// The table against the definition: every byte value from every starting CRC, and every split
+// of a longer buffer.
+static void crc8_every_byte(void **state)
+{
+    (void)state;
+    for (uint32_t c = 0; c < 256u; c++) {
+        for (uint32_t v = 0; v < 256u; v++) {
+            const uint8_t b = (uint8_t)v;
+            assert_int_equal(fw_crc8((uint8_t)c, &b, 1), crc8_bitwise_((uint8_t)c, &b, 1));
+        }
+    }
+    uint8_t buf[64];
+    for (uint32_t i = 0; i < sizeof buf; i++) {
+        buf[i] = (uint8_t)(i * 37u + 11u);
+    }
+    const uint8_t want = crc8_bitwise_(0, buf, sizeof buf);
+    for (uint32_t cut = 0; cut <= sizeof buf; cut++) {
+        assert_int_equal(fw_crc8(fw_crc8(0, buf, cut), buf + cut, sizeof buf - cut), want);
+    }
 }
 
 static void log2_ceil(void **state)
@@ -176,6 +227,7 @@ int main(void)
         cmocka_unit_test(crc32_check_value),
         cmocka_unit_test(crc32_every_byte),
         cmocka_unit_test(crc8_check_value),
+        cmocka_unit_test(crc8_every_byte),
         cmocka_unit_test(log2_ceil),
         cmocka_unit_test(fib_hash_spreads_and_stays_in_range),
         cmocka_unit_test(clamps),
