@@ -58,6 +58,21 @@ static inline uint32_t fw_sat_u32(uint64_t v)
     return v > UINT32_MAX ? UINT32_MAX : (uint32_t)v;
 }
 
+/// The value of the hex digit c ('0'-'9', 'a'-'f', 'A'-'F'), or -1 for any other character.
+static inline int fw_hex_digit(int c)
+{
+    if (c >= '0' && c <= '9') {
+        return c - '0';
+    }
+    if (c >= 'a' && c <= 'f') {
+        return c - 'a' + 10;
+    }
+    if (c >= 'A' && c <= 'F') {
+        return c - 'A' + 10;
+    }
+    return -1;
+}
+
 #ifdef __cplusplus
 }
 #endif

@@ -12,6 +12,7 @@
 
 #include "drivers/trilat.h"
 #include "fw/fw_base.h"
+#include "fw/fw_util.h"
 
 #define XON 0x11u
 #define XOFF 0x13u
@@ -107,20 +108,6 @@ static int parse_decimal(const char *s, size_t n, float *out)
     return FW_OK;
 }
 
-static int hex_digit(char c)
-{
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
-
 int cricket_parse_id(const char *s, size_t n, uint64_t *out)
 {
     uint64_t id = 0u;
@@ -129,7 +116,7 @@ int cricket_parse_id(const char *s, size_t n, uint64_t *out)
     while (i < n) {
         unsigned v = 0u, digits = 0u;
         while (i < n && s[i] != ':') {
-            int d = hex_digit(s[i]);
+            int d = fw_hex_digit(s[i]);
             if (d < 0 || digits == 2u) {
                 return FW_ERR_INVAL;
             }

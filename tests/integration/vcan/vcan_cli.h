@@ -10,21 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fw/fw_util.h"
 #include "hal/hal_can.h"
-
-static inline int hexval_(char c)
-{
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    return -1;
-}
 
 /// Returns 0 and fills *f, or -1 when `s` is not cansend notation.
 static inline int cli_parse_frame_(const char *s, hal_can_frame_t *f)
@@ -36,7 +23,7 @@ static inline int cli_parse_frame_(const char *s, hal_can_frame_t *f)
         return -1;
     }
     for (size_t i = 0; i < id_len; i++) {
-        int v = hexval_(s[i]);
+        int v = fw_hex_digit(s[i]);
         if (v < 0) {
             return -1;
         }
@@ -55,7 +42,7 @@ static inline int cli_parse_frame_(const char *s, hal_can_frame_t *f)
         return (d[1] && (d[2] || f->dlc > HAL_CAN_MAX_DLC)) ? -1 : 0;
     }
     while (d[0] && d[1] && f->dlc < HAL_CAN_MAX_DLC) {
-        int hi = hexval_(d[0]), lo = hexval_(d[1]);
+        int hi = fw_hex_digit(d[0]), lo = fw_hex_digit(d[1]);
         if (hi < 0 || lo < 0) {
             return -1;
         }

@@ -4,6 +4,8 @@
 
 #include <stdbool.h>
 
+#include "fw/fw_util.h"
+
 static const char hex_[] = "0123456789ABCDEF";
 
 static uint8_t *put_hex_(uint8_t *out, uint32_t v, uint32_t digits)
@@ -41,25 +43,11 @@ void slcan_parser_init(slcan_parser_t *p)
     p->overflow = 0u;
 }
 
-static int hex_value_(uint8_t c)
-{
-    if (c >= '0' && c <= '9') {
-        return c - '0';
-    }
-    if (c >= 'A' && c <= 'F') {
-        return c - 'A' + 10;
-    }
-    if (c >= 'a' && c <= 'f') {
-        return c - 'a' + 10;
-    }
-    return -1;
-}
-
 static bool hex_field_(const uint8_t *s, uint32_t digits, uint32_t *out)
 {
     uint32_t v = 0;
     for (uint32_t i = 0; i < digits; i++) {
-        const int d = hex_value_(s[i]);
+        const int d = fw_hex_digit(s[i]);
         if (d < 0) {
             return false;
         }
