@@ -215,15 +215,7 @@ void start_host(const Settings &s)
 // robot_app_init() with the scenario's agent profile; returns the agent.
 agent_t *boot_firmware(const robot_config_t &cfg, const Settings &s)
 {
-    agent_t *agent = nullptr;
-    const agent_storage_t *storage = nullptr;
-    pick_agent_profile(cfg, &agent, &storage);
-    robot_app_options_t ao{};
-    ao.cfg = &cfg;
-    ao.agent = agent;
-    ao.storage = storage;
-    ao.seed = s.seed;
-    ao.persist = true;
+    robot_app_options_t ao = host_app_options(cfg, s.seed);
     ao.auto_start = s.auto_start;
     ao.plan_budget_us = ROBOT_PLAN_BUDGET_US;
     // In real time the host delivers gyro frames late and in bunches (a loaded machine, a stall):
@@ -239,7 +231,7 @@ agent_t *boot_firmware(const robot_config_t &cfg, const Settings &s)
             throw UsageError("--cricket-tty: cannot open " + s.cricket_tty + " as a serial line");
         }
     }
-    return agent;
+    return ao.agent;
 }
 
 void print_ready(const ScenarioBundle &sb, const robot_config_t &cfg, const Settings &s)

@@ -15,4 +15,18 @@ void pick_agent_profile(const robot_config_t &cfg, agent_t **agent, const agent_
     }
 }
 
+robot_app_options_t host_app_options(const robot_config_t &cfg, std::uint32_t seed)
+{
+    robot_app_options_t ao{};
+    agent_t *agent = nullptr;
+    const agent_storage_t *storage = nullptr;
+    pick_agent_profile(cfg, &agent, &storage);
+    ao.cfg = &cfg;
+    ao.agent = agent;
+    ao.storage = storage;
+    ao.seed = seed;
+    ao.persist = true;
+    return ao;
+}
+
 }  // namespace dynaqpc

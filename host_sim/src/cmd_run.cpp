@@ -59,14 +59,10 @@ void declare_options(Options &o, RunArgs &a)
                  &a.explore, explore_mode_names());
     o.add_double("--kappa", "K", "with --learn: the exploration bonus's scale (default: the scenario's)", &a.kappa,
                  0.0, 1000.0);
-    o.add_uint("--change-at", "K",
-               "the room changes: from start K on, the obstacles are --changed's (the firmware is not "
-               "told; default: never). To start in the changed room, give it as --scenario",
-               &a.change_at, 1, 1000000);
-    o.add_string("--changed", "FILE",
-                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
-                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
-                 &a.changed_arg);
+    declare_change_options(o,
+                           "the room changes: from start K on, the obstacles are --changed's (the firmware is not "
+                           "told; default: never). To start in the changed room, give it as --scenario",
+                           &a.change_at, 1000000, &a.changed_arg);
     o.add_string("--trajectory", "OUT",
                  "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &a.trajectory);
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &a.arena);

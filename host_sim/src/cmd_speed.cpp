@@ -20,11 +20,8 @@
 #include "lockstep.h"
 #include "options.h"
 #include "scenario_bridge.h"
-#include "world/cricket.h"
-#include "world/motion.h"
-#include "world/random.h"
+#include "world/bare_run.h"
 #include "world/scenario.h"
-#include "world/world.h"
 
 namespace dynaqpc {
 
@@ -35,39 +32,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0)
 {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// The bare world for `periods` control periods; returns the wall seconds.
-double bare_world(const world::Scenario &s, long periods, std::uint32_t seed, double *checksum)
-{
-    world::World w(s, seed);
-    world::RandomStream actions(seed, 100);
-    world::CricketListener cricket(s, seed);
-    std::vector<world::CricketLine> lines;
-    std::vector<float> ranges(static_cast<std::size_t>(w.ray_count()));
-    w.reset(w.sample_start_pose());
-    long in_episode = 0;
-    const Clock::time_point t0 = Clock::now();
-    for (long p = 0; p < periods; ++p) {
-        const auto a = static_cast<world::Action>(static_cast<int>(actions.uniform() * 4.0));
-        const world::WheelSpeeds v = world::wheel_targets_for(s, a, w.wheel_speeds());
-        w.set_wheel_targets(v.left, v.right);
-        w.step_period();
-        w.range_readings(ranges.data());
-        *checksum += (ranges.empty() ? 0.0 : ranges[0]) + w.gyro_rate();
-        if (s.gps.enabled) *checksum += w.gps_pose().x;
-        if (!s.cricket.beacons.empty()) {
-            const world::Pose pose = w.pose();
-            lines.clear();
-            cricket.advance(w.time_s(), pose.x, pose.y, &lines);
-        }
-        if (w.bumped()) w.clear_bump();
-        if (w.in_goal() || ++in_episode >= static_cast<long>(s.learning.step_cap)) {
-            w.reset(w.sample_start_pose());
-            in_episode = 0;
-        }
-    }
-    return seconds_since(t0);
 }
 
 double median(std::vector<double> v)
@@ -108,7 +72,7 @@ int cmd_speed(const std::string &program, const std::vector<std::string> &args)
     apply_overrides(o, {&agent, &planning}, &cfg);
     const double period_s = sb.world->timing.control_period;
     std::vector<double> lock_x, world_x, ratio;
-    double checksum = 0.0;
+    world::BareRunTotals bare;  // its checksum, printed, keeps the readings from being optimised away
     for (std::uint32_t r = 1; r <= rounds; r++) {
         LockstepOptions lo;
         lo.seed = set_seed(seed, r);
@@ -122,7 +86,7 @@ int cmd_speed(const std::string &program, const std::vector<std::string> &args)
             lock_wall = seconds_since(t0);
         }
         const long periods = std::max(1L, static_cast<long>(robot_s / period_s + 0.5));
-        const double world_wall = bare_world(*sb.world, periods, lo.seed, &checksum);
+        const double world_wall = world::run_bare_world(*sb.world, periods, lo.seed, &bare);
         const double lx = robot_s / lock_wall;
         const double wx = static_cast<double>(periods) * period_s / world_wall;
         lock_x.push_back(lx);
@@ -136,7 +100,7 @@ int cmd_speed(const std::string &program, const std::vector<std::string> &args)
     std::printf("speed: scenario=%s agent=%s planning=%u lockstep_x=%.0f world_x=%.0f ratio=%.2f (target >= 0.5; "
                 "checksum %.6g)\n",
                 sb.name.c_str(), agent.c_str(), cfg.planning, median(lock_x), median(world_x), median(ratio),
-                checksum);
+                bare.checksum);
     return kExitOk;
 }
 

@@ -141,14 +141,10 @@ void declare_outputs(Options &o, TrainSettings &s)
                  "each episode end "
                  "(dynaqpc-sim run --load FILE replays it)",
                  &s.save);
-    o.add_uint("--change-at", "K",
-               "the room changes: from episode K of every set on, the obstacles are --changed's "
-               "(the firmware is not told and keeps learning; default: never)",
-               &s.change_at, 1, 10000000);
-    o.add_string("--changed", "FILE",
-                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
-                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
-                 &s.changed);
+    declare_change_options(o,
+                           "the room changes: from episode K of every set on, the obstacles are --changed's "
+                           "(the firmware is not told and keeps learning; default: never)",
+                           &s.change_at, 10000000, &s.changed);
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
                &s.no_wall_time);
     o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);

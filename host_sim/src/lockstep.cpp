@@ -77,14 +77,10 @@ struct Lockstep::Impl {
                 throw std::runtime_error(opt.flash_file + ": not a flash image of this firmware (size) or unreadable");
             }
         }
-        pick_agent_profile(cfg, &agent, &storage);
-        robot_app_options_t ao{};
-        ao.cfg = &cfg;
-        ao.agent = agent;
-        ao.storage = storage;
-        ao.seed = opt.seed;
+        robot_app_options_t ao = host_app_options(cfg, opt.seed);
+        agent = ao.agent;
+        storage = ao.storage;
         ao.evaluate = opt.evaluate;
-        ao.persist = true;
         ao.auto_start = false;
         if (cfg.planning == 0) {
             ao.plan_cycles = opt.plan_update_cycles;

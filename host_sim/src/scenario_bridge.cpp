@@ -199,6 +199,16 @@ ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::stri
     return b;
 }
 
+void declare_change_options(Options &o, const std::string &change_at_help, std::uint32_t *change_at,
+                            std::uint32_t max, std::string *changed)
+{
+    o.add_uint("--change-at", "K", change_at_help, change_at, 1, max);
+    o.add_string("--changed", "FILE",
+                 "with --change-at: the changed room, a scenario file whose obstacles alone differ from "
+                 "--scenario's (docs/scenarios.md, \"Rooms that change\")",
+                 changed);
+}
+
 ScenarioBundle load_change_options(const Options &o, const ScenarioBundle &base, const std::string &changed,
                                    std::uint32_t change_at, std::uint32_t last, const char *unit)
 {

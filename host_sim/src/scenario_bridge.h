@@ -37,6 +37,11 @@ ScenarioBundle load_scenario(const std::string &arg);
 /// obstacles may change)".
 ScenarioBundle load_changed_scenario(const ScenarioBundle &base, const std::string &arg);
 
+/// Declares `--change-at K` (help `change_at_help`: what K counts, K from 1 to `max`) and
+/// `--changed FILE` (the changed room), the options load_change_options() reads.
+void declare_change_options(Options &o, const std::string &change_at_help, std::uint32_t *change_at,
+                            std::uint32_t max, std::string *changed);
+
 /// `--change-at K --changed FILE` of train (unit "episode") and run ("start"): both or neither,
 /// K at most `last`; the changed room (load_changed_scenario()), or an empty bundle without them.
 ScenarioBundle load_change_options(const Options &o, const ScenarioBundle &base, const std::string &changed,

@@ -8,64 +8,22 @@
 //   scenario=<name> control_periods_per_s=<n> physics_steps_per_s=<n> rays_per_period=<n>
 // Usage: dynaqpc-world-bench [--periods N] [--seed S] [scenario...]   (default: paper-sim paper-lab)
 #include <algorithm>
-#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
-#include "world/cricket.h"
-#include "world/motion.h"
-#include "world/random.h"
+#include "world/bare_run.h"
 #include "world/scenario.h"
-#include "world/world.h"
 
 namespace {
 
-struct Totals {
-    long goals = 0, bumps = 0, cricket_lines = 0;
-    double checksum = 0.0;
-};
-
-double run_once(const world::Scenario &s, long periods, std::uint32_t seed, Totals *t)
+// Control periods per wall second of one run (world::run_bare_world, as `dynaqpc-sim speed`).
+double run_once(const world::Scenario &s, long periods, std::uint32_t seed, world::BareRunTotals *t)
 {
-    world::World w(s, seed);
-    world::RandomStream actions(seed, 100);
-    world::CricketListener cricket(s, seed);
-    std::vector<world::CricketLine> lines;
-    std::vector<float> ranges(static_cast<std::size_t>(w.ray_count()));
-    w.reset(w.sample_start_pose());
-    long in_episode = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long p = 0; p < periods; ++p) {
-        const auto a = static_cast<world::Action>(static_cast<int>(actions.uniform() * 4.0));
-        const world::WheelSpeeds v = world::wheel_targets_for(s, a, w.wheel_speeds());
-        w.set_wheel_targets(v.left, v.right);
-        w.step_period();
-        w.range_readings(ranges.data());
-        t->checksum += ranges[0] + w.gyro_rate();
-        if (s.gps.enabled) t->checksum += w.gps_pose().x;
-        if (!s.cricket.beacons.empty()) {
-            const world::Pose pose = w.pose();
-            lines.clear();
-            cricket.advance(w.time_s(), pose.x, pose.y, &lines);
-            t->cricket_lines += static_cast<long>(lines.size());
-        }
-        if (w.bumped()) {
-            ++t->bumps;
-            w.clear_bump();
-        }
-        ++in_episode;
-        if (w.in_goal() || in_episode >= s.learning.step_cap) {
-            t->goals += w.in_goal() ? 1 : 0;
-            w.reset(w.sample_start_pose());
-            in_episode = 0;
-        }
-    }
-    const double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return static_cast<double>(periods) / secs;
+    return static_cast<double>(periods) / world::run_bare_world(s, periods, seed, t);
 }
 
 }  // namespace
@@ -97,7 +55,7 @@ int main(int argc, char **argv)
             return 1;
         }
         std::vector<double> rates;
-        Totals t;
+        world::BareRunTotals t;
         for (int r = 0; r < 5; ++r) rates.push_back(run_once(s, periods, seed, &t));
         std::sort(rates.begin(), rates.end());
         const double median = rates[2];

@@ -99,6 +99,17 @@ bool boxes_overlap(const Obstacle &a, const Obstacle &b)
     return true;
 }
 
+// A circle of radius r at (cx, cy).
+Obstacle circle(double cx, double cy, double r)
+{
+    Obstacle c;
+    c.shape = Obstacle::Shape::Circle;
+    c.cx = cx;
+    c.cy = cy;
+    c.radius = r;
+    return c;
+}
+
 // Distance between two obstacles' surfaces, exact; negative when they overlap. Two boxes apart
 // are nearest at a corner of one (convex polygons), so their corners' distances to the other say
 // it; overlapping boxes need not have a corner inside the other (a cross), so that is tested
@@ -196,12 +207,7 @@ void Drawer::draw_goal()
         const double m = std::min({r + d_, w / 2, h / 2});
         goal.cx = q_pos(u(m, w - m));
         goal.cy = q_pos(u(m, h - m));
-        Obstacle c;
-        c.shape = Obstacle::Shape::Circle;
-        c.cx = goal.cx;
-        c.cy = goal.cy;
-        c.radius = r;
-        goal_region_.assign(1, c);
+        goal_region_.assign(1, circle(goal.cx, goal.cy, r));
         return;
     }
     // Two neighbouring cells of the state grid, like the base's: a circle through the midpoint
@@ -366,18 +372,7 @@ void Drawer::run()
             }
         }
     }
-    const int n_obstacles = kObstacles[0] + below(kObstacles[1] - kObstacles[0] + 1);
-    for (int k = 0; k < n_obstacles; k++) {
-        for (int t = 0; t < kPlaceTries; t++) {
-            Piece p;
-            draw_obstacle(&p);
-            if (fits(p)) {
-                pieces.push_back(p);
-                obstacles++;
-                break;
-            }
-        }
-    }
+    add_obstacles(kObstacles[0] + below(kObstacles[1] - kObstacles[0] + 1));
 }
 
 // ---- Far-goal rooms --------------------------------------------------------------------------
@@ -431,12 +426,7 @@ bool Drawer::goal_near_uv(double uu, double vv, double u0, double u1, double v0,
         to_xy(std::clamp(uu, lo_u, hi_u), std::clamp(vv, lo_v, hi_v), &x, &y);
         goal.cx = q_pos(x);
         goal.cy = q_pos(y);
-        Obstacle c;
-        c.shape = Obstacle::Shape::Circle;
-        c.cx = goal.cx;
-        c.cy = goal.cy;
-        c.radius = r;
-        goal_region_.assign(1, c);
+        goal_region_.assign(1, circle(goal.cx, goal.cy, r));
         return true;
     }
     double tx = 0, ty = 0;
