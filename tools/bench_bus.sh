@@ -17,6 +17,7 @@
 # Defaults: 60 s at 10x, paper-sim, build/host-release/bin if built, else build/host/bin.
 set -u
 REPO=$(cd "$(dirname "$0")/.." && pwd)
+. "$REPO/tools/devices_ready.sh"
 SECONDS_WALL=60
 SPEED=10
 SCENARIO=paper-sim
@@ -67,12 +68,7 @@ timeout $LIMIT "$BIN/dynaqpc-sim" devices --scenario "$SCENARIO" --speed "$SPEED
     --duration "$SECONDS_WALL" > "$TMP/devices.out" 2>&1 &
 DEV=$!
 PIDS="$PIDS $DEV"
-n=0
-until grep -q ready "$TMP/devices.out" 2>/dev/null; do
-    n=$((n + 1)); [ $n -gt 100 ] && { echo "bench_bus: dynaqpc-sim devices did not start" >&2; cat "$TMP/devices.out" >&2; exit 1; }
-    sleep 0.1
-done
-TTY=$(sed -n 's/^cricket_tty=//p' "$TMP/devices.out" | head -n 1)
+TTY=$(wait_devices_ready "$TMP/devices.out" bench_bus) || exit 1
 timeout $LIMIT "$BIN/dynaqpc-fw" --scenario "$SCENARIO" --speed "$SPEED" --duration $((SECONDS_WALL + 2)) \
     ${TTY:+--cricket-tty "$TTY"} > "$TMP/fw.out" 2>&1 &
 FW=$!

@@ -20,6 +20,7 @@
 # firmware refused (final boot); episodes the firmware's trust logic ended and legs it drove.
 set -u
 REPO=$(cd "$(dirname "$0")/.." && pwd)
+. "$REPO/tools/devices_ready.sh"
 BIN=$REPO/build/host-release/bin
 PY=$REPO/.venv/bin/python
 SECS=240
@@ -67,12 +68,7 @@ run() {
     "$BIN/dynaqpc-sim" devices --scenario paper-lab --speed "$SPEED" --supervise --wait-firmware \
         --duration "$SECS" > "$D/devices.out" 2>&1 &
     DEV=$!
-    n=0
-    until grep -q ready "$D/devices.out" 2>/dev/null; do
-        n=$((n + 1)); [ $n -gt 100 ] && { echo "soak: devices did not start" >&2; cat "$D/devices.out" >&2; return 1; }
-        sleep 0.1
-    done
-    TTY=$(sed -n 's/^cricket_tty=//p' "$D/devices.out" | head -n 1)
+    TTY=$(wait_devices_ready "$D/devices.out" soak) || return 1
     boot=0
     start_fw() {
         boot=$((boot + 1))
