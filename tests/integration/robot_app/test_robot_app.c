@@ -629,6 +629,36 @@ static void test_reboot_reports_the_cut_episode(void **state)
     assert_int_equal(last_status_.boot_count, 3);
 }
 
+// A reboot before any save (a fresh robot: no record in flash) is journaled too (the early
+// journal, robot/boot_journal.h): every boot counts one more and reports the episode it cut.
+static void test_reboot_before_any_save_reports_the_cut_episode(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    for (uint32_t boot = 1; boot <= 3u; boot++) {
+        cmd_counter_ = 1;
+        live_for_(1500);
+        assert_int_equal(last_status_.boot_count, boot);
+        ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+        live_for_(6000);
+        const uint32_t episode = robot_app_ctrl()->episode;
+        const uint32_t steps = robot_app_ctrl()->step;
+        assert_true(steps >= 2u);
+        robot_app_stats_t st;
+        robot_app_get_stats(&st);
+        assert_int_equal(st.saves, 0);  // no record yet
+        boot_opt_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+        live_for_(1500);
+        assert_int_equal(n_episodes_, 1);
+        assert_true(last_episode_.interrupted);
+        assert_int_equal(last_episode_.episode, episode);
+        assert_int_equal(last_episode_.steps, steps);
+        assert_int_equal(last_status_.boot_count, boot + 1u);
+        robot_app_get_stats(&st);
+        assert_int_equal(st.restore_result, FW_ERR_NOENT);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -641,6 +671,7 @@ int main(void)
         cmocka_unit_test(test_value_frames_follow_the_steps),
         cmocka_unit_test(test_pose_trust_gates_episodes),
         cmocka_unit_test(test_reboot_reports_the_cut_episode),
+        cmocka_unit_test(test_reboot_before_any_save_reports_the_cut_episode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
