@@ -140,6 +140,14 @@ int can_link_rx_reject(can_link_rx_t *rx)
     return FW_ERR_INVAL;
 }
 
+int can_link_rx_implausible(can_link_rx_t *rx)
+{
+    if (rx->implausible < UINT16_MAX) {
+        rx->implausible++;
+    }
+    return FW_ERR_INVAL;
+}
+
 bool can_link_rx_silent(const can_link_rx_t *rx, uint64_t now_us, uint64_t max_age_us)
 {
     if (!rx->seen) {

@@ -53,8 +53,13 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     }
     // Samples since the last accepted one (more than 1 when frames were lost), by the counter.
     const uint32_t steps = gyro->rx.seen ? (uint32_t)((msg.counter - gyro->rx.counter) & (CAN_LINK_COUNTER_MOD - 1u)) : 1u;
-    // No rate-of-change check: the rate changes by hundreds of deg/s in one sample when a turn
-    // starts or a bump stops it (docs/can-protocol.md).
+    // No check of the rate's change: it changes by hundreds of deg/s in one sample when a turn
+    // starts or a bump stops it (docs/can-protocol.md). The rate itself cannot exceed what the
+    // wheels can turn the robot at (gyro_set_rate_limit).
+    const int32_t limit = gyro->rate_limit_cdeg_s;
+    if (limit != 0 && msg.status == GYRO_STATUS_OK && (msg.yaw_rate > limit || msg.yaw_rate < -limit)) {
+        return can_link_rx_implausible(&gyro->rx);
+    }
     const int err = can_link_rx_accept_e2e(&gyro->rx, msg.counter, now_us, GYRO_MAX_STEP);
     if (err < 0) {
         return err;
@@ -108,6 +113,11 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us)
     gyro->prev_rate_deg_s = rate;
     gyro->prev_us = now_us;
     return FW_OK;
+}
+
+void gyro_set_rate_limit(gyro_t *gyro, uint16_t limit_cdeg_s)
+{
+    gyro->rate_limit_cdeg_s = limit_cdeg_s;
 }
 
 void gyro_set_heading(gyro_t *gyro, float heading_deg)

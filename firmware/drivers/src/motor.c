@@ -17,6 +17,32 @@ void motor_init(motor_t *motor)
     FW_ASSERT(motor != NULL);
     memset(motor, 0, sizeof *motor);
     can_link_rx_init(&motor->rx);
+    motor->peak_prev = -1;
+}
+
+int32_t motor_cmd_peak_mm_s(const motor_t *motor)
+{
+    FW_ASSERT(motor != NULL);
+    if (motor->peak_prev < 0) {
+        return -1;
+    }
+    return motor->peak_now > motor->peak_prev ? motor->peak_now : motor->peak_prev;
+}
+
+static int32_t abs_(int32_t v)
+{
+    return v < 0 ? -v : v;
+}
+
+// A measured speed no wheel driven by the recent commands reaches (motor.h).
+static bool implausible_(const motor_t *motor, int32_t left, int32_t right)
+{
+    const int32_t peak = motor_cmd_peak_mm_s(motor);
+    if (peak < 0) {
+        return false;
+    }
+    const int32_t limit = peak + peak / 2 + MOTOR_PLAUSIBLE_SLACK_MM_S;
+    return abs_(left) > limit || abs_(right) > limit;
 }
 
 int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_us)
@@ -28,6 +54,9 @@ int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_u
         !dynaqpc_can_motor_status_speed_left_is_in_range(msg.speed_left) ||
         !dynaqpc_can_motor_status_speed_right_is_in_range(msg.speed_right)) {
         return can_link_rx_reject(&motor->rx);
+    }
+    if (implausible_(motor, msg.speed_left, msg.speed_right)) {
+        return can_link_rx_implausible(&motor->rx);
     }
     const int err = can_link_rx_accept_e2e(&motor->rx, msg.counter, now_us, CAN_LINK_MAX_STEP);
     if (err < 0) {
@@ -64,6 +93,14 @@ int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *ou
         return FW_ERR_INVAL;
     }
     can_link_e2e_protect(out, 8u);
+    const int32_t l = abs_(msg.speed_left), r = abs_(msg.speed_right);
+    const int16_t fastest = (int16_t)(l > r ? l : r);
+    motor->peak_now = fastest > motor->peak_now ? fastest : motor->peak_now;
+    if (++motor->peak_cmds >= MOTOR_PEAK_CMDS) {
+        motor->peak_prev = motor->peak_now;
+        motor->peak_now = 0;
+        motor->peak_cmds = 0;
+    }
     return FW_OK;
 }
 

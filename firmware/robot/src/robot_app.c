@@ -561,6 +561,22 @@ static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
     }
 }
 
+// The fastest the robot can turn on the wheel speeds it was given lately (motor.h,
+// MOTOR_PEAK_CMDS): both wheels at the peak, opposite ways, 2 v / track, by half as much again,
+// plus GYRO_LIMIT_SLACK_DEG_S (the bias, noise, a push); 0 (none) before the motor driver has
+// seen enough commands, or beyond the sensor's range. A gyro sample beyond it is refused and
+// bridged (gyro_set_rate_limit).
+#define GYRO_LIMIT_SLACK_DEG_S 30.0f
+static uint16_t gyro_limit_(int32_t peak_mm_s)
+{
+    if (peak_mm_s < 0) {
+        return 0u;
+    }
+    const float turn = 2.0f * (float)peak_mm_s * 1e-3f / app_.opt.cfg->track_m * DEG_PER_RAD;
+    const float limit = 1.5f * turn + GYRO_LIMIT_SLACK_DEG_S;
+    return limit < (float)GYRO_RANGE_DEG_S ? (uint16_t)(limit * 100.0f) : 0u;
+}
+
 // What makes a gyro-integrated heading untrusted (pose_trust.h): a gap in the gyro's samples (or
 // its silence, or a sample it flags), a control task that stalled (the samples that bunched up
 // behind it are integrated over the wrong times), a fresh fix farther from the last one than the
@@ -664,6 +680,7 @@ static void control_task_(void *ctx)
     if (motor_encode_cmd(&app_.dev.motor, &cmd, &f) == FW_OK) {
         send_(&f);
     }
+    gyro_set_rate_limit(&app_.dev.gyro, gyro_limit_(motor_cmd_peak_mm_s(&app_.dev.motor)));
     telemetry_(&in, fix_state);
     if (app_.ctrl.episode_done) {
         app_.stats.episodes++;

@@ -212,6 +212,99 @@ static void test_gyro_integrates_over_the_sample_clock_when_asked(void **state)
     assert_float_equal(gyro_heading_deg(&g), 90.0f * (0.160f + 0.0011f), 1e-3f);
 }
 
+static hal_can_frame_t motor_speeds_frame(uint8_t *counter, int16_t left, int16_t right)
+{
+    const motor_status_t s = {.speed_left_mm_s = left, .speed_right_mm_s = right};
+    hal_can_frame_t f;
+    assert_int_equal(motor_encode_status(counter, &s, &f), FW_OK);
+    return f;
+}
+
+static void command_(motor_t *m, int16_t left, int16_t right)
+{
+    const motor_cmd_t cmd = {left, right, true};
+    hal_can_frame_t f;
+    assert_int_equal(motor_encode_cmd(m, &cmd, &f), FW_OK);
+}
+
+// MOTOR_STATUS against the firmware's own commands: a wheel faster than the recent commands'
+// peak by half again plus the slack is refused as implausible and counted, the status holds, and
+// the next good frame is taken (a lost frame's worth). Unchecked until MOTOR_PEAK_CMDS commands;
+// a stop's run-down passes while the faster commands are within the window, and is forgotten after.
+static void test_motor_status_beyond_the_commands_is_implausible(void **state)
+{
+    (void)state;
+    motor_t m;
+    motor_init(&m);
+    uint8_t c = 0;
+    uint64_t t = 0;
+    assert_int_equal(motor_cmd_peak_mm_s(&m), -1);
+    hal_can_frame_t f = motor_speeds_frame(&c, 1900, -1900);  // nothing commanded yet: unchecked
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    for (unsigned i = 0; i < MOTOR_PEAK_CMDS; i++) {
+        command_(&m, 300, 280);
+    }
+    assert_int_equal(motor_cmd_peak_mm_s(&m), 300);
+    const int16_t limit = 300 + 150 + MOTOR_PLAUSIBLE_SLACK_MM_S;
+    f = motor_speeds_frame(&c, limit, -limit);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    f = motor_speeds_frame(&c, 10, (int16_t)(limit + 1));
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_ERR_INVAL);
+    assert_int_equal(m.rx.implausible, 1);
+    assert_int_equal(m.status.speed_right_mm_s, -limit);  // held
+    f = motor_speeds_frame(&c, 290, 290);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    assert_int_equal(m.rx.lost, 1);  // the refused frame: bridged as a lost one
+    assert_int_equal(m.status.speed_left_mm_s, 290);
+    // Stopping: the run-down passes while the window holds the drive's commands...
+    for (unsigned i = 0; i + 1u < MOTOR_PEAK_CMDS; i++) {
+        command_(&m, 0, 0);
+    }
+    assert_int_equal(motor_cmd_peak_mm_s(&m), 300);
+    f = motor_speeds_frame(&c, 200, 200);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    // ...and once the window holds stopped commands only (here MOTOR_PEAK_CMDS; at most
+    // 2 x MOTOR_PEAK_CMDS - 1), only the slack is left.
+    command_(&m, 0, 0);
+    assert_int_equal(motor_cmd_peak_mm_s(&m), 0);
+    f = motor_speeds_frame(&c, MOTOR_PLAUSIBLE_SLACK_MM_S, 0);
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_OK);
+    f = motor_speeds_frame(&c, 0, -(MOTOR_PLAUSIBLE_SLACK_MM_S + 1));
+    assert_int_equal(motor_rx_status(&m, &f, t += 48000u), FW_ERR_INVAL);
+    assert_int_equal(m.rx.implausible, 2);
+    assert_int_equal(m.rx.malformed, 0);
+}
+
+// A gyro sample faster than the robot can turn (gyro_set_rate_limit) is refused as implausible,
+// never integrated, and bridged: the next good sample integrates over both intervals. 0: no limit.
+static void test_gyro_rate_beyond_the_limit_is_implausible(void **state)
+{
+    (void)state;
+    gyro_t g;
+    gyro_init(&g);
+    gyro_set_sample_period(&g, 16000u);
+    gyro_set_rate_limit(&g, 6000u);  // 60 deg/s
+    uint8_t c = 0;
+    uint64_t t = 1000000u;
+    hal_can_frame_t f = gyro_frame(&c, 5000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t), FW_OK);
+    f = gyro_frame(&c, -6001, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_ERR_INVAL);
+    assert_int_equal(g.rx.implausible, 1);
+    assert_float_equal(gyro_heading_deg(&g), 0.0f, 0.0f);
+    f = gyro_frame(&c, 5000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    assert_float_equal(gyro_heading_deg(&g), 50.0f * 0.032f, 1e-4f);  // over both intervals
+    assert_int_equal(g.gaps, 0);
+    f = gyro_frame(&c, 6000, GYRO_STATUS_OK);  // at the limit: taken
+    assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    gyro_set_rate_limit(&g, 0u);
+    f = gyro_frame(&c, -29000, GYRO_STATUS_OK);
+    assert_int_equal(gyro_rx_rate(&g, &f, t += 16000u), FW_OK);
+    assert_int_equal(g.rx.implausible, 1);
+    assert_int_equal(g.rx.malformed, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -222,6 +315,8 @@ int main(void)
         cmocka_unit_test(test_gyro_skips_gaps_and_unusable_samples),
         cmocka_unit_test(test_gyro_learns_bias_while_stationary),
         cmocka_unit_test(test_gyro_bias_ignores_a_turn_still_ending),
+        cmocka_unit_test(test_motor_status_beyond_the_commands_is_implausible),
+        cmocka_unit_test(test_gyro_rate_beyond_the_limit_is_implausible),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

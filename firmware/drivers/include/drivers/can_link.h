@@ -89,6 +89,12 @@ int can_link_rx_accept_e2e(can_link_rx_t *rx, uint8_t counter, uint64_t now_us, 
 /// Counts a malformed frame. Always returns FW_ERR_INVAL, for `return can_link_rx_reject(rx);`.
 int can_link_rx_reject(can_link_rx_t *rx);
 
+/// A frame whose values the receiver's plausibility check refused (a rate, a speed beyond what
+/// the robot can do): counted in rx->implausible (saturated), the counter not advanced, so the
+/// next good frame bridges it. Returns FW_ERR_INVAL.
+int can_link_rx_implausible(can_link_rx_t *rx);
+
+
 /// True when no frame was accepted within `max_age_us` before `now_us` (or ever).
 bool can_link_rx_silent(const can_link_rx_t *rx, uint64_t now_us, uint64_t max_age_us);
 

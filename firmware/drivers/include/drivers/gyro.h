@@ -35,6 +35,7 @@ typedef struct gyro {
     int8_t temperature_c;
     uint8_t status;         ///< enum gyro_status of the last frame
     uint16_t period_us;     ///< the samples' period (0: integrate over receive times); gyro_set_sample_period
+    uint16_t rate_limit_cdeg_s; ///< |rate| beyond it is implausible (0: none); gyro_set_rate_limit
     can_link_rx_t rx;
     // Integrator.
     float heading_deg;      ///< [0, 360), counter-clockwise
@@ -54,8 +55,9 @@ void gyro_init(gyro_t *gyro);
 /// Decodes GYRO_RATE received at `now_us` and integrates. Returns FW_OK, FW_ERR_INVAL (malformed:
 /// wrong id/dlc, a Crc that fails (the end-to-end check over the data id and the data, counter
 /// included), rate beyond ±300 deg/s, unknown status; counted in rx.malformed; or implausible: a
-/// counter jump over GYRO_MAX_STEP, more samples than a gap the integrator bridges, counted in
-/// rx.implausible; nothing changes, the next good sample bridges it) or FW_ERR_NOENT (counter
+/// counter jump over GYRO_MAX_STEP, more samples than a gap the integrator bridges, or an OK
+/// sample's rate beyond gyro_set_rate_limit's, counted in rx.implausible; nothing changes, the
+/// next good sample bridges it) or FW_ERR_NOENT (counter
 /// repeated: ignored). A frame that resynchronises after a jump is taken but not integrated
 /// across: a gap.
 int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
@@ -64,6 +66,11 @@ int gyro_rx_rate(gyro_t *gyro, const hal_can_frame_t *frame, uint64_t now_us);
 /// (GYRO_RATE's cycle, 16000), whatever the receive times, which a loaded host or a stalled
 /// task bunches up; 0 integrates over receive times. gyro_init sets FW_CFG_GYRO_PERIOD_US.
 void gyro_set_sample_period(gyro_t *gyro, uint16_t period_us);
+
+/// The fastest the robot can turn now, 0.01 deg/s (0: no limit but the sensor's range): an OK
+/// sample beyond it is refused as implausible and bridged like a lost one. The application sets
+/// it from the wheel speeds it commanded lately (robot_app.c, gyro_limit_).
+void gyro_set_rate_limit(gyro_t *gyro, uint16_t limit_cdeg_s);
 
 /// Sets the heading (deg, any value; wrapped into [0, 360)), e.g. from an absolute reference.
 void gyro_set_heading(gyro_t *gyro, float heading_deg);

@@ -22,6 +22,13 @@ extern "C" {
 #define MOTOR_CMD_TIMEOUT_MS 500u    ///< the controller's safety timeout on MOTOR_CMD
 #define MOTOR_CMD_SPEED_MAX 1500     ///< |speed target| limit of MOTOR_CMD, mm/s
 #define MOTOR_STATUS_SPEED_MAX 2000  ///< |measured speed| limit of MOTOR_STATUS, mm/s
+/// MOTOR_STATUS's plausibility against the firmware's own commands (motor_encode_cmd): a wheel
+/// turns no faster than the fastest target of the last MOTOR_PEAK_CMDS to 2 x MOTOR_PEAK_CMDS - 1
+/// commands (a stop's run-down included: 4 commands are 0.77 s at the paper's 192 ms) by more
+/// than half of it again plus MOTOR_PLAUSIBLE_SLACK_MM_S (noise, a wheel that does not match, a
+/// push). Checked once MOTOR_PEAK_CMDS commands were built since motor_init.
+#define MOTOR_PEAK_CMDS 4u
+#define MOTOR_PLAUSIBLE_SLACK_MM_S 150
 
 /// motor_status_t.faults bits (MOTOR_STATUS Fault* signals).
 #define MOTOR_FAULT_OVERCURRENT 0x01u
@@ -49,6 +56,9 @@ typedef struct motor {
     motor_status_t status;  ///< last accepted MOTOR_STATUS
     can_link_rx_t rx;       ///< MOTOR_STATUS bookkeeping (silence: rx.last_ok_us)
     uint8_t tx_counter;     ///< next MOTOR_CMD counter
+    uint8_t peak_cmds;      ///< commands in the current run of MOTOR_PEAK_CMDS
+    int16_t peak_now;       ///< the fastest |target| of the current run, mm/s
+    int16_t peak_prev;      ///< of the run before it; -1 until one run is complete
 } motor_t;
 
 void motor_init(motor_t *motor);
@@ -56,9 +66,13 @@ void motor_init(motor_t *motor);
 /// Decodes a MOTOR_STATUS frame received at `now_us` into motor->status.
 /// Returns FW_OK, FW_ERR_INVAL (not a well-formed MOTOR_STATUS: wrong id/dlc/flags, a Crc that
 /// fails, a speed out of range, counted in rx.malformed; or implausible: a counter jump over
-/// CAN_LINK_MAX_STEP, counted in rx.implausible; status unchanged) or FW_ERR_NOENT (counter
-/// repeated).
+/// CAN_LINK_MAX_STEP, or a speed beyond what the recent commands allow (MOTOR_PEAK_CMDS),
+/// counted in rx.implausible; status unchanged) or FW_ERR_NOENT (counter repeated).
 int motor_rx_status(motor_t *motor, const hal_can_frame_t *frame, uint64_t now_us);
+
+/// The fastest |speed target| of the recent commands (MOTOR_PEAK_CMDS), mm/s, or -1 before
+/// MOTOR_PEAK_CMDS commands were built.
+int32_t motor_cmd_peak_mm_s(const motor_t *motor);
 
 /// Builds the next MOTOR_CMD into `out`. Returns FW_OK or FW_ERR_INVAL (a speed beyond
 /// ±MOTOR_CMD_SPEED_MAX: nothing built, the counter does not advance).
