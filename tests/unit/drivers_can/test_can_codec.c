@@ -318,6 +318,62 @@ static void test_e2e_refuses_corruption_and_most_noise(void **state)
     }
 }
 
+// The physical bounds on top (motor.h MOTOR_PEAK_CMDS, gyro_set_rate_limit): of random frames
+// that reach a robot standing still (its recent commands 0: wheels within the slack, the gyro
+// within 30 deg/s), how many are used (MOTOR_STATUS: taken; GYRO_RATE: taken with Status OK, the
+// samples that are integrated), against the same frames without the bounds. Printed; bounded by
+// the Crc's and the counter's share times the bounds' (MOTOR_STATUS 301 of 65,536 speeds per
+// wheel; GYRO_RATE Status OK 1 in 4 and 6,001 of 65,536 rates).
+static uint32_t random_frames_used_(unsigned which, bool bounded, uint32_t n, can_link_rx_t *out)
+{
+    uint32_t x = 88172645u;
+    candev_t bus;
+    candev_init(&bus);
+    if (bounded) {
+        for (unsigned i = 0; i < MOTOR_PEAK_CMDS; i++) {
+            const motor_cmd_t stop = {0, 0, true};
+            hal_can_frame_t cmd;
+            assert_int_equal(motor_encode_cmd(&bus.motor, &stop, &cmd), FW_OK);
+        }
+        gyro_set_rate_limit(&bus.gyro, 3000u);
+    }
+    hal_can_frame_t f;
+    e2e_frame_(which, &f);
+    uint32_t used = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        for (unsigned b = 0; b < f.dlc && b < HAL_CAN_MAX_DLC; b++) {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            f.data[b] = (uint8_t)x;
+        }
+        if (e2e_rx_(&bus, &f, 2000u + i) >= 0 && (which == 0u || bus.gyro.status == GYRO_STATUS_OK)) {
+            used++;
+        }
+    }
+    *out = *e2e_rx_state_(&bus, which);
+    return used;
+}
+
+static void test_physical_bounds_refuse_most_random_frames_that_pass_the_crc(void **state)
+{
+    (void)state;
+    static const char *const names[2] = {"MOTOR_STATUS", "GYRO_RATE"};
+    const uint32_t n = 1000000u;
+    for (unsigned which = 0; which < 2u; which++) {
+        can_link_rx_t rx;
+        const uint32_t unbounded = random_frames_used_(which, false, n, &rx);
+        const uint32_t used = random_frames_used_(which, true, n, &rx);
+        printf("random %s frames at a standing robot: %u used of %u (%.4f %%; %u without the physical bounds); "
+               "refused: %u Crc or range, %u implausible (counter jump or beyond the robot's physics), %u repeated\n",
+               names[which], used, n, 100.0 * used / n, unbounded, rx.malformed, rx.implausible, rx.repeated);
+        const double share = which == 0u ? (301.0 / 65536.0) * (301.0 / 65536.0) * 3.0 / 16.0
+                                         : 0.25 * (6001.0 / 65536.0) * 6.0 / 16.0;
+        assert_true((double)used <= 2.0 * n * share / 256.0 + 3.0);
+        assert_true(used < unbounded);
+    }
+}
+
 // The counter's plausibility: a jump over CAN_LINK_MAX_STEP is refused and counted; the frame
 // after it in sequence resynchronises (a sender that rebooted costs one frame). MOTOR_CMD at the
 // motor controller likewise, and a repeated MOTOR_CMD (a stuck sender) is ignored.
@@ -502,6 +558,7 @@ int main(void)
         cmocka_unit_test(test_tool_cmd_crc_and_repeats),
         cmocka_unit_test(test_random_tool_cmds_are_never_accepted),
         cmocka_unit_test(test_e2e_refuses_corruption_and_most_noise),
+        cmocka_unit_test(test_physical_bounds_refuse_most_random_frames_that_pass_the_crc),
         cmocka_unit_test(test_counter_jumps_are_refused_then_resynchronised),
         cmocka_unit_test(test_crc4_as_documented),
         cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
