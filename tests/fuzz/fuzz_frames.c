@@ -7,11 +7,15 @@
 //   bit 3:     seal it: the fuzzer's bytes, then the right Crc written over them (else as given),
 //              so the checks behind the Crc are reached
 //   bit 4:     the Counter set to the last one taken + (next byte % 16), sealed or not
+//   bit 6:     first, the firmware commands the wheels (the physical bounds, motor.h
+//              MOTOR_PEAK_CMDS): both at (next byte - 128) x 12 mm/s, and the gyro's rate
+//              limit to (next byte) x 120 cdeg/s (0: none)
 //   then: dlc (byte % 9), the data bytes, the time step (byte, ms)
 // Oracles: no sanitizer report; a frame whose Crc fails is never taken and changes no count but
 // `malformed`; a frame taken carries a Counter 1..max_step past the last one taken, or follows
 // the last refused jump by 1 (a resynchronisation); a refused jump is counted in `implausible`;
-// a frame sealed by can_link_e2e_protect always passes can_link_e2e_ok.
+// a frame sealed by can_link_e2e_protect always passes can_link_e2e_ok; a MOTOR_STATUS taken is
+// within the recent commands' bound, a GYRO_RATE taken with Status OK within the rate limit.
 #include <string.h>
 
 #include "drivers/candev.h"
@@ -73,6 +77,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (uint32_t ops = 0; in.left > 0u && ops < 512u; ops++) {
         const uint8_t op = fuzz_u8(&in);
         const unsigned which = op & 7u;
+        if ((op & 0x40u) != 0u) {
+            const int16_t v = (int16_t)(((int32_t)fuzz_u8(&in) - 128) * 12);
+            const motor_cmd_t cmd = {v, (int16_t)-v, true};
+            hal_can_frame_t out;
+            (void)motor_encode_cmd(&bus_.motor, &cmd, &out);
+            gyro_set_rate_limit(&bus_.gyro, (uint16_t)(fuzz_u8(&in) * 120u));
+        }
         const frame_kind_t *k = &kinds_[which];
         hal_can_frame_t f;
         memset(&f, 0, sizeof f);
@@ -126,6 +137,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             const bool resync = before.sync_pending && ((c - before.sync_counter) & 0x0Fu) == 1u;
             if (rx->counter != c || rx->frames != before.frames + 1u ||
                 (before.seen && !(step >= 1u && step <= k->max_step) && !resync)) {
+                __builtin_trap();
+            }
+            const int32_t peak = motor_cmd_peak_mm_s(&bus_.motor);
+            const int32_t most = peak + peak / 2 + MOTOR_PLAUSIBLE_SLACK_MM_S;
+            const motor_status_t *ms = &bus_.motor.status;
+            if (which == 1u && peak >= 0 &&
+                (ms->speed_left_mm_s > most || ms->speed_left_mm_s < -most ||
+                 ms->speed_right_mm_s > most || ms->speed_right_mm_s < -most)) {
+                __builtin_trap();  // beyond the robot's physics, taken
+            }
+            const int32_t limit = bus_.gyro.rate_limit_cdeg_s;
+            if (which == 2u && limit != 0 && bus_.gyro.status == GYRO_STATUS_OK &&
+                (bus_.gyro.rate_cdeg_s > limit || bus_.gyro.rate_cdeg_s < -limit)) {
                 __builtin_trap();
             }
         } else if (r == FW_ERR_INVAL && rx->implausible != before.implausible &&
