@@ -161,6 +161,13 @@ reboots)
                 boots, rep, notrep, boots - rep - notrep
               printf "first learned step after a reboot: %d steps, heading error <= 10 deg: %d, mean %.1f deg, worst %.1f deg\n",
                 n, ok, n ? s / n : 0, m }' "$TMP/reboots/devices.out"
+    # Boots after a cut that found no learned record in flash: their journal was the early one.
+    early=0
+    for f in "$TMP"/reboots/fw.*.out; do
+        [ "$f" = "$TMP/reboots/fw.1.out" ] && continue
+        grep -q 'restored no' "$f" && early=$((early + 1))
+    done
+    echo "boots after a cut with no learned record in flash yet (the early journal): $early"
     ;;
 all) run all "$CUTS" "$STALLS" "$GARBAGE" "$FRAMES" 0 ;;
 commands) run commands 0 0 0 0 "$COMMANDS" ;;
