@@ -22,6 +22,17 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "docs" / "foxglove-layout.json"
 
 
+def _plot(title: str, *series: tuple) -> fl.PlotPanel:
+    """A plot panel with a legend: one line per (message path, label)."""
+    return fl.PlotPanel(
+        title=title,
+        config=fl.PlotConfig(
+            paths=[fl.PlotSeries(value=value, label=label) for value, label in series],
+            show_legend=True,
+        ),
+    )
+
+
 def layout() -> fl.Layout:
     topics = {
         t: fl.BaseRendererSceneUpdateTopicSettings(visible=True)
@@ -38,27 +49,17 @@ def layout() -> fl.Layout:
             camera_state=fl.ThreeDeeCameraState(distance=12.0, perspective=False, phi=0.0, target=(4.0, 4.0, 0.0)),
         ),
     )
-    learn = fl.PlotPanel(
-        title="learning",
-        config=fl.PlotConfig(
-            paths=[
-                fl.PlotSeries(value="/can/TLM_LEARN.Step", label="step"),
-                fl.PlotSeries(value="/can/TLM_LEARN.Reward", label="reward"),
-                fl.PlotSeries(value="/can/TLM_EPISODE.Steps", label="episode's steps"),
-            ],
-            show_legend=True,
-        ),
+    learn = _plot(
+        "learning",
+        ("/can/TLM_LEARN.Step", "step"),
+        ("/can/TLM_LEARN.Reward", "reward"),
+        ("/can/TLM_EPISODE.Steps", "episode's steps"),
     )
-    sched = fl.PlotPanel(
-        title="planning",
-        config=fl.PlotConfig(
-            paths=[
-                fl.PlotSeries(value="/can/TLM_SCHED.QueueLength", label="queue"),
-                fl.PlotSeries(value="/can/TLM_SCHED.PlanUpdates", label="plan updates / period"),
-                fl.PlotSeries(value="/can/TLM_SCHED.IdlePercent", label="idle %"),
-            ],
-            show_legend=True,
-        ),
+    sched = _plot(
+        "planning",
+        ("/can/TLM_SCHED.QueueLength", "queue"),
+        ("/can/TLM_SCHED.PlanUpdates", "plan updates / period"),
+        ("/can/TLM_SCHED.IdlePercent", "idle %"),
     )
     modes = fl.StateTransitionsPanel(
         title="mode",
