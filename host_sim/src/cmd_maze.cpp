@@ -2,6 +2,7 @@
 // dynaqpc-sim maze: runs of episodes of Q-learning, Dyna-Q or Dyna-QPC on a gridworld map.
 #include <algorithm>
 #include <cerrno>
+#include <cstdarg>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
@@ -187,8 +188,14 @@ struct Sink {
     std::vector<maze_run_row_t> runs;
 };
 
-void write_row(Sink &sink, const char *line)
+// One CSV line, printf-style (a line fits in 256 characters).
+__attribute__((format(printf, 2, 3))) void write_row(Sink &sink, const char *format, ...)
 {
+    char line[256];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(line, sizeof line, format, args);
+    va_end(args);
     if (sink.csv != nullptr && std::fputs(line, sink.csv) < 0) {
         sink.write_failed = true;
     }
@@ -205,11 +212,8 @@ static double sink_clock(void *ctx)
 static void sink_episode(void *ctx, const maze_episode_row_t *row)
 {
     Sink &sink = *static_cast<Sink *>(ctx);
-    char line[256];
-    std::snprintf(line, sizeof line, "%s,%" PRIu32 ",%" PRIu32 ",%" PRIu32 ",%" PRIu64 ",%.6f\n",
-                  sink.agent.c_str(), row->run, row->episode, row->steps, row->updates,
-                  row->wall_s);
-    write_row(sink, line);
+    write_row(sink, "%s,%" PRIu32 ",%" PRIu32 ",%" PRIu32 ",%" PRIu64 ",%.6f\n", sink.agent.c_str(), row->run,
+              row->episode, row->steps, row->updates, row->wall_s);
     const std::size_t i = row->episode - 1u;
     if (sink.sum_steps.size() <= i) {
         sink.sum_steps.resize(i + 1u, 0.0);
@@ -224,11 +228,8 @@ static void sink_episode(void *ctx, const maze_episode_row_t *row)
 static void sink_run(void *ctx, const maze_run_row_t *row)
 {
     Sink &sink = *static_cast<Sink *>(ctx);
-    char line[256];
-    std::snprintf(line, sizeof line, "%s,%" PRIu32 ",%" PRIu32 ",%" PRIu64 ",%" PRIu64 ",%.6f\n",
-                  sink.agent.c_str(), row->run, row->episodes, row->real_steps, row->updates,
-                  row->wall_s);
-    write_row(sink, line);
+    write_row(sink, "%s,%" PRIu32 ",%" PRIu32 ",%" PRIu64 ",%" PRIu64 ",%.6f\n", sink.agent.c_str(), row->run,
+              row->episodes, row->real_steps, row->updates, row->wall_s);
     sink.runs.push_back(*row);
     sink.wall_total += row->wall_s;
 }
