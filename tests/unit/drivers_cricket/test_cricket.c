@@ -275,7 +275,8 @@ static void test_fix_states_follow_motion_and_age(void **state)
     assert_float_equal(fix.y_mm, 2120.0f, 2.0f);
 
     // A real step (25 cm) with one beacon heard since: never FRESH until three beacons have
-    // been heard after the step.
+    // been heard after the step; with three, a room of four beacons waits for the fourth up to
+    // 1.5 s after the motion (three ranges cannot show which one is wrong).
     cricket_note_motion(&ck, 24500000u);
     format_line(line, sizeof line, 3, 1480.0f, 2120.0f);
     feed_str(&ck, line, 25000000u);
@@ -284,8 +285,21 @@ static void test_fix_states_follow_motion_and_age(void **state)
         format_line(line, sizeof line, b, 1480.0f, 2120.0f);
         feed_str(&ck, line, 25100000u + b * 100000u);
     }
-    assert_int_equal(cricket_get_fix(&ck, 25300000u, &fix), CRICKET_FIX_FRESH);
+    assert_int_not_equal(cricket_get_fix(&ck, 25300000u, &fix), CRICKET_FIX_FRESH);
+    assert_int_equal(cricket_get_fix(&ck, 26000000u, &fix), CRICKET_FIX_FRESH);
+    assert_int_equal(fix.n_ranges, 3);
     assert_float_equal(fix.x_mm, 1480.0f, 2.0f);
+    // The fourth beacon heard: a fix from four at once.
+    format_line(line, sizeof line, 2, 1480.0f, 2120.0f);
+    feed_str(&ck, line, 27000000u);
+    cricket_note_motion(&ck, 27100000u);
+    for (unsigned b = 0; b < 4u; b++) {
+        format_line(line, sizeof line, b, 1500.0f, 2120.0f);
+        feed_str(&ck, line, 27200000u + b * 100000u);
+    }
+    assert_int_equal(cricket_get_fix(&ck, 27500000u, &fix), CRICKET_FIX_FRESH);
+    assert_int_equal(fix.n_ranges, 4);
+    assert_float_equal(fix.x_mm, 1500.0f, 2.0f);
 }
 
 static void test_inconsistent_ranges_are_refused(void **state)
@@ -294,13 +308,21 @@ static void test_inconsistent_ranges_are_refused(void **state)
     cricket_t ck;
     setup_listener(&ck);
     feed_all(&ck, 2000.0f, 1500.0f, 1000u, 1000u);
-    // A reflection: beacon 3 reports 80 cm too long.
+    // A reflection: beacon 3 reports 80 cm too long. The three others agree: it is dropped.
     char line[128];
     snprintf(line, sizeof line, "ID=%s,DR=%u\n", beacon_ids[3],
              (unsigned)lroundf((ck.range[3].range_mm + 800.0f) / 0.343f));
     assert_int_equal(feed_str(&ck, line, 5000u), 1);
     cricket_fix_t fix;
-    assert_int_equal(cricket_get_fix(&ck, 6000u, &fix), CRICKET_FIX_LOST);
+    assert_int_equal(cricket_get_fix(&ck, 6000u, &fix), CRICKET_FIX_FRESH);
+    assert_int_equal(fix.n_ranges, 3);
+    assert_float_equal(fix.x_mm, 2000.0f, 2.0f);
+    assert_float_equal(fix.y_mm, 1500.0f, 2.0f);
+    // A second range 50 cm off: no three agree, the fix is refused.
+    snprintf(line, sizeof line, "ID=%s,DR=%u\n", beacon_ids[2],
+             (unsigned)lroundf((ck.range[2].range_mm + 500.0f) / 0.343f));
+    assert_int_equal(feed_str(&ck, line, 7000u), 1);
+    assert_int_equal(cricket_get_fix(&ck, 8000u, &fix), CRICKET_FIX_LOST);
     assert_true(ck.stats.inconsistent >= 1u);
 }
 

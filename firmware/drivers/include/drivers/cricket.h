@@ -10,7 +10,10 @@
 //
 // The fix, as the paper's lab robot found it (Cricket is accurate only while the robot stands
 // still; beacons fire one at a time every 0.67-1.33 s):
-//   FRESH   >= 3 ranges taken after the robot last moved, none older than max_age_us
+//   FRESH   >= 3 ranges taken after the robot last moved, none older than max_age_us, that
+//           agree; one range that disagrees with the others is dropped, and with more than 3
+//           beacons a fix waits up to 1.5 s after the motion for a fourth range (cricket.c,
+//           without_outlier_())
 //   MOVING  a fix that uses a range taken before the robot last moved (the app reports motion
 //           with cricket_note_motion): do not trust it; the paper's agent waited for FRESH
 //   STALE   every range taken after the last motion, but one is older than max_age_us
