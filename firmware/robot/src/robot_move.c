@@ -8,11 +8,21 @@
 #include "fw/fw_assert.h"
 #include "fw/fw_util.h"
 
+// The gyro's scale (robot_move_t.gyro_share): the mark of no heading yet this episode; a
+// normalised least-mean-squares step, each line moving the share toward what that line alone
+// says (the gyro's error over the rotation t) by ROBOT_GYRO_FIT_GAIN t^2 / (t^2 +
+// ROBOT_GYRO_FIT_TURN^2) of the way; never beyond 10 %.
+#define ROBOT_GYRO_UNSEEN 1.0e9f
+#define ROBOT_GYRO_FIT_GAIN 0.2f
+#define ROBOT_GYRO_FIT_TURN 3.1415927f
+#define ROBOT_GYRO_FIT_MAX 0.1f
+
 void robot_move_init(robot_move_t *mv)
 {
     FW_ASSERT(mv != NULL);
     *mv = (robot_move_t){0};
     mv->phase = ROBOT_MOVE_IDLE;
+    mv->gyro_last = ROBOT_GYRO_UNSEEN;
     robot_run_init(&mv->run);
 }
 
@@ -31,6 +41,8 @@ void robot_move_episode(robot_move_t *mv)
     mv->settle_phase = 0u;
     mv->run_check = false;
     mv->heading_offset = 0.0f;  // the operator gives the heading at a start
+    mv->gyro_turned = 0.0f;
+    mv->gyro_last = ROBOT_GYRO_UNSEEN;
     mv->stopped_at_us = 0;
     wheels_(mv, 0.0f, 0.0f);
 }
@@ -142,6 +154,18 @@ static float heading_from_fix_(robot_move_t *mv, const robot_config_t *cfg,
     if (fabsf(e) > 0.5f) {
         return 0.0f;  // not a straight step after all (a fix far off): no word on the heading
     }
+    // The gyro's own error here (raw - true: the share's and the offset's parts put back) says
+    // what share of the rotation since the start it is; a new share keeps the heading as it is
+    // (the offset takes the difference) and applies to the rotation from here on.
+    const float t = mv->gyro_turned;
+    const float raw_err = mv->gyro_share * t - mv->heading_offset - e;
+    float share = mv->gyro_share + ROBOT_GYRO_FIT_GAIN * (raw_err - mv->gyro_share * t) * t /
+                                       (t * t + ROBOT_GYRO_FIT_TURN * ROBOT_GYRO_FIT_TURN);
+    share = share > ROBOT_GYRO_FIT_MAX    ? ROBOT_GYRO_FIT_MAX
+            : share < -ROBOT_GYRO_FIT_MAX ? -ROBOT_GYRO_FIT_MAX
+                                          : share;
+    mv->heading_offset += (share - mv->gyro_share) * t;
+    mv->gyro_share = share;
     const float d = ROBOT_HEADING_FROM_FIX * e;
     mv->heading_offset += d;
     return d;
@@ -236,8 +260,18 @@ robot_move_event_t robot_move_period(robot_move_t *mv, const robot_config_t *cfg
         wheels_(mv, 0.0f, 0.0f);
         return ROBOT_MOVE_BUSY;
     }
-    // The gyro's heading with what the Cricket fixes have said of it (heading_from_fix_()).
+    // The gyro's heading with what the Cricket fixes have said of it (heading_from_fix_()):
+    // its scale's share of the rotation since the start, and the offset.
+    if (robot_closes_loop(cfg)) {
+        const float h = sensed->pose.heading;
+        if (mv->gyro_last < ROBOT_GYRO_UNSEEN) {
+            float dh = fmodf(h - mv->gyro_last, 2.0f * FW_PI_F);
+            dh = dh > FW_PI_F ? dh - 2.0f * FW_PI_F : dh < -FW_PI_F ? dh + 2.0f * FW_PI_F : dh;
+            mv->gyro_turned += dh;
+        }
+        mv->gyro_last = h;
+    }
     robot_sense_t in = *sensed;
-    in.pose.heading += mv->heading_offset;
+    in.pose.heading += mv->heading_offset - mv->gyro_share * mv->gyro_turned;
     return mv->phase == ROBOT_MOVE_DRIVING ? drive_(mv, cfg, &in, at) : stand_(mv, cfg, &in, at);
 }

@@ -64,23 +64,24 @@ typedef struct robot_step_report {
 typedef struct robot_ctrl {
     const robot_config_t *cfg;
     agent_t *agent;
+    // (Fields ordered so the struct has little padding: the 192 KiB paper-sim image has none to spare.)
     robot_mode_t mode;
     robot_mode_t resume_mode;  ///< the mode a safe stop interrupted: WAIT_FIX keeps the step
+    uint8_t a;                 ///< the pending step's action (its state: s)
+    /// false: replay the policy — greedy actions (ties at random), no updates, no planning.
+    /// Default true.
+    bool learning;
     agent_state_t s;           ///< the pending step's state (robot_move_pending())
-    uint8_t a;                 ///< and its action
     robot_move_t move;         ///< the step's life on the wheels (robot_move.h)
     uint32_t step, episode, bumps;
     float episode_reward;
     uint64_t episode_start_us;
     float v_left, v_right;     // the wheel speeds being commanded
-    /// false: replay the policy — greedy actions (ties at random), no updates, no planning.
-    /// Default true.
-    bool learning;
     uint32_t safe_stops;       ///< times a safe stop was entered
     bool safe_stop_held;       ///< the operator's safe stop: no automatic resume
     bool step_done;            ///< a real step happened in the last period (see last_step)
-    robot_step_report_t last_step;
     bool episode_done;         ///< an episode ended in the last period (see last_episode)
+    robot_step_report_t last_step;
     robot_episode_report_t last_episode;
 } robot_ctrl_t;
 

@@ -63,8 +63,9 @@ typedef enum robot_move_event {
                              ///< observable now, at the pose robot_move_period() gave
 } robot_move_event_t;
 
+// Fields ordered so the struct has no padding to spare (the 192 KiB paper-sim image has none).
 typedef struct robot_move {
-    robot_move_phase_t phase;
+    uint8_t phase;         ///< robot_move_phase_t
     uint8_t periods_left;  ///< of the motion being driven
     bool pending;          ///< a real step is under way (its motion, back-off, corrections)
     uint8_t action;        ///< the pending step's action
@@ -73,11 +74,19 @@ typedef struct robot_move {
     bool bumped;           ///< a bumper touched since the pending step started
     bool backing_off;      ///< the pending step bumped, and the robot backs off (robot_backs_off())
     uint8_t settle_phase;  ///< the next robot_settle_phase_t of settling (robot_settles())
-    robot_run_t run;       ///< the motion in closed loop (robot_closes_loop())
     bool run_check;        ///< a closed-loop motion's periods are over: check it once it stands
+    robot_run_t run;       ///< the motion in closed loop (robot_closes_loop())
     float heading_offset;  ///< rad added to the sensed heading: what the fixes said of the gyro's
+    /// The gyro's scale from the fixes (closed loop; heading_from_fix_() in robot_move.c): a gyro
+    /// that reads (1 + s) times every rotation is off by gyro_share = s/(1 + s) of the rotation
+    /// it read since the operator gave the heading (gyro_turned, unwrapped, since the episode's
+    /// start); the heading subtracts gyro_share x gyro_turned. gyro_share is learnt from the lines
+    /// of the straight steps and kept from episode to episode; gyro_last is the gyro's heading at
+    /// the last period (ROBOT_GYRO_UNSEEN before the episode's first).
+    float gyro_turned;
     uint64_t stopped_at_us;  ///< when the wheels stopped after the last motion
     float v_left, v_right;   ///< the wheel speeds being commanded (m/s)
+    float gyro_last, gyro_share;
 } robot_move_t;
 
 /// At boot: nothing learnt of the wheels (robot_run_init()), idle.
