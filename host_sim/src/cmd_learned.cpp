@@ -235,22 +235,58 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     return o.str();
 }
 
+// `learned --grid`: the scenario's state grid alone (format "dynaqpc-grid 1"), for the tools that
+// draw cells: the bits, and the cells' edges of an equal grid or of one fitted to the room.
+std::string grid_json(const ScenarioBundle &sb)
+{
+    std::ostringstream g;
+    g << "{\"format\":\"dynaqpc-grid 1\",\"scenario\":\"" << sb.name << "\",\"arena\":[" << num(sb.robot.arena_w) << ","
+      << num(sb.robot.arena_h) << "],\"bits\":{\"x\":" << unsigned(sb.robot.bits_x) << ",\"y\":" << unsigned(sb.robot.bits_y)
+      << ",\"heading\":" << unsigned(sb.robot.bits_heading) << ",\"sensor\":" << unsigned(sb.robot.bits_code) << "},\n";
+    write_grid(g, sb.robot);
+    g << "}}\n";
+    return g.str();
+}
+
+// Why no agent restored from the image: the one line `learned` ends with.
+UsageError refusal(const std::string &load, const std::string &what, const std::string &scenario, bool all_empty,
+                   bool any_refused, bool any_foreign)
+{
+    if (all_empty) return UsageError("--load: '" + load + "' is erased: it holds no learned record");
+    if (any_refused) {
+        return UsageError("--load: '" + load + "' is corrupted: its record's CRCs hold but its tables fail the firmware's checks");
+    }
+    if (!any_foreign) {
+        return UsageError("--load: '" + load + "' is corrupted: no whole record (a CRC fails or the header is not ours)");
+    }
+    return UsageError("--load: '" + load + "' holds no record of " + what + " on " + scenario +
+                      " (another scenario, agent or firmware layout; try --scenario/--agent)");
+}
+
 }  // namespace
 
 int cmd_learned(const std::string &program, const std::vector<std::string> &args)
 {
     std::string scenario, load, agent;
+    bool grid_only = false;
     Options o("learned", "what a flash image holds, decoded by the firmware's own restore code, as JSON on stdout");
     o.add_string("--scenario", "S", "paper-sim, paper-lab, or a scenario file (the one it learned on)", &scenario);
     o.add_string("--load", "FILE", "a flash image (`train --save FILE`, a board's backup)", &load);
     o.add_choice("--agent", "NAME", "the algorithm that learned it: " + agent_kind_list() + " (default: whichever the image holds)",
                  &agent, agent_kind_names());
+    o.add_flag("--grid", "print only the scenario's state grid (cells, their edges, headings, codes, goal cells; "
+                         "a grid fitted to the room by `encode auto` included): no --load", &grid_only);
     o.parse(args);
     if (o.help_requested()) {
         o.print_usage(std::cout, program);
         return kExitOk;
     }
     if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    if (grid_only) {
+        if (o.seen("--load")) throw UsageError("--grid: the scenario's grid alone, without --load");
+        std::fputs(grid_json(load_scenario(scenario)).c_str(), stdout);
+        return kExitOk;
+    }
     if (!o.seen("--load")) throw UsageError("--load: required (a flash image: train --save FILE)");
     struct stat st;
     if (stat(load.c_str(), &st) != 0) {
@@ -297,16 +333,7 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
             if (si.state == LEARNED_SLOT_FOREIGN) any_foreign = true;
         }
     }
-    const std::string what = o.seen("--agent") ? agent : agent_kind_list();
-    if (all_empty) throw UsageError("--load: '" + load + "' is erased: it holds no learned record");
-    if (any_refused) {
-        throw UsageError("--load: '" + load + "' is corrupted: its record's CRCs hold but its tables fail the firmware's checks");
-    }
-    if (!any_foreign) {
-        throw UsageError("--load: '" + load + "' is corrupted: no whole record (a CRC fails or the header is not ours)");
-    }
-    throw UsageError("--load: '" + load + "' holds no record of " + what + " on " + sb.name +
-                     " (another scenario, agent or firmware layout; try --scenario/--agent)");
+    throw refusal(load, o.seen("--agent") ? agent : agent_kind_list(), sb.name, all_empty, any_refused, any_foreign);
 }
 
 }  // namespace dynaqpc

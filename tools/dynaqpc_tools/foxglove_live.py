@@ -30,10 +30,13 @@ protobuf, the schemas Foxglove publishes) and served by the sdk's WebSocket serv
 
 from __future__ import annotations
 
+import json
 import math
+import subprocess
 import time
 from typing import Dict, Optional
 
+from .agents import default_sim
 from .bus_decode import NO_POSE, BusState, PoseDecoder
 from .common import ToolError
 
@@ -75,11 +78,14 @@ def _import_sdk():
     return foxglove, fc, fm
 
 
-def scenario_grid(path: str) -> dict:
-    """The state grid of a scenario file: arena size (m) and the `encode` line's bits (x, y,
-    heading, sensor; the firmware packs them in that order from bit 0, space_pack)."""
+def scenario_grid(path: str, sim: Optional[str] = None) -> dict:
+    """The state grid of a scenario file: arena size (m), the `encode` line's bits (x, y, heading,
+    sensor; the firmware packs them in that order from bit 0, space_pack) and every cell's edges
+    along x and y (`x_edges`, `y_edges`). An equal grid's edges follow from the bits; a grid fitted
+    to the room (`encode auto`) is asked of `dynaqpc-sim learned --grid`, which fits it by the
+    firmware's own rule (`sim`: that binary; default: this checkout's build)."""
     grid = {"width": None, "height": None, "x": 5, "y": 5, "heading": 4, "sensor": None}
-    code_bits = 0
+    code_bits, fitted = 0, False
     try:
         with open(path, encoding="utf-8") as f:
             for line in f:
@@ -89,8 +95,11 @@ def scenario_grid(path: str) -> dict:
                 if w[0] == "arena" and len(w) >= 3:
                     grid["width"], grid["height"] = float(w[1]), float(w[2])
                 elif w[0] == "encode":
-                    for k, v in zip(w[1::2], w[2::2]):
-                        grid[k] = int(v)
+                    fitted = len(w) > 1 and w[1] == "auto"
+                    rest = w[2:] if fitted else w[1:]
+                    for k, v in zip(rest[0::2], rest[1::2]):
+                        if k != "cell":
+                            grid[k] = int(v)
                 elif w[0] == "code_bit":
                     code_bits += 1
     except (OSError, ValueError) as e:
@@ -99,7 +108,39 @@ def scenario_grid(path: str) -> dict:
         raise ToolError(f"--scenario: {path} has no `arena W H` line")
     if grid["sensor"] is None:
         grid["sensor"] = code_bits
+    if fitted:
+        return _fitted_grid(path, sim)
+    for axis, side in (("x", "width"), ("y", "height")):
+        n = 1 << grid[axis]
+        grid[axis + "_edges"] = [grid[side] * k / n for k in range(n + 1)]
     return grid
+
+
+def _fitted_grid(path: str, sim: Optional[str]) -> dict:
+    sim = sim or default_sim()
+    if sim is None:
+        raise ToolError(
+            f"--scenario: {path} says `encode auto`: its cells are fitted by dynaqpc-sim, "
+            "and none is built (cmake --preset host-release && cmake --build --preset host-release)"
+        )
+    try:
+        out = subprocess.run([sim, "learned", "--scenario", path, "--grid"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.SubprocessError) as e:
+        raise ToolError(f"--scenario: {sim} learned --grid: {e}") from None
+    if out.returncode != 0:
+        raise ToolError(f"--scenario: {path}: {out.stderr.strip() or 'dynaqpc-sim learned --grid failed'}")
+    try:
+        d = json.loads(out.stdout)
+        g = d["grid"]
+        return {
+            "width": float(d["arena"][0]),
+            "height": float(d["arena"][1]),
+            **{k: int(v) for k, v in d["bits"].items()},
+            "x_edges": [float(v) for v in g["x_edges"]],
+            "y_edges": [float(v) for v in g["y_edges"]],
+        }
+    except (ValueError, KeyError, TypeError, IndexError) as e:
+        raise ToolError(f"--scenario: {sim} learned --grid printed no grid ({e})") from None
 
 
 def state_cell(grid: dict, state: int):
@@ -393,7 +434,7 @@ class LiveFoxglove(Build):
 
     def values_scene(self, t: float):
         m, g = self.m, self.grid
-        cw, ch = g["width"] / (1 << g["x"]), g["height"] / (1 << g["y"])
+        xe, ye = g["x_edges"], g["y_edges"]
         best = {cell: max(vs.values()) for cell, vs in self.values.items()}
         lo, hi = min(best.values()), max(best.values())
         span = hi - lo if hi > lo else 1.0
@@ -402,8 +443,8 @@ class LiveFoxglove(Build):
             f = (v - lo) / span
             cubes.append(
                 m.CubePrimitive(
-                    pose=self._pose((x + 0.5) * cw, (y + 0.5) * ch, 0.002),
-                    size=m.Vector3(x=cw * 0.95, y=ch * 0.95, z=0.004),
+                    pose=self._pose((xe[x] + xe[x + 1]) / 2, (ye[y] + ye[y + 1]) / 2, 0.002),
+                    size=m.Vector3(x=(xe[x + 1] - xe[x]) * 0.95, y=(ye[y + 1] - ye[y]) * 0.95, z=0.004),
                     color=self._color(f, 0.2, 1.0 - f, 0.55),
                 )
             )
@@ -429,7 +470,7 @@ class LiveFoxglove(Build):
         except Exception:
             return
         x, y, h, code = state_cell(self.grid, int(v["State"]))
-        if x >= (1 << self.grid["x"]) or y >= (1 << self.grid["y"]):
+        if x + 1 >= len(self.grid["x_edges"]) or y + 1 >= len(self.grid["y_edges"]):
             return
         self.values.setdefault((x, y), {})[(h, code)] = float(v["Value"])
         self._log(self.values_ch, "/robot/values", self.values_scene(t))

@@ -147,6 +147,15 @@ def combine(dump: Dict[str, Any], how: str = "max") -> Dict[str, Any]:
     }
 
 
+def cell_rect(grid: Dict[str, Any], x: int, y: int) -> Tuple[float, float, float, float]:
+    """A cell's lower-left corner and size (m): from its edges (`x_edges`, `y_edges`: a grid
+    fitted to the room has cells of different sizes), else the equal grid's cell_w and cell_h."""
+    xe, ye = grid.get("x_edges"), grid.get("y_edges")
+    if xe and ye and x + 1 < len(xe) and y + 1 < len(ye):
+        return xe[x], ye[y], xe[x + 1] - xe[x], ye[y + 1] - ye[y]
+    return x * grid["cell_w"], y * grid["cell_h"], grid["cell_w"], grid["cell_h"]
+
+
 # --- following the arrows ------------------------------------------------------------------------
 
 
@@ -160,8 +169,9 @@ def _step(grid: Dict[str, Any], x: int, y: int, h: int, action: int) -> Tuple[in
     if action in (0, 1):
         ang = 2 * math.pi * h / n_h + (math.pi if action == 1 else 0.0)
         c, s = math.cos(ang), math.sin(ang)
-        tx = (grid["cell_w"] / 2) / abs(c) if abs(c) > 1e-6 else math.inf
-        ty = (grid["cell_h"] / 2) / abs(s) if abs(s) > 1e-6 else math.inf
+        _, _, cw, ch = cell_rect(grid, x, y)
+        tx = (cw / 2) / abs(c) if abs(c) > 1e-6 else math.inf
+        ty = (ch / 2) / abs(s) if abs(s) > 1e-6 else math.inf
         if tx < ty - 1e-9:
             return x + (1 if c > 0 else -1), y, h
         if ty < tx - 1e-9:
@@ -211,9 +221,13 @@ def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
 # --- drawing -------------------------------------------------------------------------------------
 
 
-def _arrow(ax, x0: float, y0: float, grid: Dict[str, Any], h: int, a: int, color: str, scale: float = 1.0) -> None:
+def _arrow(
+    ax, cell: Tuple[float, float, float, float], grid: Dict[str, Any], h: int, a: int, color: str, scale: float = 1.0
+) -> None:
+    """The greedy action's mark at the centre of `cell` (cell_rect)."""
     ang = 2 * math.pi * h / grid["headings"]
-    size = 0.38 * min(grid["cell_w"], grid["cell_h"])
+    x0, y0 = cell[0] + cell[2] / 2, cell[1] + cell[3] / 2
+    size = 0.38 * min(cell[2], cell[3])
     if a in (0, 1):
         if a == 1:
             ang += math.pi
@@ -327,10 +341,10 @@ def _draw_heading_panel(ax, view, arena, h, visited, cmap, norm, scale) -> None:
     from .arena import draw_arena
 
     grid = view["grid"]
-    cw, ch, nh = grid["cell_w"], grid["cell_h"], grid["headings"]
+    nh = grid["headings"]
     by_h = [c for c in view["cells"] if c["heading"] == h]
     for c in by_h:
-        x0, y0 = c["x"] * cw, c["y"] * ch
+        x0, y0, cw, ch = cell_rect(grid, c["x"], c["y"])
         ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor=cmap(norm(c["v"])), edgecolor="none", alpha=0.85))
     draw_arena(ax, arena)
     goal_cells = {tuple(g) for g in grid["goal_cells"]}
@@ -338,7 +352,7 @@ def _draw_heading_panel(ax, view, arena, h, visited, cmap, norm, scale) -> None:
         if (c["x"], c["y"]) in goal_cells:
             continue  # the episode ends there: no action is taken in a goal cell
         vis = h in visited.get((c["x"], c["y"]), ())
-        _arrow(ax, (c["x"] + 0.5) * cw, (c["y"] + 0.5) * ch, grid, h, c["greedy"], "white" if vis else "0.75", scale)
+        _arrow(ax, cell_rect(grid, c["x"], c["y"]), grid, h, c["greedy"], "white" if vis else "0.75", scale)
     deg = 360.0 * h / nh
     ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h)} cells", fontsize=9)
     ax.set_xlabel("")
@@ -352,23 +366,20 @@ def _draw_visited_panel(ax, view, arena, visited, plt) -> None:
     from .arena import draw_arena
 
     grid = view["grid"]
-    cw, ch, nx, ny, nh = grid["cell_w"], grid["cell_h"], grid["cells_x"], grid["cells_y"], grid["headings"]
+    nx, ny, nh = grid["cells_x"], grid["cells_y"], grid["headings"]
     modelled = {(x, y): set(h) for x, y, h in view["modelled_cells"]}
     oranges = plt.get_cmap("Oranges")
     for x, y in set(visited) | set(modelled):
         nv = len(visited.get((x, y), ()))
+        x0, y0, cw, ch = cell_rect(grid, x, y)
         if nv:
-            ax.add_patch(
-                Rectangle((x * cw, y * ch), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none")
-            )
+            ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor=oranges(0.15 + 0.75 * nv / nh), edgecolor="none"))
         else:  # predicted by the model, never visited
-            ax.add_patch(
-                Rectangle((x * cw, y * ch), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//", linewidth=0)
-            )
+            ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor="none", edgecolor="tab:orange", hatch="//", linewidth=0))
         if max(nx, ny) <= 16:  # beyond, the shades say it
             ax.text(
-                (x + 0.5) * cw,
-                (y + 0.5) * ch,
+                x0 + cw / 2,
+                y0 + ch / 2,
                 f"{nv}/{len(modelled.get((x, y), ()))}",
                 ha="center",
                 va="center",

@@ -22,6 +22,8 @@ import time
 from google.protobuf import descriptor_pb2, descriptor_pool, message_factory
 from tornado.websocket import websocket_connect
 
+from dynaqpc_tools.foxglove_live import scenario_grid
+
 bin_dir, work = sys.argv[1], sys.argv[2]
 SPEED = "10"
 WITHIN_S = 5.0
@@ -222,9 +224,16 @@ if len(arena.entities[0].cubes) != 5 or len(arena.entities[0].cylinders) != 1:  
 values = decode("/robot/values").entities[0]
 if values.frame_id != "arena" or not values.cubes or "cells" not in values.texts[0].text:
     fail(f"/robot/values: {len(values.cubes)} tiles, {values.texts[0].text if values.texts else ''!r}")
-for c in values.cubes:  # paper-sim's 32 x 32 cells of 0.25 m
-    if abs(c.size.x - 0.25 * 0.95) > 1e-6 or not (0 < c.pose.position.x < 8 and 0 < c.pose.position.y < 8):
-        fail(f"/robot/values: a tile of {c.size.x} m at ({c.pose.position.x}, {c.pose.position.y})")
+# paper-sim's cells, fitted to the room (encode auto): each tile is 0.95 of one, at its centre
+grid = scenario_grid(SCENARIO, f"{bin_dir}/dynaqpc-sim")
+cells_x = {(round((a + b) / 2, 4), round((b - a) * 0.95, 4)) for a, b in zip(grid["x_edges"], grid["x_edges"][1:])}
+cells_y = {(round((a + b) / 2, 4), round((b - a) * 0.95, 4)) for a, b in zip(grid["y_edges"], grid["y_edges"][1:])}
+for c in values.cubes:
+    if (round(c.pose.position.x, 4), round(c.size.x, 4)) not in cells_x or (
+        round(c.pose.position.y, 4),
+        round(c.size.y, 4),
+    ) not in cells_y:
+        fail(f"/robot/values: a tile of {c.size.x} x {c.size.y} m at ({c.pose.position.x}, {c.pose.position.y})")
 print(f"values: {values.texts[0].text}")
 print(
     f"pose ({pose.pose.position.x:.2f}, {pose.pose.position.y:.2f}), tf {sorted(frames)}, "

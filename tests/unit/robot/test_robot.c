@@ -11,8 +11,18 @@
 #include "robot/robot_geometry.h"
 #include "robot/robot_motion.h"
 
-static const robot_config_t *sim_ = &robot_config_paper_sim;
+// The sonar robot on the paper's equal grid (32 x 32 cells of 0.25 m): the encoding, motion and
+// controller mechanics these tests pin. The shipped paper-sim fits its cells to the room
+// (`encode auto`): test_shipped_sim_fits_its_room.
+static robot_config_t sim_equal_;
+static const robot_config_t *sim_ = &sim_equal_;
 static const robot_config_t *lab_ = &robot_config_paper_lab;
+
+static void sim_equal_init_(void)
+{
+    sim_equal_ = robot_config_paper_sim;
+    memset(sim_equal_.grid, 0, sizeof sim_equal_.grid);
+}
 
 static void unpack_(const robot_config_t *cfg, agent_state_t s, uint32_t comp[4])
 {
@@ -84,6 +94,26 @@ static void test_values_from_the_room(void **state)
     c.values = ROBOT_VALUES_PAPER;  // and the paper's mode keeps its prior
     c.reward_step = -1.0f;
     assert_true(robot_config_agent_params(&c).q_prior == 0.0f);
+}
+
+// paper-sim as shipped: 18 x 18 cells cut at its walls' faces, in the 5 bits an axis had.
+static void test_shipped_sim_fits_its_room(void **state)
+{
+    (void)state;
+    const robot_config_t *c = &robot_config_paper_sim;
+    assert_int_equal(c->grid[0].cells, 18);
+    assert_int_equal(c->grid[1].cells, 18);
+    assert_int_equal(c->bits_x, 5);
+    uint32_t comp[4];
+    robot_pose_t p = {7.99f, 0.01f, 0.0f};  // the far corner: the last cell, never one beyond
+    unpack_(c, robot_encode_state(c, &p, 0), comp);
+    assert_int_equal(comp[0], 17);
+    assert_int_equal(comp[1], 0);
+    p = (robot_pose_t){4.3f, 4.0f, 0.0f};  // the goal's cell, between the edges at 4.0 and 4.6 m
+    unpack_(c, robot_encode_state(c, &p, 0), comp);
+    assert_int_equal(comp[0], 9);
+    // gamma auto from 18 + 18 cells: H = 0.625 x 36 = 22.5, gamma = 1 - 1 / 22.5
+    assert_float_equal(robot_config_agent_params(c).gamma, 1.0f - 1.0f / 22.5f, 1e-6f);
 }
 
 static void test_defaults_need_a_scenario(void **state)
@@ -992,8 +1022,10 @@ static void test_heading_follows_the_fixes_of_a_straight_step(void **state)
 
 int main(void)
 {
+    sim_equal_init_();
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shipped_configs_are_valid),
+        cmocka_unit_test(test_shipped_sim_fits_its_room),
         cmocka_unit_test(test_defaults_need_a_scenario),
         cmocka_unit_test(test_values_from_the_room),
         cmocka_unit_test(test_position_cells_and_clamping),
