@@ -164,7 +164,11 @@ int agent_init(agent_t *ag, const agent_config_t *cfg)
     ag->space = sp;
     ag->state_bits = space_state_bits(sp);
     ag->params = cfg->params;
-    int err = qstore_init(&ag->q, st->q, st->q_value_bytes, st->q_keys, st->q_states, sp->n_actions, ag->state_bits);
+    int err = st->q_keys16 != NULL
+                  ? qstore_init16(&ag->q, st->q, st->q_value_bytes, st->q_keys16, st->q_states,
+                                  sp->n_actions, ag->state_bits)
+                  : qstore_init(&ag->q, st->q, st->q_value_bytes, st->q_keys, st->q_states,
+                                sp->n_actions, ag->state_bits);
     if (err) {
         return err;
     }

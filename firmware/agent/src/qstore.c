@@ -27,14 +27,72 @@ AGENT_ALWAYS_INLINE void store_(qstore_t *qs, uint32_t i, float x)
     }
 }
 
+// The 16-bit keys (qstore_init16), kept in index.keys's place: no oa_table function that reads
+// or writes keys is called on them.
+AGENT_ALWAYS_INLINE uint16_t *keys16_(const qstore_t *qs)
+{
+    return (uint16_t *)(void *)qs->index.keys;
+}
+
+AGENT_ALWAYS_INLINE uint16_t key16_(agent_state_t s)
+{
+    return (uint16_t)(s & ((1u << QSTORE_KEY16_BITS) - 1u));
+}
+
+// 16-bit keys: the slot holding s; with `insert`, else the first empty slot of its window (where
+// it would go); OA_NONE if neither. oa_find() and oa_lookup() slot for slot: within s's window a
+// slot holding s's low bits holds s (qstore_keys16_exact).
+AGENT_ALWAYS_INLINE uint32_t find16_(const qstore_t *qs, agent_state_t s, bool insert)
+{
+    const uint16_t *const keys = keys16_(qs);
+    const uint16_t key = key16_(s);
+    uint32_t slot = oa_home(&qs->index, s);
+    for (uint32_t probe = 0; probe < qs->index.limit; probe++) {
+        const uint16_t k = keys[slot];
+        if (k == key) {
+            return slot;
+        }
+        if (k == QSTORE_EMPTY16) {
+            return insert ? slot : OA_NONE;
+        }
+        slot = (slot + 1u) & qs->index.mask;
+    }
+    return OA_NONE;
+}
+
+bool qstore_keys16_exact(uint32_t capacity, uint32_t state_bits)
+{
+    return state_bits <= QSTORE_KEY16_BITS ||
+           (state_bits <= 20u && capacity >= (1u << 12) && capacity <= (1u << 16));
+}
+
+static int init_(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
+                 uint8_t n_actions, uint32_t state_bits, bool narrow);
+
 int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
                 uint8_t n_actions, uint32_t state_bits)
+{
+    return init_(qs, q, value_bytes, keys, capacity, n_actions, state_bits, false);
+}
+
+int qstore_init16(qstore_t *qs, void *q, uint8_t value_bytes, uint16_t *keys, uint32_t capacity,
+                  uint8_t n_actions, uint32_t state_bits)
+{
+    if (((uintptr_t)keys & 3u) != 0u || !qstore_keys16_exact(capacity, state_bits)) {
+        return FW_ERR_INVAL;
+    }
+    return init_(qs, q, value_bytes, (uint32_t *)(void *)keys, capacity, n_actions, state_bits, true);
+}
+
+static int init_(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
+                 uint8_t n_actions, uint32_t state_bits, bool narrow)
 {
     if (qs == NULL || q == NULL || (value_bytes != 2u && value_bytes != 4u) ||
         !FW_IS_POW2(capacity) || n_actions < 1u || n_actions > FW_CFG_MAX_ACTIONS ||
         state_bits > 31u) {
         return FW_ERR_INVAL;
     }
+    qs->narrow = (uint8_t)narrow;
     qs->wide = (uint8_t)(value_bytes == 4u);
     if (qs->wide) {
         qs->v.f = q;
@@ -76,7 +134,9 @@ void qstore_clear(qstore_t *qs)
     } else {
         memset(qs->wide ? (void *)qs->v.f : (void *)qs->v.h, 0, n * (qs->wide ? 4u : 2u));
     }
-    if (!qs->dense) {
+    if (qs->narrow && !qs->dense) {
+        memset(keys16_(qs), 0xFF, qs->capacity * sizeof(uint16_t));
+    } else if (!qs->dense) {
         oa_clear(&qs->index);
     }
     qs->rows_used = 0;
@@ -91,7 +151,8 @@ AGENT_ALWAYS_INLINE qstore_row_t row_of_(const qstore_t *qs, agent_state_t s)
     if (qs->dense) {
         return s;
     }
-    const uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
+    const uint32_t slot = qs->narrow ? find16_(qs, s, false)
+                                     : oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
     return slot == OA_NONE ? QSTORE_NO_ROW : slot;
 }
 
@@ -128,7 +189,7 @@ void qstore_values(const qstore_t *qs, agent_state_t s, float *out)
 bool qstore_has_row(const qstore_t *qs, agent_state_t s)
 {
     if (!qs->dense) {
-        return oa_lookup(&qs->index, s, qs->rows_used == qs->capacity) != OA_NONE;
+        return row_of_(qs, s) != QSTORE_NO_ROW;
     }
     float v[FW_CFG_MAX_ACTIONS];
     qstore_values(qs, s, v);
@@ -192,16 +253,23 @@ static qstore_row_t row_for_write_(qstore_t *qs, agent_state_t s, bool may_evict
     if (qs->dense) {
         return s;
     }
-    uint32_t slot = oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
+    const bool narrow = qs->narrow;
+    uint32_t slot = narrow ? find16_(qs, s, false)
+                           : oa_lookup(&qs->index, s, qs->rows_used == qs->capacity);
     if (slot == OA_NONE) {  // not the common case: s has no row yet
-        slot = oa_insert(&qs->index, s);
+        slot = narrow ? find16_(qs, s, true) : oa_insert(&qs->index, s);
         if (slot == OA_NONE) {
             if (!may_evict) {
                 qs->plan_refused++;
                 return QSTORE_NO_ROW;
             }
             slot = evict_(qs, s);
-            oa_put(&qs->index, slot, s);
+            if (!narrow) {
+                oa_put(&qs->index, slot, s);
+            }
+        }
+        if (narrow) {
+            keys16_(qs)[slot] = key16_(s);
         }
         start_row_(qs, slot);  // a free row or a forgotten one: the new state starts at the prior
         qs->rows_used++;
@@ -247,9 +315,51 @@ uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out)
     const uint32_t bytes = qs->capacity * qs->n_actions * (qs->wide ? 4u : 2u);
     uint32_t n = agent_region_add(out, 0, qs->wide ? (void *)qs->v.f : (void *)qs->v.h, bytes);
     if (!qs->dense) {
-        n = agent_region_add(out, n, qs->index.keys, qs->capacity * (uint32_t)sizeof(uint32_t));
+        n = agent_region_add(out, n, qs->index.keys,
+                             qs->capacity * (uint32_t)(qs->narrow ? sizeof(uint16_t) : sizeof(uint32_t)));
     }
     return n;
+}
+
+// qstore_check() of 16-bit keys: each non-empty slot's state is the one state of `state_bits`
+// bits with those low bits whose window holds the slot, found with no empty slot and no copy of
+// its key between its home and it; an empty row all zeros.
+static int check16_(const qstore_t *qs, const float *qf, const value16_t *qh, const uint16_t *keys,
+                    uint32_t state_bits)
+{
+    const uint32_t n = qs->n_actions;
+    const uint32_t highs =
+        state_bits > QSTORE_KEY16_BITS ? 1u << (state_bits - QSTORE_KEY16_BITS) : 1u;
+    for (uint32_t slot = 0; slot < qs->capacity; slot++) {
+        const uint16_t key = keys[slot];
+        if (key == QSTORE_EMPTY16) {
+            for (uint32_t a = 0; a < n; a++) {
+                if (qs->wide ? qf[slot * n + a] != 0.0f : qh[slot * n + a] != 0u) {
+                    return FW_ERR_CORRUPT;
+                }
+            }
+            continue;
+        }
+        if ((key >> QSTORE_KEY16_BITS) != 0u || (state_bits <= QSTORE_KEY16_BITS && (key >> state_bits) != 0u)) {
+            return FW_ERR_CORRUPT;
+        }
+        uint32_t home = OA_NONE;
+        for (uint32_t hi = 0; hi < highs && home == OA_NONE; hi++) {
+            const uint32_t h = oa_home(&qs->index, key | (hi << QSTORE_KEY16_BITS));
+            if (((slot - h) & qs->index.mask) < qs->index.limit) {
+                home = h;
+            }
+        }
+        if (home == OA_NONE) {
+            return FW_ERR_CORRUPT;
+        }
+        for (uint32_t j = home; j != slot; j = (j + 1u) & qs->index.mask) {
+            if (keys[j] == QSTORE_EMPTY16 || keys[j] == key) {
+                return FW_ERR_CORRUPT;
+            }
+        }
+    }
+    return FW_OK;
 }
 
 int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bits)
@@ -266,6 +376,9 @@ int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bi
     }
     if (qs->dense) {
         return FW_OK;
+    }
+    if (qs->narrow) {
+        return check16_(qs, qf, qh, image[1], state_bits);
     }
     const uint32_t *const keys = image[1];
     for (uint32_t slot = 0; slot < qs->capacity; slot++) {
@@ -285,7 +398,13 @@ int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bi
 
 void qstore_restored(qstore_t *qs)
 {
-    if (!qs->dense) {
+    if (qs->narrow && !qs->dense) {
+        const uint16_t *const keys = keys16_(qs);
+        qs->rows_used = 0;
+        for (uint32_t i = 0; i < qs->capacity; i++) {
+            qs->rows_used += keys[i] != QSTORE_EMPTY16;
+        }
+    } else if (!qs->dense) {
         qs->rows_used = oa_count(&qs->index, qs->index.keys);
     }
 }

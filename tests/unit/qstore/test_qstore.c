@@ -343,6 +343,112 @@ static void a_float_store_keeps_floats(void **state)
     assert_int_equal(qstore_check(&qs, image, 18), FW_OK);
 }
 
+// ---- 16-bit keys (qstore_init16) ----------------------------------------------------------------
+
+#define K16_ROWS 4096u
+static value16_t q32_[K16_ROWS * FW_CFG_MAX_ACTIONS];
+static value16_t q16_[K16_ROWS * FW_CFG_MAX_ACTIONS];
+static uint32_t k32_[K16_ROWS];
+static uint32_t k16_words_[K16_ROWS / 2];  // 16-bit keys, 4-byte aligned
+
+// The claim behind qstore_keys16_exact(): for 2^12..2^16 rows, two states of up to 20 bits with
+// the same low 15 bits have homes at least a probe window apart (the home depends on the state
+// and the rows alone, so 20 bits covers every narrower state).
+static void keys16_windows_never_overlap(void **state)
+{
+    (void)state;
+    for (uint32_t bits = 12; bits <= 16; bits++) {
+        oa_table_t t;
+        assert_int_equal(oa_init(&t, k32_, 1u << bits, oa_probe_limit(1u << bits), OA_HOME_HIGH), FW_OK);
+        uint32_t least = UINT32_MAX;
+        for (uint32_t lo = 0; lo < (1u << QSTORE_KEY16_BITS); lo++) {
+            uint32_t home[32];
+            for (uint32_t hi = 0; hi < 32u; hi++) {
+                home[hi] = oa_home(&t, lo | (hi << QSTORE_KEY16_BITS));
+                for (uint32_t j = 0; j < hi; j++) {
+                    const uint32_t d = (home[hi] - home[j]) & t.mask;
+                    const uint32_t e = (home[j] - home[hi]) & t.mask;
+                    const uint32_t near = d < e ? d : e;
+                    least = near < least ? near : least;
+                }
+            }
+        }
+        assert_true(least >= FW_CFG_MAX_PROBE);
+        assert_true(qstore_keys16_exact(1u << bits, 20));
+    }
+    assert_false(qstore_keys16_exact(1u << 14, 21));
+    assert_false(qstore_keys16_exact(1u << 11, 20));
+    assert_true(qstore_keys16_exact(1u << 8, 15));
+}
+
+// The same calls give the same rows, values and counts with 16-bit keys as with 32-bit ones, on
+// a table kept full (states share their low bits often, and evictions are frequent).
+static void keys16_give_the_table_of_32_bit_keys(void **state)
+{
+    (void)state;
+    qstore_t a;
+    qstore_t b;
+    uint16_t *const k16 = (uint16_t *)(void *)k16_words_;
+    assert_int_equal(qstore_init(&a, q32_, 2, k32_, K16_ROWS, 4, 20), FW_OK);
+    assert_int_equal(qstore_init16(&b, q16_, 2, k16, K16_ROWS, 4, 20), FW_OK);
+    assert_int_equal(qstore_init16(&b, q16_, 2, k16 + 1, K16_ROWS, 4, 20), FW_ERR_INVAL);  // alignment
+    assert_int_equal(qstore_init16(&b, q16_, 2, k16, K16_ROWS, 4, 21), FW_ERR_INVAL);  // not exact
+    assert_int_equal(qstore_init16(&b, q16_, 2, k16, K16_ROWS, 4, 20), FW_OK);
+    qstore_set_prior(&a, -20.0f);
+    qstore_set_prior(&b, -20.0f);
+    uint32_t x = 12345u;
+    for (uint32_t i = 0; i < 200000u; i++) {
+        x = x * 1664525u + 1013904223u;
+        // 2,048 low parts, each with any of 32 high parts: 65,536 states for 4,096 rows.
+        const agent_state_t s = ((x >> 8) & 2047u) * 7u | (((x >> 20) & 31u) << QSTORE_KEY16_BITS);
+        const uint8_t act = (uint8_t)(x >> 30);
+        const bool plan = (x & 3u) == 0u;
+        const qstore_row_t ra = plan ? qstore_row_for_plan(&a, s) : qstore_row_for_update(&a, s);
+        const qstore_row_t rb = plan ? qstore_row_for_plan(&b, s) : qstore_row_for_update(&b, s);
+        assert_int_equal(ra, rb);
+        if (ra != QSTORE_NO_ROW) {
+            assert_int_equal(qstore_learn(&a, ra, act, (float)(x % 200u) - 100.0f, 0.5f, NULL),
+                             qstore_learn(&b, rb, act, (float)(x % 200u) - 100.0f, 0.5f, NULL));
+        }
+        assert_float_equal(qstore_max(&a, s ^ 1u), qstore_max(&b, s ^ 1u), 0.0f);
+        assert_int_equal(qstore_has_row(&a, s ^ (1u << 16)), qstore_has_row(&b, s ^ (1u << 16)));
+    }
+    assert_true(a.dropped > 1000u && a.plan_refused > 0u);
+    assert_int_equal(a.dropped, b.dropped);
+    assert_int_equal(a.plan_refused, b.plan_refused);
+    assert_int_equal(a.rows_used, b.rows_used);
+    assert_memory_equal(q32_, q16_, sizeof q32_);
+    for (uint32_t i = 0; i < K16_ROWS; i++) {
+        assert_int_equal(k32_[i] == QSTORE_EMPTY ? QSTORE_EMPTY16 : (k32_[i] & 0x7FFFu), k16[i]);
+    }
+
+    // Saved and checked: the regions are 2 bytes a key; a key moved out of its window is refused.
+    agent_region_t r[QSTORE_MAX_REGIONS];
+    assert_int_equal(qstore_regions(&b, r), 2);
+    assert_int_equal(r[1].size, K16_ROWS * sizeof(uint16_t));
+    const void *image[QSTORE_MAX_REGIONS] = {r[0].data, r[1].data};
+    assert_int_equal(qstore_check(&b, image, 20), FW_OK);
+    const uint32_t used = b.rows_used;
+    qstore_restored(&b);
+    assert_int_equal(b.rows_used, used);
+    uint32_t slot = 0;
+    while (k16[slot] == QSTORE_EMPTY16) {
+        slot++;
+    }
+    const uint16_t saved = k16[(slot + 100u) % K16_ROWS];
+    k16[(slot + 100u) % K16_ROWS] = k16[slot];
+    assert_int_equal(qstore_check(&b, image, 20), FW_ERR_CORRUPT);
+    k16[(slot + 100u) % K16_ROWS] = saved;
+    const uint16_t key = k16[slot];
+    k16[slot] = 0x8001u;  // top bit set: not a key
+    assert_int_equal(qstore_check(&b, image, 20), FW_ERR_CORRUPT);
+    k16[slot] = key;
+    assert_int_equal(qstore_check(&b, image, 20), FW_OK);
+    qstore_clear(&b);
+    assert_int_equal(b.rows_used, 0);
+    assert_int_equal(k16[slot], QSTORE_EMPTY16);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -358,6 +464,8 @@ int main(void)
         cmocka_unit_test(a_float_store_keeps_floats),
         cmocka_unit_test(conversion_rounds_to_nearest_even_and_saturates),
         cmocka_unit_test(learning_rounds_each_write_and_bad_values_are_refused),
+        cmocka_unit_test(keys16_windows_never_overlap),
+        cmocka_unit_test(keys16_give_the_table_of_32_bit_keys),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -117,6 +117,9 @@ typedef struct agent_storage {
     uint8_t q_value_bytes; ///< 4: float, 2: value16 (qstore.h)
     uint32_t *q_keys;     ///< q_states
     uint32_t q_states;
+    /// Or q_states 16-bit keys, q_keys NULL (qstore_init16: a profile whose RAM holds its rows
+    /// only so, paper-sim-large; exact for its capacity and state widths, qstore.h).
+    uint16_t *q_keys16;
     /// The tried-pairs table of the bonus modes (explore.h), tried_pairs entries each; NULL and 0
     /// where the agent only explores epsilon-greedily. Shared by every algorithm: the same
     /// exploration for each.

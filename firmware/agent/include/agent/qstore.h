@@ -39,6 +39,7 @@ typedef struct qstore {
         value16_t *h;    // or value16s
     } v;
     uint8_t wide;        // 1: floats, 0: value16s
+    uint8_t narrow;      // 1: 16-bit keys (qstore_init16); index.keys then holds their address
     oa_table_t index;    // capacity slots (hashed mode only; keys NULL when dense)
     uint32_t capacity;   // rows
     uint8_t n_actions;
@@ -65,6 +66,25 @@ typedef uint32_t qstore_row_t;
 /// (unused, may be NULL, if the table is dense). Returns FW_OK or FW_ERR_INVAL.
 int qstore_init(qstore_t *qs, void *q, uint8_t value_bytes, uint32_t *keys, uint32_t capacity,
                 uint8_t n_actions, uint32_t state_bits);
+
+/// 16-bit keys (a profile whose Q store must hold more rows than its RAM would with 32-bit keys:
+/// paper-sim-large, agent_profiles.h). A slot keeps the low QSTORE_KEY16_BITS bits of its state;
+/// the rest is where the slot lies: the table is the one qstore_init() makes, slot for slot, as
+/// long as two states with the same low bits never have overlapping probe windows, which
+/// qstore_keys16_exact() says of a capacity and a state width (checked by brute force in the unit
+/// tests). Returns FW_ERR_INVAL where it is not exact, or `keys` is not 4-byte aligned.
+int qstore_init16(qstore_t *qs, void *q, uint8_t value_bytes, uint16_t *keys, uint32_t capacity,
+                  uint8_t n_actions, uint32_t state_bits);
+
+/// The bits of a state a 16-bit key keeps; the top bit marks an empty slot (QSTORE_EMPTY16).
+#define QSTORE_KEY16_BITS 15u
+#define QSTORE_EMPTY16 0xFFFFu
+
+/// Whether 16-bit keys give the same table as 32-bit ones for `capacity` rows and states of
+/// `state_bits` bits: states of at most 15 bits, or capacities of 2^12..2^16 rows with states of
+/// at most 20 bits (the Fibonacci homes of two states that differ only above bit 14 then lie at
+/// least 65 slots apart, more than a probe window).
+bool qstore_keys16_exact(uint32_t capacity, uint32_t state_bits);
 
 /// Forgets every state: each reads the prior again.
 void qstore_clear(qstore_t *qs);
@@ -122,7 +142,7 @@ float qstore_row_max(const qstore_t *qs, qstore_row_t row);
 #define QSTORE_MAX_REGIONS 2u
 
 /// Lists the memory that holds what the store learned, in a fixed order: the values, then (hashed
-/// only) the keys. Returns how many regions it wrote to `out`.
+/// only) the keys (2 bytes each with qstore_init16()). Returns how many regions it wrote to `out`.
 uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out);
 
 /// Checks restored contents before they are copied into `qs` (which gives the shape: capacity,
