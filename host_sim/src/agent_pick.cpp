@@ -1,17 +1,128 @@
 // SPDX-License-Identifier: MIT
 #include "agent_pick.h"
 
+#include <stdexcept>
+
+#include "robot/robot_geometry.h"
+
 namespace dynaqpc {
+
+namespace {
+
+enum class Profile { Lab, Sim, SimLarge };
+
+Profile profile_of(const robot_config_t &cfg)
+{
+    const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
+    if (bits <= 13u) return Profile::Lab;
+    if (bits <= 18u) return Profile::Sim;
+    return Profile::SimLarge;
+}
+
+// The MCU's bytes of one entry of the tables the floor sizes (model.h): a percept mask per
+// place, an arrival per position, a class per situation and action.
+constexpr std::uint32_t kPlaceBytes = sizeof(std::uint16_t);
+constexpr std::uint32_t kPositionBytes = sizeof(std::int16_t);
+constexpr std::uint32_t kClassBytes = sizeof(model_class_t);
+// agent_t and the storage on the MCU: the host's overlay is 80 bytes larger (agent_profiles.h).
+constexpr std::uint32_t kAgentBytes = 3544u;
+
+std::uint32_t masked_bits(const agent_space_t &sp, std::uint32_t mask)
+{
+    std::uint32_t bits = 0;
+    for (std::uint32_t k = 0; k < sp.n_components; k++) {
+        if ((mask >> k) & 1u) bits += sp.bits[k];
+    }
+    return bits;
+}
+
+}  // namespace
+
+#define PROFILE_BYTES_(P, mem_t) \
+    static_cast<std::uint32_t>(sizeof(mem_t) - sizeof(((mem_t *)nullptr)->alg) + P(ALGORITHM_BYTES) + kAgentBytes)
+
+ProfileNeed profile_need(const robot_config_t &cfg)
+{
+    std::uint32_t places = 0, positions = 0, classes = 0;
+    ProfileNeed n{};
+    switch (profile_of(cfg)) {
+    case Profile::Lab:
+        n = {"paper-lab", PROFILE_BYTES_(AGENT_PROFILE_PAPER_LAB, agent_memory_paper_lab_t), 0, {}};
+        places = FW_CFG_LAB_PLACES;
+        positions = FW_CFG_LAB_POSITIONS;
+        classes = FW_CFG_LAB_CLASSES;
+        break;
+    case Profile::Sim:
+        n = {"paper-sim", PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM, agent_memory_paper_sim_t), 0, {}};
+        places = FW_CFG_SIM_PLACES;
+        positions = FW_CFG_SIM_POSITIONS;
+        classes = FW_CFG_SIM_CLASSES;
+        break;
+    case Profile::SimLarge:
+        n = {"paper-sim-large",
+             PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM_LARGE, agent_memory_paper_sim_large_t) +
+                 static_cast<std::uint32_t>(sizeof(agent_memory_paper_sim_large_apart_t)),
+             0, {}};
+        places = FW_CFG_SIM_LARGE_PLACES;
+        positions = FW_CFG_SIM_LARGE_POSITIONS;
+        classes = FW_CFG_SIM_LARGE_CLASSES;
+        break;
+    }
+    n.need_bytes = n.bytes;
+    const unsigned state_bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
+    if (profile_of(cfg) == Profile::SimLarge && !qstore_keys16_exact(FW_CFG_SIM_LARGE_Q_STATES, state_bits)) {
+        // Its 16-bit Q keys hold states of up to 20 bits (qstore.h); beyond, keys of 32 bits.
+        n.short_of = "state bits " + std::to_string(state_bits) + " > 20 (16-bit Q keys)";
+        n.need_bytes += FW_CFG_SIM_LARGE_Q_STATES * static_cast<std::uint32_t>(sizeof(std::uint16_t));
+    }
+    // Only Dyna-QPC's relocatable model sizes tables by the floor (model_init()'s rule).
+    if (cfg.agent != AGENT_DYNA_QPC || cfg.params.model != AGENT_MODEL_RELOCATABLE) return n;
+    agent_space_t sp{};
+    robot_config_space(&cfg, &sp);
+    const std::uint32_t all = (1u << sp.n_components) - 1u;
+    auto short_of = [&n](const char *what, std::uint64_t need, std::uint32_t have, std::uint32_t entry) {
+        if (need <= have) return;
+        if (!n.short_of.empty()) n.short_of += ", ";
+        n.short_of += std::string(what) + " " + std::to_string(need) + " > " + std::to_string(have);
+        n.need_bytes += static_cast<std::uint32_t>((need - have) * entry);
+    };
+    if (sp.absolute_mask != 0u) {
+        const std::uint32_t every = masked_bits(sp, all & ~static_cast<std::uint32_t>(sp.absolute_mask));
+        const std::uint32_t bits = every <= 24u && places >= (1u << every) ? every : every - sp.turn_step_bits;
+        short_of("places", std::uint64_t{1} << bits, places, kPlaceBytes);
+    }
+    if (sp.context_mask != 0u) {
+        const std::uint32_t context = masked_bits(sp, sp.context_mask);
+        const std::uint32_t position =
+            masked_bits(sp, all & ~static_cast<std::uint32_t>(sp.absolute_mask | sp.context_mask));
+        short_of("situations x actions", (std::uint64_t{1} << context) * sp.n_actions, classes, kClassBytes);
+        short_of("positions", std::uint64_t{1} << position, positions, kPositionBytes);
+    }
+    return n;
+}
 
 void pick_agent_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage)
 {
-    const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
-    if (bits <= 13u) {
+    const ProfileNeed need = profile_need(cfg);
+    if (!need.short_of.empty()) {
+        throw std::runtime_error(std::string(cfg.name != nullptr ? cfg.name : "the scenario") +
+                                 " does not fit the " + need.profile + " agent profile (" +
+                                 std::to_string(need.bytes) + " bytes of RAM): " + need.short_of +
+                                 "; it needs " + std::to_string(need.need_bytes) + " bytes");
+    }
+    switch (profile_of(cfg)) {
+    case Profile::Lab:
         *agent = &agent_paper_lab;
         *storage = &agent_storage_paper_lab;
-    } else {
+        break;
+    case Profile::Sim:
         *agent = &agent_paper_sim;
         *storage = &agent_storage_paper_sim;
+        break;
+    case Profile::SimLarge:
+        *agent = &agent_paper_sim_large;
+        *storage = &agent_storage_paper_sim_large;
+        break;
     }
 }
 

@@ -84,9 +84,13 @@ typedef struct agent_dyna_qpc_storage {
     }
 /// Its part of agent_storage_t, in memory `m` of that type.
 #define AGENT_STORAGE_dyna_qpc(mem)                                                              \
+    AGENT_STORAGE_dyna_qpc_PERCEPTS(mem, (mem).m.ours.percepts, AGENT_COUNT_OF((mem).m.ours.percepts))
+/// The same with the percept map in an array of its own (`places` entries), not in `mem`: a
+/// profile that places it apart (paper-sim-large, agent_profiles.h).
+#define AGENT_STORAGE_dyna_qpc_PERCEPTS(mem, percepts_, places_)                                 \
     {{(mem).m.ours.fwd_keys, (mem).m.ours.fwd_counts, (mem).m.ours.fwd_weights,                      \
       AGENT_COUNT_OF((mem).m.ours.fwd_keys)},                                                    \
-     {(mem).m.ours.percepts, AGENT_COUNT_OF((mem).m.ours.percepts), (mem).m.ours.classes,            \
+     {(percepts_), (places_), (mem).m.ours.classes,                                              \
       AGENT_COUNT_OF((mem).m.ours.classes), (mem).m.ours.arrivals, AGENT_COUNT_OF((mem).m.ours.arrivals)}, \
      (mem).pq_heap,                                                                              \
      (mem).pq_index_keys,                                                                        \

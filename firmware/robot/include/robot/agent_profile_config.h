@@ -158,4 +158,59 @@
 #define FW_CFG_SIM_BUDGET_BYTES (192u * 1024u)
 #endif
 
+// ---- Profile "paper-sim-large": paper-sim on floors of up to 64 x 64 cells (16 x 16 m) ----------
+// paper-sim's tables with twice its Q rows: 16,384 16-bit rows, which the 16 x 16 m floor needs
+// to learn (docs/results/far-goal.md: 8,192 rows hold about half the states it visits). The host
+// picks it for paper-sim states of more than 18 bits (host_sim/src/agent_pick.cpp); 192 KiB
+// (paper-sim) stays the default profile. Dyna-QPC's tables are paper-sim's (the same model and
+// queue), so it learns as it would on paper-sim's profile with a Q store twice as large. Its
+// image is the STM32F427's dynaqpc-fw-paper-sim-large (docs/porting.md, "robot-f42x").
+#ifndef FW_CFG_SIM_LARGE_Q_TYPE
+#define FW_CFG_SIM_LARGE_Q_TYPE value16_t
+#endif
+#ifndef FW_CFG_SIM_LARGE_Q_STATES
+#define FW_CFG_SIM_LARGE_Q_STATES 16384
+#endif
+#ifndef FW_CFG_SIM_LARGE_CMAC_CELLS
+#define FW_CFG_SIM_LARGE_CMAC_CELLS FW_CFG_SIM_CMAC_CELLS
+#endif
+#ifndef FW_CFG_SIM_LARGE_PQ_CAPACITY
+#define FW_CFG_SIM_LARGE_PQ_CAPACITY FW_CFG_SIM_PQ_CAPACITY
+#endif
+// The overlay's bytes on the MCU (agent_profiles.h asserts it): Dyna-QPC's model and queue
+// without the percept map, which is storage of its own here. So Dyna-Q's table on this profile
+// is smaller than on paper-sim's (51,956 bytes against 84,720).
+#ifndef FW_CFG_SIM_LARGE_ALGORITHM_BYTES
+#define FW_CFG_SIM_LARGE_ALGORITHM_BYTES 51956
+#endif
+#ifndef FW_CFG_SIM_LARGE_PLACES
+#define FW_CFG_SIM_LARGE_PLACES FW_CFG_SIM_PLACES
+#endif
+#ifndef FW_CFG_SIM_LARGE_CLASSES
+#define FW_CFG_SIM_LARGE_CLASSES FW_CFG_SIM_CLASSES
+#endif
+#ifndef FW_CFG_SIM_LARGE_POSITIONS
+#define FW_CFG_SIM_LARGE_POSITIONS FW_CFG_SIM_POSITIONS
+#endif
+// Tried pairs (explore.h, the bonus modes only, off by default): 32, a quarter of paper-sim's,
+// which leaves the STM32F427 image's SRAM room for the stack and its scenario.
+#ifndef FW_CFG_SIM_LARGE_TRIED_PAIRS
+#define FW_CFG_SIM_LARGE_TRIED_PAIRS 32
+#endif
+// The paper's CMACs: 1,024 x 17 + 1,024 x 15 = 32,768 bytes, within our model's bytes in the
+// overlay, which holds no percept map here (agent_profiles.h).
+#ifndef FW_CFG_SIM_LARGE_PAPER_FWD_CELLS
+#define FW_CFG_SIM_LARGE_PAPER_FWD_CELLS 1024
+#endif
+#ifndef FW_CFG_SIM_LARGE_PAPER_INV_CELLS
+#define FW_CFG_SIM_LARGE_PAPER_INV_CELLS 1024
+#endif
+// Its Q store keeps 16-bit keys (qstore_init16: the same table as 32-bit keys for 16,384 rows
+// and states of up to 20 bits, qstore.h): 16,384 rows take 160 KiB, and the agent (storage
+// and agent_t) 252,364 bytes on the MCU, within the STM32F427's 256 KiB of SRAM and CCM (with
+// 32-bit keys, 285,896 would not be). The budget is the board's whole RAM.
+#ifndef FW_CFG_SIM_LARGE_BUDGET_BYTES
+#define FW_CFG_SIM_LARGE_BUDGET_BYTES (256u * 1024u)
+#endif
+
 #endif // ROBOT_AGENT_PROFILE_CONFIG_H

@@ -19,6 +19,7 @@ extern "C" {
 #define AGENT_PROFILE_MAZE(knob) FW_CFG_MAZE_##knob
 #define AGENT_PROFILE_PAPER_LAB(knob) FW_CFG_LAB_##knob
 #define AGENT_PROFILE_PAPER_SIM(knob) FW_CFG_SIM_##knob
+#define AGENT_PROFILE_PAPER_SIM_LARGE(knob) FW_CFG_SIM_LARGE_##knob
 
 #define AGENT_MEMORY_MEMBER_(kind, number, name, label, id, P) AGENT_MEMORY_##id(P) id;
 /// The storage of one agent in profile P: the Q store (Q_TYPE is float or value16_t, qstore.h),
@@ -50,6 +51,36 @@ typedef AGENT_MEMORY_STRUCT(AGENT_PROFILE_MAZE) agent_memory_maze_t;
 typedef AGENT_MEMORY_STRUCT(AGENT_PROFILE_PAPER_LAB) agent_memory_paper_lab_t;
 typedef AGENT_MEMORY_STRUCT(AGENT_PROFILE_PAPER_SIM) agent_memory_paper_sim_t;
 
+/// paper-sim-large (agent_profile_config.h) in two parts, so that the STM32F427 image can place
+/// them in its two RAMs (docs/porting.md, "robot-f42x"): the Q values, the tried pairs and the
+/// algorithms' overlay (the SRAM's), and its Q keys, 16-bit (qstore_init16), with Dyna-QPC's
+/// percept map (CCM's: 64 KiB). The overlay is sized as the profile's but for that map
+/// (AGENT_PROFILE_PAPER_SIM_LARGE_OVERLAY: 1 place in it, unused).
+#define AGENT_PROFILE_PAPER_SIM_LARGE_OVERLAY(knob) AGENT_SIM_LARGE_OVERLAY_##knob
+#define AGENT_SIM_LARGE_OVERLAY_ALGORITHM_BYTES FW_CFG_SIM_LARGE_ALGORITHM_BYTES
+#define AGENT_SIM_LARGE_OVERLAY_CMAC_CELLS FW_CFG_SIM_LARGE_CMAC_CELLS
+#define AGENT_SIM_LARGE_OVERLAY_CLASSES FW_CFG_SIM_LARGE_CLASSES
+#define AGENT_SIM_LARGE_OVERLAY_PLACES 1
+#define AGENT_SIM_LARGE_OVERLAY_POSITIONS FW_CFG_SIM_LARGE_POSITIONS
+#define AGENT_SIM_LARGE_OVERLAY_PQ_CAPACITY FW_CFG_SIM_LARGE_PQ_CAPACITY
+#define AGENT_SIM_LARGE_OVERLAY_PAPER_FWD_CELLS FW_CFG_SIM_LARGE_PAPER_FWD_CELLS
+#define AGENT_SIM_LARGE_OVERLAY_PAPER_INV_CELLS FW_CFG_SIM_LARGE_PAPER_INV_CELLS
+typedef struct {
+    FW_CFG_SIM_LARGE_Q_TYPE q[FW_CFG_SIM_LARGE_Q_STATES * FW_CFG_MAX_ACTIONS];
+    uint32_t tried_keys[FW_CFG_SIM_LARGE_TRIED_PAIRS];
+    uint32_t tried_at[FW_CFG_SIM_LARGE_TRIED_PAIRS];
+    union {
+        AGENT_ALGORITHMS_WITH(AGENT_MEMORY_MEMBER_, AGENT_PROFILE_PAPER_SIM_LARGE_OVERLAY)
+    } alg;
+} agent_memory_paper_sim_large_t;
+typedef struct {
+    uint16_t q_keys16[FW_CFG_SIM_LARGE_Q_STATES];
+    uint16_t percepts[FW_CFG_SIM_LARGE_PLACES];
+} agent_memory_paper_sim_large_apart_t;
+/// Its whole storage (both parts).
+#define AGENT_PAPER_SIM_LARGE_BYTES \
+    (sizeof(agent_memory_paper_sim_large_t) + sizeof(agent_memory_paper_sim_large_apart_t))
+
 // Each profile's agent (its storage plus the agent_t that manages it) must fit its budget.
 FW_STATIC_ASSERT(sizeof(agent_memory_maze_t) + sizeof(agent_t) <= FW_CFG_MAZE_BUDGET_BYTES,
                  maze_agent_fits_budget);
@@ -57,6 +88,8 @@ FW_STATIC_ASSERT(sizeof(agent_memory_paper_lab_t) + sizeof(agent_t) <= FW_CFG_LA
                  paper_lab_agent_fits_budget);
 FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SIM_BUDGET_BYTES,
                  paper_sim_agent_fits_budget);
+FW_STATIC_ASSERT(AGENT_PAPER_SIM_LARGE_BYTES + sizeof(agent_t) <= FW_CFG_SIM_LARGE_BUDGET_BYTES,
+                 paper_sim_large_agent_fits_budget);
 
 // ALGORITHM_BYTES is what the overlay of the algorithms' memories takes on the MCU (32-bit
 // pointers): Dyna-QPC's model and queue, the largest, whose settings must change with it
@@ -66,7 +99,8 @@ FW_STATIC_ASSERT(sizeof(agent_memory_paper_sim_t) + sizeof(agent_t) <= FW_CFG_SI
 #define AGENT_OVERLAY_IS_(T, bytes) (sizeof(void *) != 4u || sizeof(((T *)0)->alg) == (bytes))
 FW_STATIC_ASSERT(AGENT_OVERLAY_IS_(agent_memory_maze_t, FW_CFG_MAZE_ALGORITHM_BYTES) &&
                      AGENT_OVERLAY_IS_(agent_memory_paper_lab_t, FW_CFG_LAB_ALGORITHM_BYTES) &&
-                     AGENT_OVERLAY_IS_(agent_memory_paper_sim_t, FW_CFG_SIM_ALGORITHM_BYTES),
+                     AGENT_OVERLAY_IS_(agent_memory_paper_sim_t, FW_CFG_SIM_ALGORITHM_BYTES) &&
+                     AGENT_OVERLAY_IS_(agent_memory_paper_sim_large_t, FW_CFG_SIM_LARGE_ALGORITHM_BYTES),
                  the_algorithms_overlay_takes_ALGORITHM_BYTES_on_the_MCU);
 
 // The paper's CMACs (model paper) overlay our model and the planner's carry: they must not make
@@ -74,7 +108,8 @@ FW_STATIC_ASSERT(AGENT_OVERLAY_IS_(agent_memory_maze_t, FW_CFG_MAZE_ALGORITHM_BY
 #define AGENT_PAPER_FITS_(T)                                                                   \
     (sizeof(((T *)0)->alg.dyna_qpc.m.paper) <= sizeof(((T *)0)->alg.dyna_qpc.m.ours))
 FW_STATIC_ASSERT(AGENT_PAPER_FITS_(agent_memory_maze_t) && AGENT_PAPER_FITS_(agent_memory_paper_lab_t) &&
-                     AGENT_PAPER_FITS_(agent_memory_paper_sim_t),
+                     AGENT_PAPER_FITS_(agent_memory_paper_sim_t) &&
+                     AGENT_PAPER_FITS_(agent_memory_paper_sim_large_t),
                  paper_models_fit_in_our_model_s_bytes);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_MAZE_PAPER_INV_CELLS) &&
                      FW_IS_POW2(FW_CFG_LAB_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_LAB_PAPER_INV_CELLS) &&
@@ -89,6 +124,10 @@ FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_C
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_CMAC_CELLS) &&
                      FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_TRIED_PAIRS),
                  paper_sim_tables_pow2);
+FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_LARGE_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_LARGE_CMAC_CELLS) &&
+                     FW_IS_POW2(FW_CFG_SIM_LARGE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_LARGE_TRIED_PAIRS) &&
+                     FW_IS_POW2(FW_CFG_SIM_LARGE_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_SIM_LARGE_PAPER_INV_CELLS),
+                 paper_sim_large_tables_pow2);
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC_CELLS) &&
                      FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TRIED_PAIRS),
                  maze_tables_pow2);
@@ -99,9 +138,11 @@ FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC
 extern const agent_storage_t agent_storage_maze;
 extern const agent_storage_t agent_storage_paper_lab;
 extern const agent_storage_t agent_storage_paper_sim;
+extern const agent_storage_t agent_storage_paper_sim_large;
 extern agent_t agent_maze;
 extern agent_t agent_paper_lab;
 extern agent_t agent_paper_sim;
+extern agent_t agent_paper_sim_large;
 
 #ifdef __cplusplus
 }

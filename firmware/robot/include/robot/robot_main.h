@@ -13,13 +13,18 @@ extern "C" {
 /// profile it uses.
 void robot_main_paper_lab(void);
 void robot_main_paper_sim(void);
+/// paper-sim's robot on a 16 x 16 m floor with the paper-sim-large profile (the STM32F427's
+/// 256 KiB image).
+void robot_main_paper_sim_large(void);
 
 /// What an image's main() calls: the profile the image is built for (DYNAQPC_PROFILE_PAPER_LAB
-/// or DYNAQPC_PROFILE_PAPER_SIM defined on main.c). `scenario_config` is reserved (NULL).
+/// DYNAQPC_PROFILE_PAPER_SIM or DYNAQPC_PROFILE_PAPER_SIM_LARGE defined on main.c). `scenario_config` is reserved (NULL).
 static inline void robot_main(const void *scenario_config)
 {
     (void)scenario_config;
-#if defined(DYNAQPC_PROFILE_PAPER_SIM)
+#if defined(DYNAQPC_PROFILE_PAPER_SIM_LARGE)
+    robot_main_paper_sim_large();
+#elif defined(DYNAQPC_PROFILE_PAPER_SIM)
     robot_main_paper_sim();
 #else
     robot_main_paper_lab();
