@@ -3,7 +3,7 @@
 # Every committed room is accepted by train as well as by the parser (train also applies the
 # firmware's limits and robot_config_check): one short episode each, a CSV row each. The far-goal
 # rooms of far-tune/ and far-eval/ with Dyna-QPC, whose model's tables are the ones a larger floor
-# can overflow (docs/scenarios.md, "Far-goal rooms"; far-large-*/ are refused today and not here).
+# can overflow (docs/scenarios.md, "Far-goal rooms"; far-large-*/, on the paper-sim-large profile, are not here: hours a set).
 cmake_minimum_required(VERSION 3.25)
 include(${CMAKE_CURRENT_LIST_DIR}/sim_common.cmake)
 file(GLOB rooms "${ROOMS}/tune/*.scn" "${ROOMS}/eval/*.scn")
