@@ -7,6 +7,7 @@
 
 #include "robot/agent_profiles.h"
 #include "robot/learned_digest.h"
+#include "robot/robot_main.h"
 #include "drivers/candev.h"
 #include "drivers/gps.h"
 #include "drivers/gyro.h"
@@ -268,6 +269,22 @@ static void test_silences_raise_and_clear_their_flags(void **state)
     boot_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab);
     raised_then_cleared_(&gyro_on_, TLM_ERR_GYRO_SILENT);
     raised_then_cleared_(&cricket_on_, TLM_ERR_UART);  // a silent Cricket line
+}
+
+// The 256 KiB image's scenario and profile (robot_main_paper_sim_large): the 16 x 16 m floor
+// boots, its 16-bit Q keys and percept map in use, and it runs.
+static void test_paper_sim_large_boots_on_its_profile(void **state)
+{
+    (void)state;
+    static robot_config_t large;
+    robot_config_paper_sim_large(&large);
+    assert_int_equal(robot_config_check(&large), FW_OK);
+    boot_(&large, &agent_paper_sim_large, &agent_storage_paper_sim_large);
+    assert_int_equal(agent_paper_sim_large.q.capacity, FW_CFG_SIM_LARGE_Q_STATES);
+    assert_true(agent_paper_sim_large.q.narrow);
+    live_for_(3000);
+    assert_true(statuses_ > 0u);
+    assert_int_equal(last_status_.errors, 0);
 }
 
 static void test_counting_faults_raise_for_a_period(void **state)
@@ -665,6 +682,7 @@ int main(void)
         cmocka_unit_test_setup(test_uart_resumes_after_full_queue_and_full_ring, setup_),
         cmocka_unit_test_setup(test_uart_drained_when_the_line_falls_silent, setup_),
         cmocka_unit_test(test_silences_raise_and_clear_their_flags),
+        cmocka_unit_test(test_paper_sim_large_boots_on_its_profile),
         cmocka_unit_test(test_counting_faults_raise_for_a_period),
         cmocka_unit_test(test_tool_cmd_authority),
         cmocka_unit_test(test_every_command_is_answered),

@@ -3,6 +3,8 @@
 #ifndef ROBOT_MAIN_H
 #define ROBOT_MAIN_H
 
+#include "robot/robot_config.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -16,6 +18,8 @@ void robot_main_paper_sim(void);
 /// paper-sim's robot on a 16 x 16 m floor with the paper-sim-large profile (the STM32F427's
 /// 256 KiB image).
 void robot_main_paper_sim_large(void);
+/// That image's scenario, built from paper-sim's (robot_scenarios.c) into `out`.
+void robot_config_paper_sim_large(robot_config_t *out);
 
 /// What an image's main() calls: the profile the image is built for (DYNAQPC_PROFILE_PAPER_LAB
 /// DYNAQPC_PROFILE_PAPER_SIM or DYNAQPC_PROFILE_PAPER_SIM_LARGE defined on main.c). `scenario_config` is reserved (NULL).
