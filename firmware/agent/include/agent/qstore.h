@@ -21,7 +21,8 @@ extern "C" {
 /// A profile chooses by the type of its array (agent_profiles.h): paper-lab and the gridworlds
 /// keep floats (they fit); paper-sim's 16-bit values hold twice the rows in the same RAM, so a
 /// floor with four times its cells runs in 192 KB (docs/agent.md, "Q store"; it learns reliably
-/// only with twice those rows again: docs/results/far-goal.md). 10 significant bits
+/// only with twice those rows again, paper-sim-large's in 256 KB with 16-bit keys, below:
+/// docs/results/far-goal.md). 10 significant bits
 /// suffice there: the step between values is 2^-10 of them (0.1 at a robot's returns near
 /// -100) while an action's values differ by whole step costs, and a gridworld's far values
 /// (1e-6) are still normal numbers (measured: docs/results/far-goal.md). (Fixed point

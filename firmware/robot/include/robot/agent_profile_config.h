@@ -111,8 +111,8 @@
 // ---- Profile "paper-sim": 262,144 states (x, y, heading, sonar in 5, 5, 4, 4 bits) -------------
 // Q values in 16 bits (value16_t, agent/value16.h): 8,192 rows in the bytes of 4,096 floats.
 // A floor of 64 x 64 cells (four times paper-sim's) runs in them but visits up to 18,582
-// states; it learns reliably with 16,384 rows, which do not fit beside the model in 192 KiB
-// (docs/results/far-goal.md).
+// states; it learns reliably with 16,384 rows, which do not fit beside the model in 192 KiB:
+// the host runs it on paper-sim-large (below; docs/results/far-goal.md).
 #ifndef FW_CFG_SIM_Q_TYPE
 #define FW_CFG_SIM_Q_TYPE value16_t
 #endif
