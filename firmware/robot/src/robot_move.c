@@ -13,7 +13,7 @@
 // says (the gyro's error over the rotation t) by ROBOT_GYRO_FIT_GAIN t^2 / (t^2 +
 // ROBOT_GYRO_FIT_TURN^2) of the way; never beyond 10 %.
 #define ROBOT_GYRO_UNSEEN 1.0e9f
-#define ROBOT_GYRO_FIT_GAIN 0.2f
+#define ROBOT_GYRO_FIT_GAIN 0.05f
 #define ROBOT_GYRO_FIT_TURN 3.1415927f
 #define ROBOT_GYRO_FIT_MAX 0.1f
 
