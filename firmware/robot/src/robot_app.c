@@ -818,6 +818,12 @@ static void open_journal_(void)
         // Numbers go on after the cut episode's (the record holds only the finished ones).
         app_.ctrl.episode = last.episode > app_.ctrl.episode ? last.episode : app_.ctrl.episode;
     }
+    if (app_.opt.evaluate) {
+        // Evaluate mode is a lock on the flash: it reads what the last boot journaled and writes
+        // nothing, not even the journal (every append after this is refused: FW_ERR_NOSYS).
+        app_.journal.ok = false;
+        return;
+    }
     (void)boot_journal_append(&app_.journal, app_.ctrl.episode, 0u, false);
 }
 
