@@ -278,10 +278,9 @@ class BusState:
             if not sig.name.startswith("Sonar"):
                 continue
             k = int(sig.name[5:])
-            raw = int(v[sig.name])
-            no_echo = sig.choices and raw in (sig.choices or {}) or raw * (sig.scale or 1) >= 254
+            cm = float(v[sig.name])  # decoded: cm already (2 cm per bit); raw 127, 254 cm, is no echo
             ang = self.ray_angles[k] if self.ray_angles and k < len(self.ray_angles) else SONAR_ANGLES[k % 16]
-            self.rays[sig.name] = (math.radians(ang), None if no_echo else float(raw) * (sig.scale or 1) * 1e-2)
+            self.rays[sig.name] = (math.radians(ang), None if cm >= 254 else cm * 1e-2)
         return ""
 
 

@@ -277,3 +277,13 @@ def test_frames_whose_crc_fails_are_not_drawn():
     assert e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)
     sonar.data[0] ^= 0x01
     assert not e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)
+    state = BusState(db)
+    state.feed(sonar)
+    assert "Sonar0" not in state.rays
+    sonar.data[0] ^= 0x01
+    state.feed(sonar)
+    assert state.rays["Sonar0"][1] == 0.5  # 50 cm, as sent
+    assert state.rays["Sonar1"][1] == 0.0
+    far = _frame(db, "SONAR_RANGES_A", 3.1, Sonar0=200, Sonar1=254)  # 254 cm: raw 127, no echo
+    state.feed(far)
+    assert state.rays["Sonar0"][1] == 2.0 and state.rays["Sonar1"][1] is None
