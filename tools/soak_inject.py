@@ -35,7 +35,15 @@ def main() -> int:
     lengths = {m.frame_id: m.length for m in db.messages}
     fw_rx = [
         db.get_message_by_name(n).frame_id
-        for n in ("MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A", "SONAR_RANGES_B", "GPS_POSE")
+        for n in (
+            "MOTOR_STATUS",
+            "GYRO_RATE",
+            "IR_RANGES",
+            "SONAR_RANGES_A",
+            "SONAR_RANGES_B",
+            "SONAR_RANGES_C",
+            "GPS_POSE",
+        )
     ]
     others = [0x123, 0x200, 0x7FF, 0x050]
     tool_cmd = db.get_message_by_name("TOOL_CMD").frame_id

@@ -106,9 +106,8 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
         for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
             mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
         }
-        for (unsigned half = 0; half < 2; half++) {
-            if (ranges_encode_sonar(&sonar_ctr_[half], half, mm, &f) == FW_OK) frames->push_back(f);
-        }
+        hal_can_frame_t scan[RANGES_SONAR_PARTS];
+        if (ranges_encode_sonar(&sonar_ctr_, mm, scan) == FW_OK) frames->insert(frames->end(), scan, scan + RANGES_SONAR_PARTS);
     }
     if (sc_.gps.enabled && t % DeviceCycles::kGps == 0) {
         const world::Pose p = world_.gps_pose();

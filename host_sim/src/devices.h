@@ -55,7 +55,7 @@ private:
     const world::Scenario &sc_;
     std::unique_ptr<world::CricketListener> cricket_;
     std::uint8_t motor_ctr_ = 0, gyro_ctr_ = 0, ir_ctr_ = 0, gps_ctr_ = 0;
-    std::uint8_t sonar_ctr_[2] = {0, 0};  // one rolling counter per frame id (SONAR_RANGES_A, _B)
+    std::uint8_t sonar_ctr_ = 0;  // one rolling counter per scan (SONAR_RANGES_A, _B and _C carry it)
     std::uint64_t last_cmd_us_ = 0;
     bool driving_ = false;
     bool bump_since_status_ = false;

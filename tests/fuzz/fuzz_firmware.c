@@ -123,10 +123,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             for (uint32_t i = 0; i < f.dlc; i++) {
                 f.data[i] = fuzz_u8(&in);
             }
-            // candev_rx_ids: [0] TOOL_CMD (its own CRC-32, op 1), [4] and [5] the sonars (CRC-4).
+            // candev_rx_ids: [0] TOOL_CMD (its own CRC-32, op 1); every other a CRC-8.
             if ((dlc & 0x80u) != 0u && f.dlc > 0u && f.id != candev_rx_ids[0]) {
-                const bool sonar = f.id == candev_rx_ids[4] || f.id == candev_rx_ids[5];
-                can_link_e2e_protect(&f, sonar ? 4u : 8u);
+                can_link_e2e_protect(&f, 8u);
             }
             (void)hal_host_can_deliver(&f);
         } else if (op == 1u) {

@@ -3,7 +3,8 @@
 // Crc, the counter's plausibility and resynchronisation, the decoders behind them — on every
 // frame the firmware receives (candev_rx) and on MOTOR_CMD at the motor controller
 // (motor_rx_cmd). Ops, each a byte then its arguments:
-//   bits 0..2: the frame: an index into candev_rx_ids, 7 MOTOR_CMD
+//   bits 0..2: the frame: an index into candev_rx_ids (0..6), 7 MOTOR_CMD; bit 7 set: SONAR_RANGES_C
+//              (candev_rx_ids[7]) instead
 //   bit 3:     seal it: the fuzzer's bytes, then the right Crc written over them (else as given),
 //              so the checks behind the Crc are reached
 //   bit 4:     the Counter set to the last one taken + (next byte % 16), sealed or not
@@ -15,7 +16,12 @@
 // `malformed`; a frame taken carries a Counter 1..max_step past the last one taken, or follows
 // the last refused jump by 1 (a resynchronisation); a refused jump is counted in `implausible`;
 // a frame sealed by can_link_e2e_protect always passes can_link_e2e_ok; a MOTOR_STATUS taken is
-// within the recent commands' bound, a GYRO_RATE taken with Status OK within the rate limit.
+// within the recent commands' bound, a GYRO_RATE taken with Status OK within the rate limit. The
+// sonars (SONAR_RANGES_A, _B, _C, one scan): a part with its Reserved bits not 0 is malformed as
+// one whose Crc fails; a part whose checks pass is kept (the scan's counts unchanged) or
+// completes the scan, which is then taken as above, with the last good copy of
+// each of its parts carrying its Counter; a part refused as malformed leaves the scan being
+// assembled as it was.
 #include <string.h>
 
 #include "drivers/candev.h"
@@ -35,16 +41,42 @@ typedef struct frame_kind {
     uint8_t max_step;
 } frame_kind_t;
 
-static const frame_kind_t kinds_[8] = {
+static const frame_kind_t kinds_[9] = {
     {DYNAQPC_CAN_TOOL_CMD_FRAME_ID, DYNAQPC_CAN_TOOL_CMD_LENGTH, 0u, 4u, 0u, 15u},
     {DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH, 5u, 0u, 8u, CAN_LINK_MAX_STEP},
     {DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH, 3u, 4u, 8u, GYRO_MAX_STEP},
     {DYNAQPC_CAN_IR_RANGES_FRAME_ID, DYNAQPC_CAN_IR_RANGES_LENGTH, 6u, 4u, 8u, CAN_LINK_MAX_STEP},
-    {DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_A_LENGTH, 7u, 0u, 4u, CAN_LINK_MAX_STEP},
-    {DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_B_LENGTH, 7u, 0u, 4u, CAN_LINK_MAX_STEP},
+    {DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_A_LENGTH, 6u, 4u, 8u, CAN_LINK_MAX_STEP},
+    {DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_B_LENGTH, 6u, 4u, 8u, CAN_LINK_MAX_STEP},
     {DYNAQPC_CAN_GPS_POSE_FRAME_ID, DYNAQPC_CAN_GPS_POSE_LENGTH, 6u, 4u, 8u, CAN_LINK_MAX_STEP},
     {DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH, 4u, 4u, 8u, CAN_LINK_MAX_STEP},
+    {DYNAQPC_CAN_SONAR_RANGES_C_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_C_LENGTH, 2u, 4u, 8u, CAN_LINK_MAX_STEP},
 };
+
+// The sonar part a kind is (0..2), or -1.
+static int sonar_part_of_(unsigned k)
+{
+    return k == 4u ? 0 : k == 5u ? 1 : k == 8u ? 2 : -1;
+}
+
+// A sonar part's unused bits (Reserved) are 0, as the DBC asks: else the firmware refuses it as
+// malformed, whatever its Crc. True for every other frame.
+static bool reserved_ok_(int part, const hal_can_frame_t *f)
+{
+    if (part == 0) {
+        struct dynaqpc_can_sonar_ranges_a_t m;
+        return dynaqpc_can_sonar_ranges_a_unpack(&m, f->data, f->dlc) == 0 && m.reserved == 0u;
+    }
+    if (part == 1) {
+        struct dynaqpc_can_sonar_ranges_b_t m;
+        return dynaqpc_can_sonar_ranges_b_unpack(&m, f->data, f->dlc) == 0 && m.reserved == 0u;
+    }
+    if (part == 2) {
+        struct dynaqpc_can_sonar_ranges_c_t m;
+        return dynaqpc_can_sonar_ranges_c_unpack(&m, f->data, f->dlc) == 0 && m.reserved == 0u;
+    }
+    return true;
+}
 
 static can_link_rx_t *rx_of_(candev_t *bus, can_link_rx_t *cmd_rx, unsigned k)
 {
@@ -52,8 +84,9 @@ static can_link_rx_t *rx_of_(candev_t *bus, can_link_rx_t *cmd_rx, unsigned k)
     case 1: return &bus->motor.rx;
     case 2: return &bus->gyro.rx;
     case 3: return &bus->ranges.ir_rx;
-    case 4: return &bus->ranges.sonar_rx[0];
-    case 5: return &bus->ranges.sonar_rx[1];
+    case 4:
+    case 5:
+    case 8: return &bus->ranges.sonar_rx;
     case 6: return &bus->gps.rx;
     case 7: return cmd_rx;
     default: return NULL;
@@ -66,17 +99,19 @@ static uint8_t counter_of_(const frame_kind_t *k, const hal_can_frame_t *f)
 }
 
 static candev_t bus_;
+static uint8_t sonar_last_[3];  // the Counter of each sonar part's last frame whose checks passed
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fuzz_in_t in = {data, size};
     candev_init(&bus_);
+    memset(sonar_last_, 0xFF, sizeof sonar_last_);
     can_link_rx_t cmd_rx;
     can_link_rx_init(&cmd_rx);
     uint64_t now = 0;
     for (uint32_t ops = 0; in.left > 0u && ops < 512u; ops++) {
         const uint8_t op = fuzz_u8(&in);
-        const unsigned which = op & 7u;
+        const unsigned which = (op & 0x80u) != 0u ? 8u : op & 7u;
         if ((op & 0x40u) != 0u) {
             const int16_t v = (int16_t)(((int32_t)fuzz_u8(&in) - 128) * 12);
             const motor_cmd_t cmd = {v, (int16_t)-v, true};
@@ -115,6 +150,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             continue;
         }
         const can_link_rx_t before = *rx;
+        const uint8_t parts_before = bus_.ranges.sonar_parts;
+        const uint8_t scan_counter_before = bus_.ranges.sonar_counter;
+        const int part = sonar_part_of_(which);
         int r;
         if (which == 7u) {
             motor_cmd_t cmd;
@@ -123,16 +161,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             r = candev_rx(&bus_, &f, now, NULL);
         }
         const bool right_frame = f.dlc == k->dlc && (f.flags & (HAL_CAN_FLAG_EXTENDED | HAL_CAN_FLAG_REMOTE)) == 0u;
-        if (!right_frame || !can_link_e2e_ok(&f, k->crc_bits)) {
+        if (!right_frame || !can_link_e2e_ok(&f, k->crc_bits) || !reserved_ok_(part, &f)) {
             // Refused as malformed: nothing but that count changes.
             if (r >= 0 || rx->malformed != before.malformed + 1u || rx->frames != before.frames ||
-                rx->counter != before.counter || rx->implausible != before.implausible) {
+                rx->counter != before.counter || rx->implausible != before.implausible ||
+                bus_.ranges.sonar_parts != parts_before || bus_.ranges.sonar_counter != scan_counter_before) {
+                __builtin_trap();
+            }
+            continue;
+        }
+        if (part >= 0) {
+            sonar_last_[part] = counter_of_(k, &f);
+        }
+        if (r == CANDEV_RX_SONAR_PART) {
+            // Kept for its scan: the scans' counts unchanged, the scan being assembled is its Counter's.
+            if (part < 0 || rx->frames != before.frames || rx->counter != before.counter ||
+                bus_.ranges.sonar_counter != counter_of_(k, &f) ||
+                (bus_.ranges.sonar_parts & (1u << (unsigned)part)) == 0u) {
                 __builtin_trap();
             }
             continue;
         }
         if (r >= 0) {
             const uint8_t c = counter_of_(k, &f);
+            if (part >= 0 && (sonar_last_[0] != c || sonar_last_[1] != c || sonar_last_[2] != c)) {
+                __builtin_trap();  // a scan taken from parts of different Counters
+            }
             const uint8_t step = (uint8_t)((c - before.counter) & 0x0Fu);
             const bool resync = before.sync_pending && ((c - before.sync_counter) & 0x0Fu) == 1u;
             if (rx->counter != c || rx->frames != before.frames + 1u ||

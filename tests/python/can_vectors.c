@@ -32,11 +32,6 @@ static int parse_frame(const char *id_s, const char *hex, hal_can_frame_t *f)
     return 0;
 }
 
-static double sonar_cm(uint16_t mm)
-{
-    return mm == RANGES_NO_ECHO ? 254.0 : mm / 10.0;
-}
-
 static void decode(const hal_can_frame_t *f)
 {
     static candev_t bus;  // fresh per frame
@@ -154,13 +149,15 @@ static void decode(const hal_can_frame_t *f)
                    r->ir_valid[2], r->ir_rx.counter);
             return;
         }
-        case CANDEV_RX_SONAR: {
-            unsigned half = f->id == DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID;
-            printf("OK SONAR_RANGES_%c", half ? 'B' : 'A');
-            for (unsigned i = 0; i < 8u; i++) {
-                printf(" Sonar%u=%.1f", half * 8u + i, sonar_cm(bus.ranges.sonar_mm[half * 8u + i]));
+        case CANDEV_RX_SONAR_PART: {  // one frame into fresh state: a part, kept for its scan
+            const unsigned part = f->id - DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID;
+            const unsigned first = part * 7u;
+            const unsigned n = part < 2u ? 7u : RANGES_SONAR_COUNT - 14u;
+            printf("OK SONAR_RANGES_%c", 'A' + part);
+            for (unsigned i = first; i < first + n; i++) {
+                printf(" Sonar%u=%.1f", i, bus.ranges.sonar_raw[i] * 2.0);
             }
-            printf(" Counter=%u\n", bus.ranges.sonar_rx[half].counter);
+            printf(" Counter=%u\n", bus.ranges.sonar_counter);
             return;
         }
         case CANDEV_RX_GPS: {
@@ -223,8 +220,7 @@ static void encode(const char *name, int argc, char **argv)
         uint16_t mm[3] = {(uint16_t)A("RangeLeft"), (uint16_t)A("RangeFront"), (uint16_t)A("RangeRight")};
         bool valid[3] = {A("ValidLeft") != 0, A("ValidFront") != 0, A("ValidRight") != 0};
         rc = ranges_encode_ir(&counter, mm, valid, &f);
-    } else if (strcmp(name, "SONAR_RANGES_A") == 0 || strcmp(name, "SONAR_RANGES_B") == 0) {
-        unsigned half = name[13] == 'B';
+    } else if (strncmp(name, "SONAR_RANGES_", 13) == 0 && name[13] >= 'A' && name[13] <= 'C' && name[14] == 0) {
         uint16_t mm[RANGES_SONAR_COUNT];
         for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
             char key[16];
@@ -232,7 +228,9 @@ static void encode(const char *name, int argc, char **argv)
             double cm = arg(argc, argv, key, 254.0);
             mm[i] = cm >= 254.0 ? RANGES_NO_ECHO : (uint16_t)(cm * 10.0 + 0.5);
         }
-        rc = ranges_encode_sonar(&counter, half, mm, &f);
+        hal_can_frame_t scan[RANGES_SONAR_PARTS];
+        rc = ranges_encode_sonar(&counter, mm, scan);
+        f = scan[name[13] - 'A'];
     } else if (strcmp(name, "GPS_POSE") == 0) {
         gps_pose_t p = {(int16_t)A("X"), (int16_t)A("Y"), (uint16_t)(A("Heading") * 100.0 + 0.5),
                         (uint8_t)A("Fix")};

@@ -23,8 +23,7 @@ DBC = ROOT / "docs" / "dynaqpc.dbc"
 GENERATED = ROOT / "firmware" / "drivers" / "src" / "generated"
 # The frames with a Crc: the commands, and the end-to-end protected frames that feed estimation.
 COMMAND_FRAMES = {"MOTOR_CMD", "TOOL_CMD", "GYRO_RATE", "MOTOR_STATUS", "IR_RANGES", "SONAR_RANGES_A",
-                  "SONAR_RANGES_B", "GPS_POSE"}
-CRC4_FRAMES = {"SONAR_RANGES_A", "SONAR_RANGES_B"}  # 4 bits free: a CRC-4 in the last byte's high nibble
+                  "SONAR_RANGES_B", "SONAR_RANGES_C", "GPS_POSE"}
 SAMPLES = 60
 
 
@@ -68,28 +67,11 @@ def crc32(frame_id, data):
     return zlib.crc32(bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data))
 
 
-def crc4(frame_id, data, nibble):
-    """The sonar frames' Crc: CRC-4 (poly 0x3, init 0xF, MSB first, no final xor) over the id's two
-    bytes, `data` and the 4 bits of `nibble`."""
-    crc = 0xF
-    bits = [(b >> (7 - i)) & 1 for b in bytes([frame_id & 0xFF, frame_id >> 8]) + bytes(data) for i in range(8)]
-    bits += [(nibble >> (3 - i)) & 1 for i in range(4)]
-    for bit in bits:
-        top = (crc >> 3) & 1
-        crc = (crc << 1) & 0xF
-        if top ^ bit:
-            crc ^= 0x3
-    return crc
-
-
 def with_crc(msg, data):
-    """The frame `data` with its Crc: 32 bits on TOOL_CMD, 4 on the sonar frames, else 8."""
+    """The frame `data` with its Crc: 32 bits on TOOL_CMD, else 8."""
     data = bytearray(data)
     if msg.name == "TOOL_CMD":
         data[-4:] = crc32(msg.frame_id, data[:-4]).to_bytes(4, "little")
-    elif msg.name in CRC4_FRAMES:
-        low = data[-1] & 0x0F
-        data[-1] = low | crc4(msg.frame_id, data[:-1], low) << 4
     else:
         data[-1] = crc8(msg.frame_id, data[:-1])
     return bytes(data)
@@ -104,6 +86,9 @@ def raw_limits(sig):
 def random_raw(msg, rng):
     raw = {}
     for sig in msg.signals:
+        if sig.name == "Reserved":  # sent as 0 (no range in the DBC: [0|0] there means none)
+            raw[sig.name] = 0
+            continue
         lo, hi = raw_limits(sig)
         raw[sig.name] = rng.randint(lo, hi)
     if "Crc" in raw:
@@ -151,12 +136,12 @@ def test_dbc_rules(db):
             assert counter.length == 4 and not counter.is_signed, msg.name
         if msg.name in COMMAND_FRAMES:
             crc = msg.get_signal_by_name("Crc")
-            width = 32 if msg.name == "TOOL_CMD" else 4 if msg.name in CRC4_FRAMES else 8
+            width = 32 if msg.name == "TOOL_CMD" else 8
             assert crc.length == width and crc.start == 8 * msg.length - width, msg.name
     cycles = {m.name: m.cycle_time for m in db.messages}
     assert cycles == {
         "TOOL_CMD": None, "TOOL_ACK": None, "MOTOR_CMD": 192, "MOTOR_STATUS": 48, "GYRO_RATE": 16, "IR_RANGES": 48,
-        "SONAR_RANGES_A": 96, "SONAR_RANGES_B": 96, "GPS_POSE": 96, "FW_STATUS": 1000,
+        "SONAR_RANGES_A": 96, "SONAR_RANGES_B": 96, "SONAR_RANGES_C": 96, "GPS_POSE": 96, "FW_STATUS": 1000,
         "TLM_POSE": 192, "TLM_LEARN": None, "TLM_SCHED": 192, "TLM_EPISODE": None, "TLM_VALUE": None}
     # TLM_LEARN goes once per real learning step (several control periods), not every 192 ms.
     assert db.get_message_by_name("TLM_LEARN").dbc.attributes["GenMsgSendType"].value == 1  # Event
@@ -178,7 +163,7 @@ def expected_decoded(msg, data):
 
 @pytest.mark.parametrize("name", [
     "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
+    "SONAR_RANGES_B", "SONAR_RANGES_C", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_c_decodes_what_cantools_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random(name)
@@ -191,6 +176,7 @@ def test_c_decodes_what_cantools_encodes(db, vectors, name):
         # The tools' decoders do not return the counters of the firmware's own frames.
         if name.startswith("TLM_") or name == "FW_STATUS":
             want.pop("Counter", None)
+        want.pop("Reserved", None)  # must be 0, as it is here: the C side refuses any other
         assert got.keys() == want.keys(), f"{name}: C prints {sorted(got)}, DBC has {sorted(want)}"
         for key, value in want.items():
             assert got[key] == pytest.approx(value, abs=1e-9), f"{name}.{key} raw {raw}"
@@ -198,7 +184,7 @@ def test_c_decodes_what_cantools_encodes(db, vectors, name):
 
 @pytest.mark.parametrize("name", [
     "TOOL_CMD", "TOOL_ACK", "MOTOR_CMD", "MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A",
-    "SONAR_RANGES_B", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
+    "SONAR_RANGES_B", "SONAR_RANGES_C", "GPS_POSE", "FW_STATUS", "TLM_POSE", "TLM_LEARN", "TLM_SCHED", "TLM_EPISODE", "TLM_VALUE"])
 def test_cantools_decodes_what_c_encodes(db, vectors, name):
     msg = db.get_message_by_name(name)
     rng = random.Random("enc" + name)
@@ -230,6 +216,7 @@ OUT_OF_RANGE = [
     ("GPS_POSE", "Heading", 36000), ("GPS_POSE", "Fix", 3), ("TOOL_CMD", "Command", 7),
     ("TOOL_ACK", "Result", 3), ("TOOL_ACK", "Reason", 11),
     ("TLM_POSE", "Heading", 36000), ("TLM_SCHED", "IdlePercent", 201), ("FW_STATUS", "Mode", 5),
+    ("SONAR_RANGES_A", "Reserved", 1), ("SONAR_RANGES_B", "Reserved", 4), ("SONAR_RANGES_C", "Reserved", 32),
 ]
 
 
@@ -244,7 +231,7 @@ def test_c_refuses_values_outside_the_dbc_range(db, vectors, name, signal, raw_v
 
 
 @pytest.mark.parametrize("name", ["MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "GPS_POSE", "TOOL_CMD",
-                                  "MOTOR_CMD", "SONAR_RANGES_A", "SONAR_RANGES_B"])
+                                  "MOTOR_CMD", "SONAR_RANGES_A", "SONAR_RANGES_B", "SONAR_RANGES_C"])
 def test_c_refuses_wrong_lengths_and_bad_crc(db, vectors, name):
     msg = db.get_message_by_name(name)
     data = encode_raw(msg, random_raw(msg, random.Random(1)))
@@ -253,5 +240,5 @@ def test_c_refuses_wrong_lengths_and_bad_crc(db, vectors, name):
         assert answer[0] == "ERR", f"{name} with {length} bytes accepted"
     if name in COMMAND_FRAMES:
         bad = bytearray(data)
-        bad[-1] ^= 0x50  # the Crc's bits, whether 4 or 8
+        bad[-1] ^= 0x50  # the Crc's bits
         assert vectors.ask(f"decode {msg.frame_id:03X} {bad.hex()}")[0] == "ERR"

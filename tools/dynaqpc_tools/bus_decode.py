@@ -40,21 +40,6 @@ def _crc8(frame_id: int, data: bytes) -> int:
     return crc8_sae_j1850(bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data))
 
 
-def _crc4(frame_id: int, data: bytes, nibble: int) -> int:
-    """CRC-4 (poly 0x3, init 0xF, MSB first) over the id's two bytes, `data` and a nibble
-    (firmware can_link_crc4: the sonar frames)."""
-    crc = 0xF
-    bits = [
-        (b >> (7 - i)) & 1 for b in bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data) for i in range(8)
-    ]
-    for bit in bits + [(nibble >> (3 - i)) & 1 for i in range(4)]:
-        top = (crc >> 3) & 1
-        crc = (crc << 1) & 0xF
-        if top ^ bit:
-            crc ^= 0x3
-    return crc
-
-
 def _expected_crc(message, data: bytes):
     """(the frame's Crc as sent, the Crc its data calls for), or None for a frame without one."""
     try:
@@ -67,16 +52,22 @@ def _expected_crc(message, data: bytes):
     fid = message.frame_id
     if sig.length == 32:
         return int.from_bytes(data[-4:], "little"), zlib.crc32(bytes([fid & 0xFF, fid >> 8]) + data[:-4])
-    if sig.length == 4:
-        return data[-1] >> 4, _crc4(fid, data[:-1], data[-1] & 0x0F)
     return data[-1], _crc8(fid, data[:-1])
 
 
 def e2e_ok(message, data) -> bool:
     """True unless `message` carries a Crc (the end-to-end check, docs/can-protocol.md) that its
-    data fails: such a frame is noise, and no view draws it."""
+    data fails, or a Reserved signal (the sonar frames' unused bits, sent as 0) that is not 0:
+    such a frame is noise, and no view draws it."""
     got = _expected_crc(message, data)
-    return got is None or got[0] == got[1]
+    if got is not None and got[0] != got[1]:
+        return False
+    if got is not None and any(s.name == "Reserved" for s in message.signals):
+        try:
+            return message.decode(bytes(data), decode_choices=False)["Reserved"] == 0
+        except Exception:
+            return False
+    return True
 
 
 def e2e_seal(message, data) -> bytes:
@@ -88,8 +79,6 @@ def e2e_seal(message, data) -> bytes:
     sig = message.get_signal_by_name("Crc")
     if sig.length == 32:
         data[-4:] = got[1].to_bytes(4, "little")
-    elif sig.length == 4:
-        data[-1] = (data[-1] & 0x0F) | got[1] << 4
     else:
         data[-1] = got[1]
     return bytes(data)
@@ -197,7 +186,7 @@ def _message(db, name):
 
 class BusState:
     """What the viewer shows besides the pose: episode and step (TLM_LEARN, TLM_EPISODE), mode
-    (FW_STATUS), the latest range readings (IR_RANGES, SONAR_RANGES_A/B) and bumps (MOTOR_STATUS).
+    (FW_STATUS), the latest range readings (IR_RANGES, SONAR_RANGES_A/B/C) and bumps (MOTOR_STATUS).
     Frames the DBC lacks are ignored."""
 
     def __init__(self, db, ray_angles=None):
@@ -205,7 +194,7 @@ class BusState:
         self.episode_end = _message(db, "TLM_EPISODE")
         self.status = _message(db, "FW_STATUS")
         self.ir = _message(db, "IR_RANGES")
-        self.sonar = [m for m in (_message(db, "SONAR_RANGES_A"), _message(db, "SONAR_RANGES_B")) if m]
+        self.sonar = [m for m in db.messages if m.name.startswith("SONAR_RANGES_")]  # the parts of a scan
         self.motor = _message(db, "MOTOR_STATUS")
         self.ray_angles = ray_angles  # a scenario's, in ray order (sonar k, or IR left/front/right)
         self.by_id = {

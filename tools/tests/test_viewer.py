@@ -273,17 +273,21 @@ def test_frames_whose_crc_fails_are_not_drawn():
     assert dec.decode(gps) is not None
     gps.data[0] ^= 0x80
     assert dec.decode(gps) is None
-    sonar = _frame(db, "SONAR_RANGES_A", 3.0, Sonar0=50)  # CRC-4 in the last byte's high nibble
-    assert e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)
-    sonar.data[0] ^= 0x01
-    assert not e2e_ok(db.get_message_by_name("SONAR_RANGES_A"), sonar.data)
-    state = BusState(db)
-    state.feed(sonar)
-    assert "Sonar0" not in state.rays
-    sonar.data[0] ^= 0x01
-    state.feed(sonar)
-    assert state.rays["Sonar0"][1] == 0.5  # 50 cm, as sent
-    assert state.rays["Sonar1"][1] == 0.0
+    # A scan is three frames, each with its CRC-8: a part that fails it draws nothing.
+    for name, sig in (("SONAR_RANGES_A", "Sonar0"), ("SONAR_RANGES_B", "Sonar7"), ("SONAR_RANGES_C", "Sonar15")):
+        sonar = _frame(db, name, 3.0, **{sig: 50, "Counter": 5})
+        assert e2e_ok(db.get_message_by_name(name), sonar.data)
+        state = BusState(db)
+        sonar.data[0] ^= 0x01
+        assert not e2e_ok(db.get_message_by_name(name), sonar.data)
+        state.feed(sonar)
+        assert sig not in state.rays
+        sonar.data[0] ^= 0x01
+        state.feed(sonar)
+        assert state.rays[sig][1] == 0.5  # 50 cm, as sent
     far = _frame(db, "SONAR_RANGES_A", 3.1, Sonar0=200, Sonar1=254)  # 254 cm: raw 127, no echo
     state.feed(far)
     assert state.rays["Sonar0"][1] == 2.0 and state.rays["Sonar1"][1] is None
+    # Its unused bits (Reserved) are sent as 0: a frame with one set is noise, whatever its Crc.
+    m = db.get_message_by_name("SONAR_RANGES_C")
+    assert not e2e_ok(m, e2e_seal(m, m.encode({s.name: 0 for s in m.signals} | {"Reserved": 1})))

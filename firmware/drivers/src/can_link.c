@@ -26,48 +26,21 @@ uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len)
     return fw_crc32(fw_crc32(0u, id_bytes, 2u), data, (uint32_t)len);
 }
 
-uint8_t can_link_crc4(uint32_t id, const uint8_t *data, size_t len, uint8_t last_nibble)
-{
-    // Bitwise: 4 to 9 bytes per frame. x^4 + x + 1 is primitive, so every single-bit error and
-    // every two-bit error within 15 bits of each other changes the remainder.
-    const uint8_t id_bytes[2] = {(uint8_t)(id & 0xFFu), (uint8_t)((id >> 8) & 0xFFu)};
-    uint8_t crc = 0x0Fu;
-    for (size_t i = 0; i < len + 3u; i++) {
-        const uint8_t byte = i < 2u ? id_bytes[i] : i - 2u < len ? data[i - 2u] : (uint8_t)(last_nibble << 4);
-        const unsigned bits = i < len + 2u ? 8u : 4u;
-        for (unsigned b = 0; b < bits; b++) {
-            const uint8_t in = (uint8_t)((byte >> (7u - b)) & 1u);
-            const uint8_t top = (uint8_t)((crc >> 3) & 1u);
-            crc = (uint8_t)((crc << 1) & 0x0Fu);
-            if ((top ^ in) != 0u) {
-                crc ^= 0x03u;
-            }
-        }
-    }
-    return crc;
-}
-
 bool can_link_e2e_ok(const hal_can_frame_t *frame, unsigned crc_bits)
 {
     if (frame->dlc == 0u || frame->dlc > 8u) {
         return false;
     }
-    const uint8_t last = frame->data[frame->dlc - 1u];
-    if (crc_bits == 4u) {
-        return (uint8_t)(last >> 4) == can_link_crc4(frame->id, frame->data, frame->dlc - 1u, (uint8_t)(last & 0x0Fu));
+    if (crc_bits != 8u) {
+        return false;
     }
-    return last == can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
+    return frame->data[frame->dlc - 1u] == can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
 }
 
 void can_link_e2e_protect(hal_can_frame_t *frame, unsigned crc_bits)
 {
-    uint8_t *last = &frame->data[frame->dlc - 1u];
-    if (crc_bits == 4u) {
-        const uint8_t low = (uint8_t)(*last & 0x0Fu);
-        *last = (uint8_t)(low | (uint8_t)(can_link_crc4(frame->id, frame->data, frame->dlc - 1u, low) << 4));
-    } else {
-        *last = can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
-    }
+    FW_ASSERT(crc_bits == 8u && frame->dlc > 0u && frame->dlc <= 8u);
+    frame->data[frame->dlc - 1u] = can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
 }
 
 void can_link_rx_init(can_link_rx_t *rx)

@@ -9,7 +9,7 @@ const uint32_t candev_rx_ids[CANDEV_RX_ID_COUNT] = {
     DYNAQPC_CAN_TOOL_CMD_FRAME_ID,       DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID,
     DYNAQPC_CAN_GYRO_RATE_FRAME_ID,      DYNAQPC_CAN_IR_RANGES_FRAME_ID,
     DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID, DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID,
-    DYNAQPC_CAN_GPS_POSE_FRAME_ID,
+    DYNAQPC_CAN_GPS_POSE_FRAME_ID,       DYNAQPC_CAN_SONAR_RANGES_C_FRAME_ID,
 };
 
 void candev_init(candev_t *bus)
@@ -44,7 +44,10 @@ int candev_rx(candev_t *bus, const hal_can_frame_t *frame, uint64_t now_us, tlm_
         return done(ranges_rx_ir(&bus->ranges, frame, now_us), CANDEV_RX_IR);
     case DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID:
     case DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID:
-        return done(ranges_rx_sonar(&bus->ranges, frame, now_us), CANDEV_RX_SONAR);
+    case DYNAQPC_CAN_SONAR_RANGES_C_FRAME_ID: {
+        const int err = ranges_rx_sonar(&bus->ranges, frame, now_us);
+        return err == RANGES_SONAR_PART ? CANDEV_RX_SONAR_PART : done(err, CANDEV_RX_SONAR);
+    }
     case DYNAQPC_CAN_GPS_POSE_FRAME_ID:
         return done(gps_rx_pose(&bus->gps, frame, now_us), CANDEV_RX_GPS);
     case DYNAQPC_CAN_TOOL_CMD_FRAME_ID: {

@@ -714,8 +714,7 @@ static uint8_t health_(uint64_t now)
         const ranges_t *rg = &app_.dev.ranges;
         const bool silent = cfg->n_ranges == RANGES_IR_COUNT
                                 ? can_link_rx_silent(&rg->ir_rx, now, cfg->bus_timeout_us)
-                                : can_link_rx_silent(&rg->sonar_rx[0], now, cfg->bus_timeout_us) ||
-                                      can_link_rx_silent(&rg->sonar_rx[1], now, cfg->bus_timeout_us);
+                                : can_link_rx_silent(&rg->sonar_rx, now, cfg->bus_timeout_us);
         errors |= silent ? TLM_ERR_RANGE_SILENT : 0u;
     }
     // No usable pose for the pose timeout: the controller safe-stops on the same rule.

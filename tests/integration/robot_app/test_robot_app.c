@@ -158,9 +158,10 @@ static void devices_talk_(void)
         if (ranges_encode_ir(&ctr_[2], mm, valid, &f) == FW_OK) {
             (void)hal_host_can_deliver(&f);
         }
-        for (unsigned half = 0; half < 2u; half++) {
-            if (ranges_encode_sonar(&ctr_[3 + half], half, mm, &f) == FW_OK) {
-                (void)hal_host_can_deliver(&f);
+        hal_can_frame_t scan[RANGES_SONAR_PARTS];
+        if (ranges_encode_sonar(&ctr_[3], mm, scan) == FW_OK) {
+            for (unsigned p = 0; p < RANGES_SONAR_PARTS; p++) {
+                (void)hal_host_can_deliver(&scan[p]);
             }
         }
     }

@@ -95,7 +95,7 @@ static void test_gyro_gps_ranges_round_trip(void **state)
     (void)state;
     candev_t bus;
     candev_init(&bus);
-    uint8_t c_gyro = 0, c_gps = 0, c_ir = 0, c_sonar[2] = {0, 0};
+    uint8_t c_gyro = 0, c_gps = 0, c_ir = 0, c_sonar = 0;
     hal_can_frame_t f;
 
     assert_int_equal(gyro_encode_rate(&c_gyro, -12345, -7, GYRO_STATUS_OK, &f), FW_OK);
@@ -126,15 +126,24 @@ static void test_gyro_gps_ranges_round_trip(void **state)
     }
     sonar[3] = RANGES_NO_ECHO;
     sonar[12] = 2521;  // beyond the frame's reach: no echo
-    for (unsigned half = 0; half < 2u; half++) {
-        assert_int_equal(ranges_encode_sonar(&c_sonar[half], half, sonar, &f), FW_OK);
-        assert_int_equal(candev_rx(&bus, &f, 40u, NULL), CANDEV_RX_SONAR);
+    // One scan, three frames of one Counter: sonar_mm changes only with the third.
+    hal_can_frame_t scan[RANGES_SONAR_PARTS];
+    assert_int_equal(ranges_encode_sonar(&c_sonar, sonar, scan), FW_OK);
+    assert_int_equal(c_sonar, 1);
+    static const uint8_t dlcs[RANGES_SONAR_PARTS] = {8u, 8u, 4u};
+    for (unsigned k = 0; k < RANGES_SONAR_PARTS; k++) {
+        assert_int_equal(scan[k].id, 0x0B1u + k);
+        assert_int_equal(scan[k].dlc, dlcs[k]);
+        assert_int_equal(scan[k].data[scan[k].dlc - 1u], can_link_crc8(scan[k].id, scan[k].data, scan[k].dlc - 1u));
+        assert_int_equal(scan[k].data[scan[k].dlc - 2u] >> 4, 0);  // the Counter, high nibble before the Crc
+        assert_int_equal(candev_rx(&bus, &scan[k], 40u, NULL), k < 2u ? CANDEV_RX_SONAR_PART : CANDEV_RX_SONAR);
+        assert_int_equal(bus.ranges.sonar_mm[0], k < 2u ? RANGES_NO_ECHO : 0u);
     }
     for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
         uint16_t want = (i == 3u || i == 12u) ? RANGES_NO_ECHO : (uint16_t)((sonar[i] + 10u) / 20u * 20u);
         assert_int_equal(bus.ranges.sonar_mm[i], want);
     }
-    assert_int_equal(ranges_encode_sonar(&c_sonar[0], 2u, sonar, &f), FW_ERR_INVAL);
+    assert_int_equal(bus.ranges.sonar_rx.frames, 1);
 }
 
 static void test_telemetry_saturates_and_round_trips(void **state)
@@ -237,9 +246,10 @@ static void test_tool_cmd_crc_and_repeats(void **state)
 
 // The end-to-end protected frames that feed estimation (docs/can-protocol.md): one valid frame
 // of each, every single bit flipped in it refused and counted as malformed, never used; then 10^6
-// random frames of the right length, of which only those passing the Crc (1/256; the sonars'
-// CRC-4, 1/16), the range checks and the counter's plausibility (a step of 1..3 of 16; the gyro
-// 1..6) are taken.
+// random frames of the right length, of which only those passing the Crc (1/256), the range
+// checks and the counter's plausibility (a step of 1..3 of 16; the gyro 1..6) are taken. A sonar
+// frame is one part of a scan (SONAR_RANGES_A, _B, _C): a part that passes its Crc is kept for
+// the scan of its Counter, and no scan is taken from one part (test_random_sonar_frames_...).
 static int e2e_rx_(candev_t *bus, const hal_can_frame_t *f, uint64_t t)
 {
     return candev_rx(bus, f, t, NULL);
@@ -260,8 +270,14 @@ static void e2e_frame_(unsigned which, hal_can_frame_t *f)
     case 0: assert_int_equal(motor_encode_status(&c, &ms, f), FW_OK); break;
     case 1: assert_int_equal(gyro_encode_rate(&c, 1234, 25, GYRO_STATUS_OK, f), FW_OK); break;
     case 2: assert_int_equal(ranges_encode_ir(&c, ir, valid, f), FW_OK); break;
-    case 3: assert_int_equal(ranges_encode_sonar(&c, 0u, sonar, f), FW_OK); break;
-    case 4: assert_int_equal(ranges_encode_sonar(&c, 1u, sonar, f), FW_OK); break;
+    case 3:
+    case 4:
+    case 5: {
+        hal_can_frame_t scan[RANGES_SONAR_PARTS];
+        assert_int_equal(ranges_encode_sonar(&c, sonar, scan), FW_OK);
+        *f = scan[which - 3u];
+        break;
+    }
     default: assert_int_equal(gps_encode_pose(&c, &gp, f), FW_OK); break;
     }
 }
@@ -272,8 +288,9 @@ static const can_link_rx_t *e2e_rx_state_(const candev_t *bus, unsigned which)
     case 0: return &bus->motor.rx;
     case 1: return &bus->gyro.rx;
     case 2: return &bus->ranges.ir_rx;
-    case 3: return &bus->ranges.sonar_rx[0];
-    case 4: return &bus->ranges.sonar_rx[1];
+    case 3:
+    case 4:
+    case 5: return &bus->ranges.sonar_rx;
     default: return &bus->gps.rx;
     }
 }
@@ -281,9 +298,10 @@ static const can_link_rx_t *e2e_rx_state_(const candev_t *bus, unsigned which)
 static void test_e2e_refuses_corruption_and_most_noise(void **state)
 {
     (void)state;
-    static const char *const names[6] = {"MOTOR_STATUS", "GYRO_RATE", "IR_RANGES", "SONAR_RANGES_A", "SONAR_RANGES_B", "GPS_POSE"};
+    static const char *const names[7] = {"MOTOR_STATUS",   "GYRO_RATE",      "IR_RANGES", "SONAR_RANGES_A",
+                                         "SONAR_RANGES_B", "SONAR_RANGES_C", "GPS_POSE"};
     uint32_t x = 2463534242u;
-    for (unsigned which = 0; which < 6u; which++) {
+    for (unsigned which = 0; which < 7u; which++) {
         candev_t bus;
         candev_init(&bus);
         hal_can_frame_t f;
@@ -309,12 +327,18 @@ static void test_e2e_refuses_corruption_and_most_noise(void **state)
             }
             accepted += e2e_rx_(&bus, &f, 2000u + i) >= 0 ? 1u : 0u;
         }
-        printf("random %s frames: %u taken of %u (%.3f %%); refused: %u Crc or range, %u counter jump, %u repeated\n",
-               names[which], accepted, n, 100.0 * accepted / n, rx->malformed - bits, rx->implausible, rx->repeated);
-        // The Crc's share times the counter's: 1/256 x 3/16 (gyro 6/16; sonars 1/16 x 3/16).
-        const double crc = which == 3u || which == 4u ? 1.0 / 16.0 : 1.0 / 256.0;
-        const double steps = which == 1u ? 6.0 : 3.0;
-        assert_true((double)accepted < 1.3 * n * crc * steps / 16.0);
+        const bool sonar = which >= 3u && which <= 5u;
+        printf("random %s frames: %u taken of %u (%.3f %%)%s; refused: %u Crc or range, %u counter jump, %u repeated\n",
+               names[which], accepted, n, 100.0 * accepted / n, sonar ? " as a part, 0 scans" : "",
+               rx->malformed - bits, rx->implausible, rx->repeated);
+        // The Crc's share times the counter's: 1/256 x 3/16 (gyro 6/16). A sonar part's counter
+        // is checked with its scan's, and one part alone is no scan: 1/256 (times 1/8 or 1/64 for
+        // its Reserved bits) kept, none taken.
+        const double steps = which == 1u ? 6.0 : sonar ? 16.0 : 3.0;
+        assert_true((double)accepted < 1.3 * n * steps / 16.0 / 256.0);
+        if (sonar) {
+            assert_int_equal(rx->frames, 0);
+        }
     }
 }
 
@@ -374,6 +398,148 @@ static void test_physical_bounds_refuse_most_random_frames_that_pass_the_crc(voi
     }
 }
 
+// A sonar scan is three frames of one Counter (SONAR_RANGES_A, _B, _C), taken only when all three
+// passed their checks: a part lost, corrupted or sent twice with different content drops the scan
+// (counted in sonar_dropped, never used), and sonar_mm keeps the last scan taken.
+static void sonar_scan_(uint8_t *c, uint16_t mm0, hal_can_frame_t scan[RANGES_SONAR_PARTS])
+{
+    uint16_t mm[RANGES_SONAR_COUNT];
+    for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+        mm[i] = (uint16_t)(mm0 + 20u * i);
+    }
+    assert_int_equal(ranges_encode_sonar(c, mm, scan), FW_OK);
+}
+
+static void test_sonar_scan_needs_all_parts_of_one_counter(void **state)
+{
+    (void)state;
+    candev_t bus;
+    candev_init(&bus);
+    const ranges_t *rg = &bus.ranges;
+    uint8_t c = 0;
+    hal_can_frame_t s[RANGES_SONAR_PARTS];
+    sonar_scan_(&c, 100u, s);  // scan 0: taken
+    for (unsigned p = 0; p < RANGES_SONAR_PARTS; p++) {
+        assert_int_equal(candev_rx(&bus, &s[p], 1u, NULL), p < 2u ? CANDEV_RX_SONAR_PART : CANDEV_RX_SONAR);
+    }
+    assert_int_equal(rg->sonar_mm[15], 400u);
+    assert_int_equal(candev_rx(&bus, &s[0], 2u, NULL), FW_ERR_NOENT);  // a stuck sender: repeated
+    assert_int_equal(rg->sonar_rx.repeated, 1);
+
+    sonar_scan_(&c, 200u, s);  // scan 1: its C lost
+    assert_int_equal(candev_rx(&bus, &s[0], 3u, NULL), CANDEV_RX_SONAR_PART);
+    assert_int_equal(candev_rx(&bus, &s[1], 3u, NULL), CANDEV_RX_SONAR_PART);
+    sonar_scan_(&c, 300u, s);  // scan 2: taken; scan 1 dropped
+    for (unsigned p = 0; p < RANGES_SONAR_PARTS; p++) {
+        assert_int_equal(candev_rx(&bus, &s[p], 4u, NULL), p < 2u ? CANDEV_RX_SONAR_PART : CANDEV_RX_SONAR);
+    }
+    assert_int_equal(rg->sonar_dropped, 1);
+    assert_int_equal(rg->sonar_rx.lost, 1);
+    assert_int_equal(rg->sonar_mm[0], 300u);
+
+    sonar_scan_(&c, 500u, s);  // scan 3: its B corrupted; parts arrive in any order
+    s[1].data[2] ^= 0x10u;
+    assert_int_equal(candev_rx(&bus, &s[2], 5u, NULL), CANDEV_RX_SONAR_PART);
+    assert_int_equal(candev_rx(&bus, &s[1], 5u, NULL), FW_ERR_INVAL);
+    assert_int_equal(candev_rx(&bus, &s[0], 5u, NULL), CANDEV_RX_SONAR_PART);
+    assert_int_equal(rg->sonar_mm[0], 300u);
+    assert_int_equal(rg->sonar_rx.malformed, 1);
+
+    // Scan 4: a part that passes its Crc and carries the scan's Counter, but not the sensor's
+    // reading, came first. The sensor's own copy differs: the scan is dropped, not guessed at.
+    sonar_scan_(&c, 700u, s);
+    hal_can_frame_t forged[RANGES_SONAR_PARTS];
+    uint8_t c4 = (uint8_t)(c - 1u);
+    sonar_scan_(&c4, 1500u, forged);
+    assert_int_equal(candev_rx(&bus, &forged[1], 6u, NULL), CANDEV_RX_SONAR_PART);
+    assert_int_equal(candev_rx(&bus, &s[0], 6u, NULL), CANDEV_RX_SONAR_PART);
+    assert_int_equal(candev_rx(&bus, &s[1], 6u, NULL), FW_ERR_INVAL);
+    assert_int_equal(candev_rx(&bus, &s[2], 6u, NULL), FW_ERR_INVAL);
+    assert_int_equal(rg->sonar_mm[0], 300u);
+    assert_int_equal(rg->sonar_dropped, 3);  // scans 1, 3 and 4
+    assert_int_equal(rg->sonar_rx.implausible, 2);
+
+    sonar_scan_(&c, 900u, s);  // scan 5: taken (a step of 3 from scan 2)
+    for (unsigned p = 0; p < RANGES_SONAR_PARTS; p++) {
+        assert_int_equal(candev_rx(&bus, &s[p], 7u, NULL), p < 2u ? CANDEV_RX_SONAR_PART : CANDEV_RX_SONAR);
+    }
+    assert_int_equal(rg->sonar_mm[0], 900u);
+    assert_int_equal(rg->sonar_rx.frames, 3);
+    assert_int_equal(rg->sonar_rx.counter, 5);
+}
+
+// Noise on the sonar ids (docs/can-protocol.md, "The sonar scan"). 10^6 random frames of the right
+// length on SONAR_RANGES_A, _B and _C at a robot standing still, (a) alone after one scan, and (b)
+// among the sensor's scans, one every 10 random frames: how many scans are taken with a random
+// part in them. A random part passes its CRC-8 with 1/256 and its Reserved bits 0 with 1/8 (A,
+// B) or 1/64 (C); (a) a scan of random parts needs three of one Counter, and the Counter 1..3 past
+// the last scan's; (b) a random part with the Counter of the next scan drops that scan, as the
+// sensor's copy differs, and takes its place only where the sensor's part was lost (none is,
+// here).
+static uint32_t xorshift_(uint32_t *x)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    return *x;
+}
+
+static void random_sonar_frame_(uint32_t *x, hal_can_frame_t *f)
+{
+    const unsigned part = xorshift_(x) % RANGES_SONAR_PARTS;
+    f->id = DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID + part;
+    f->dlc = part < 2u ? 8u : 4u;
+    f->flags = 0;
+    for (unsigned b = 0; b < f->dlc; b++) {
+        f->data[b] = (uint8_t)xorshift_(x);
+    }
+}
+
+static void test_random_sonar_frames_take_no_scan(void **state)
+{
+    (void)state;
+    const uint32_t n = 1000000u;
+    uint32_t x = 2463534242u;
+    for (unsigned among = 0; among < 2u; among++) {
+        candev_t bus;
+        candev_init(&bus);
+        const ranges_t *rg = &bus.ranges;
+        uint8_t c = 0;
+        hal_can_frame_t s[RANGES_SONAR_PARTS];
+        hal_can_frame_t f;
+        uint32_t kept = 0, forged = 0, genuine = 0;
+        uint64_t t = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            if (i == 0u || (among != 0u && i % 10u == 0u)) {
+                sonar_scan_(&c, 1000u, s);  // the sensor, standing: always the same reading
+                for (unsigned p = 0; p < RANGES_SONAR_PARTS; p++) {
+                    const int r = candev_rx(&bus, &s[p], ++t, NULL);
+                    genuine += r == CANDEV_RX_SONAR ? 1u : 0u;
+                }
+            }
+            random_sonar_frame_(&x, &f);
+            const int r = candev_rx(&bus, &f, ++t, NULL);
+            kept += r == CANDEV_RX_SONAR_PART ? 1u : 0u;
+            forged += r == CANDEV_RX_SONAR ? 1u : 0u;
+        }
+        printf("random sonar frames%s at a standing robot: %u scans taken with a random part of %u frames "
+               "(%u parts kept for a scan; %u Crc or Reserved refused, %u implausible, %u repeated); the sensor's "
+               "scans: %u taken of %u (scans dropped, the random parts' own included: %u)\n",
+               among != 0u ? " among the sensor's scans" : " alone", forged, n, kept, rg->sonar_rx.malformed,
+               rg->sonar_rx.implausible, rg->sonar_rx.repeated, genuine, among != 0u ? n / 10u : 1u,
+               rg->sonar_dropped);
+        for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+            assert_int_equal(rg->sonar_mm[i], 1000u + 20u * i);  // no random reading in use
+        }
+        assert_int_equal(forged, 0);
+        assert_true((double)kept < 1.3 * n / 256.0 / 8.0);
+        if (among != 0u) {
+            // A random part of the next scan's Counter (1/256 x 1/8 x 1/16 of them at most) drops it.
+            assert_true((double)(n / 10u - genuine) < 1.3 * n / 256.0 / 8.0 / 16.0 + 3.0);
+        }
+    }
+}
+
 // The counter's plausibility: a jump over CAN_LINK_MAX_STEP is refused and counted; the frame
 // after it in sequence resynchronises (a sender that rebooted costs one frame). MOTOR_CMD at the
 // motor controller likewise, and a repeated MOTOR_CMD (a stuck sender) is ignored.
@@ -424,18 +590,6 @@ static void test_counter_jumps_are_refused_then_resynchronised(void **state)
     assert_int_equal(rx.malformed, 1);
     assert_int_equal(rx.implausible, 1);
     assert_int_equal(rx.repeated, 1);
-}
-
-// The sonars' CRC-4 sees every single-bit error and is computed as documented: the check value
-// of CRC-4 (poly 0x3, init 0xF, MSB first, no final xor) over "123456789" plus a zero nibble.
-static void test_crc4_as_documented(void **state)
-{
-    (void)state;
-    const uint8_t rest[] = {'3', '4', '5', '6', '7', '8', '9'};
-    const uint8_t c = can_link_crc4(0x3231u, rest, sizeof rest, 0u);
-    assert_true(c < 16u);
-    assert_int_equal(c, can_link_crc4(0x3231u, rest, sizeof rest, 0x10u));  // only the low nibble counts
-    assert_int_not_equal(c, can_link_crc4(0x3231u, rest, sizeof rest, 1u));
 }
 
 // Noise cannot forge a command (docs/can-protocol.md): of 10^7 random TOOL_CMD frames (random
@@ -540,7 +694,7 @@ static void test_every_byte_pattern_is_survived(void **state)
                 }
                 tlm_tool_cmd_t cmd;
                 int rc = candev_rx(&bus, &f, r, &cmd);
-                assert_true(rc >= FW_ERR_NOENT && rc <= CANDEV_RX_IGNORED);
+                assert_true(rc >= FW_ERR_NOENT && rc <= CANDEV_RX_SONAR_PART);
             }
         }
     }
@@ -559,8 +713,9 @@ int main(void)
         cmocka_unit_test(test_random_tool_cmds_are_never_accepted),
         cmocka_unit_test(test_e2e_refuses_corruption_and_most_noise),
         cmocka_unit_test(test_physical_bounds_refuse_most_random_frames_that_pass_the_crc),
+        cmocka_unit_test(test_sonar_scan_needs_all_parts_of_one_counter),
+        cmocka_unit_test(test_random_sonar_frames_take_no_scan),
         cmocka_unit_test(test_counter_jumps_are_refused_then_resynchronised),
-        cmocka_unit_test(test_crc4_as_documented),
         cmocka_unit_test(test_malformed_frames_are_refused_and_counted),
         cmocka_unit_test(test_every_byte_pattern_is_survived),
     };

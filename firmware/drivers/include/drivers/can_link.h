@@ -50,19 +50,15 @@ uint8_t can_link_crc8(uint32_t id, const uint8_t *data, size_t len);
 /// probability above 2^-32 (docs/can-protocol.md).
 uint32_t can_link_crc32(uint32_t id, const uint8_t *data, size_t len);
 
-/// End-to-end check of a received frame whose Crc ends it: `crc_bits` 8, the last byte is
-/// can_link_crc8() over the id and the bytes before it (Counter included: AUTOSAR E2E profile 1
-/// style, the frame id as data id); 4, the last byte's high 4 bits are can_link_crc4() over the id,
-/// the bytes before the last and the last byte's low 4 bits. True when it matches.
+/// End-to-end check of a received frame whose Crc ends it: the last byte is can_link_crc8() over
+/// the id and the bytes before it (Counter included: AUTOSAR E2E profile 1 style, the frame id as
+/// data id). `crc_bits` is the Crc's width: 8, the only one the frames use (any other: false).
+/// True when it matches.
 bool can_link_e2e_ok(const hal_can_frame_t *frame, unsigned crc_bits);
 
-/// Sender side: writes the Crc that can_link_e2e_ok() checks into a packed frame (its Crc bits 0).
+/// Sender side: writes the Crc that can_link_e2e_ok() checks into a packed frame's last byte.
+/// `crc_bits` must be 8.
 void can_link_e2e_protect(hal_can_frame_t *frame, unsigned crc_bits);
-
-/// CRC-4 (poly x^4 + x + 1, init 0xF, MSB first, no final xor) over the identifier, low byte then
-/// high byte, the `len` bytes of `data` and then the low 4 bits of `last_nibble`: the sonar frames'
-/// Crc, for which only 4 bits are free. It sees every single-bit error in the frame.
-uint8_t can_link_crc4(uint32_t id, const uint8_t *data, size_t len, uint8_t last_nibble);
 
 /// Clears `rx` (nothing seen).
 void can_link_rx_init(can_link_rx_t *rx);

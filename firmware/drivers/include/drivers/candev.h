@@ -32,14 +32,15 @@ enum candev_rx_result {
     CANDEV_RX_MOTOR = 0,     ///< bus.motor.status updated
     CANDEV_RX_GYRO = 1,      ///< bus.gyro updated (heading integrated)
     CANDEV_RX_IR = 2,        ///< bus.ranges.ir_* updated
-    CANDEV_RX_SONAR = 3,     ///< bus.ranges.sonar_mm updated (half of it)
+    CANDEV_RX_SONAR = 3,     ///< bus.ranges.sonar_mm updated: a scan's three frames are in
     CANDEV_RX_GPS = 4,       ///< bus.gps.pose updated
     CANDEV_RX_TOOL_CMD = 5,  ///< a new operator command in *cmd
     CANDEV_RX_IGNORED = 6,   ///< a frame not for the firmware (its own, or an unknown id): counted
+    CANDEV_RX_SONAR_PART = 7, ///< a sonar frame kept; its scan waits for its other parts
 };
 
 /// Standard ids the firmware receives (for hal_can_init's acceptance filter).
-#define CANDEV_RX_ID_COUNT 7u
+#define CANDEV_RX_ID_COUNT 8u
 extern const uint32_t candev_rx_ids[CANDEV_RX_ID_COUNT];
 
 typedef struct candev {

@@ -919,9 +919,9 @@ int dynaqpc_can_sonar_ranges_a_pack(
     dst_p[5] |= pack_right_shift_u8(src_p->sonar5, 5u, 0x03u);
     dst_p[5] |= pack_left_shift_u8(src_p->sonar6, 2u, 0xfcu);
     dst_p[6] |= pack_right_shift_u8(src_p->sonar6, 6u, 0x01u);
-    dst_p[6] |= pack_left_shift_u8(src_p->sonar7, 1u, 0xfeu);
-    dst_p[7] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
-    dst_p[7] |= pack_left_shift_u8(src_p->crc, 4u, 0xf0u);
+    dst_p[6] |= pack_left_shift_u8(src_p->reserved, 1u, 0x0eu);
+    dst_p[6] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
     return (8);
 }
@@ -948,9 +948,9 @@ int dynaqpc_can_sonar_ranges_a_unpack(
     dst_p->sonar5 |= unpack_left_shift_u8(src_p[5], 5u, 0x03u);
     dst_p->sonar6 = unpack_right_shift_u8(src_p[5], 2u, 0xfcu);
     dst_p->sonar6 |= unpack_left_shift_u8(src_p[6], 6u, 0x01u);
-    dst_p->sonar7 = unpack_right_shift_u8(src_p[6], 1u, 0xfeu);
-    dst_p->counter = unpack_right_shift_u8(src_p[7], 0u, 0x0fu);
-    dst_p->crc = unpack_right_shift_u8(src_p[7], 4u, 0xf0u);
+    dst_p->reserved = unpack_right_shift_u8(src_p[6], 1u, 0x0eu);
+    dst_p->counter = unpack_right_shift_u8(src_p[6], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
 
     return (0);
 }
@@ -1034,14 +1034,16 @@ bool dynaqpc_can_sonar_ranges_a_sonar6_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 254.0));
 }
 
-bool dynaqpc_can_sonar_ranges_a_sonar7_is_in_range(uint8_t value)
+bool dynaqpc_can_sonar_ranges_a_reserved_is_in_range(uint8_t value)
 {
-    return (value <= 127u);
+    return (value <= 7u);
 }
 
-bool dynaqpc_can_sonar_ranges_a_sonar7_is_in_phys_range(double value)
+bool dynaqpc_can_sonar_ranges_a_reserved_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 254.0));
+    (void)value;
+
+    return (true);
 }
 
 bool dynaqpc_can_sonar_ranges_a_counter_is_in_range(uint8_t value)
@@ -1056,12 +1058,14 @@ bool dynaqpc_can_sonar_ranges_a_counter_is_in_phys_range(double value)
 
 bool dynaqpc_can_sonar_ranges_a_crc_is_in_range(uint8_t value)
 {
-    return (value <= 15u);
+    (void)value;
+
+    return (true);
 }
 
 bool dynaqpc_can_sonar_ranges_a_crc_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 15.0));
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_sonar_ranges_b_pack(
@@ -1075,22 +1079,22 @@ int dynaqpc_can_sonar_ranges_b_pack(
 
     memset(&dst_p[0], 0, 8);
 
-    dst_p[0] |= pack_left_shift_u8(src_p->sonar8, 0u, 0x7fu);
-    dst_p[0] |= pack_left_shift_u8(src_p->sonar9, 7u, 0x80u);
-    dst_p[1] |= pack_right_shift_u8(src_p->sonar9, 1u, 0x3fu);
-    dst_p[1] |= pack_left_shift_u8(src_p->sonar10, 6u, 0xc0u);
-    dst_p[2] |= pack_right_shift_u8(src_p->sonar10, 2u, 0x1fu);
-    dst_p[2] |= pack_left_shift_u8(src_p->sonar11, 5u, 0xe0u);
-    dst_p[3] |= pack_right_shift_u8(src_p->sonar11, 3u, 0x0fu);
-    dst_p[3] |= pack_left_shift_u8(src_p->sonar12, 4u, 0xf0u);
-    dst_p[4] |= pack_right_shift_u8(src_p->sonar12, 4u, 0x07u);
-    dst_p[4] |= pack_left_shift_u8(src_p->sonar13, 3u, 0xf8u);
-    dst_p[5] |= pack_right_shift_u8(src_p->sonar13, 5u, 0x03u);
-    dst_p[5] |= pack_left_shift_u8(src_p->sonar14, 2u, 0xfcu);
-    dst_p[6] |= pack_right_shift_u8(src_p->sonar14, 6u, 0x01u);
-    dst_p[6] |= pack_left_shift_u8(src_p->sonar15, 1u, 0xfeu);
-    dst_p[7] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
-    dst_p[7] |= pack_left_shift_u8(src_p->crc, 4u, 0xf0u);
+    dst_p[0] |= pack_left_shift_u8(src_p->sonar7, 0u, 0x7fu);
+    dst_p[0] |= pack_left_shift_u8(src_p->sonar8, 7u, 0x80u);
+    dst_p[1] |= pack_right_shift_u8(src_p->sonar8, 1u, 0x3fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->sonar9, 6u, 0xc0u);
+    dst_p[2] |= pack_right_shift_u8(src_p->sonar9, 2u, 0x1fu);
+    dst_p[2] |= pack_left_shift_u8(src_p->sonar10, 5u, 0xe0u);
+    dst_p[3] |= pack_right_shift_u8(src_p->sonar10, 3u, 0x0fu);
+    dst_p[3] |= pack_left_shift_u8(src_p->sonar11, 4u, 0xf0u);
+    dst_p[4] |= pack_right_shift_u8(src_p->sonar11, 4u, 0x07u);
+    dst_p[4] |= pack_left_shift_u8(src_p->sonar12, 3u, 0xf8u);
+    dst_p[5] |= pack_right_shift_u8(src_p->sonar12, 5u, 0x03u);
+    dst_p[5] |= pack_left_shift_u8(src_p->sonar13, 2u, 0xfcu);
+    dst_p[6] |= pack_right_shift_u8(src_p->sonar13, 6u, 0x01u);
+    dst_p[6] |= pack_left_shift_u8(src_p->reserved, 1u, 0x0eu);
+    dst_p[6] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[7] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
 
     return (8);
 }
@@ -1104,22 +1108,22 @@ int dynaqpc_can_sonar_ranges_b_unpack(
         return (-EINVAL);
     }
 
-    dst_p->sonar8 = unpack_right_shift_u8(src_p[0], 0u, 0x7fu);
-    dst_p->sonar9 = unpack_right_shift_u8(src_p[0], 7u, 0x80u);
-    dst_p->sonar9 |= unpack_left_shift_u8(src_p[1], 1u, 0x3fu);
-    dst_p->sonar10 = unpack_right_shift_u8(src_p[1], 6u, 0xc0u);
-    dst_p->sonar10 |= unpack_left_shift_u8(src_p[2], 2u, 0x1fu);
-    dst_p->sonar11 = unpack_right_shift_u8(src_p[2], 5u, 0xe0u);
-    dst_p->sonar11 |= unpack_left_shift_u8(src_p[3], 3u, 0x0fu);
-    dst_p->sonar12 = unpack_right_shift_u8(src_p[3], 4u, 0xf0u);
-    dst_p->sonar12 |= unpack_left_shift_u8(src_p[4], 4u, 0x07u);
-    dst_p->sonar13 = unpack_right_shift_u8(src_p[4], 3u, 0xf8u);
-    dst_p->sonar13 |= unpack_left_shift_u8(src_p[5], 5u, 0x03u);
-    dst_p->sonar14 = unpack_right_shift_u8(src_p[5], 2u, 0xfcu);
-    dst_p->sonar14 |= unpack_left_shift_u8(src_p[6], 6u, 0x01u);
-    dst_p->sonar15 = unpack_right_shift_u8(src_p[6], 1u, 0xfeu);
-    dst_p->counter = unpack_right_shift_u8(src_p[7], 0u, 0x0fu);
-    dst_p->crc = unpack_right_shift_u8(src_p[7], 4u, 0xf0u);
+    dst_p->sonar7 = unpack_right_shift_u8(src_p[0], 0u, 0x7fu);
+    dst_p->sonar8 = unpack_right_shift_u8(src_p[0], 7u, 0x80u);
+    dst_p->sonar8 |= unpack_left_shift_u8(src_p[1], 1u, 0x3fu);
+    dst_p->sonar9 = unpack_right_shift_u8(src_p[1], 6u, 0xc0u);
+    dst_p->sonar9 |= unpack_left_shift_u8(src_p[2], 2u, 0x1fu);
+    dst_p->sonar10 = unpack_right_shift_u8(src_p[2], 5u, 0xe0u);
+    dst_p->sonar10 |= unpack_left_shift_u8(src_p[3], 3u, 0x0fu);
+    dst_p->sonar11 = unpack_right_shift_u8(src_p[3], 4u, 0xf0u);
+    dst_p->sonar11 |= unpack_left_shift_u8(src_p[4], 4u, 0x07u);
+    dst_p->sonar12 = unpack_right_shift_u8(src_p[4], 3u, 0xf8u);
+    dst_p->sonar12 |= unpack_left_shift_u8(src_p[5], 5u, 0x03u);
+    dst_p->sonar13 = unpack_right_shift_u8(src_p[5], 2u, 0xfcu);
+    dst_p->sonar13 |= unpack_left_shift_u8(src_p[6], 6u, 0x01u);
+    dst_p->reserved = unpack_right_shift_u8(src_p[6], 1u, 0x0eu);
+    dst_p->counter = unpack_right_shift_u8(src_p[6], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
 
     return (0);
 }
@@ -1131,6 +1135,16 @@ int dynaqpc_can_sonar_ranges_b_init(struct dynaqpc_can_sonar_ranges_b_t *msg_p)
     memset(msg_p, 0, sizeof(struct dynaqpc_can_sonar_ranges_b_t));
 
     return 0;
+}
+
+bool dynaqpc_can_sonar_ranges_b_sonar7_is_in_range(uint8_t value)
+{
+    return (value <= 127u);
+}
+
+bool dynaqpc_can_sonar_ranges_b_sonar7_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 254.0));
 }
 
 bool dynaqpc_can_sonar_ranges_b_sonar8_is_in_range(uint8_t value)
@@ -1193,24 +1207,16 @@ bool dynaqpc_can_sonar_ranges_b_sonar13_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 254.0));
 }
 
-bool dynaqpc_can_sonar_ranges_b_sonar14_is_in_range(uint8_t value)
+bool dynaqpc_can_sonar_ranges_b_reserved_is_in_range(uint8_t value)
 {
-    return (value <= 127u);
+    return (value <= 7u);
 }
 
-bool dynaqpc_can_sonar_ranges_b_sonar14_is_in_phys_range(double value)
+bool dynaqpc_can_sonar_ranges_b_reserved_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 254.0));
-}
+    (void)value;
 
-bool dynaqpc_can_sonar_ranges_b_sonar15_is_in_range(uint8_t value)
-{
-    return (value <= 127u);
-}
-
-bool dynaqpc_can_sonar_ranges_b_sonar15_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 254.0));
+    return (true);
 }
 
 bool dynaqpc_can_sonar_ranges_b_counter_is_in_range(uint8_t value)
@@ -1225,12 +1231,119 @@ bool dynaqpc_can_sonar_ranges_b_counter_is_in_phys_range(double value)
 
 bool dynaqpc_can_sonar_ranges_b_crc_is_in_range(uint8_t value)
 {
-    return (value <= 15u);
+    (void)value;
+
+    return (true);
 }
 
 bool dynaqpc_can_sonar_ranges_b_crc_is_in_phys_range(double value)
 {
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+int dynaqpc_can_sonar_ranges_c_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_sonar_ranges_c_t *src_p,
+    size_t size)
+{
+    if (size < 4u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 4);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->sonar14, 0u, 0x7fu);
+    dst_p[0] |= pack_left_shift_u8(src_p->sonar15, 7u, 0x80u);
+    dst_p[1] |= pack_right_shift_u8(src_p->sonar15, 1u, 0x3fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->reserved, 6u, 0xc0u);
+    dst_p[2] |= pack_right_shift_u8(src_p->reserved, 2u, 0x0fu);
+    dst_p[2] |= pack_left_shift_u8(src_p->counter, 4u, 0xf0u);
+    dst_p[3] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
+
+    return (4);
+}
+
+int dynaqpc_can_sonar_ranges_c_unpack(
+    struct dynaqpc_can_sonar_ranges_c_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 4u) {
+        return (-EINVAL);
+    }
+
+    dst_p->sonar14 = unpack_right_shift_u8(src_p[0], 0u, 0x7fu);
+    dst_p->sonar15 = unpack_right_shift_u8(src_p[0], 7u, 0x80u);
+    dst_p->sonar15 |= unpack_left_shift_u8(src_p[1], 1u, 0x3fu);
+    dst_p->reserved = unpack_right_shift_u8(src_p[1], 6u, 0xc0u);
+    dst_p->reserved |= unpack_left_shift_u8(src_p[2], 2u, 0x0fu);
+    dst_p->counter = unpack_right_shift_u8(src_p[2], 4u, 0xf0u);
+    dst_p->crc = unpack_right_shift_u8(src_p[3], 0u, 0xffu);
+
+    return (0);
+}
+
+int dynaqpc_can_sonar_ranges_c_init(struct dynaqpc_can_sonar_ranges_c_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct dynaqpc_can_sonar_ranges_c_t));
+
+    return 0;
+}
+
+bool dynaqpc_can_sonar_ranges_c_sonar14_is_in_range(uint8_t value)
+{
+    return (value <= 127u);
+}
+
+bool dynaqpc_can_sonar_ranges_c_sonar14_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 254.0));
+}
+
+bool dynaqpc_can_sonar_ranges_c_sonar15_is_in_range(uint8_t value)
+{
+    return (value <= 127u);
+}
+
+bool dynaqpc_can_sonar_ranges_c_sonar15_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 254.0));
+}
+
+bool dynaqpc_can_sonar_ranges_c_reserved_is_in_range(uint8_t value)
+{
+    return (value <= 63u);
+}
+
+bool dynaqpc_can_sonar_ranges_c_reserved_is_in_phys_range(double value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_sonar_ranges_c_counter_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool dynaqpc_can_sonar_ranges_c_counter_is_in_phys_range(double value)
+{
     return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool dynaqpc_can_sonar_ranges_c_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool dynaqpc_can_sonar_ranges_c_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int dynaqpc_can_gps_pose_pack(

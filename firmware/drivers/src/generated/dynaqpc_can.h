@@ -53,6 +53,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_FRAME_ID (0xb0u)
 #define DYNAQPC_CAN_SONAR_RANGES_A_FRAME_ID (0xb1u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_FRAME_ID (0xb2u)
+#define DYNAQPC_CAN_SONAR_RANGES_C_FRAME_ID (0xb3u)
 #define DYNAQPC_CAN_GPS_POSE_FRAME_ID (0xc0u)
 #define DYNAQPC_CAN_FW_STATUS_FRAME_ID (0x100u)
 #define DYNAQPC_CAN_TLM_POSE_FRAME_ID (0x180u)
@@ -70,6 +71,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_A_LENGTH (8u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_LENGTH (8u)
+#define DYNAQPC_CAN_SONAR_RANGES_C_LENGTH (4u)
 #define DYNAQPC_CAN_GPS_POSE_LENGTH (8u)
 #define DYNAQPC_CAN_FW_STATUS_LENGTH (8u)
 #define DYNAQPC_CAN_TLM_POSE_LENGTH (7u)
@@ -87,6 +89,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_IS_EXTENDED (0)
 #define DYNAQPC_CAN_SONAR_RANGES_A_IS_EXTENDED (0)
 #define DYNAQPC_CAN_SONAR_RANGES_B_IS_EXTENDED (0)
+#define DYNAQPC_CAN_SONAR_RANGES_C_IS_EXTENDED (0)
 #define DYNAQPC_CAN_GPS_POSE_IS_EXTENDED (0)
 #define DYNAQPC_CAN_FW_STATUS_IS_EXTENDED (0)
 #define DYNAQPC_CAN_TLM_POSE_IS_EXTENDED (0)
@@ -102,6 +105,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_CYCLE_TIME_MS (48u)
 #define DYNAQPC_CAN_SONAR_RANGES_A_CYCLE_TIME_MS (96u)
 #define DYNAQPC_CAN_SONAR_RANGES_B_CYCLE_TIME_MS (96u)
+#define DYNAQPC_CAN_SONAR_RANGES_C_CYCLE_TIME_MS (96u)
 #define DYNAQPC_CAN_GPS_POSE_CYCLE_TIME_MS (96u)
 #define DYNAQPC_CAN_FW_STATUS_CYCLE_TIME_MS (1000u)
 #define DYNAQPC_CAN_TLM_POSE_CYCLE_TIME_MS (192u)
@@ -158,7 +162,7 @@ extern "C" {
 
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR6_NO_ECHO_CHOICE (127u)
 
-#define DYNAQPC_CAN_SONAR_RANGES_A_SONAR7_NO_ECHO_CHOICE (127u)
+#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR7_NO_ECHO_CHOICE (127u)
 
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR8_NO_ECHO_CHOICE (127u)
 
@@ -172,9 +176,9 @@ extern "C" {
 
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR13_NO_ECHO_CHOICE (127u)
 
-#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR14_NO_ECHO_CHOICE (127u)
+#define DYNAQPC_CAN_SONAR_RANGES_C_SONAR14_NO_ECHO_CHOICE (127u)
 
-#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR15_NO_ECHO_CHOICE (127u)
+#define DYNAQPC_CAN_SONAR_RANGES_C_SONAR15_NO_ECHO_CHOICE (127u)
 
 #define DYNAQPC_CAN_GPS_POSE_FIX_NONE_CHOICE (0u)
 #define DYNAQPC_CAN_GPS_POSE_FIX_POOR_CHOICE (1u)
@@ -214,6 +218,7 @@ extern "C" {
 #define DYNAQPC_CAN_IR_RANGES_NAME "IR_RANGES"
 #define DYNAQPC_CAN_SONAR_RANGES_A_NAME "SONAR_RANGES_A"
 #define DYNAQPC_CAN_SONAR_RANGES_B_NAME "SONAR_RANGES_B"
+#define DYNAQPC_CAN_SONAR_RANGES_C_NAME "SONAR_RANGES_C"
 #define DYNAQPC_CAN_GPS_POSE_NAME "GPS_POSE"
 #define DYNAQPC_CAN_FW_STATUS_NAME "FW_STATUS"
 #define DYNAQPC_CAN_TLM_POSE_NAME "TLM_POSE"
@@ -269,19 +274,24 @@ extern "C" {
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR4_NAME "Sonar4"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR5_NAME "Sonar5"
 #define DYNAQPC_CAN_SONAR_RANGES_A_SONAR6_NAME "Sonar6"
-#define DYNAQPC_CAN_SONAR_RANGES_A_SONAR7_NAME "Sonar7"
+#define DYNAQPC_CAN_SONAR_RANGES_A_RESERVED_NAME "Reserved"
 #define DYNAQPC_CAN_SONAR_RANGES_A_COUNTER_NAME "Counter"
 #define DYNAQPC_CAN_SONAR_RANGES_A_CRC_NAME "Crc"
+#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR7_NAME "Sonar7"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR8_NAME "Sonar8"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR9_NAME "Sonar9"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR10_NAME "Sonar10"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR11_NAME "Sonar11"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR12_NAME "Sonar12"
 #define DYNAQPC_CAN_SONAR_RANGES_B_SONAR13_NAME "Sonar13"
-#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR14_NAME "Sonar14"
-#define DYNAQPC_CAN_SONAR_RANGES_B_SONAR15_NAME "Sonar15"
+#define DYNAQPC_CAN_SONAR_RANGES_B_RESERVED_NAME "Reserved"
 #define DYNAQPC_CAN_SONAR_RANGES_B_COUNTER_NAME "Counter"
 #define DYNAQPC_CAN_SONAR_RANGES_B_CRC_NAME "Crc"
+#define DYNAQPC_CAN_SONAR_RANGES_C_SONAR14_NAME "Sonar14"
+#define DYNAQPC_CAN_SONAR_RANGES_C_SONAR15_NAME "Sonar15"
+#define DYNAQPC_CAN_SONAR_RANGES_C_RESERVED_NAME "Reserved"
+#define DYNAQPC_CAN_SONAR_RANGES_C_COUNTER_NAME "Counter"
+#define DYNAQPC_CAN_SONAR_RANGES_C_CRC_NAME "Crc"
 #define DYNAQPC_CAN_GPS_POSE_X_NAME "X"
 #define DYNAQPC_CAN_GPS_POSE_Y_NAME "Y"
 #define DYNAQPC_CAN_GPS_POSE_HEADING_NAME "Heading"
@@ -699,7 +709,7 @@ struct dynaqpc_can_ir_ranges_t {
 /**
  * Signals in message SONAR_RANGES_A.
  *
- * Sonars 0..7 of the 16-sonar ring (sonar 0 points forward, numbering counter-clockwise). 2 cm per bit, raw 127 = no echo. Sent with SONAR_RANGES_B in the same 96 ms cycle.
+ * Sonars 0..6 of the 16-sonar ring (sonar 0 points forward, numbering counter-clockwise). 2 cm per bit, raw 127 = no echo. One scan is three frames sent together every 96 ms, SONAR_RANGES_A, _B and _C, all three with the same Counter (one counter per scan); the firmware uses a scan only when all three parts of one Counter passed their checks (Crc; Reserved 0), and otherwise keeps the previous scan.
  *
  * All signal values are as on the CAN bus.
  */
@@ -754,11 +764,13 @@ struct dynaqpc_can_sonar_ranges_a_t {
     uint8_t sonar6;
 
     /**
-     * Range: 0..127 (0..254 cm)
-     * Scale: 2
+     * Sent as 0; a frame with any of these bits set is refused (a check on top of the Crc: the bits a sonar frame does not use).
+     *
+     * Range: -
+     * Scale: 1
      * Offset: 0
      */
-    uint8_t sonar7;
+    uint8_t reserved;
 
     /**
      * Range: 0..15 (0..15 -)
@@ -770,7 +782,7 @@ struct dynaqpc_can_sonar_ranges_a_t {
     /**
      * End-to-end check in the frame's last 4 bits: CRC-4 (poly 0x3, init 0xF, MSB first) over the identifier (low byte, high byte), bytes 0-6 and the low 4 bits of byte 7 (Counter). A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
      *
-     * Range: 0..15 (0..15 -)
+     * Range: 0..255 (0..255 -)
      * Scale: 1
      * Offset: 0
      */
@@ -780,11 +792,18 @@ struct dynaqpc_can_sonar_ranges_a_t {
 /**
  * Signals in message SONAR_RANGES_B.
  *
- * Sonars 8..15 of the 16-sonar ring. 2 cm per bit, raw 127 = no echo.
+ * Sonars 7..13 of the 16-sonar ring. 2 cm per bit, raw 127 = no echo. Part of the scan of SONAR_RANGES_A's Counter.
  *
  * All signal values are as on the CAN bus.
  */
 struct dynaqpc_can_sonar_ranges_b_t {
+    /**
+     * Range: 0..127 (0..254 cm)
+     * Scale: 2
+     * Offset: 0
+     */
+    uint8_t sonar7;
+
     /**
      * Range: 0..127 (0..254 cm)
      * Scale: 2
@@ -828,6 +847,40 @@ struct dynaqpc_can_sonar_ranges_b_t {
     uint8_t sonar13;
 
     /**
+     * Sent as 0; a frame with any of these bits set is refused.
+     *
+     * Range: -
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t reserved;
+
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * End-to-end check in the frame's last 4 bits: CRC-4 (poly 0x3, init 0xF, MSB first) over the identifier (low byte, high byte), bytes 0-6 and the low 4 bits of byte 7 (Counter). A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
+};
+
+/**
+ * Signals in message SONAR_RANGES_C.
+ *
+ * Sonars 14 and 15 of the 16-sonar ring. 2 cm per bit, raw 127 = no echo. Part of the scan of SONAR_RANGES_A's Counter.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct dynaqpc_can_sonar_ranges_c_t {
+    /**
      * Range: 0..127 (0..254 cm)
      * Scale: 2
      * Offset: 0
@@ -842,6 +895,15 @@ struct dynaqpc_can_sonar_ranges_b_t {
     uint8_t sonar15;
 
     /**
+     * Sent as 0; a frame with any of these bits set is refused.
+     *
+     * Range: -
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t reserved;
+
+    /**
      * Range: 0..15 (0..15 -)
      * Scale: 1
      * Offset: 0
@@ -849,9 +911,7 @@ struct dynaqpc_can_sonar_ranges_b_t {
     uint8_t counter;
 
     /**
-     * End-to-end check in the frame's last 4 bits: CRC-4 (poly 0x3, init 0xF, MSB first) over the identifier (low byte, high byte), bytes 0-6 and the low 4 bits of byte 7 (Counter). A frame that fails, or whose Counter jumps by more than 3, is counted and not used.
-     *
-     * Range: 0..15 (0..15 -)
+     * Range: 0..255 (0..255 -)
      * Scale: 1
      * Offset: 0
      */
@@ -2583,7 +2643,7 @@ bool dynaqpc_can_sonar_ranges_a_sonar6_is_in_phys_range(double value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_sonar_ranges_a_sonar7_is_in_range(uint8_t value);
+bool dynaqpc_can_sonar_ranges_a_reserved_is_in_range(uint8_t value);
 
 /**
  * Check that given physical value is in allowed range before encoding.
@@ -2596,7 +2656,7 @@ bool dynaqpc_can_sonar_ranges_a_sonar7_is_in_range(uint8_t value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_sonar_ranges_a_sonar7_is_in_phys_range(double value);
+bool dynaqpc_can_sonar_ranges_a_reserved_is_in_phys_range(double value);
 
 /**
  * Check that given signal is in allowed range.
@@ -2678,6 +2738,28 @@ int dynaqpc_can_sonar_ranges_b_unpack(
  * @return zero(0) on success or (-1) in case of nullptr argument.
  */
 int dynaqpc_can_sonar_ranges_b_init(struct dynaqpc_can_sonar_ranges_b_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_b_sonar7_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_b_sonar7_is_in_phys_range(double value);
 
 /**
  * Check that given signal is in allowed range.
@@ -2818,7 +2900,7 @@ bool dynaqpc_can_sonar_ranges_b_sonar13_is_in_phys_range(double value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_sonar_ranges_b_sonar14_is_in_range(uint8_t value);
+bool dynaqpc_can_sonar_ranges_b_reserved_is_in_range(uint8_t value);
 
 /**
  * Check that given physical value is in allowed range before encoding.
@@ -2831,29 +2913,7 @@ bool dynaqpc_can_sonar_ranges_b_sonar14_is_in_range(uint8_t value);
  *
  * @return true if in range, false otherwise.
  */
-bool dynaqpc_can_sonar_ranges_b_sonar14_is_in_phys_range(double value);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
-bool dynaqpc_can_sonar_ranges_b_sonar15_is_in_range(uint8_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool dynaqpc_can_sonar_ranges_b_sonar15_is_in_phys_range(double value);
+bool dynaqpc_can_sonar_ranges_b_reserved_is_in_phys_range(double value);
 
 /**
  * Check that given signal is in allowed range.
@@ -2898,6 +2958,153 @@ bool dynaqpc_can_sonar_ranges_b_crc_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool dynaqpc_can_sonar_ranges_b_crc_is_in_phys_range(double value);
+
+/**
+ * Pack message SONAR_RANGES_C.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int dynaqpc_can_sonar_ranges_c_pack(
+    uint8_t *dst_p,
+    const struct dynaqpc_can_sonar_ranges_c_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message SONAR_RANGES_C.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int dynaqpc_can_sonar_ranges_c_unpack(
+    struct dynaqpc_can_sonar_ranges_c_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from SONAR_RANGES_C.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int dynaqpc_can_sonar_ranges_c_init(struct dynaqpc_can_sonar_ranges_c_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_sonar14_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_sonar14_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_sonar15_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_sonar15_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_reserved_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_reserved_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool dynaqpc_can_sonar_ranges_c_crc_is_in_phys_range(double value);
 
 /**
  * Pack message GPS_POSE.
