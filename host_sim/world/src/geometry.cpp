@@ -205,17 +205,22 @@ bool start_position_ok(const Scenario &s, double x, double y)
     if (to_goal <= s.goal.radius + m) {
         return false;
     }
+    // Walls and obstacles first: a point too near one needs nothing else (the parser's search for
+    // room asks up to a million points of a file that has none, each cheap only this way).
+    if (!clear_by(s, x, y, need)) {
+        return false;
+    }
     if (s.goal.cells) {
         // A goal cell has its centre in the circle, so none is nearer than this: most points
-        // are decided without the walk over up to 64 x 64 cells (the parser's search for room
-        // asks up to a million points; that walk for each kept a bad file busy for 21 s).
+        // are decided without the walk over up to 64 x 64 cells (that walk for each point kept
+        // a bad file busy for 21 s).
         const double cw = grid_max_side(s, 0), ch = grid_max_side(s, 1);
         const double nearest = to_goal - s.goal.radius - 0.5 * std::hypot(cw, ch);
-        if (nearest <= m && (!clear_by(s, x, y, need) || goal_cells_distance(s, x, y) <= m)) {
-            return false;  // the walk last: a point too near a wall needs none
+        if (nearest <= m && goal_cells_distance(s, x, y) <= m) {
+            return false;
         }
     }
-    return clear_by(s, x, y, need);
+    return true;
 }
 
 double start_grid_step(const Scenario &s)
