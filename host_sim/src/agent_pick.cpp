@@ -41,33 +41,35 @@ std::uint32_t masked_bits(const agent_space_t &sp, std::uint32_t mask)
 #define PROFILE_BYTES_(P, mem_t) \
     static_cast<std::uint32_t>(sizeof(mem_t) - sizeof(((mem_t *)nullptr)->alg) + P(ALGORITHM_BYTES) + kAgentBytes)
 
-ProfileNeed profile_need(const robot_config_t &cfg)
+// What each profile's image holds: its bytes and the floor-sized tables' entries.
+struct ProfileTables {
+    const char *name;
+    std::uint32_t bytes, places, positions, classes;
+};
+
+ProfileTables tables_of(Profile p)
 {
-    std::uint32_t places = 0, positions = 0, classes = 0;
-    ProfileNeed n{};
-    switch (profile_of(cfg)) {
+    switch (p) {
     case Profile::Lab:
-        n = {"paper-lab", PROFILE_BYTES_(AGENT_PROFILE_PAPER_LAB, agent_memory_paper_lab_t), 0, {}};
-        places = FW_CFG_LAB_PLACES;
-        positions = FW_CFG_LAB_POSITIONS;
-        classes = FW_CFG_LAB_CLASSES;
-        break;
+        return {"paper-lab", PROFILE_BYTES_(AGENT_PROFILE_PAPER_LAB, agent_memory_paper_lab_t), FW_CFG_LAB_PLACES,
+                FW_CFG_LAB_POSITIONS, FW_CFG_LAB_CLASSES};
     case Profile::Sim:
-        n = {"paper-sim", PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM, agent_memory_paper_sim_t), 0, {}};
-        places = FW_CFG_SIM_PLACES;
-        positions = FW_CFG_SIM_POSITIONS;
-        classes = FW_CFG_SIM_CLASSES;
-        break;
+        return {"paper-sim", PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM, agent_memory_paper_sim_t), FW_CFG_SIM_PLACES,
+                FW_CFG_SIM_POSITIONS, FW_CFG_SIM_CLASSES};
     case Profile::SimLarge:
-        n = {"paper-sim-large",
-             PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM_LARGE, agent_memory_paper_sim_large_t) +
-                 static_cast<std::uint32_t>(sizeof(agent_memory_paper_sim_large_apart_t)),
-             0, {}};
-        places = FW_CFG_SIM_LARGE_PLACES;
-        positions = FW_CFG_SIM_LARGE_POSITIONS;
-        classes = FW_CFG_SIM_LARGE_CLASSES;
         break;
     }
+    return {"paper-sim-large",
+            PROFILE_BYTES_(AGENT_PROFILE_PAPER_SIM_LARGE, agent_memory_paper_sim_large_t) +
+                static_cast<std::uint32_t>(sizeof(agent_memory_paper_sim_large_apart_t)),
+            FW_CFG_SIM_LARGE_PLACES, FW_CFG_SIM_LARGE_POSITIONS, FW_CFG_SIM_LARGE_CLASSES};
+}
+
+ProfileNeed profile_need(const robot_config_t &cfg)
+{
+    const ProfileTables t = tables_of(profile_of(cfg));
+    const std::uint32_t places = t.places, positions = t.positions, classes = t.classes;
+    ProfileNeed n{t.name, t.bytes, 0, {}};
     n.need_bytes = n.bytes;
     const unsigned state_bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
     if (profile_of(cfg) == Profile::SimLarge && !qstore_keys16_exact(FW_CFG_SIM_LARGE_Q_STATES, state_bits)) {
