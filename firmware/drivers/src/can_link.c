@@ -43,6 +43,18 @@ void can_link_e2e_protect(hal_can_frame_t *frame, unsigned crc_bits)
     frame->data[frame->dlc - 1u] = can_link_crc8(frame->id, frame->data, frame->dlc - 1u);
 }
 
+// One check for all encoders: a pack that wrote another length than the frame's (a codec out of
+// step with the DBC the frame was prepared from) must not leave a sealed frame that passes
+// can_link_e2e_ok(). The encoders differ in their message only; this tail is the same.
+int can_link_tx_seal(hal_can_frame_t *frame, int packed)
+{
+    if (packed != (int)frame->dlc) {
+        return FW_ERR_INVAL;
+    }
+    can_link_e2e_protect(frame, 8u);
+    return FW_OK;
+}
+
 void can_link_rx_init(can_link_rx_t *rx)
 {
     FW_ASSERT(rx != NULL);

@@ -51,9 +51,5 @@ int gps_encode_pose(uint8_t *counter, const gps_pose_t *pose, hal_can_frame_t *o
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_GPS_POSE_FRAME_ID, DYNAQPC_CAN_GPS_POSE_LENGTH);
-    if (dynaqpc_can_gps_pose_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
-        return FW_ERR_INVAL;
-    }
-    can_link_e2e_protect(out, 8u);
-    return FW_OK;
+    return can_link_tx_seal(out, dynaqpc_can_gps_pose_pack(out->data, &msg, sizeof out->data));
 }

@@ -155,9 +155,5 @@ int gyro_encode_rate(uint8_t *counter, int16_t rate_cdeg_s, int8_t temperature_c
     msg.counter = can_link_tx_counter_next(counter);
     msg.crc = 0u;
     can_link_frame_prepare(out, DYNAQPC_CAN_GYRO_RATE_FRAME_ID, DYNAQPC_CAN_GYRO_RATE_LENGTH);
-    if (dynaqpc_can_gyro_rate_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
-        return FW_ERR_INVAL;
-    }
-    can_link_e2e_protect(out, 8u);
-    return FW_OK;
+    return can_link_tx_seal(out, dynaqpc_can_gyro_rate_pack(out->data, &msg, sizeof out->data));
 }

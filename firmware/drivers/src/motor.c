@@ -89,10 +89,10 @@ int motor_encode_cmd(motor_t *motor, const motor_cmd_t *cmd, hal_can_frame_t *ou
     }
     msg.counter = can_link_tx_counter_next(&motor->tx_counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_MOTOR_CMD_FRAME_ID, DYNAQPC_CAN_MOTOR_CMD_LENGTH);
-    if (dynaqpc_can_motor_cmd_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
-        return FW_ERR_INVAL;
+    const int err = can_link_tx_seal(out, dynaqpc_can_motor_cmd_pack(out->data, &msg, sizeof out->data));
+    if (err != FW_OK) {
+        return err;
     }
-    can_link_e2e_protect(out, 8u);
     const int32_t l = abs_(msg.speed_left), r = abs_(msg.speed_right);
     const int16_t fastest = (int16_t)(l > r ? l : r);
     motor->peak_now = fastest > motor->peak_now ? fastest : motor->peak_now;
@@ -124,11 +124,7 @@ int motor_encode_status(uint8_t *counter, const motor_status_t *status, hal_can_
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_MOTOR_STATUS_FRAME_ID, DYNAQPC_CAN_MOTOR_STATUS_LENGTH);
-    if (dynaqpc_can_motor_status_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
-        return FW_ERR_INVAL;
-    }
-    can_link_e2e_protect(out, 8u);
-    return FW_OK;
+    return can_link_tx_seal(out, dynaqpc_can_motor_status_pack(out->data, &msg, sizeof out->data));
 }
 
 int motor_decode_cmd(const hal_can_frame_t *frame, motor_cmd_t *out, uint8_t *counter_out)

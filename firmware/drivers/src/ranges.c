@@ -167,11 +167,7 @@ int ranges_encode_ir(uint8_t *counter, const uint16_t mm[RANGES_IR_COUNT],
     }
     msg.counter = can_link_tx_counter_next(counter);
     can_link_frame_prepare(out, DYNAQPC_CAN_IR_RANGES_FRAME_ID, DYNAQPC_CAN_IR_RANGES_LENGTH);
-    if (dynaqpc_can_ir_ranges_pack(out->data, &msg, sizeof out->data) != (int)out->dlc) {
-        return FW_ERR_INVAL;
-    }
-    can_link_e2e_protect(out, 8u);
-    return FW_OK;
+    return can_link_tx_seal(out, dynaqpc_can_ir_ranges_pack(out->data, &msg, sizeof out->data));
 }
 
 int ranges_encode_sonar(uint8_t *counter, const uint16_t mm[RANGES_SONAR_COUNT],

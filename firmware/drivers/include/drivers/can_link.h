@@ -60,6 +60,13 @@ bool can_link_e2e_ok(const hal_can_frame_t *frame, unsigned crc_bits);
 /// `crc_bits` must be 8.
 void can_link_e2e_protect(hal_can_frame_t *frame, unsigned crc_bits);
 
+/// Sender side, the end of every end-to-end protected encoder: `packed` is what the generated
+/// codec's pack function returned for `frame->data` (the frame prepared by
+/// can_link_frame_prepare(), the message's Counter set). When it packed exactly `frame->dlc`
+/// bytes, writes the 8-bit Crc (can_link_e2e_protect) and returns FW_OK; otherwise returns
+/// FW_ERR_INVAL and leaves the frame unsealed, not to be sent.
+int can_link_tx_seal(hal_can_frame_t *frame, int packed);
+
 /// Clears `rx` (nothing seen).
 void can_link_rx_init(can_link_rx_t *rx);
 
