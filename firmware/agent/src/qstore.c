@@ -321,22 +321,32 @@ uint32_t qstore_regions(const qstore_t *qs, agent_region_t *out)
     return n;
 }
 
+// qstore_check() of an empty slot, whatever its keys' width: its row of restored values is all
+// zeros (float or value16), since a new row is used as it is.
+static bool row_zero_(const qstore_t *qs, const float *qf, const value16_t *qh, uint32_t slot)
+{
+    const uint32_t n = qs->n_actions;
+    for (uint32_t a = 0; a < n; a++) {
+        if (qs->wide ? qf[slot * n + a] != 0.0f : qh[slot * n + a] != 0u) {
+            return false;
+        }
+    }
+    return true;
+}
+
 // qstore_check() of 16-bit keys: each non-empty slot's state is the one state of `state_bits`
 // bits with those low bits whose window holds the slot, found with no empty slot and no copy of
 // its key between its home and it; an empty row all zeros.
 static int check16_(const qstore_t *qs, const float *qf, const value16_t *qh, const uint16_t *keys,
                     uint32_t state_bits)
 {
-    const uint32_t n = qs->n_actions;
     const uint32_t highs =
         state_bits > QSTORE_KEY16_BITS ? 1u << (state_bits - QSTORE_KEY16_BITS) : 1u;
     for (uint32_t slot = 0; slot < qs->capacity; slot++) {
         const uint16_t key = keys[slot];
         if (key == QSTORE_EMPTY16) {
-            for (uint32_t a = 0; a < n; a++) {
-                if (qs->wide ? qf[slot * n + a] != 0.0f : qh[slot * n + a] != 0u) {
-                    return FW_ERR_CORRUPT;
-                }
+            if (!row_zero_(qs, qf, qh, slot)) {
+                return FW_ERR_CORRUPT;
             }
             continue;
         }
@@ -384,10 +394,8 @@ int qstore_check(const qstore_t *qs, const void *const *image, uint32_t state_bi
     for (uint32_t slot = 0; slot < qs->capacity; slot++) {
         const uint32_t key = keys[slot];
         if (key == QSTORE_EMPTY) {
-            for (uint32_t a = 0; a < n; a++) {
-                if (qs->wide ? qf[slot * n + a] != 0.0f : qh[slot * n + a] != 0u) {
-                    return FW_ERR_CORRUPT;
-                }
+            if (!row_zero_(qs, qf, qh, slot)) {
+                return FW_ERR_CORRUPT;
             }
         } else if ((key >> state_bits) != 0u || !oa_path_ok(&qs->index, keys, slot)) {
             return FW_ERR_CORRUPT;
