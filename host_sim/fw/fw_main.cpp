@@ -357,9 +357,7 @@ int run(const std::vector<std::string> &args)
     Settings s;
     Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
     declare_options(o, s);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, "dynaqpc-fw");
+    if (o.parse_or_usage(args, "dynaqpc-fw")) {
         return kExitOk;
     }
     if (!o.seen("--scenario")) {

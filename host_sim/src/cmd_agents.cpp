@@ -106,9 +106,7 @@ int cmd_agents(const std::string &program, const std::vector<std::string> &args)
     bool json = false;
     Options o("agents", "the learning algorithms the firmware registers (agent/algorithms.h)");
     o.add_flag("--json", "as JSON, for the tools (format \"dynaqpc-agents 1\", docs/tools.md)", &json);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     const std::vector<AlgorithmInfo> algs = registry();

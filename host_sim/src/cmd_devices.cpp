@@ -343,9 +343,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     DevicesSettings s;
     Options o("devices", "the simulated robot's devices in real time on the virtual CAN bus");
     declare_options(o, s);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     if (!o.seen("--scenario")) throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");

@@ -20,9 +20,7 @@ int cmd_firmware_config(const std::string &program, const std::vector<std::strin
     Options o("firmware-config",
               "the MCU images' built-in scenarios (paper-sim, paper-lab) as C, from their scenario files");
     o.add_string("--out", "FILE", "write FILE (firmware/robot/src/robot_scenarios.c) instead of stdout", &out);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     const std::string text = robot_scenarios_c({"paper-sim", "paper-lab"});

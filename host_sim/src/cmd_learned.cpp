@@ -276,9 +276,7 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
                  &agent, agent_kind_names());
     o.add_flag("--grid", "print only the scenario's state grid (cells, their edges, headings, codes, goal cells; "
                          "a grid fitted to the room by `encode auto` included): no --load", &grid_only);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     if (!o.seen("--scenario")) throw UsageError("--scenario: required");

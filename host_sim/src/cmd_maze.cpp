@@ -459,9 +459,7 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
                  "--until-optimal: agent,run,episodes,real_steps,updates,wall_s. A learning-curve\n"
                  "summary follows on stdout.");
     declare(opts, s);
-    opts.parse(args);
-    if (opts.help_requested()) {
-        opts.print_usage(std::cout, program);
+    if (opts.parse_or_usage(args, program)) {
         return kExitOk;
     }
     check_combinations(opts);

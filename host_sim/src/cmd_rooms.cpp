@@ -273,9 +273,7 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
     RoomsArgs a;
     Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
     declare_options(o, a);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         print_help();
         return kExitOk;
     }

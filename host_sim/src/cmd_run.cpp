@@ -128,9 +128,7 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
     RunArgs a;
     Options o("run", "replay a learned policy greedily from random start poses");
     declare_options(o, a);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     if (!o.seen("--scenario")) throw UsageError("--scenario: required");

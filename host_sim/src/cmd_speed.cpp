@@ -58,9 +58,7 @@ int cmd_speed(const std::string &program, const std::vector<std::string> &args)
                &rounds, 1, 100);
     o.add_uint("--seed", "S", "seed: round k runs set k of `train --seed S` (default 9001)", &seed, 0,
                UINT32_MAX);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         std::cout << "\nPrints one line a round and a summary:\n"
                      "  speed: scenario=S lockstep_x=L world_x=W ratio=L/W (medians of the rounds)\n"
                      "where L and W are simulated seconds per wall second of lock-step (firmware + devices +\n"

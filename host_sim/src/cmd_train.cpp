@@ -411,9 +411,7 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     Options o("train", "the firmware learns on the simulated robot: sets of episodes, one CSV row each");
     declare(o, s);
     declare_outputs(o, s);
-    o.parse(args);
-    if (o.help_requested()) {
-        o.print_usage(std::cout, program);
+    if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
     if (!o.seen("--scenario")) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <ostream>
 #include <utility>
 
@@ -200,6 +201,16 @@ void Options::parse(const std::vector<std::string> &args)
             throw UsageError(name + ": missing value " + spec->metavar);
         }
     }
+}
+
+// One place for the commands' shared opening, so that `--help` prints the same way for all.
+bool Options::parse_or_usage(const std::vector<std::string> &args, const std::string &program)
+{
+    parse(args);
+    if (help_) {
+        print_usage(std::cout, program);
+    }
+    return help_;
 }
 
 void Options::print_usage(std::ostream &out, const std::string &program) const

@@ -49,10 +49,13 @@ public:
     void add_choice(const std::string &name, const std::string &metavar, const std::string &help,
                     std::string *target, std::vector<std::string> choices);
 
-    /// Parses the arguments after the subcommand. `--help`/`-h` sets help_requested() and stops.
+    /// Parses the arguments after the subcommand. `--help`/`-h` stops it (parse_or_usage()).
     void parse(const std::vector<std::string> &args);
 
-    bool help_requested() const { return help_; }
+    /// What every command does first: parse(), and when `--help`/`-h` was given, print_usage() to
+    /// standard output under `program`'s name. True then: the command adds any help of its own
+    /// and returns kExitOk, doing nothing else.
+    bool parse_or_usage(const std::vector<std::string> &args, const std::string &program);
     bool seen(const std::string &name) const { return seen_.count(name) != 0; }
 
     /// "Usage: ..." and one line per option.
