@@ -57,16 +57,23 @@ fail:
     return rc;
 }
 
+// pty_write()'s and pty_read()'s answer from the call's (after EINTR's retries): the bytes moved;
+// 0 when the non-blocking master had no room or nothing to read (EAGAIN); FW_ERR_IO otherwise.
+static int transfer_result_(ssize_t n)
+{
+    if (n < 0) {
+        return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : FW_ERR_IO;
+    }
+    return (int)n;
+}
+
 int pty_write(pty_t *pty, const void *buf, size_t len)
 {
     ssize_t n;
     do {
         n = write(pty->master_fd, buf, len);
     } while (n < 0 && errno == EINTR);
-    if (n < 0) {
-        return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : FW_ERR_IO;
-    }
-    return (int)n;
+    return transfer_result_(n);
 }
 
 int pty_read(pty_t *pty, void *buf, size_t cap)
@@ -75,10 +82,7 @@ int pty_read(pty_t *pty, void *buf, size_t cap)
     do {
         n = read(pty->master_fd, buf, cap);
     } while (n < 0 && errno == EINTR);
-    if (n < 0) {
-        return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : FW_ERR_IO;
-    }
-    return (int)n;
+    return transfer_result_(n);
 }
 
 bool pty_peer_hung_up(const pty_t *pty)
