@@ -117,28 +117,30 @@ hal_host_clock_mode_t hal_host_time_mode(void)
     return m;
 }
 
+// Caller holds the lock. Both ways the simulator moves lock-step time: forward only (an
+// advance that would wrap is a move backwards, refused), and a move ends the recorded wait.
+static int move_to_locked(uint64_t t_us)
+{
+    if (mode_ != HAL_HOST_CLOCK_LOCKSTEP || t_us < virt_us_) {
+        return FW_ERR_INVAL;
+    }
+    virt_us_ = t_us;
+    waiting_ = false;
+    return FW_OK;
+}
+
 int hal_host_time_set_us(uint64_t t_us)
 {
-    int rc = FW_ERR_INVAL;
     lock();
-    if (mode_ == HAL_HOST_CLOCK_LOCKSTEP && t_us >= virt_us_) {
-        virt_us_ = t_us;
-        waiting_ = false;
-        rc = FW_OK;
-    }
+    const int rc = move_to_locked(t_us);
     unlock();
     return rc;
 }
 
 int hal_host_time_advance_us(uint64_t dt_us)
 {
-    int rc = FW_ERR_INVAL;
     lock();
-    if (mode_ == HAL_HOST_CLOCK_LOCKSTEP && virt_us_ + dt_us >= virt_us_) {
-        virt_us_ += dt_us;
-        waiting_ = false;
-        rc = FW_OK;
-    }
+    const int rc = move_to_locked(virt_us_ + dt_us);
     unlock();
     return rc;
 }
