@@ -17,7 +17,11 @@
 # Columns: episodes; the last quarter's mean steps and bumps per episode; interrupted episodes;
 # the firmware's heading error at its learned steps (mean over episodes' means, and the steps
 # learned with it over 20 deg); boots that restored the flash's record of the cuts; frames the
-# firmware refused (final boot); episodes the firmware's trust logic ended and legs it drove.
+# firmware refused (final boot); episodes the firmware's trust logic ended and legs it drove; the
+# host's stalls (tools/soak_probe.py): wake-ups of a process of its own more than 256 ms of robot
+# time late (25.6 ms at 10x, as far as the gyro's frame counter reaches), and the worst in ms of
+# wall time. The firmware and the devices stall with the host, and a stall that long is a gyro
+# gap; a row whose run saw such stalls measured the host as much as the firmware.
 set -u
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 . "$REPO/tools/devices_ready.sh"
@@ -77,6 +81,9 @@ run() {
         FWPID=$!
     }
     start_fw
+    "$PY" "$REPO/tools/soak_probe.py" --seconds "$SECS" \
+        --threshold-ms "$(awk -v s="$SPEED" 'BEGIN { printf "%.2f", 256 / s }')" > "$D/probe.out" 2>&1 &
+    PROBE=$!
     INJ=""
     if [ "$garbage$frames$commands" != "000" ]; then
         "$PY" "$REPO/tools/soak_inject.py" --garbage "$garbage" --frames "$frames" --commands "$commands" \
@@ -110,6 +117,7 @@ run() {
         sleep 0.1; t=$((t + 1))
     done
     wait $DEV
+    wait $PROBE
     kill $FWPID 2>/dev/null; wait $FWPID 2>/dev/null
     [ -n "$INJ" ] && wait $INJ
     restored=$(cat "$D"/fw.*.out | grep -c 'restored yes')
@@ -118,20 +126,21 @@ run() {
     bad=$(field "$last" frames_bad); malformed=$(field "$last" tool_malformed)
     over20=$(field "$D/devices.out" learned_over_20deg)
     trust=$(sed -n 's/^trust: //p' "$last" | tail -n 1)
+    host=$(sed -n 's/^stalls=\([0-9]*\) worst_ms=\([0-9]*\).*/\1 (\2)/p' "$D/probe.out")
     grep '^episode=' "$D/devices.out" | awk -v name="$name" -v cuts="$cuts" -v restored="$restored" \
-        -v bad="${bad:-?}" -v malformed="${malformed:-?}" -v over20="${over20:-?}" -v trust="$trust" '
+        -v bad="${bad:-?}" -v malformed="${malformed:-?}" -v over20="${over20:-?}" -v trust="$trust" -v host="${host:-?}" '
         { for (i = 1; i <= NF; i++) { split($i, kv, "="); v[NR, kv[1]] = kv[2] } }
         END {
             n = NR; q = int(n * 3 / 4) + 1; m = 0; st = 0; bu = 0; he = 0; it = 0
             for (i = 1; i <= n; i++) { he += v[i, "head_err_mean_deg"]; it += v[i, "interrupted"] }
             for (i = q; i <= n; i++) { st += v[i, "steps"]; bu += v[i, "bumps"]; m++ }
-            printf "| %s | %d | %.1f | %.1f | %d | %.1f | %s | %s/%d | %s | %s | %s |\n", name, n,
-                m ? st / m : 0, m ? bu / m : 0, it, n ? he / n : 0, over20, restored, cuts, bad, malformed, trust
+            printf "| %s | %d | %.1f | %.1f | %d | %.1f | %s | %s/%d | %s | %s | %s | %s |\n", name, n,
+                m ? st / m : 0, m ? bu / m : 0, it, n ? he / n : 0, over20, restored, cuts, bad, malformed, trust, host
         }'
 }
 
-echo "| faults | episodes | last-quarter steps | last-quarter bumps | interrupted | heading error, deg | learned steps > 20 deg | restored | frames refused | TOOL_CMD refused | firmware trust (last boot) |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+echo "| faults | episodes | last-quarter steps | last-quarter bumps | interrupted | heading error, deg | learned steps > 20 deg | restored | frames refused | TOOL_CMD refused | firmware trust (last boot) | host stalls (worst, ms) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"
 case "$ONLY" in
 table)
     run none 0 0 0 0 0
