@@ -115,7 +115,27 @@ class Bridge:
                 pass
 
 
-class BusWatch:
+class Watcher:
+    """A daemon thread that runs the subclass's _run() until stop(): BusWatch's and HostProbe's
+    life (start() returns the watcher, stop() waits up to 1 s for the thread)."""
+
+    def __init__(self):
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def start(self):
+        self._thread.start()
+        return self
+
+    def _run(self) -> None:
+        raise NotImplementedError
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=1.0)
+
+
+class BusWatch(Watcher):
     """Counts the firmware's telemetry on the virtual bus: TLM_SCHED, FW_STATUS, TLM_EPISODE."""
 
     def __init__(self, dbc_path: str):
@@ -130,12 +150,7 @@ class BusWatch:
         self.idle_percent: List[float] = []
         self.status = 0
         self.episodes: List[dict] = []
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, daemon=True)
-
-    def start(self) -> "BusWatch":
-        self._thread.start()
-        return self
+        super().__init__()
 
     def _run(self) -> None:
         while not self._stop.is_set():
@@ -160,8 +175,7 @@ class BusWatch:
                 self.episodes.append({k: int(v) for k, v in e.items()})
 
     def stop(self) -> None:
-        self._stop.set()
-        self._thread.join(timeout=1.0)
+        super().stop()
         self.bus.shutdown()
 
 
@@ -251,7 +265,7 @@ def _stop(proc: Optional[subprocess.Popen]) -> Optional[int]:
     return proc.returncode
 
 
-class HostProbe:
+class HostProbe(Watcher):
     """How late the host wakes a sleeping thread: a 5 ms sleep, again and again, and how much
     longer each took. A host that cannot keep this process's timers cannot keep QEMU's vCPU or
     the devices on time either."""
@@ -260,22 +274,13 @@ class HostProbe:
 
     def __init__(self):
         self.late_ms: List[float] = []
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, daemon=True)
-
-    def start(self) -> "HostProbe":
-        self._thread.start()
-        return self
+        super().__init__()
 
     def _run(self) -> None:
         while not self._stop.is_set():
             t0 = time.monotonic()
             time.sleep(self.PERIOD_S)
             self.late_ms.append(max(0.0, (time.monotonic() - t0 - self.PERIOD_S) * 1000.0))
-
-    def stop(self) -> None:
-        self._stop.set()
-        self._thread.join(timeout=1.0)
 
     def percentile(self, q: float) -> float:
         if not self.late_ms:
