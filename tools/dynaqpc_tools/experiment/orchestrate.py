@@ -64,18 +64,19 @@ def scenario_protocol(scenario: str) -> Optional[Tuple[int, int]]:
 
 def scenario_planning(scenario: str) -> Optional[int]:
     """The scenario's planning updates per real step (its `learning ... planning N`), if known."""
-    learning = _learning_line(scenario)
-    try:
-        return int(learning["planning"]) if learning is not None else None
-    except (KeyError, ValueError):
-        return None
+    return _learning_int(scenario, "planning")
 
 
 def scenario_step_cap(scenario: str) -> Optional[int]:
     """The scenario's step cap (its `learning ... step_cap N`), if known."""
+    return _learning_int(scenario, "step_cap")
+
+
+def _learning_int(scenario: str, key: str) -> Optional[int]:
+    """The number N of the scenario's `learning ... KEY N`; None when it has none or it is not one."""
     learning = _learning_line(scenario)
     try:
-        return int(learning["step_cap"]) if learning is not None else None
+        return int(learning[key]) if learning is not None else None
     except (KeyError, ValueError):
         return None
 
