@@ -79,10 +79,7 @@ std::FILE *open_outputs(const RunArgs &a, const ScenarioBundle &sb)
     }
     std::FILE *traj = nullptr;
     if (!a.trajectory.empty()) {
-        traj = a.trajectory == "-" ? stdout : std::fopen(a.trajectory.c_str(), "w");
-        if (traj == nullptr) {
-            throw UsageError("--trajectory: cannot open '" + a.trajectory + "': " + std::strerror(errno));
-        }
+        traj = open_output("--trajectory", a.trajectory);
         std::fputs("start,step,time_s,x,y,heading,action,reward,bump,in_goal\n", traj);
     }
     return traj;

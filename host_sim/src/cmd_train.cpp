@@ -156,8 +156,7 @@ void write_set_records(const std::string &path, const std::string &agent,
                        const std::map<std::uint32_t, std::vector<EpisodeOutcome>> &outcomes,
                        const std::vector<SetRecord> &records)
 {
-    std::FILE *f = path == "-" ? stdout : std::fopen(path.c_str(), "w");
-    if (f == nullptr) throw UsageError("--sets-csv: cannot open '" + path + "': " + std::strerror(errno));
+    std::FILE *f = open_output("--sets-csv", path);
     std::fputs(set_record_csv_header(), f);
     std::size_t i = 0;
     for (const auto &kv : outcomes) std::fputs(set_record_csv_row(agent, kv.first, records[i++]).c_str(), f);
@@ -296,10 +295,7 @@ std::FILE *open_csv(const TrainSettings &s)
 {
     std::FILE *out = nullptr;
     if (!s.csv.empty()) {
-        out = s.csv == "-" ? stdout : std::fopen(s.csv.c_str(), "w");
-        if (out == nullptr) {
-            throw UsageError("--csv: cannot open '" + s.csv + "': " + std::strerror(errno));
-        }
+        out = open_output("--csv", s.csv);
         std::fputs("agent,set,episode,steps,reward,reached_goal,bumps,robot_time_s,updates,wall_s\n", out);
     }
     return out;

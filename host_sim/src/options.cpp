@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <ostream>
 #include <utility>
@@ -247,6 +248,14 @@ void Options::print_usage(std::ostream &out, const std::string &program) const
         }
         out << '\n';
     }
+}
+
+// The commands' outputs ("-" for stdout, errors naming the option) open one way, here.
+std::FILE *open_output(const std::string &option, const std::string &path)
+{
+    std::FILE *f = path == "-" ? stdout : std::fopen(path.c_str(), "w");
+    if (f == nullptr) throw UsageError(option + ": cannot open '" + path + "': " + std::strerror(errno));
+    return f;
 }
 
 }  // namespace dynaqpc

@@ -4,6 +4,7 @@
 #define DYNAQPC_SIM_OPTIONS_H
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <iosfwd>
 #include <set>
@@ -83,6 +84,10 @@ std::uint32_t parse_uint(const std::string &what, const std::string &text, std::
                          std::uint32_t max);
 double parse_double(const std::string &what, const std::string &text, double min, double max,
                     bool min_open = false, bool max_open = false);
+
+/// Opens the file an output option (`--csv`) names, for writing: standard output for "-". When it
+/// cannot: UsageError "<option>: cannot open '<path>': <reason>".
+std::FILE *open_output(const std::string &option, const std::string &path);
 
 }  // namespace dynaqpc
 
