@@ -46,6 +46,9 @@ constexpr int kDrainMs = 500;
 // The supervisor repeats START_EPISODE when the firmware still reports itself idle this long
 // (robot time) after it was sent: a firmware that booted after the command, or a lost frame.
 constexpr std::uint64_t kStartRetryUs = 1500000;
+// A START refused as BUSY (a firmware that booted after a cut and has not yet seen its wheels
+// stand: docs/can-protocol.md "Reboots") is sent again this much later, with the heading then.
+constexpr std::uint64_t kStartBusyRetryUs = 100000;
 // A safe stop the firmware does not leave by itself within this much world time: the operator
 // puts the robot down at a new start and starts again (as one would pick up a stuck robot).
 constexpr std::uint64_t kSafeStopRestartUs = 10000000;
@@ -130,7 +133,11 @@ public:
             }
         } else if (f.id == DYNAQPC_CAN_TOOL_ACK_FRAME_ID) {
             tlm_ack_t a;
-            if (tlm_decode_ack(&f, &a) == 0 && a.command == TLM_CMD_START_EPISODE) awaiting_ack_ = false;
+            if (tlm_decode_ack(&f, &a) == 0 && a.command == TLM_CMD_START_EPISODE) {
+                awaiting_ack_ = false;
+                busy_ = a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_BUSY;
+                if (busy_) busy_us_ = t_us;
+            }
         } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID) {
             awaiting_ack_ = false;  // an episode runs: the start was taken
         } else if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID && running_) {
@@ -177,6 +184,11 @@ public:
         }
         if (!running_) {
             start(t_us);
+        } else if (busy_ && t_us - busy_us_ >= kStartBusyRetryUs) {
+            busy_ = false;
+            send_start();
+            sent_us_ = t_us;
+            busy_retries_++;
         } else if (fw_idle_ && t_us - sent_us_ > kStartRetryUs) {
             send_start();
             sent_us_ = t_us;
@@ -189,6 +201,7 @@ public:
 
     std::uint32_t episodes_done() const { return done_; }
     std::uint32_t start_retries() const { return retries_; }
+    std::uint32_t start_busy_retries() const { return busy_retries_; }
     std::uint32_t safe_stops() const { return safe_stops_; }
     std::uint32_t safe_stop_restarts() const { return restarts_; }
     std::uint32_t reboots() const { return reboots_; }
@@ -203,6 +216,7 @@ private:
         send_start();
         running_ = true;
         fw_idle_ = false;  // until a status says so after the command
+        busy_ = false;
         start_us_ = sent_us_ = t_us;
         wall_start_ = Clock::now();
     }
@@ -229,6 +243,9 @@ private:
     bool have_boot_ = false;
     bool first_after_boot_ = false;  // a reboot seen, no step learned since
     bool awaiting_ack_ = false;  // a START_EPISODE sent and not answered yet
+    bool busy_ = false;          // the last START was refused as BUSY: sent again at busy_us_ + kStartBusyRetryUs
+    std::uint64_t busy_us_ = 0;
+    std::uint32_t busy_retries_ = 0;
     std::uint32_t cut_ = 0;      // firmware episodes our starts cut
     std::uint32_t boot_ = 0, reboots_ = 0;
 };
@@ -322,11 +339,11 @@ struct RunCounts {
 void print_stopped(const RunCounts &c, const Supervisor &sup, const Devices &devices, const PoseCheck &pose_check,
                    const BusLink &bus)
 {
-    std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u "
+    std::printf("devices: stopped after %.1f s wall, %.1f s world time; episodes=%u start_retries=%u start_busy_retries=%u "
                 "safe_stops=%u safe_stop_restarts=%u reboots=%u cut_by_start=%u "
                 "motor_cmds=%u motor_cmds_rejected=%u late_steps=%" PRIu64 " pty_bytes=%" PRIu64
                 " pty_dropped=%" PRIu64 "\n",
-                c.wall_s, static_cast<double>(c.t_us) * 1e-6, sup.episodes_done(), sup.start_retries(),
+                c.wall_s, static_cast<double>(c.t_us) * 1e-6, sup.episodes_done(), sup.start_retries(), sup.start_busy_retries(),
                 sup.safe_stops(), sup.safe_stop_restarts(), sup.reboots(), sup.episodes_cut_by_start(),
                 devices.motor_cmds(), devices.motor_cmds_rejected(), c.late_steps, c.pty_bytes, c.pty_dropped);
     std::printf("pose: learned_steps=%u %s learned_over_20deg=%u\n", pose_check.steps(), pose_check.summary().c_str(),

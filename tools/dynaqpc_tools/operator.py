@@ -87,7 +87,8 @@ REASONS = {
     "NONE": "",
     "EVALUATE_MODE": "the firmware runs in evaluate mode, which locks what was learned",
     "NOT_IDLE": "the robot is not stopped: `dynaqpc-operator stop` first",
-    "BUSY": "the robot is driving an action (it writes flash only while standing still)",
+    "BUSY": "the robot is driving an action (it writes flash only while standing still), or it rebooted and its wheels"
+    " have not yet reported still (it takes a heading only then)",
     "CONFIRM": (
         "learning was saved since boot or restored at boot: `dynaqpc-operator reset --yes` wipes it "
         "(saving it first: `dynaqpc-operator restore-previous` brings it back)"

@@ -29,6 +29,11 @@
 #define RAD_PER_DEG 0.0174532925f
 // Beyond any sensor's reach: a range sensor that sees nothing.
 #define RANGE_NOTHING_M 100.0f
+// A wheel measured no faster than this stands (MOTOR_STATUS, mm/s). After a boot that cut an
+// episode, this many MOTOR_STATUS in a row with both wheels standing (2 cycles, ~100 ms) say that
+// the previous boot's last command no longer drives them.
+#define STILL_MM_S 10
+#define STILL_REPORTS 3u
 
 // What the status task saw last, to raise a counting fault for the period it grew in.
 typedef struct robot_health {
@@ -76,6 +81,8 @@ typedef struct robot_app {
     bool start_pending;        ///< an episode is to start once the heading is trusted
     bool have_fix_ref;
     bool boot_report;          ///< report the episode a reboot cut (stats.boot_cut_*), at the first control period
+    bool settle_pending;       ///< booted after a cut mid-episode: no heading until the wheels report still
+    uint8_t still_reports;     ///< MOTOR_STATUS in a row with both wheels standing (saturating)
 } robot_app_t;
 
 static robot_app_t app_;
@@ -194,13 +201,21 @@ static void refuse_(tlm_ack_t *ack, uint8_t why)
     ack->reason = why;
 }
 
-static void cmd_start_episode_(const tlm_tool_cmd_t *cmd)
+static void cmd_start_episode_(const tlm_tool_cmd_t *cmd, tlm_ack_t *ack)
 {
     // The operator placed the robot; the argument is its heading in 0.01 deg when the pose
     // source has no heading of its own (a gyro only integrates), 0xFFFFFF to keep it.
     // A heading from the operator makes it trusted (the operator put the robot down: the
     // last fix's position is no reference for a jump). Without one an untrusted robot first
     // finds its heading (pose_trust.h), then starts.
+    if (cmd->argument <= 35999u && app_.settle_pending) {
+        // Booted after a cut mid-episode, and the wheels have not yet reported still: the motor
+        // controller may still drive the previous boot's last command (it keeps one 500 ms and
+        // refuses the new boot's first as a counter jump), so a heading read now may be stale by
+        // the time it is taken. Nothing changes; send it again (BUSY), measured once it stands.
+        refuse_(ack, TLM_WHY_BUSY);
+        return;
+    }
     if (cmd->argument <= 35999u) {
         gyro_set_heading(&app_.dev.gyro, (float)cmd->argument * 0.01f);
         if (!heading_absolute_()) {
@@ -337,7 +352,7 @@ static void handle_tool_cmd_(const tlm_tool_cmd_t *cmd, uint8_t counter)
     }
     switch (cmd->command) {
     case TLM_CMD_START_EPISODE:
-        cmd_start_episode_(cmd);
+        cmd_start_episode_(cmd, &ack);
         break;
     case TLM_CMD_STOP:
         interrupt_episode_();
@@ -403,6 +418,19 @@ static void odometer_(uint64_t now)
     app_.odom_ok = true;
 }
 
+// Whether the wheels stand, by MOTOR_STATUS: after a boot that cut an episode, the heading is
+// taken (START's, a leg's fixes) only once they have reported still STILL_REPORTS times in a row.
+static void wheels_still_(void)
+{
+    const motor_status_t *st = &app_.dev.motor.status;
+    const bool still = st->speed_left_mm_s <= STILL_MM_S && st->speed_left_mm_s >= -STILL_MM_S &&
+                       st->speed_right_mm_s <= STILL_MM_S && st->speed_right_mm_s >= -STILL_MM_S;
+    app_.still_reports = !still ? 0u : app_.still_reports < 255u ? (uint8_t)(app_.still_reports + 1u) : 255u;
+    if (app_.still_reports >= STILL_REPORTS) {
+        app_.settle_pending = false;
+    }
+}
+
 static void on_can_event_(const sched_event_t *ev, void *ctx)
 {
     (void)ctx;
@@ -416,6 +444,7 @@ static void on_can_event_(const sched_event_t *ev, void *ctx)
     app_.stats.frames_rx++;
     if (r == CANDEV_RX_MOTOR) {
         odometer_(hal_time_us());
+        wheels_still_();
     }
     if (r == CANDEV_RX_MOTOR && (app_.dev.motor.status.bump_front || app_.dev.motor.status.bump_rear)) {
         app_.bump_latch = true;
@@ -660,8 +689,8 @@ static void control_task_(void *ctx)
         if (app_.ctrl.step_done && app_.ctrl.last_step.step >= 1u && !app_.ctrl.episode_done) {
             (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_step.step, true);
         }
-        if (app_.start_pending && app_.ctrl.mode == ROBOT_MODE_IDLE) {
-            find_heading_(&in, &vl, &vr);
+        if (app_.start_pending && app_.ctrl.mode == ROBOT_MODE_IDLE && !app_.settle_pending) {
+            find_heading_(&in, &vl, &vr);  // (it stands until the wheels report still after a cut)
         }
     }
     if (app_.boot_report) {
@@ -810,6 +839,8 @@ static void open_journal_(void)
     if (boot_journal_open(&app_.journal, &app_.store, &last)) {
         if (last.running) {
             app_.boot_report = true;
+            // The previous boot's last command may still drive the wheels: no heading till they stand.
+            app_.settle_pending = !heading_absolute_();
             app_.stats.episodes_interrupted++;
             app_.stats.boot_cut_episode = last.episode;
             app_.stats.boot_cut_steps = last.steps;

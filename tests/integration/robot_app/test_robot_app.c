@@ -126,6 +126,7 @@ static void test_uart_drained_when_the_line_falls_silent(void **state)
 
 // Which devices talk, every 20 ms of virtual time.
 static bool motor_on_, gyro_on_, ranges_on_, gps_on_, cricket_on_;
+static int16_t wheel_mm_s_[2];  // the wheel speeds MOTOR_STATUS reports
 static uint8_t ctr_[6];
 static tlm_status_t last_status_;
 static uint32_t statuses_;
@@ -142,7 +143,7 @@ static uint32_t n_episodes_;
 static void devices_talk_(void)
 {
     hal_can_frame_t f;
-    const motor_status_t ms = {0, 0, false, false, true, 0};
+    const motor_status_t ms = {wheel_mm_s_[0], wheel_mm_s_[1], false, false, true, 0};
     if (motor_on_ && motor_encode_status(&ctr_[0], &ms, &f) == FW_OK) {
         (void)hal_host_can_deliver(&f);
     }
@@ -233,6 +234,7 @@ static void boot_opt_(const robot_config_t *cfg, agent_t *ag, const agent_storag
     opt.plan_budget_us = ROBOT_PLAN_BUDGET_US;
     assert_int_equal(robot_app_init(&opt), FW_OK);
     memset(ctr_, 0, sizeof ctr_);
+    wheel_mm_s_[0] = wheel_mm_s_[1] = 0;
     n_acks_ = 0;
     n_tlm_ = 0;
     n_episodes_ = 0;
@@ -677,6 +679,43 @@ static void test_reboot_before_any_save_reports_the_cut_episode(void **state)
     }
 }
 
+// A reboot mid-episode while the motor controller still drives the previous boot's last command
+// (it keeps one for 500 ms, and refuses the new boot's first as a counter jump): the new boot takes
+// no heading while MOTOR_STATUS reports the wheels turning. START's heading is refused as BUSY
+// until the wheels have reported still ROBOT_STILL_REPORTS times in a row, then taken. A boot
+// that cut nothing (test_pose_trust_gates_episodes) takes it at once.
+static void test_reboot_takes_no_heading_while_the_wheels_turn(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab);
+    cmd_counter_ = 1;
+    live_for_(500);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(1000);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    // Power cut mid-episode; the wheels go on turning in place on the last command.
+    boot_opt_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab, false, true, true);
+    wheel_mm_s_[0] = 120;
+    wheel_mm_s_[1] = -120;
+    cmd_counter_ = 1;
+    live_for_(200);
+    assert_int_equal(n_episodes_, 1);  // the cut episode, reported
+    assert_true(last_episode_.interrupted);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 4500u), TLM_ACK_REFUSED, TLM_WHY_BUSY);
+    live_for_(200);
+    assert_false(last_status_.pose_trusted);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 4500u), TLM_ACK_REFUSED, TLM_WHY_BUSY);
+    // The wheels stop: once MOTOR_STATUS has said so a few times, the heading is taken.
+    wheel_mm_s_[0] = wheel_mm_s_[1] = 0;
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 4500u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(1000);
+    assert_true(last_status_.pose_trusted);
+    assert_int_equal(last_status_.trust_reason, TLM_TRUST_OPERATOR);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -691,6 +730,7 @@ int main(void)
         cmocka_unit_test(test_pose_trust_gates_episodes),
         cmocka_unit_test(test_reboot_reports_the_cut_episode),
         cmocka_unit_test(test_reboot_before_any_save_reports_the_cut_episode),
+        cmocka_unit_test(test_reboot_takes_no_heading_while_the_wheels_turn),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

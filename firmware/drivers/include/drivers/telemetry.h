@@ -57,7 +57,7 @@ enum tlm_ack_reason {
     TLM_WHY_NONE = 0,
     TLM_WHY_EVALUATE_MODE = 1,   ///< refused: evaluate mode locks what was learned
     TLM_WHY_NOT_IDLE = 2,        ///< refused: needs a stopped robot (send STOP first)
-    TLM_WHY_BUSY = 3,            ///< refused: the wheels are driving an action; try again
+    TLM_WHY_BUSY = 3,            ///< refused: the wheels are driving (an action; after a cut, maybe the last boot's command); try again
     TLM_WHY_CONFIRM = 4,         ///< refused: learning was saved since boot or restored at boot; Argument 1 confirms
     TLM_WHY_NO_STORE = 5,        ///< failed: no flash store (persistence off or no region)
     TLM_WHY_FLASH_ERROR = 6,     ///< failed: erasing or programming the flash failed
