@@ -187,7 +187,14 @@ def _message(db, name):
 class BusState:
     """What the viewer shows besides the pose: episode and step (TLM_LEARN, TLM_EPISODE), mode
     (FW_STATUS), the latest range readings (IR_RANGES, SONAR_RANGES_A/B/C) and bumps (MOTOR_STATUS).
-    Frames the DBC lacks are ignored."""
+    Frames the DBC lacks are ignored.
+
+    A sonar scan is three frames with one Counter (docs/can-protocol.md, "The sonar scan"): its
+    rays change only once all three parts of one Counter are in, as the firmware takes a scan
+    (ranges_rx_sonar). A part of another Counter drops the scan being assembled, and so does a
+    second, different copy of a part that is in (the same copy again is a repeat); a dropped scan
+    is counted (sonar_dropped) and the last whole scan stays drawn, never a mix of two. (The
+    firmware's check of the scan Counter's step is not made: a view draws every whole scan.)"""
 
     def __init__(self, db, ray_angles=None):
         self.learn = _message(db, "TLM_LEARN")
@@ -210,6 +217,11 @@ class BusState:
         self._ended = False  # an episode's end was seen since TLM_LEARN's number last changed
         self.rays = {}  # signal name -> (angle rad relative to heading, range m or None)
         self.bumping = False
+        self.sonar_scans = 0  # whole scans drawn
+        self.sonar_dropped = 0  # scans dropped: a part missing, or two different copies of one
+        self._scan_counter: Optional[int] = None
+        self._scan_parts = {}  # the scan being assembled: message name -> (data, decoded values)
+        self._scan_conflict = False  # two different copies of a part came: nothing more of this Counter
 
     def feed(self, msg) -> str:
         """Takes a frame; returns 'new episode' (TLM_EPISODE), 'episode number changed' (TLM_LEARN,
@@ -263,14 +275,43 @@ class BusState:
                 ang = self.ray_angles[i] if self.ray_angles and i < len(self.ray_angles) else IR_ANGLES[name]
                 self.rays[name] = (math.radians(ang), float(v[name]) * 1e-3 if valid else None)
             return ""
-        for sig in m.signals:  # a sonar frame
+        if self._sonar_part(m, bytes(msg.data), v):
+            for fid, (_, values) in self._scan_parts.items():
+                self._sonar_rays(self.by_id[fid], values)
+            self.sonar_scans += 1
+        return ""
+
+    def _sonar_part(self, m, data: bytes, v) -> bool:
+        """One sonar frame (its Crc passed) into the scan of its Counter; True when that scan is
+        whole (the firmware's sonar_part_ rules: see the class)."""
+        counter = int(v["Counter"])
+        whole = len(self.sonar)
+        if self._scan_parts and counter == self._scan_counter:
+            kept = self._scan_parts.get(m.frame_id)
+            if kept is not None and kept[0] == data:
+                return False  # a repeat
+            if kept is not None or self._scan_conflict:
+                if not self._scan_conflict and len(self._scan_parts) < whole:
+                    self.sonar_dropped += 1
+                self._scan_conflict = True
+                return False
+        else:
+            if self._scan_parts and len(self._scan_parts) < whole and not self._scan_conflict:
+                self.sonar_dropped += 1  # a part never came
+            self._scan_parts = {}
+            self._scan_conflict = False
+            self._scan_counter = counter
+        self._scan_parts[m.frame_id] = (data, v)
+        return len(self._scan_parts) == whole
+
+    def _sonar_rays(self, m, v) -> None:
+        for sig in m.signals:
             if not sig.name.startswith("Sonar"):
                 continue
             k = int(sig.name[5:])
             cm = float(v[sig.name])  # decoded: cm already (2 cm per bit); raw 127, 254 cm, is no echo
             ang = self.ray_angles[k] if self.ray_angles and k < len(self.ray_angles) else SONAR_ANGLES[k % 16]
             self.rays[sig.name] = (math.radians(ang), None if cm >= 254 else cm * 1e-2)
-        return ""
 
 
 def scenario_ray_angles(path: str):

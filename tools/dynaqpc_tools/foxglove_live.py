@@ -11,7 +11,8 @@ protobuf, the schemas Foxglove publishes) and served by the sdk's WebSocket serv
   /robot/pose            foxglove.PoseInFrame, TLM_POSE in frame arena (FixState LOST left out)
   /robot/true_pose       foxglove.PoseInFrame, GPS_POSE (Fix NONE left out)
   /robot/rays            foxglove.SceneUpdate in frame base_link: one line per range sensor to
-                         its reading (IR_RANGES, SONAR_RANGES_A/B/C; no echo: a short grey stub),
+                         its reading (IR_RANGES, SONAR_RANGES_A/B/C: a whole scan, its three
+                         frames of one Counter; no echo: a short grey stub),
                          the robot's body, and a label with episode, step and mode
   /robot/bumps           foxglove.SceneUpdate in frame arena: a red mark where each bump was
                          (MOTOR_STATUS BumpFront/BumpRear rising); cleared at each episode's end

@@ -14,7 +14,8 @@ One trail per episode: a new trail starts when the firmware reports an episode's
 from one episode to the next. The title reads episode, step (TLM_LEARN), mode (FW_STATUS) and
 fix; the range sensors' latest readings are drawn as rays from the robot (IR_RANGES: left, front,
 right at +45, 0, -45 degrees; SONAR_RANGES_A/B/C: sonar k at 11.25 + 22.5 k degrees, or the angles
-of a scenario's `ray` lines with --scenario), and each bump (MOTOR_STATUS BumpFront/BumpRear
+of a scenario's `ray` lines with --scenario; a sonar scan once its three frames of one Counter are
+in), and each bump (MOTOR_STATUS BumpFront/BumpRear
 rising) as a red x where it happened. Frames the DBC does not define are simply not used.
 
 Without a display (no DISPLAY or WAYLAND_DISPLAY, or a non-interactive matplotlib backend) it

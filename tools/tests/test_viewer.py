@@ -88,6 +88,62 @@ def _frame(db, name, t, **signals):
     return can.Message(timestamp=t, arbitration_id=m.frame_id, is_extended_id=False, data=e2e_seal(m, m.encode(values)))
 
 
+def _scan(db, t, counter, **sonars):
+    """A sonar scan: SONAR_RANGES_A, _B and _C with one Counter; sonars not named read 100 cm."""
+    frames = []
+    for name in ("SONAR_RANGES_A", "SONAR_RANGES_B", "SONAR_RANGES_C"):
+        m = db.get_message_by_name(name)
+        values = {s.name: 100 for s in m.signals if s.name.startswith("Sonar")}
+        values.update({k: v for k, v in sonars.items() if k in values})
+        frames.append(_frame(db, name, t, Counter=counter, **values))
+    return frames
+
+
+def test_a_sonar_scan_is_drawn_whole():
+    """The viewer and Foxglove (both draw BusState.rays) show a scan once its three parts of one
+    Counter are in, as the firmware takes it; a scan a part of which never came, or came twice
+    in two different copies, is dropped and the last whole scan stays drawn, never a mix."""
+    from dynaqpc_tools.bus_decode import BusState
+
+    db = cantools.database.load_file(DBC)
+    state = BusState(db)
+    a, b, c = _scan(db, 1.0, 1, Sonar0=40, Sonar7=70, Sonar15=150)
+    state.feed(a)
+    state.feed(b)
+    assert state.rays == {}  # two parts of three: nothing yet
+    state.feed(c)
+    assert len(state.rays) == 16 and state.sonar_scans == 1
+    assert (state.rays["Sonar0"][1], state.rays["Sonar7"][1], state.rays["Sonar15"][1]) == pytest.approx(
+        (0.4, 0.7, 1.5)
+    )
+    assert state.rays["Sonar3"][1] == 1.0
+    drawn = dict(state.rays)
+    # Scan 2 loses its C: scan 3's A drops it; scan 1 stays drawn until scan 3 is whole.
+    a2, b2, _ = _scan(db, 1.1, 2, Sonar0=20, Sonar7=20)
+    a3, b3, c3 = _scan(db, 1.2, 3, Sonar0=60, Sonar15=250)
+    for f in (a2, b2, a3, b3):
+        state.feed(f)
+        assert state.rays == drawn
+    assert state.sonar_dropped == 1
+    state.feed(c3)
+    assert state.sonar_scans == 2
+    assert (state.rays["Sonar0"][1], state.rays["Sonar7"][1], state.rays["Sonar15"][1]) == pytest.approx(
+        (0.6, 1.0, 2.5)
+    )
+    drawn = dict(state.rays)
+    # Two different copies of scan 4's A: one is not the sensor's, the scan is dropped.
+    a4, b4, c4 = _scan(db, 1.3, 4, Sonar0=30)
+    (other, *_) = _scan(db, 1.3, 4, Sonar0=90)
+    for f in (a4, other, b4, c4):
+        state.feed(f)
+    assert state.rays == drawn and state.sonar_dropped == 2 and state.sonar_scans == 2
+    # The same copy of a part again is a repeat: scan 5 is whole.
+    a5, b5, c5 = _scan(db, 1.4, 5, Sonar0=80)
+    for f in (a5, a5, b5, c5):
+        state.feed(f)
+    assert state.rays["Sonar0"][1] == 0.8 and state.sonar_scans == 3 and state.sonar_dropped == 2
+
+
 def _two_episodes(db):
     """Episode 1 drives east along y = 0.5 m and bumps once; the operator puts the robot down
     2 m away (x 3.0 m, y 2.5 m) for episode 2, which drives west."""
@@ -273,20 +329,23 @@ def test_frames_whose_crc_fails_are_not_drawn():
     assert dec.decode(gps) is not None
     gps.data[0] ^= 0x80
     assert dec.decode(gps) is None
-    # A scan is three frames, each with its CRC-8: a part that fails it draws nothing.
+    # A scan is three frames, each with its CRC-8: a part that fails it leaves the scan unfinished
+    # (nothing drawn) until the part comes whole.
     for name, sig in (("SONAR_RANGES_A", "Sonar0"), ("SONAR_RANGES_B", "Sonar7"), ("SONAR_RANGES_C", "Sonar15")):
-        sonar = _frame(db, name, 3.0, **{sig: 50, "Counter": 5})
+        scan = _scan(db, 3.0, 5, **{sig: 50})
+        sonar = next(f for f in scan if f.arbitration_id == db.get_message_by_name(name).frame_id)
         assert e2e_ok(db.get_message_by_name(name), sonar.data)
         state = BusState(db)
         sonar.data[0] ^= 0x01
         assert not e2e_ok(db.get_message_by_name(name), sonar.data)
-        state.feed(sonar)
-        assert sig not in state.rays
+        for f in scan:
+            state.feed(f)
+        assert state.rays == {} and state.sonar_scans == 0
         sonar.data[0] ^= 0x01
         state.feed(sonar)
-        assert state.rays[sig][1] == 0.5  # 50 cm, as sent
-    far = _frame(db, "SONAR_RANGES_A", 3.1, Sonar0=200, Sonar1=254)  # 254 cm: raw 127, no echo
-    state.feed(far)
+        assert state.rays[sig][1] == 0.5 and state.sonar_scans == 1  # 50 cm, as sent
+    for f in _scan(db, 3.1, 6, Sonar0=200, Sonar1=254):  # 254 cm: raw 127, no echo
+        state.feed(f)
     assert state.rays["Sonar0"][1] == 2.0 and state.rays["Sonar1"][1] is None
     # Its unused bits (Reserved) are sent as 0: a frame with one set is noise, whatever its Crc.
     m = db.get_message_by_name("SONAR_RANGES_C")
