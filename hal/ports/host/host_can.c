@@ -284,10 +284,7 @@ void hal_host_can_stall_end(void)
 
 uint32_t hal_host_can_stall_lost(void)
 {
-    pthread_mutex_lock(&lock_);
-    const uint32_t n = stall_lost_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u32(&lock_, &stall_lost_);
 }
 
 void hal_host_can_count_rx_overrun(uint32_t frames)
@@ -299,8 +296,5 @@ void hal_host_can_count_rx_overrun(uint32_t frames)
 
 uint32_t hal_host_can_bitrate(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint32_t b = bitrate_;
-    pthread_mutex_unlock(&lock_);
-    return b;
+    return host_locked_u32(&lock_, &bitrate_);
 }

@@ -174,18 +174,12 @@ bool hal_host_watchdog_expired(void)
 
 uint32_t hal_host_watchdog_kicks(void)
 {
-    pthread_mutex_lock(&wd_lock_);
-    uint32_t k = wd_kicks_;
-    pthread_mutex_unlock(&wd_lock_);
-    return k;
+    return host_locked_u32(&wd_lock_, &wd_kicks_);
 }
 
 uint32_t hal_host_watchdog_timeout_ms(void)
 {
-    pthread_mutex_lock(&wd_lock_);
-    uint32_t t = wd_timeout_ms_;
-    pthread_mutex_unlock(&wd_lock_);
-    return t;
+    return host_locked_u32(&wd_lock_, &wd_timeout_ms_);
 }
 
 hal_reset_cause_t hal_cpu_reset_cause(void)

@@ -348,10 +348,7 @@ uint64_t hal_host_flash_programmed_bytes(void)
 
 uint32_t hal_host_flash_erase_count(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint32_t n = erases_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u32(&lock_, &erases_);
 }
 
 void host_flash_reset(void)

@@ -6,6 +6,7 @@
 #ifndef HOST_INTERNAL_H
 #define HOST_INTERNAL_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -23,5 +24,15 @@ void host_flash_reset(void);
 bool host_time_idle_begin(uint64_t deadline_us, uint64_t *until_ns);
 /// A wake arrived: the recorded lock-step wait is over.
 void host_time_idle_end(void);
+
+/// A counter or setting read under the mutex that guards it: the port's getters for the
+/// simulator and the tests (stalls, kicks, erases...), each one call.
+static inline uint32_t host_locked_u32(pthread_mutex_t *lock, const uint32_t *value)
+{
+    pthread_mutex_lock(lock);
+    const uint32_t v = *value;
+    pthread_mutex_unlock(lock);
+    return v;
+}
 
 #endif  // HOST_INTERNAL_H

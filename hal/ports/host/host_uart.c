@@ -397,26 +397,17 @@ void hal_host_uart_hold_reader(bool hold)
 
 uint32_t hal_host_uart_stall_lost(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint32_t n = stall_lost_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u32(&lock_, &stall_lost_);
 }
 
 uint32_t hal_host_uart_stalls(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint32_t n = stalls_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u32(&lock_, &stalls_);
 }
 
 uint32_t hal_host_uart_discarded(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint32_t n = discarded_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u32(&lock_, &discarded_);
 }
 
 // Reads and counts what the tty holds from before the open, then flushes whatever the kernel
