@@ -22,6 +22,7 @@
 #include "hal/hal_time.h"
 #include "hal_host/hal_host.h"
 #include "robot/robot_app.h"
+#include "robot/pose_trust.h"
 #include "supervisor.h"
 #include "world/scenario.h"
 #include "world/world.h"
@@ -231,7 +232,12 @@ struct Lockstep::Impl {
         o << " frames_rx=" << st.frames_rx << " frames_bad=" << st.frames_bad
           << " tx_dropped=" << st.frames_tx_dropped << " saves=" << st.saves << " save_errors=" << st.save_errors
           << " plan_per_period=" << ss.idle_steps_last_period << " misses=" << ss.task[0].misses
-          << " trust_losses=" << st.trust_losses << " episodes_interrupted=" << st.episodes_interrupted
+          << " trust_losses=" << st.trust_losses << " trust_lost_gyro_gap=" << st.trust_losses_by[POSE_TRUST_WHY_GYRO_GAP]
+          << " trust_lost_fix_jump=" << st.trust_losses_by[POSE_TRUST_WHY_FIX_JUMP] << " trust_lost_stall=" << st.trust_losses_by[POSE_TRUST_WHY_STALL]
+          << " episodes_interrupted=" << st.episodes_interrupted
+          << " fixes_outside=" << robot_app_fix_gate()->refused_outside
+          << " fix_jumps_refused=" << robot_app_fix_gate()->refused_jump
+          << " fix_drifts=" << robot_app_fix_gate()->drifts
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
           << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary() << aliasing_cells();
         return o.str();

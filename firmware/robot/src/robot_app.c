@@ -17,6 +17,7 @@
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
 #include "robot/boot_journal.h"
+#include "robot/fix_gate.h"
 #include "robot/pose_trust.h"
 
 #define EV_CAN 1u   // a received frame, in u.can
@@ -54,10 +55,10 @@ typedef struct robot_app {
     bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
     bool moved_last_period;   // the wheels were commanded to move in the last period
     uint8_t still_periods;    // control periods since the wheels were last commanded to move (saturating)
+    bool odom_ok;             // a MOTOR_STATUS has come: the odometer counts
     float odom_m;             // the wheels' odometer (robot_sense_t.odom_m), from MOTOR_STATUS speeds
     float odom_speed;         // the mean wheel speed of the last MOTOR_STATUS, m/s
     uint64_t odom_us;         // when it came
-    bool odom_ok;             // a MOTOR_STATUS has come: the odometer counts
     uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
     uint8_t status_counter;
     hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
@@ -72,14 +73,13 @@ typedef struct robot_app {
     // Pose trust (robot/pose_trust.h): whether the heading may be used, and what watches it.
     pose_trust_t trust;
     uint64_t last_control_us;  ///< the last control period's start (0: none yet)
-    uint64_t fix_ref_us;       ///< fix_ref_*: the last fresh Cricket fix (have_fix_ref)
+    uint64_t fix_after_us;     ///< fixes whose ranges are all older were taken before the operator's START
     uint64_t trusted_at_us;    ///< when the heading was last given (operator, leg)
-    float fix_ref_x, fix_ref_y;
+    fix_gate_t gate;           ///< which fresh Cricket fixes are believed (robot/fix_gate.h)
     uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
     // Across reboots (robot/boot_journal.h).
     boot_journal_t journal;
     bool start_pending;        ///< an episode is to start once the heading is trusted
-    bool have_fix_ref;
     bool boot_report;          ///< report the episode a reboot cut (stats.boot_cut_*), at the first control period
     bool settle_pending;       ///< booted after a cut mid-episode: no heading until the wheels report still
     uint8_t still_reports;     ///< MOTOR_STATUS in a row with both wheels standing (saturating)
@@ -221,8 +221,8 @@ static void cmd_start_episode_(const tlm_tool_cmd_t *cmd, tlm_ack_t *ack)
         if (!heading_absolute_()) {
             pose_trust_grant(&app_.trust, POSE_TRUST_WHY_OPERATOR);
             app_.trusted_at_us = hal_time_us();
-            app_.have_fix_ref = false;
-            app_.fix_ref_us = hal_time_us();  // the next reference: a fix all taken from now on
+            fix_gate_forget(&app_.gate);
+            app_.fix_after_us = hal_time_us();  // the next reference: a fix all taken from now on
         }
     }
     interrupt_episode_();
@@ -411,7 +411,9 @@ static void odometer_(uint64_t now)
     const motor_status_t *st = &app_.dev.motor.status;
     const float v = 0.0005f * (float)((int32_t)st->speed_left_mm_s + (int32_t)st->speed_right_mm_s);
     if (app_.odom_ok && now > app_.odom_us && now - app_.odom_us <= ODOM_MAX_GAP_US) {
-        app_.odom_m += 0.5f * (v + app_.odom_speed) * ((float)(now - app_.odom_us) * 1e-6f);
+        const float ds = 0.5f * (v + app_.odom_speed) * ((float)(now - app_.odom_us) * 1e-6f);
+        app_.odom_m += ds;
+        fix_gate_travel(&app_.gate, ds, gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG, app_.trust.trusted);
     }
     app_.odom_speed = v;
     app_.odom_us = now;
@@ -473,6 +475,18 @@ static void on_uart_event_(const sched_event_t *ev, void *ctx)
 
 // ---- The control task ---------------------------------------------------------------------------
 
+/// Whether a fresh Cricket fix is believed (robot/fix_gate.h); a confirmed jump loses the heading.
+static bool believe_fix_(const cricket_fix_t *fix, uint64_t now)
+{
+    const robot_config_t *cfg = app_.opt.cfg;
+    const fix_gate_in_t g = {now, fix->x_mm * 0.001f, fix->y_mm * 0.001f, cfg->arena_w, cfg->arena_h};
+    const fix_gate_verdict_t v = fix_gate_check(&app_.gate, &g);
+    if (v == FIX_GATE_MOVED) {
+        pose_trust_lose(&app_.trust, POSE_TRUST_WHY_FIX_JUMP);
+    }
+    return v != FIX_GATE_REFUSE;
+}
+
 static uint8_t sense_(robot_sense_t *in, uint64_t now)
 {
     const robot_config_t *cfg = app_.opt.cfg;
@@ -500,7 +514,10 @@ static uint8_t sense_(robot_sense_t *in, uint64_t now)
             cricket_note_motion(&app_.cricket, now);
         }
         cricket_fix_t fix;
-        const cricket_fix_state_t st = cricket_get_fix(&app_.cricket, now, &fix);
+        cricket_fix_state_t st = cricket_get_fix(&app_.cricket, now, &fix);
+        if (st == CRICKET_FIX_FRESH && fix.oldest_us > app_.fix_after_us && !believe_fix_(&fix, now)) {
+            st = CRICKET_FIX_LOST;  // refused (robot/fix_gate.h): no pose this period
+        }
         fix_state = (uint8_t)st;
         // While the robot drives, ranges from before and after the motion disagree and no fix
         // solves (LOST); that is expected, so the pose counts as lost only when no fix has
@@ -608,9 +625,8 @@ static uint16_t gyro_limit_(int32_t peak_mm_s)
 
 // What makes a gyro-integrated heading untrusted (pose_trust.h): a gap in the gyro's samples (or
 // its silence, or a sample it flags), a control task that stalled (the samples that bunched up
-// behind it are integrated over the wrong times), a fresh fix farther from the last one than the
-// wheels could have driven (the robot was moved).
-static void watch_trust_(const robot_sense_t *in, uint64_t now)
+// behind it are integrated over the wrong times). A move seen by the fixes: believe_fix_().
+static void watch_trust_(uint64_t now)
 {
     const robot_config_t *cfg = app_.opt.cfg;
     if (heading_absolute_()) {
@@ -631,20 +647,6 @@ static void watch_trust_(const robot_sense_t *in, uint64_t now)
         pose_trust_lose(&app_.trust, POSE_TRUST_WHY_GYRO_GAP);
     }
     app_.gyro_gaps = g->gaps;
-    if (in->pose_ok && in->pose_time_us > app_.fix_ref_us) {
-        if (app_.have_fix_ref) {
-            const float dx = in->pose.x - app_.fix_ref_x, dy = in->pose.y - app_.fix_ref_y;
-            const float dt = (float)(in->pose_time_us - app_.fix_ref_us) * 1e-6f;
-            const float reach = POSE_TRUST_JUMP_M + POSE_TRUST_MAX_SPEED_M_S * dt;
-            if (dx * dx + dy * dy > reach * reach) {
-                pose_trust_lose(&app_.trust, POSE_TRUST_WHY_FIX_JUMP);
-            }
-        }
-        app_.have_fix_ref = true;
-        app_.fix_ref_x = in->pose.x;
-        app_.fix_ref_y = in->pose.y;
-        app_.fix_ref_us = in->pose_time_us;
-    }
 }
 
 // While an episode waits for the heading: the straight leg that finds it (pose_trust.h).
@@ -676,7 +678,7 @@ static void control_task_(void *ctx)
     const uint64_t now = hal_time_us();
     robot_sense_t in;
     const uint8_t fix_state = sense_(&in, now);
-    watch_trust_(&in, now);
+    watch_trust_(now);
     float vl = 0.0f, vr = 0.0f;
     if (!app_.trust.trusted && app_.ctrl.mode != ROBOT_MODE_IDLE) {
         // The heading is lost: the episode ends here, before its pending step is observed, and
@@ -924,6 +926,7 @@ int robot_app_init(const robot_app_options_t *opt)
     restore_learning_(opt);
     robot_ctrl_init(&app_.ctrl, cfg, opt->agent);
     pose_trust_init(&app_.trust, cfg->pose_source != ROBOT_POSE_CRICKET);
+    fix_gate_init(&app_.gate);
     app_.tlm_planning_updates = opt->agent->stats.planning_updates;
     app_.ctrl.learning = !opt->evaluate;
     app_.ctrl.episode = app_.stats.restore_result == FW_OK ? app_.stats.restored_episodes : 0u;
@@ -998,6 +1001,11 @@ sched_t *robot_app_sched(void)
 const robot_ctrl_t *robot_app_ctrl(void)
 {
     return &app_.ctrl;
+}
+
+const fix_gate_t *robot_app_fix_gate(void)
+{
+    return &app_.gate;
 }
 
 void robot_app_get_stats(robot_app_stats_t *out)

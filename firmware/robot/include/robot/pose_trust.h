@@ -5,7 +5,8 @@
 // does not know its heading at boot (the integrator starts at 0), after a gap in the gyro's
 // samples (a turn then goes unmeasured), after its own control task stalled (the samples bunched
 // up behind it are integrated over the wrong times) or after its position jumped (it was picked
-// up and put down). While the heading is not trusted the application starts no episode and learns
+// up and put down: fresh fixes that keep agreeing away from the last believed one, robot/fix_gate.h).
+// While the heading is not trusted the application starts no episode and learns
 // from no step: a running episode is ended as interrupted (robot_ctrl_interrupt) the period the
 // trust is lost, before its pending step is observed.
 //
@@ -48,10 +49,6 @@ extern "C" {
 #define POSE_TRUST_GAP_DEG 2.0f
 /// A control task that ran this much later than its period: the gyro's samples bunched behind it.
 #define POSE_TRUST_STALL_US 500000u
-/// A fresh fix farther than this from the last one, plus what the wheels could drive in between
-/// at POSE_TRUST_MAX_SPEED_M_S: the robot was moved.
-#define POSE_TRUST_JUMP_M 0.30f
-#define POSE_TRUST_MAX_SPEED_M_S 1.5f
 
 /// Why the pose is (not) trusted: FW_STATUS TrustReason.
 typedef enum pose_trust_reason {

@@ -18,6 +18,7 @@
 
 #include "agent/agent.h"
 #include "drivers/cricket.h"
+#include "robot/fix_gate.h"
 #include "robot/controller.h"
 #include "robot/learned_store.h"
 #include "robot/robot_config.h"
@@ -100,6 +101,8 @@ void robot_app_run(const robot_config_t *cfg, agent_t *agent, const agent_storag
 
 sched_t *robot_app_sched(void);
 const robot_ctrl_t *robot_app_ctrl(void);
+/// The gate of the Cricket fixes (robot/fix_gate.h): its counters of refused fixes.
+const fix_gate_t *robot_app_fix_gate(void);
 void robot_app_get_stats(robot_app_stats_t *out);
 /// The Cricket listener's line and fix counters (zero when the pose is from the GPS).
 void robot_app_get_cricket_stats(cricket_stats_t *out);
