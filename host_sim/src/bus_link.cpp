@@ -22,6 +22,7 @@ void BusLink::open()
         throw std::runtime_error(std::string("virtual CAN bus: cannot open (") + std::strerror(errno) +
                                  "); in a network namespace, route 224.0.0.0/4 to lo");
     }
+    vcan_close_rx(&tx_);  // tx_ only sends: unread, its socket would queue and drop the whole bus
     if (vcan_open(&rx_, &cfg) != FW_OK) {
         const int e = errno;
         vcan_close(&tx_);

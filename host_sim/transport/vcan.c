@@ -213,6 +213,9 @@ int vcan_recv_stamped(vcan_t *bus, hal_can_frame_t *frame, double *timestamp, in
     // Large enough for any python-can message (CAN FD with 64 bytes and a channel name), so a
     // longer datagram is garbage by definition.
     uint8_t buf[512];
+    if (bus->rx_fd < 0) {
+        return FW_ERR_IO; // vcan_close_rx(): poll() would ignore the descriptor and wait
+    }
     double deadline = clock_s_(CLOCK_MONOTONIC) + (double)timeout_ms * 1e-3;
     for (;;) {
         int wait_ms = timeout_ms;
@@ -275,6 +278,14 @@ int vcan_fileno(const vcan_t *bus)
 void vcan_get_stats(const vcan_t *bus, vcan_stats_t *out)
 {
     *out = bus->stats;
+}
+
+void vcan_close_rx(vcan_t *bus)
+{
+    if (bus != NULL && bus->rx_fd >= 0) {
+        close(bus->rx_fd);
+        bus->rx_fd = -1;
+    }
 }
 
 void vcan_close(vcan_t *bus)

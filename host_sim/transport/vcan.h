@@ -98,6 +98,13 @@ int vcan_fileno(const vcan_t *bus);
 
 void vcan_get_stats(const vcan_t *bus, vcan_stats_t *out);
 
+/// Closes the receive socket of a vcan_t that will only send (BusLink's sender: it receives on
+/// another vcan_t). Left open and unread, the kernel queues every frame of the bus on it until
+/// its buffer is full (the 1 MB asked) and then drops each one, counted among the host's UDP
+/// receive-buffer errors, which then say nothing of the sockets that are read. vcan_recv() then
+/// fails with FW_ERR_IO and vcan_fileno() gives -1; vcan_send() is unchanged.
+void vcan_close_rx(vcan_t *bus);
+
 /// Closes both sockets. Safe to call twice and on a vcan_t whose open failed.
 void vcan_close(vcan_t *bus);
 

@@ -424,6 +424,25 @@ static void receive_own_when_asked(void **state)
     vcan_close(&b);
 }
 
+// A sender's receive socket closed (BusLink's tx_): it still sends, receives nothing, and
+// vcan_recv() says so at once instead of waiting on no socket.
+static void send_only_member_closes_its_receive_socket(void **state)
+{
+    (void)state;
+    vcan_t a, b;
+    hal_can_frame_t f = make_frame(0x56, 0, 2, 7), got;
+    open_pair(&a, &b, false);
+    vcan_close_rx(&a);
+    vcan_close_rx(&a);  // twice: harmless
+    assert_int_equal(vcan_fileno(&a), -1);
+    assert_int_equal(vcan_recv(&a, &got, 2000), FW_ERR_IO);
+    assert_int_equal(vcan_send(&a, &f, 1.0), FW_OK);
+    assert_int_equal(vcan_recv(&b, &got, 2000), 1);
+    assert_frame_equal(&got, &f);
+    vcan_close(&a);
+    vcan_close(&b);
+}
+
 static void open_refuses_bad_config(void **state)
 {
     (void)state;
@@ -521,6 +540,7 @@ int main(void)
         cmocka_unit_test(decode_fuzz),
         cmocka_unit_test(loopback_between_two_members),
         cmocka_unit_test(receive_own_when_asked),
+        cmocka_unit_test(send_only_member_closes_its_receive_socket),
         cmocka_unit_test(open_refuses_bad_config),
         cmocka_unit_test(pty_carries_bytes_both_ways),
         cmocka_unit_test(pty_open_refuses_small_buffer),
