@@ -75,6 +75,12 @@ bool robot_move_bumped(const robot_move_t *mv)
     return mv->bumped;
 }
 
+float robot_move_heading(const robot_move_t *mv, float gyro_heading_rad)
+{
+    FW_ASSERT(mv != NULL);
+    return gyro_heading_rad + mv->heading_offset - mv->gyro_share * mv->gyro_turned;
+}
+
 // Starts a motion (a step's, the back-off's, settling's): its wheel speeds held for its periods,
 // or in closed loop (robot_closes_loop()), a drive holding `hold` unless on the grid.
 static void start_(robot_move_t *mv, const robot_config_t *cfg, const robot_motion_t *m,

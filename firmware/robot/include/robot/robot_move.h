@@ -125,6 +125,10 @@ bool robot_move_pending(const robot_move_t *mv);
 /// Whether the pending step bumped.
 bool robot_move_bumped(const robot_move_t *mv);
 
+/// The heading the motions use for the gyro's `gyro_heading_rad`: with what the Cricket fixes have
+/// said of the gyro (heading_offset, gyro_share; as of the last control period).
+float robot_move_heading(const robot_move_t *mv, float gyro_heading_rad);
+
 #ifdef __cplusplus
 }
 #endif
