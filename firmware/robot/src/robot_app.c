@@ -560,8 +560,10 @@ static int16_t mm_s_(float v)
 static void telemetry_(const robot_sense_t *in, uint8_t fix_state)
 {
     hal_can_frame_t f;
+    // The heading the motions use (the gyro's with what the fixes said of it), not the raw gyro's.
+    const float heading = robot_move_heading(&app_.ctrl.move, in->pose.heading);
     const tlm_pose_t pose = {(int32_t)lrintf(in->pose.x * 1000.0f), (int32_t)lrintf(in->pose.y * 1000.0f),
-                             (int32_t)lrintf(in->pose.heading * DEG_PER_RAD * 100.0f), fix_state};
+                             (int32_t)lrintf(heading * DEG_PER_RAD * 100.0f), fix_state};
     tlm_encode_pose(&app_.dev.tlm, &pose, &f);
     send_(&f);
     if (app_.ctrl.step_done) {
