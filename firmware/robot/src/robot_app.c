@@ -413,9 +413,12 @@ static void odometer_(uint64_t now)
     if (app_.odom_ok && now > app_.odom_us && now - app_.odom_us <= ODOM_MAX_GAP_US) {
         const float ds = 0.5f * (v + app_.odom_speed) * ((float)(now - app_.odom_us) * 1e-6f);
         app_.odom_m += ds;
-        // Along the heading the motions use: the gyro's, with what the fixes said of it.
-        const float heading = robot_move_heading(&app_.ctrl.move, gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG);
-        fix_gate_travel(&app_.gate, ds, heading, app_.trust.trusted);
+        if (app_.opt.cfg->pose_source == ROBOT_POSE_CRICKET) {  // only Cricket fixes are gated
+            // Along the heading the motions use: the gyro's, with what the fixes said of it.
+            const float heading =
+                robot_move_heading(&app_.ctrl.move, gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG);
+            fix_gate_travel(&app_.gate, ds, heading, app_.trust.trusted);
+        }
     }
     app_.odom_speed = v;
     app_.odom_us = now;
