@@ -241,40 +241,12 @@ static int read_image_locked(int fd, uint32_t size)
     return FW_OK;
 }
 
-int hal_host_flash_attach_file(const char *path)
-{
-    if (path == NULL) {
-        return FW_ERR_INVAL;
-    }
-    hal_host_flash_detach_file();
-    pthread_mutex_lock(&lock_);
-    ensure_image_locked();
-    uint32_t size = region_size();
-    int rc = FW_OK;
-    int fd = open(path, O_RDWR | O_CREAT, 0644);
-    struct stat st;
-    if (fd < 0 || fstat(fd, &st) != 0) {
-        rc = FW_ERR_IO;
-    } else if (st.st_size == 0) {
-        // A new file: it starts as a copy of the image.
-        fd_ = fd;
-        rc = write_through_locked(0, size);
-        fd_ = -1;
-    } else if (st.st_size != (off_t)size) {
-        rc = FW_ERR_CORRUPT;
-    } else {
-        rc = read_image_locked(fd, size);
-    }
-    if (rc == FW_OK) {
-        fd_ = fd;
-    } else if (fd >= 0) {
-        close(fd);
-    }
-    pthread_mutex_unlock(&lock_);
-    return rc;
-}
-
-int hal_host_flash_load_file(const char *path)
+// Opens path as the region's file and brings the image up to it: a file of the region's size is
+// read into the image (read_image_locked: all or nothing); with `attach`, a new (empty) file is
+// made a copy of the image instead, and the open file backs the region from then on; without, the
+// file is only read and closed. Returns FW_OK, FW_ERR_CORRUPT (another size), FW_ERR_IO or
+// FW_ERR_INVAL (NULL); on an error nothing changes and no file stays open.
+static int use_file_(const char *path, bool attach)
 {
     if (path == NULL) {
         return FW_ERR_INVAL;
@@ -284,20 +256,37 @@ int hal_host_flash_load_file(const char *path)
     ensure_image_locked();
     const uint32_t size = region_size();
     int rc;
-    const int fd = open(path, O_RDONLY);
+    const int fd = attach ? open(path, O_RDWR | O_CREAT, 0644) : open(path, O_RDONLY);
     struct stat st;
     if (fd < 0 || fstat(fd, &st) != 0) {
         rc = FW_ERR_IO;
+    } else if (attach && st.st_size == 0) {
+        // A new file: it starts as a copy of the image.
+        fd_ = fd;
+        rc = write_through_locked(0, size);
+        fd_ = -1;
     } else if (st.st_size != (off_t)size) {
         rc = FW_ERR_CORRUPT;
     } else {
         rc = read_image_locked(fd, size);
     }
-    if (fd >= 0) {
+    if (rc == FW_OK && attach) {
+        fd_ = fd;
+    } else if (fd >= 0) {
         close(fd);
     }
     pthread_mutex_unlock(&lock_);
     return rc;
+}
+
+int hal_host_flash_attach_file(const char *path)
+{
+    return use_file_(path, true);
+}
+
+int hal_host_flash_load_file(const char *path)
+{
+    return use_file_(path, false);
 }
 
 void hal_host_flash_detach_file(void)
