@@ -202,6 +202,17 @@ class Build:
     def _color(self, r, g, b, a=1.0):
         return self.m.Color(r=r, g=g, b=b, a=a)
 
+    def _label(self, x, y, z, text: str, color, font_size: float = 12.0):
+        """Text that faces the viewer at one size on screen, however far the camera is."""
+        return self.m.TextPrimitive(
+            pose=self._pose(x, y, z),
+            billboard=True,
+            font_size=font_size,
+            scale_invariant=True,
+            color=color,
+            text=text,
+        )
+
     # ---- what is published -----------------------------------------------------------------------
 
     def arena_scene(self, t: float, arena: Optional[dict] = None):
@@ -251,16 +262,7 @@ class Build:
                     pose=self._pose(b["x"], b["y"], b["z"]), size=m.Vector3(x=0.08, y=0.08, z=0.08), color=purple
                 )
             )
-            texts.append(
-                m.TextPrimitive(
-                    pose=self._pose(b["x"], b["y"], b["z"] + 0.1),
-                    billboard=True,
-                    font_size=12.0,
-                    scale_invariant=True,
-                    color=purple,
-                    text=str(b.get("id", "")),
-                )
-            )
+            texts.append(self._label(b["x"], b["y"], b["z"] + 0.1, str(b.get("id", "")), purple))
         entity = m.SceneEntity(
             timestamp=self._ts(t),
             frame_id=FRAME,
@@ -387,14 +389,7 @@ class LiveFoxglove(Build):
             head_diameter=0.08,
             color=self._color(1, 1, 1),
         )
-        text = m.TextPrimitive(
-            pose=self._pose(0, 0, 0.4),
-            billboard=True,
-            font_size=14.0,
-            scale_invariant=True,
-            color=self._color(0, 0, 0),
-            text=self.label(),
-        )
+        text = self._label(0, 0, 0.4, self.label(), self._color(0, 0, 0), font_size=14.0)
         entity = m.SceneEntity(
             timestamp=self._ts(t),
             frame_id=BASE,
@@ -450,14 +445,7 @@ class LiveFoxglove(Build):
                 )
             )
         texts.append(
-            m.TextPrimitive(
-                pose=self._pose(0.0, -0.3, 0.0),
-                billboard=True,
-                font_size=12.0,
-                scale_invariant=True,
-                color=self._color(0, 0, 0),
-                text=f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells",
-            )
+            self._label(0.0, -0.3, 0.0, f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells", self._color(0, 0, 0))
         )
         ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="values", cubes=cubes, texts=texts)
         return m.SceneUpdate(entities=[ent])
