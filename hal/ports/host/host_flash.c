@@ -329,10 +329,7 @@ void hal_host_flash_restore_power(void)
 
 uint64_t hal_host_flash_programmed_bytes(void)
 {
-    pthread_mutex_lock(&lock_);
-    uint64_t n = programmed_;
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return host_locked_u64(&lock_, &programmed_);
 }
 
 uint32_t hal_host_flash_erase_count(void)

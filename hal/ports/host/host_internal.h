@@ -25,12 +25,29 @@ bool host_time_idle_begin(uint64_t deadline_us, uint64_t *until_ns);
 /// A wake arrived: the recorded lock-step wait is over.
 void host_time_idle_end(void);
 
-/// A counter or setting read under the mutex that guards it: the port's getters for the
-/// simulator and the tests (stalls, kicks, erases...), each one call.
+/// A counter, setting or flag read under the mutex that guards it: the port's getters for the
+/// simulator and the tests (stalls, kicks, erases, programmed bytes, a live line...), each one
+/// call.
 static inline uint32_t host_locked_u32(pthread_mutex_t *lock, const uint32_t *value)
 {
     pthread_mutex_lock(lock);
     const uint32_t v = *value;
+    pthread_mutex_unlock(lock);
+    return v;
+}
+
+static inline uint64_t host_locked_u64(pthread_mutex_t *lock, const uint64_t *value)
+{
+    pthread_mutex_lock(lock);
+    const uint64_t v = *value;
+    pthread_mutex_unlock(lock);
+    return v;
+}
+
+static inline bool host_locked_bool(pthread_mutex_t *lock, const bool *value)
+{
+    pthread_mutex_lock(lock);
+    const bool v = *value;
     pthread_mutex_unlock(lock);
     return v;
 }

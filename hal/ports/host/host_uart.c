@@ -491,10 +491,7 @@ void hal_host_uart_close_path(void)
 
 bool hal_host_uart_path_alive(void)
 {
-    pthread_mutex_lock(&lock_);
-    bool a = alive_;
-    pthread_mutex_unlock(&lock_);
-    return a;
+    return host_locked_bool(&lock_, &alive_);
 }
 
 void host_uart_reset(void)
