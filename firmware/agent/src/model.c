@@ -315,27 +315,13 @@ static uint32_t round_fixed_(int32_t x)
     return (biased >> CMAC_FRAC_BITS) - (0x80000000u >> CMAC_FRAC_BITS);
 }
 
-// The desired output for moving from `from` to `to`: per component, the change (wrapped to the
-// shorter way round for a circular one) or, for an absolute component, the new value.
+// The desired output for moving from `from` to `to`: per component, its change (space_change:
+// wrapped to the shorter way round for a circular one; for an absolute component, the new value).
 static void encode_(const agent_space_t *sp, const uint32_t *from, const uint32_t *to,
                     int32_t *out)
 {
     for (uint32_t k = 0; k < sp->n_components; k++) {
-        int32_t v;
-        if ((sp->absolute_mask >> k) & 1u) {
-            v = (int32_t)to[k];
-        } else {
-            v = (int32_t)to[k] - (int32_t)from[k];
-            if ((sp->circular_mask >> k) & 1u) {
-                const int32_t range = (int32_t)1 << sp->bits[k];
-                if (v >= range / 2) {
-                    v -= range;
-                } else if (v < -range / 2) {
-                    v += range;
-                }
-            }
-        }
-        out[k] = v * CMAC_ONE;
+        out[k] = space_change(sp, k, from[k], to[k]) * CMAC_ONE;
     }
 }
 

@@ -32,26 +32,6 @@ static int32_t round_q_(int32_t v)  // fixed point (CMAC_FRAC_BITS) to the neare
     return v >= 0 ? (v + CMAC_ONE / 2) / CMAC_ONE : -((-v + CMAC_ONE / 2) / CMAC_ONE);
 }
 
-// The change from `from` to `to` of component k as CMAC-Model learns it: the value of an absolute
-// component, the signed difference of another, wrapped into [-2^(bits-1), 2^(bits-1)) on a
-// circular one (turning right from 15 is +1).
-static int32_t change_(const agent_space_t *sp, uint32_t k, uint32_t from, uint32_t to)
-{
-    if ((sp->absolute_mask >> k) & 1u) {
-        return (int32_t)to;
-    }
-    int32_t d = (int32_t)to - (int32_t)from;
-    if ((sp->circular_mask >> k) & 1u) {
-        const int32_t n = (int32_t)1 << sp->bits[k];
-        if (d >= n / 2) {
-            d -= n;
-        } else if (d < -n / 2) {
-            d += n;
-        }
-    }
-    return d;
-}
-
 // Applies predicted outputs out[0 .. n-1] (fixed point) to comp[]; false if a component leaves its
 // range (a circular one wraps).
 static bool apply_(const agent_space_t *sp, const uint32_t *comp, const int32_t *out, uint32_t *next)
@@ -142,7 +122,7 @@ bool paper_model_learn(paper_model_t *m, agent_state_t s, uint8_t a, float r, ag
 
     // CMAC-Model: (s, a) -> (s' as changes, r, terminal).
     for (uint32_t k = 0; k < n; k++) {
-        desired[k] = change_(sp, k, comp[k], next[k]) * CMAC_ONE;
+        desired[k] = space_change(sp, k, comp[k], next[k]) * CMAC_ONE;
     }
     const float rq = r * (float)CMAC_ONE;
     desired[n] = (int32_t)(rq < 0.0f ? rq - 0.5f : rq + 0.5f);
@@ -155,7 +135,7 @@ bool paper_model_learn(paper_model_t *m, agent_state_t s, uint8_t a, float r, ag
         uint32_t before[FW_CFG_MAX_COMPONENTS];
         space_unpack(sp, m->last_state, before);
         for (uint32_t k = 0; k < n; k++) {
-            desired[k] = change_(sp, k, comp[k], before[k]) * CMAC_ONE;
+            desired[k] = space_change(sp, k, comp[k], before[k]) * CMAC_ONE;
         }
         desired[n] = (int32_t)m->last_action * CMAC_ONE;
         cmac_tiles_of(&m->inverse, comp, a, &tiles);

@@ -74,6 +74,23 @@ agent_state_t space_pack(const agent_space_t *sp, const uint32_t *comp)
     return s;
 }
 
+int32_t space_change(const agent_space_t *sp, uint32_t k, uint32_t from, uint32_t to)
+{
+    if ((sp->absolute_mask >> k) & 1u) {
+        return (int32_t)to;
+    }
+    int32_t d = (int32_t)to - (int32_t)from;
+    if ((sp->circular_mask >> k) & 1u) {
+        const int32_t n = (int32_t)1 << sp->bits[k];
+        if (d >= n / 2) {
+            d -= n;
+        } else if (d < -n / 2) {
+            d += n;
+        }
+    }
+    return d;
+}
+
 uint32_t space_position_mask(const agent_space_t *sp)
 {
     const uint32_t outside_position = (uint32_t)sp->context_mask | sp->absolute_mask;

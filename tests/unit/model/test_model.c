@@ -32,6 +32,22 @@ static agent_state_t robot_state(uint32_t x, uint32_t h, uint32_t r)
     return space_pack(&robot_, c);
 }
 
+// What both models learn a component's change as (space_change): x the difference, the heading
+// the shorter way round, the range code its new value.
+static void a_change_is_a_difference_a_wrapped_one_or_the_value(void **state)
+{
+    (void)state;
+    assert_int_equal(space_change(&robot_, 0, 10, 12), 2);
+    assert_int_equal(space_change(&robot_, 0, 12, 10), -2);
+    assert_int_equal(space_change(&robot_, 0, 0, 31), 31);  // x does not wrap
+    assert_int_equal(space_change(&robot_, 1, 15, 0), 1);   // turning right from 15 of 16
+    assert_int_equal(space_change(&robot_, 1, 0, 15), -1);
+    assert_int_equal(space_change(&robot_, 1, 0, 8), -8);   // half way: [-8, 8)
+    assert_int_equal(space_change(&robot_, 1, 8, 0), -8);
+    assert_int_equal(space_change(&robot_, 1, 0, 7), 7);
+    assert_int_equal(space_change(&robot_, 2, 3, 1), 1);    // absolute: the new value
+}
+
 static void learns_and_predicts_a_transition(void **state)
 {
     (void)state;
@@ -1011,6 +1027,7 @@ static void percept_map_keeps_the_headings_turns_reach(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_change_is_a_difference_a_wrapped_one_or_the_value),
         cmocka_unit_test(learns_and_predicts_a_transition),
         cmocka_unit_test(circular_component_wraps),
         cmocka_unit_test(inverse_model_finds_predecessors),

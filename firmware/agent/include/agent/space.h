@@ -65,6 +65,12 @@ void space_unpack(const agent_space_t *sp, agent_state_t s, uint32_t *comp);
 /// Packs components (each already within its bit range) into a state.
 agent_state_t space_pack(const agent_space_t *sp, const uint32_t *comp);
 
+/// The change of component k from `from` to `to` as the models learn it: the new value itself
+/// for an absolute component; for another the signed difference, wrapped on a circular one into
+/// [-2^(bits-1), 2^(bits-1)), the shorter way round (turning right from 15 of 16 headings is +1).
+/// k < n_components; from and to within the component's bits.
+int32_t space_change(const agent_space_t *sp, uint32_t k, uint32_t from, uint32_t to);
+
 #ifdef __cplusplus
 }
 #endif
