@@ -317,13 +317,19 @@ void hal_host_flash_cut_power_in_erase(uint32_t erases, uint32_t bytes)
     pthread_mutex_unlock(&lock_);
 }
 
-void hal_host_flash_restore_power(void)
+// The power back on and no cut armed (of a write or of an erase).
+static void power_on_locked(void)
 {
-    pthread_mutex_lock(&lock_);
     erase_cut_armed_ = false;
     cut_armed_ = false;
     cut_left_ = 0;
     power_off_ = false;
+}
+
+void hal_host_flash_restore_power(void)
+{
+    pthread_mutex_lock(&lock_);
+    power_on_locked();
     pthread_mutex_unlock(&lock_);
 }
 
@@ -340,10 +346,7 @@ uint32_t hal_host_flash_erase_count(void)
 void host_flash_reset(void)
 {
     pthread_mutex_lock(&lock_);
-    erase_cut_armed_ = false;
-    cut_armed_ = false;
-    cut_left_ = 0;
-    power_off_ = false;
+    power_on_locked();
     programmed_ = 0;
     erases_ = 0;
     pthread_mutex_unlock(&lock_);
