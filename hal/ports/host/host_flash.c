@@ -245,7 +245,7 @@ static int read_image_locked(int fd, uint32_t size)
 // read into the image (read_image_locked: all or nothing); with `attach`, a new (empty) file is
 // made a copy of the image instead, and the open file backs the region from then on; without, the
 // file is only read and closed. Returns FW_OK, FW_ERR_CORRUPT (another size), FW_ERR_IO or
-// FW_ERR_INVAL (NULL); on an error nothing changes and no file stays open.
+// FW_ERR_INVAL (NULL); on an error the image is as it was and no file stays open.
 static int use_file_(const char *path, bool attach)
 {
     if (path == NULL) {
