@@ -11,7 +11,9 @@ namespace {
 
 enum class Profile { Lab, Sim, SimLarge };
 
-Profile profile_of(const robot_config_t &cfg)
+// The profile a floor's state bits call for; profile_of() moves a floor the paper-lab
+// profile's tables cannot hold up to paper-sim's.
+Profile profile_by_bits(const robot_config_t &cfg)
 {
     const unsigned bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
     if (bits <= 13u) return Profile::Lab;
@@ -65,14 +67,14 @@ ProfileTables tables_of(Profile p)
             FW_CFG_SIM_LARGE_PLACES, FW_CFG_SIM_LARGE_POSITIONS, FW_CFG_SIM_LARGE_CLASSES};
 }
 
-ProfileNeed profile_need(const robot_config_t &cfg)
+static ProfileNeed need_in(const robot_config_t &cfg, Profile p)
 {
-    const ProfileTables t = tables_of(profile_of(cfg));
+    const ProfileTables t = tables_of(p);
     const std::uint32_t places = t.places, positions = t.positions, classes = t.classes;
     ProfileNeed n{t.name, t.bytes, 0, {}};
     n.need_bytes = n.bytes;
     const unsigned state_bits = cfg.bits_x + cfg.bits_y + cfg.bits_heading + cfg.bits_code;
-    if (profile_of(cfg) == Profile::SimLarge && !qstore_keys16_exact(FW_CFG_SIM_LARGE_Q_STATES, state_bits)) {
+    if (p == Profile::SimLarge && !qstore_keys16_exact(FW_CFG_SIM_LARGE_Q_STATES, state_bits)) {
         // Its 16-bit Q keys hold states of up to 20 bits (qstore.h); beyond, keys of 32 bits.
         n.short_of = "state bits " + std::to_string(state_bits) + " > 20 (16-bit Q keys)";
         n.need_bytes += FW_CFG_SIM_LARGE_Q_STATES * static_cast<std::uint32_t>(sizeof(std::uint16_t));
@@ -101,6 +103,20 @@ ProfileNeed profile_need(const robot_config_t &cfg)
         short_of("positions", std::uint64_t{1} << position, positions, kPositionBytes);
     }
     return n;
+}
+
+// A floor of few state bits whose model the 64 KiB image cannot hold (a fitted grid of more than
+// 8 x 8 cells: paper-lab-motion's 9 x 7 on 8 headings) runs on the 192 KiB image.
+static Profile profile_of(const robot_config_t &cfg)
+{
+    const Profile p = profile_by_bits(cfg);
+    if (p == Profile::Lab && !need_in(cfg, Profile::Lab).short_of.empty()) return Profile::Sim;
+    return p;
+}
+
+ProfileNeed profile_need(const robot_config_t &cfg)
+{
+    return need_in(cfg, profile_of(cfg));
 }
 
 void pick_agent_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage)

@@ -15,7 +15,8 @@ namespace dynaqpc {
 
 /// The smallest profile whose tables suit cfg's state space: paper-lab's up to 13 state bits,
 /// paper-sim's (192 KiB, the default robot's) up to 18, paper-sim-large's (16,384 Q rows: the
-/// 16 x 16 m floor, 64 x 64 cells) beyond. A configuration whose model the profile's tables
+/// 16 x 16 m floor, 64 x 64 cells) beyond. A floor of up to 13 bits whose model paper-lab's
+/// tables cannot hold takes paper-sim's. A configuration whose model the profile's tables
 /// cannot hold (percept map, per-position table, situations) is refused: std::runtime_error
 /// naming the profile, its bytes and the bytes it would need (profile_need()).
 void pick_agent_profile(const robot_config_t &cfg, agent_t **agent, const agent_storage_t **storage);

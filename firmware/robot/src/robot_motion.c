@@ -77,7 +77,10 @@ static robot_motion_t turn_motion_(const robot_config_t *cfg, float turn, uint8_
 
 bool robot_backs_off(const robot_config_t *cfg)
 {
-    return ROBOT_BUMP_BACKOFF != 0 && cfg->aligned_actions && cfg->track_m < robot_grid_min_side(cfg);
+    if (!cfg->aligned_actions) {
+        return ROBOT_BUMP_BACKOFF != 0;
+    }
+    return ROBOT_BUMP_BACKOFF != 0 && cfg->track_m < robot_grid_min_side(cfg);
 }
 
 // Why back off: a bump leaves the robot wherever the contact stopped it, and until it has stepped
@@ -90,10 +93,19 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
                                     const robot_pose_t *pose)
 {
     robot_motion_t m = {0.0f, 0.0f, 0u};
-    if (!cfg->aligned_actions || (action != ROBOT_FORWARD && action != ROBOT_BACKWARD)) {
+    if (action != ROBOT_FORWARD && action != ROBOT_BACKWARD) {
         return m;
     }
     const bool forward = action == ROBOT_FORWARD;
+    if (!cfg->aligned_actions) {
+        // Fixed steps have no stop to go back to: half a step back clears a turn in place of the
+        // wall it met, where the robot stood against it and bumped again turning away. On
+        // paper-lab-motion's tuning sets (docs/results/paper-motion.md) 9 of 24 learned, 7 with
+        // the back-off alone and 16 with it and the start's heading settled; backing off 0.04 to
+        // 0.25 m learned 11-16.
+        const float d = 0.5f * cfg->step_m;
+        return drive_motion_(cfg, forward ? -d : d, periods_for_(cfg, 0.5f));
+    }
     // How far back along the step the edge of the pose's cell lies: aligned_step_() the other
     // way, less the margin it adds; the stop is the margin past that edge.
     const float behind = aligned_step_(cfg, pose, heading + (forward ? FW_PI_F : 0.0f)) - cfg->step_past_m;
@@ -105,8 +117,22 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     return drive_motion_(cfg, forward ? -d : d, periods_for_(cfg, d / cfg->step_m));
 }
 
+// Whether a whole number of turns makes a full circle: the headings fixed turns reach from a
+// multiple of turn_rad are then that circle's, and a heading sector can be centred on each.
+static bool turns_divide_circle_(const robot_config_t *cfg)
+{
+    const float n = 2.0f * FW_PI_F / cfg->turn_rad;
+    return fabsf(n - roundf(n)) < 1e-3f;
+}
+
 bool robot_settles(const robot_config_t *cfg)
 {
+    if (!cfg->aligned_actions) {
+        // Fixed turns keep whatever heading a start gave, between two sectors' centres; facing a
+        // multiple of the turn first puts every later heading on one (only the heading settles:
+        // fixed steps have no stops to settle onto).
+        return ROBOT_START_SETTLE != 0 && turns_divide_circle_(cfg);
+    }
     // Headings a quarter turn apart, so that the grid of stops is one of cells' sides.
     return ROBOT_START_SETTLE != 0 && robot_backs_off(cfg) && fabsf(cfg->turn_rad - 0.5f * FW_PI_F) < MIN_TURN_RAD;
 }
@@ -132,8 +158,8 @@ robot_motion_t robot_settle_motion(const robot_config_t *cfg, uint8_t phase, con
 {
     FW_ASSERT(cfg != NULL && pose != NULL);
     robot_motion_t m = {0.0f, 0.0f, 0u};
-    if (!cfg->aligned_actions) {
-        return m;
+    if (!cfg->aligned_actions && phase != ROBOT_SETTLE_FACE_GRID) {
+        return m;  // fixed steps: only the heading settles (robot_settles())
     }
     const float h = wrap_2pi_(pose->heading) / cfg->turn_rad;  // in grid turns
     const float misaligned = (roundf(h) - h) * cfg->turn_rad;  // to the nearest grid heading

@@ -80,6 +80,7 @@ private:
     int robot_line_ = 0, ranger_line_ = 0;
     std::vector<bool> ray_has_mount_;
     bool sensor_bits_given_ = false;
+    bool heading_bits_given_ = false;
 
     bool fail(const std::string &what) { return fail_at(line_, what); }
     bool fail_at(int line, const std::string &what)
@@ -590,6 +591,7 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
         if (!fields(rest, f)) return false;
         e.fitted = true;
         sensor_bits_given_ = seen_field(f, "sensor");
+        heading_bits_given_ = seen_field(f, "heading");
         return true;
     }
     std::vector<Field> f = {
@@ -631,6 +633,16 @@ bool Parser::fit_encoding(Scenario *s)
     };
     e.x_bits = bits_for(e.x_edges.size() - 1);
     e.y_bits = bits_for(e.y_edges.size() - 1);
+    // Fixed turns (`aligned 0`) keep the robot on the headings its settled start and whole turns
+    // reach (robot_settles()): one sector each when they are a power of two, as 45-degree turns'
+    // 8 are. Sectors between them only split the same motion by how far the gyro drifted
+    // (paper-lab-motion's tuning sets: 16 of 24 learned on 8 sectors, 11 on 16).
+    const double turns = 2.0 * kPi / s->actions.turn;
+    const long whole = std::lround(turns);
+    if (!heading_bits_given_ && s->actions.aligned == 0 && std::fabs(turns - static_cast<double>(whole)) < 1e-6 &&
+        whole >= 2 && (whole & (whole - 1)) == 0) {
+        e.heading_bits = bits_for(static_cast<std::size_t>(whole));
+    }
     return true;
 }
 

@@ -412,10 +412,15 @@ static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
     assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_BACKWARD, 0.0f, &pose)),
                        cw - 0.10f - margin, 1e-4);
     assert_int_equal(robot_backoff_motion(&cfg, ROBOT_TURN_LEFT, 0.0f, &pose).periods, 0);
+    // Fixed steps have no stop to go back to: half a step back, whatever the cell.
     cfg.aligned_actions = 0;
-    assert_false(robot_backs_off(&cfg));
+    assert_true(robot_backs_off(&cfg));
     pose.x = 2.0f * cw + 0.45f;
-    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
+    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose)), -0.5f * cfg.step_m,
+                       1e-4);
+    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_BACKWARD, 0.0f, &pose)), 0.5f * cfg.step_m,
+                       1e-4);
+    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_TURN_RIGHT, 0.0f, &pose).periods, 0);
 }
 
 static void test_settling_ends_on_the_grid_of_aligned_stops(void **state)
@@ -451,10 +456,18 @@ static void test_settling_ends_on_the_grid_of_aligned_stops(void **state)
     assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_PHASES, &pose).periods, 0);
     cfg.turn_rad = 3.14159265f / 4.0f;  // 45 degree headings: an aligned step may be diagonal
     assert_false(robot_settles(&cfg));
+    // Fixed steps and 45 degree turns: only the heading settles, to the nearest multiple of the turn.
     cfg = *lab_;
     cfg.aligned_actions = 0;
+    cfg.turn_rad = 45.0f * deg;
+    assert_true(robot_settles(&cfg));
+    pose = (robot_pose_t){2.0f * cw + 0.45f, ch + 0.10f, 60.0f * deg};
+    assert_float_equal(turn_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_FACE_GRID, &pose)), -15.0f * deg, 1e-4);
+    for (uint8_t phase = ROBOT_SETTLE_ALONG; phase < ROBOT_SETTLE_PHASES; phase++) {
+        assert_int_equal(robot_settle_motion(&cfg, phase, &pose).periods, 0);
+    }
+    cfg.turn_rad = 50.0f * deg;  // no whole number of turns makes a circle: no heading to settle on
     assert_false(robot_settles(&cfg));
-    assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose).periods, 0);
 }
 
 // ---- The controller, driving an ideal kinematic robot ------------------------------------------

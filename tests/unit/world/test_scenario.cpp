@@ -156,6 +156,19 @@ void test_encode_auto(void **state)
     // A largest cell side given: 0.5 m cells.
     assert_true(world::parse_scenario(head + "encode auto cell 0.5\n", "a.scn", &s, &err));
     assert_int_equal(world::grid_cells(s, 0), 9);  // 4 + the partition + 4
+    // Heading bits: as given, else 4; with fixed turns that divide the circle into a power of two,
+    // one sector a heading they reach (45 degrees: 8, 3 bits); 16 when given.
+    assert_int_equal(s.encoding.heading_bits, 4);
+    std::string fixed = head;
+    fixed.replace(fixed.find("turn_deg 90 aligned 1 past 0.2"), std::strlen("turn_deg 90 aligned 1 past 0.2"),
+                  "turn_deg 45 aligned 0");
+    assert_true(world::parse_scenario(fixed + "encode auto\n", "a.scn", &s, &err));
+    assert_int_equal(s.encoding.heading_bits, 3);
+    assert_true(world::parse_scenario(fixed + "encode auto heading 4\n", "a.scn", &s, &err));
+    assert_int_equal(s.encoding.heading_bits, 4);
+    fixed.replace(fixed.find("turn_deg 45"), std::strlen("turn_deg 45"), "turn_deg 60");  // 6 headings: not a power of two
+    assert_true(world::parse_scenario(fixed + "encode auto\n", "a.scn", &s, &err));
+    assert_int_equal(s.encoding.heading_bits, 4);
     // A goal no fitted cell centre reaches gets a cell centred on it (its square cuts too).
     std::string off = head;
     off.replace(off.find("goal 3.5 1.7 0.3 cells"), std::strlen("goal 3.5 1.7 0.3 cells"), "goal 2.6 0.4 0.25 cells");

@@ -25,15 +25,16 @@ typedef struct robot_motion {
 /// past the edge of the current x-y cell along the heading (robot_config.h says why).
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
 
-/// Whether the robot backs off after a step that bumped: with aligned actions, and a track
-/// narrower than the smaller side of a cell (a robot with room to stand anywhere in its cell;
-/// the lab robot, not the sonar robot), unless ROBOT_BUMP_BACKOFF is 0.
+/// Whether the robot backs off after a step that bumped, unless ROBOT_BUMP_BACKOFF is 0: with
+/// fixed steps (no cfg->aligned_actions) always; with aligned actions, when its track is narrower
+/// than the smaller side of a cell (a robot with room to stand anywhere in its cell; the lab
+/// robot, not the sonar robot).
 bool robot_backs_off(const robot_config_t *cfg);
 
 /// After `action` (ROBOT_FORWARD or ROBOT_BACKWARD), started facing `heading`, bumped and left
 /// the robot at `pose`: the motion back the way the step came, to step_past_m past the edge of
 /// the pose's cell behind it, where an aligned step into this cell stops. Periods 0 when the
-/// pose is not beyond that point, for a turn, or when actions are not aligned.
+/// pose is not beyond that point, or for a turn. With fixed steps: half a step back.
 robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
                                     const robot_pose_t *pose);
 
@@ -48,7 +49,9 @@ typedef enum robot_settle_phase {
 
 /// Whether the robot settles onto the grid of aligned stops before it observes a first state:
 /// robot_backs_off(), ROBOT_START_SETTLE, and turns of a quarter turn (on a finer grid of
-/// headings an aligned step may be diagonal, and the stops are not a cell's sides). It settles at
+/// headings an aligned step may be diagonal, and the stops are not a cell's sides). With fixed
+/// steps and turns that divide the circle, only the heading settles (ROBOT_SETTLE_FACE_GRID: to
+/// the nearest multiple of turn_rad); ROBOT_START_SETTLE still applies. It settles at
 /// an episode's start, and again after a safe stop cut a step short (the controller starts
 /// afresh from wherever the stop left it).
 bool robot_settles(const robot_config_t *cfg);
@@ -56,7 +59,8 @@ bool robot_settles(const robot_config_t *cfg);
 /// Phase `phase` (robot_settle_phase_t) of settling onto the grid, from `pose` (where the
 /// previous phase ended). An aligned stop is an offset in the cell at which an aligned step along
 /// that axis stops: step_past_m past the edge behind, or short of the edge ahead. Periods 0 when
-/// the phase has nothing to do, for a phase beyond the last, or when actions are not aligned.
+/// the phase has nothing to do, for a phase beyond the last, or, with fixed steps, for every
+/// phase but ROBOT_SETTLE_FACE_GRID.
 /// Settling is not a real step: a bump while settling is not counted, not rewarded and not backed
 /// off from, and settling goes on from where the bump left the robot (its first state may then
 /// be off the grid; about 3 % of starts on the lab robot's far-goal tuning rooms).
