@@ -77,10 +77,7 @@ static robot_motion_t turn_motion_(const robot_config_t *cfg, float turn, uint8_
 
 bool robot_backs_off(const robot_config_t *cfg)
 {
-    if (!cfg->aligned_actions) {
-        return ROBOT_BUMP_BACKOFF != 0;
-    }
-    return ROBOT_BUMP_BACKOFF != 0 && cfg->track_m < robot_grid_min_side(cfg);
+    return ROBOT_BUMP_BACKOFF != 0 && (!cfg->aligned_actions || cfg->track_m < robot_grid_min_side(cfg));
 }
 
 // Why back off: a bump leaves the robot wherever the contact stopped it, and until it has stepped

@@ -78,7 +78,7 @@ bool robot_move_bumped(const robot_move_t *mv)
 float robot_move_heading(const robot_move_t *mv, float gyro_heading_rad)
 {
     FW_ASSERT(mv != NULL);
-    return gyro_heading_rad + mv->heading_offset - mv->gyro_share * mv->gyro_turned;
+    return gyro_heading_rad + (mv->heading_offset - mv->gyro_share * mv->gyro_turned);
 }
 
 // Starts a motion (a step's, the back-off's, settling's): its wheel speeds held for its periods,
@@ -278,6 +278,6 @@ robot_move_event_t robot_move_period(robot_move_t *mv, const robot_config_t *cfg
         mv->gyro_last = h;
     }
     robot_sense_t in = *sensed;
-    in.pose.heading += mv->heading_offset - mv->gyro_share * mv->gyro_turned;
+    in.pose.heading = robot_move_heading(mv, sensed->pose.heading);
     return mv->phase == ROBOT_MOVE_DRIVING ? drive_(mv, cfg, &in, at) : stand_(mv, cfg, &in, at);
 }
