@@ -63,6 +63,14 @@ typedef struct agent_algorithm {
     uint32_t plan_cycles;
 } agent_algorithm_t;
 
+/// The operations every algorithm file defines itself, under these names, for its table:
+///     const agent_algorithm_t agent_X_algorithm = {AGENT_OWN_OPERATIONS_, .backlog = ..., ...};
+/// (the table adds predict, backlog and plan_cycles). An operation added to agent_algorithm_t
+/// that every algorithm defines is added here once.
+#define AGENT_OWN_OPERATIONS_                                                                  \
+    .init = init_, .clear = clear_, .observe = observe_, .plan = plan_, .regions = regions_, \
+    .check = check_, .restored = restored_, .walk = walk_
+
 #define AGENT_DECLARE_ALGORITHM_(kind, number, name, label, id, d) \
     extern const agent_algorithm_t agent_##id##_algorithm;
 AGENT_ALGORITHMS(AGENT_DECLARE_ALGORITHM_)
@@ -141,12 +149,13 @@ uint32_t agent_dyna_q_replay_(agent_t *ag, const dynaq_table_t *table, uint32_t 
 /// What a transition table knows (dyna_q.c), for an algorithm's walk: its counters `table`
 /// (records of capacity) and `table_evicted`, its fill, and its states: each recorded state
 /// visited, with its tried actions (n 1), and each state a tried action led to visited.
-/// A Dyna-Q table's outcome for a tried (s, a) (its `predict`), shared with Dyna-Q (majority).
-bool agent_dyna_q_table_predict_(const dynaq_table_t *table, agent_state_t s, uint8_t a,
-                                 agent_outcome_t *out);
-
 int agent_dyna_q_table_walk_(const agent_t *ag, const dynaq_table_t *table, uint32_t what,
                              agent_visit_t visit, void *data);
+
+/// Dyna-Q's `predict` (dyna_q.c): the table's outcome for a tried (s, a). Dyna-Q (majority) keeps
+/// its table at the same place (the first member of its state, as Dyna-Q's: a union's structs
+/// with a common initial sequence may be read through either, C99 6.5.2.3) and predicts by it.
+bool agent_dyna_q_predict_(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out);
 
 /// The facts of a walk (agent_walk()), handed to `visit`; each returns what it returned.
 int agent_visit_counter_(agent_visit_t visit, void *data, const char *name, uint32_t value,

@@ -121,10 +121,9 @@ static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
     return agent_dyna_q_table_walk_(ag, &ag->alg.dyna_q.table, what, visit, data);
 }
 
-bool agent_dyna_q_table_predict_(const dynaq_table_t *table, agent_state_t s, uint8_t a,
-                                 agent_outcome_t *out)
+bool agent_dyna_q_predict_(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out)
 {
-    const dynaq_record_t *rec = dynaq_find(table, s);
+    const dynaq_record_t *rec = dynaq_find(&ag->alg.dyna_q.table, s);
     if (rec == NULL || !dynaq_bit(rec->tried, a)) {
         return false;
     }
@@ -132,21 +131,9 @@ bool agent_dyna_q_table_predict_(const dynaq_table_t *table, agent_state_t s, ui
     return true;
 }
 
-static bool predict_(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out)
-{
-    return agent_dyna_q_table_predict_(&ag->alg.dyna_q.table, s, a, out);
-}
-
 const agent_algorithm_t agent_dyna_q_algorithm = {
-    .init = init_,
-    .clear = clear_,
-    .observe = observe_,
-    .plan = plan_,
-    .regions = regions_,
-    .check = check_,
-    .restored = restored_,
-    .walk = walk_,
-    .predict = predict_,
+    AGENT_OWN_OPERATIONS_,
+    .predict = agent_dyna_q_predict_,
     .backlog = agent_backlog_none_,
     .plan_cycles = 389u,  // cortex-m4.bench.insn_paper_lab_dyna_q (361 before main merged 23fef33)
 };

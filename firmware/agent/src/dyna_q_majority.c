@@ -116,21 +116,13 @@ static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
     return 0;
 }
 
-static bool predict_(const agent_t *ag, agent_state_t s, uint8_t a, agent_outcome_t *out)
-{
-    return agent_dyna_q_table_predict_(&ag->alg.dyna_q_majority.table, s, a, out);
-}
+// As Dyna-Q's: its table is where Dyna-Q's is (the first member of each one's state).
+FW_STATIC_ASSERT(offsetof(agent_dyna_q_majority_t, table) == offsetof(agent_dyna_q_t, table),
+                 dyna_q_majority_keeps_its_table_where_dyna_q_does);
 
 const agent_algorithm_t agent_dyna_q_majority_algorithm = {
-    .init = init_,
-    .clear = clear_,
-    .observe = observe_,
-    .plan = plan_,
-    .regions = regions_,
-    .check = check_,
-    .restored = restored_,
-    .walk = walk_,
-    .predict = predict_,
+    AGENT_OWN_OPERATIONS_,
+    .predict = agent_dyna_q_predict_,
     .backlog = agent_backlog_none_,
     .plan_cycles = 388u,  // cortex-m4.bench.insn_paper_lab_dyna_q_majority (359 before 23fef33)
 };

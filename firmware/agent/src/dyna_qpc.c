@@ -386,14 +386,7 @@ uint32_t agent_dyna_qpc_backlog_(const agent_t *ag)
 }
 
 const agent_algorithm_t agent_dyna_qpc_algorithm = {
-    .init = init_,
-    .clear = clear_,
-    .observe = observe_,
-    .plan = plan_,
-    .regions = regions_,
-    .check = check_,
-    .restored = restored_,
-    .walk = walk_,
+    AGENT_OWN_OPERATIONS_,
     .predict = predict_,
     .backlog = agent_dyna_qpc_backlog_,
     // cortex-m4.bench.insn_paper_lab: 4,213 when it was set (issue 13; 4,161 when the others were

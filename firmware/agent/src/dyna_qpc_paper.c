@@ -165,14 +165,7 @@ static int walk_(agent_t *ag, uint32_t what, agent_visit_t visit, void *data)
 }
 
 const agent_algorithm_t agent_dyna_qpc_paper_algorithm = {
-    .init = init_,
-    .clear = clear_,
-    .observe = observe_,
-    .plan = plan_,
-    .regions = regions_,
-    .check = check_,
-    .restored = restored_,
-    .walk = walk_,
+    AGENT_OWN_OPERATIONS_,
     .backlog = agent_dyna_qpc_backlog_,
     .plan_cycles = 4213u,  // Dyna-QPC's (agent_kind_info() gives the kind's figure)
 };
