@@ -22,11 +22,9 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 from .bus_decode import e2e_ok
+from .bus_listen import frames, listener_parser
 from .common import (
-    ToolArgumentParser,
     ToolError,
-    add_bus_arguments,
-    bus_from_args,
     float_in,
     int_in,
     load_dbc,
@@ -258,11 +256,7 @@ def _fmt(v) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(
-        prog="dynaqpc-monitor", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    add_bus_arguments(p)
-    p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf, ...) instead of a bus")
+    p = listener_parser("dynaqpc-monitor", __doc__, "frames")
     p.add_argument(
         "--log", metavar="FILE", help="also record: .mcap (Foxglove: decoded signals, pose, raw frames) or .asc/.blf"
     )
@@ -273,8 +267,6 @@ def build_parser() -> argparse.ArgumentParser:
         default=1.0,
         help="the simulation runs X times faster than real time: record in robot time (default 1)",
     )
-    p.add_argument("--count", type=int_in(1), default=None, help="stop after N frames")
-    p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
     p.add_argument("--print", dest="print_frames", action="store_true", help="print every decoded frame")
     p.add_argument(
         "--refresh",
@@ -313,17 +305,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _messages(args, bus):
-    """Yields messages until the source ends; yields None when a bus read timed out."""
-    if args.replay:
-        from .canlog import read_log
-
-        yield from read_log(args.replay)
-        return
-    while True:
-        yield bus.recv(timeout=0.2)
-
-
 def run(args, out=None) -> Monitor:
     out = out or sys.stdout
     from .arena import load_arena
@@ -353,22 +334,22 @@ def run(args, out=None) -> Monitor:
 
             live_fg = LiveFoxglove(db, args.foxglove, args.foxglove_host, arena, ray_angles, grid=grid)
             print(f"dynaqpc-monitor: Foxglove on ws://{args.foxglove_host}:{live_fg.port}", file=sys.stderr, flush=True)
-        bus = None if args.replay else bus_from_args(args)
     except ToolError:
         if logger is not None:
             logger.stop()
-        if live_fg is not None:
-            live_fg.stop()
         raise
-    if bus is not None:
+
+    def listening() -> None:
         # From here on every frame is heard: a script that sends only after this line (before it
         # had to guess how long the imports take) misses none of them.
         print(f"dynaqpc-monitor: listening on {args.interface}:{args.channel}", file=sys.stderr, flush=True)
+
     live = args.refresh > 0 and out.isatty() and not args.print_frames
     start = time.monotonic()
     next_refresh = start + args.refresh
+    source = frames(args, 0.2, listening)
     try:
-        for msg in _messages(args, bus):
+        for msg in source:
             now = time.monotonic()
             if args.duration is not None and now - start >= args.duration:
                 break
@@ -396,8 +377,7 @@ def run(args, out=None) -> Monitor:
             logger.stop()
         if live_fg is not None:
             live_fg.stop()
-        if bus is not None:
-            bus.shutdown()
+        source.close()  # a bus it opened is shut down
     print("\n".join(mon.summary_lines()), file=out)
     return mon
 

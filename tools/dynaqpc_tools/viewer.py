@@ -33,11 +33,9 @@ import time
 from typing import Optional
 
 from .bus_decode import BusState, Pose, PoseDecoder, scenario_ray_angles
+from .bus_listen import frames, listener_parser
 from .common import (
-    ToolArgumentParser,
     ToolError,
-    add_bus_arguments,
-    bus_from_args,
     float_in,
     int_in,
     load_dbc,
@@ -258,15 +256,11 @@ def no_display_reason() -> Optional[str]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = ToolArgumentParser(
-        prog="dynaqpc-viewer", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    add_bus_arguments(p)
+    p = listener_parser("dynaqpc-viewer", __doc__, "pose frames")
     p.add_argument("--frame", default="TLM_POSE", help="pose frame name in the DBC (default %(default)s)")
     p.add_argument("--x-signal"), p.add_argument("--y-signal")
     p.add_argument("--heading-signal"), p.add_argument("--fix-signal")
     p.add_argument("--arena", metavar="JSON", help="arena file written by the simulator")
-    p.add_argument("--replay", metavar="FILE", help="read a recording (.mcap, .asc, .blf) instead of a bus")
     p.add_argument(
         "--png",
         "--headless-png",
@@ -287,8 +281,6 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="M",
         help="a pose this far (m) from the last starts a new trail (default %(default)s)",
     )
-    p.add_argument("--duration", type=float_in(0, lo_open=True), default=None, help="stop after S seconds")
-    p.add_argument("--count", type=int_in(1), default=None, help="stop after N pose frames")
     p.add_argument(
         "--at",
         type=int_in(1),
@@ -355,34 +347,25 @@ def run(args) -> PoseView:
             args.duration is not None and time.monotonic() - start >= args.duration
         )
 
-    bus = None
     seen = set()
+    source = frames(args, 0.05)
     try:
-        if args.replay:
-            from .canlog import read_log
-
-            for msg in read_log(args.replay):
+        for msg in source:
+            if msg is not None:
                 feed(msg)
-                if done():
-                    break
-        else:
-            bus = bus_from_args(args)
-            while not done():
-                msg = bus.recv(timeout=0.05)
-                if msg is not None:
-                    feed(msg)
-                now = time.monotonic()
-                if not args.headless_png and now - last_draw > 0.1:
-                    last_draw = now
-                    view.redraw()
-                    plt.pause(0.001)
-                    if not plt.fignum_exists(view.fig.number):
-                        break  # window closed
+            if done():
+                break
+            now = time.monotonic()
+            if not args.headless_png and not args.replay and now - last_draw > 0.1:
+                last_draw = now
+                view.redraw()
+                plt.pause(0.001)
+                if not plt.fignum_exists(view.fig.number):
+                    break  # window closed
     except KeyboardInterrupt:
         pass
     finally:
-        if bus is not None:
-            bus.shutdown()
+        source.close()  # a bus it opened is shut down
     view.redraw()
     if args.at is not None:
         view.show_upto(args.at - 1)
