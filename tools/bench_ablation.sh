@@ -19,16 +19,10 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 py=$root/.venv/bin/python
 seed=9003 out=$root/results/ablation budget=1000 quick=0 agents=""
-while (($#)); do
-    case $1 in
-        --seed) seed=$2; shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        --budget) budget=$2; shift 2 ;;
-        --agents) agents=${2//,/ }; shift 2 ;;
-        --quick) quick=1; shift ;;
-        *) echo "bench_ablation.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_ablation.sh [--seed S] [--out DIR] [--budget N] [--agents A,B] [--quick]" \
+    "--seed=seed --out=out --budget=budget --agents=agents --quick=quick:1" "$@" || exit 2
+agents=${agents//,/ }
 [ -x "$sim" ] || { echo "bench_ablation.sh: build host-release first ($sim missing)" >&2; exit 2; }
 [ -x "$py" ] || { echo "bench_ablation.sh: run tools/dev.sh setup first ($py missing)" >&2; exit 2; }
 lab_sets=20 sim_sets=4 sim_eps=40 room_sets=2 rooms=12

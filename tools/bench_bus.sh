@@ -23,16 +23,9 @@ SPEED=10
 SCENARIO=paper-sim
 BIN=""
 INSIDE=0
-while [ $# -gt 0 ]; do
-    case "$1" in
-        --seconds) SECONDS_WALL=$2; shift 2 ;;
-        --speed) SPEED=$2; shift 2 ;;
-        --scenario) SCENARIO=$2; shift 2 ;;
-        --bin) BIN=$2; shift 2 ;;
-        --inside) INSIDE=1; shift ;;
-        *) echo "usage: tools/bench_bus.sh [--seconds S] [--speed X] [--scenario NAME] [--bin DIR]" >&2; exit 2 ;;
-    esac
-done
+. "$REPO/tools/script_options.sh"
+script_options "usage: tools/bench_bus.sh [--seconds S] [--speed X] [--scenario NAME] [--bin DIR]" \
+    "--seconds=SECONDS_WALL --speed=SPEED --scenario=SCENARIO --bin=BIN --inside=INSIDE:1" "$@" || exit 2
 if [ -z "$BIN" ]; then
     BIN=$REPO/build/host/bin
     [ -x "$REPO/build/host-release/bin/dynaqpc-fw" ] && BIN=$REPO/build/host-release/bin

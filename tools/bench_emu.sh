@@ -21,17 +21,9 @@ SETS="1 2 3"
 EPISODES=20
 OUT=$REPO/build/bench-emu
 MINUTES=45
-while [ $# -gt 0 ]; do
-    case "$1" in
-        --seed) SEED=$2; shift 2 ;;
-        --sets) SETS=$2; shift 2 ;;
-        --episodes) EPISODES=$2; shift 2 ;;
-        --out) OUT=$2; shift 2 ;;
-        --minutes) MINUTES=$2; shift 2 ;;
-        --summary) SUMMARY_ONLY=1; shift ;;
-        *) echo "usage: tools/bench_emu.sh [--seed S] [--sets \"1 2 3\"] [--episodes E] [--out DIR] [--minutes M] [--summary]" >&2; exit 2 ;;
-    esac
-done
+. "$REPO/tools/script_options.sh"
+script_options "usage: tools/bench_emu.sh [--seed S] [--sets \"1 2 3\"] [--episodes E] [--out DIR] [--minutes M] [--summary]" \
+    "--seed=SEED --sets=SETS --episodes=EPISODES --out=OUT --minutes=MINUTES --summary=SUMMARY_ONLY:1" "$@" || exit 2
 SIM=$REPO/build/host-release/bin/dynaqpc-sim
 EMU=$REPO/.venv/bin/dynaqpc-emu
 PY=$REPO/.venv/bin/python

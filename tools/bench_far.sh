@@ -19,16 +19,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 exp=$root/.venv/bin/dynaqpc-experiment
 seed=9002 out=$root/results/bench-far set=$root/host_sim/rooms/far-eval quick=0 idle_rooms=4
-while (($#)); do
-    case $1 in
-        --seed) seed=$2; shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        --set) set=$2; shift 2 ;;
-        --idle-rooms) idle_rooms=$2; shift 2 ;;
-        --quick) quick=1; shift ;;
-        *) echo "bench_far.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_far.sh [--seed S] [--out DIR] [--set DIR] [--idle-rooms N] [--quick]" \
+    "--seed=seed --out=out --set=set --idle-rooms=idle_rooms --quick=quick:1" "$@" || exit 2
 [ -x "$sim" ] || { echo "bench_far.sh: build host-release first ($sim missing)" >&2; exit 2; }
 [ -x "$exp" ] || { echo "bench_far.sh: run tools/dev.sh setup first ($exp missing)" >&2; exit 2; }
 [ -d "$set" ] || { echo "bench_far.sh: no room set $set" >&2; exit 2; }

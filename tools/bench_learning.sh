@@ -14,14 +14,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 exp=$root/.venv/bin/dynaqpc-experiment
 seed=9001 out=$root/results/bench quick=0
-while (($#)); do
-    case $1 in
-        --seed) seed=$2; shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        --quick) quick=1; shift ;;
-        *) echo "bench_learning.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_learning.sh [--seed S] [--out DIR] [--quick]" \
+    "--seed=seed --out=out --quick=quick:1" "$@" || exit 2
 [ -x "$sim" ] || { echo "bench_learning.sh: build host-release first ($sim missing)" >&2; exit 2; }
 [ -x "$exp" ] || { echo "bench_learning.sh: run tools/dev.sh setup first ($exp missing)" >&2; exit 2; }
 jobs=2

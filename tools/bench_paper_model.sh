@@ -16,16 +16,9 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 seed=9005 out=$root/results/paper-model budgets=5 jobs=2 quick=0
-while (($#)); do
-    case $1 in
-        --seed) seed=$2; shift 2 ;;
-        --budgets) budgets=$2; shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        --jobs) jobs=$2; shift 2 ;;
-        --quick) quick=1; shift ;;
-        *) echo "bench_paper_model.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_paper_model.sh [--seed S] [--budgets 5[,1000]] [--out DIR] [--jobs J] [--quick]" \
+    "--seed=seed --budgets=budgets --out=out --jobs=jobs --quick=quick:1" "$@" || exit 2
 [ -x "$sim" ] || { echo "bench_paper_model.sh: build host-release first ($sim missing)" >&2; exit 2; }
 lab_sets=20 lab_eps=20 sim_sets=8 sim_eps=60
 ((quick)) && lab_sets=2 lab_eps=5 sim_sets=1 sim_eps=2

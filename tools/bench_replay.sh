@@ -13,16 +13,9 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 scenario=paper-lab agent=dyna-qpc planning=1000 first=9001 count=48 out=
-while (($#)); do
-    case $1 in
-        --scenario) scenario=$2; shift 2 ;;
-        --agent) agent=$2; shift 2 ;;
-        --planning) planning=$2; shift 2 ;;
-        --seeds) first=$2 count=$3; shift 3 ;;
-        --out) out=$2; shift 2 ;;
-        *) echo "bench_replay.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_replay.sh [--scenario S] [--agent A] [--planning N] [--seeds FIRST COUNT] [--out DIR]" \
+    "--scenario=scenario --agent=agent --planning=planning --seeds=first,count --out=out" "$@" || exit 2
 [ -x "$sim" ] || { echo "bench_replay.sh: build host-release first ($sim missing)" >&2; exit 2; }
 [[ $planning =~ ^[0-9]+$ && $first =~ ^[0-9]+$ && $count =~ ^[1-9][0-9]*$ ]] ||
     { echo "bench_replay.sh: --planning and --seeds take whole numbers" >&2; exit 2; }

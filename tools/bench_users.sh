@@ -17,15 +17,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 py=$root/.venv/bin/python
 seed=9001 sets=10 set=$root/host_sim/rooms/users-eval out=$root/results/bench-users
-while (($#)); do
-    case $1 in
-        --seed) seed=$2; shift 2 ;;
-        --sets) sets=$2; shift 2 ;;
-        --set) set=$2; shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        *) echo "bench_users.sh: unknown option '$1'" >&2; exit 2 ;;
-    esac
-done
+. "$root/tools/script_options.sh"
+script_options "usage: tools/bench_users.sh [--seed S] [--sets N] [--set DIR] [--out DIR]" \
+    "--seed=seed --sets=sets --set=set --out=out" "$@" || exit 2
 mkdir -p "$out/auto" "$out/equal" "$out/rooms-equal"
 for room in "$set"/paper-lab-*.scn; do
     name=$(basename "$room" .scn)

@@ -33,24 +33,9 @@ ONLY=""
 CUTS=5; STALLS=10; GARBAGE=100; FRAMES=100; COMMANDS=1000; REBOOTS=50; SEED=1
 RANDOM_CUTS=0
 INSIDE=0
-while [ $# -gt 0 ]; do
-    case "$1" in
-    --seconds) SECS=$2; shift ;;
-    --speed) SPEED=$2; shift ;;
-    --bin) BIN=$2; shift ;;
-    --only) ONLY=$2; shift ;;
-    --cuts) CUTS=$2; shift ;;
-    --stalls) STALLS=$2; shift ;;
-    --garbage) GARBAGE=$2; shift ;;
-    --frames) FRAMES=$2; shift ;;
-    --commands) COMMANDS=$2; shift ;;
-    --reboots) REBOOTS=$2; shift ;;
-    --seed) SEED=$2; shift ;;
-    --inside) INSIDE=1 ;;
-    *) echo "soak: unknown argument $1" >&2; exit 2 ;;
-    esac
-    shift
-done
+. "$REPO/tools/script_options.sh"
+script_options "usage: tools/soak.sh [--seconds S] [--speed X] [--bin DIR] [--only FAULT] [--cuts N] [--stalls N] [--garbage N] [--frames N] [--commands N] [--reboots N] [--seed S]" \
+    "--seconds=SECS --speed=SPEED --bin=BIN --only=ONLY --cuts=CUTS --stalls=STALLS --garbage=GARBAGE --frames=FRAMES --commands=COMMANDS --reboots=REBOOTS --seed=SEED --inside=INSIDE:1" "$@" || exit 2
 for f in "$BIN/dynaqpc-fw" "$BIN/dynaqpc-sim" "$PY"; do
     [ -x "$f" ] || { echo "soak: $f missing (build host-release; tools/dev.sh setup)" >&2; exit 77; }
 done
