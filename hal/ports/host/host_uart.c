@@ -52,7 +52,6 @@
 #include "hal_host/hal_host.h"
 #include "host_internal.h"
 
-#define RX_MASK ((uint32_t)FW_CFG_HOST_UART_RX_CAPACITY - 1u)
 #define DEFAULT_BAUD 115200u
 #define READER_POLL_MS 20
 #define STALL_GAP_MS 50 // > READER_POLL_MS plus the host's usual wake-up latency, < a 0.1 s stall
@@ -62,12 +61,18 @@ static bool ready_;
 static uint32_t baud_ = DEFAULT_BAUD;
 static hal_uart_rx_fn on_rx_;
 static void *rx_ctx_;
-static uint8_t rx_[FW_CFG_HOST_UART_RX_CAPACITY];
-static uint32_t rx_head_; // free-running
-static uint32_t rx_tail_;
-static uint8_t tx_[FW_CFG_HOST_UART_TX_CAPACITY];
-static uint32_t tx_head_;
-static uint32_t tx_count_;
+// A FIFO of bytes, for the bytes received and for the bytes sent while no tty is attached (a test
+// takes them, hal_host_uart_take_tx). Its user holds lock_.
+typedef struct {
+    uint8_t *buf;
+    uint32_t capacity;
+    uint32_t head; // the oldest byte
+    uint32_t count;
+} byte_ring_t;
+static uint8_t rx_buf_[FW_CFG_HOST_UART_RX_CAPACITY];
+static uint8_t tx_buf_[FW_CFG_HOST_UART_TX_CAPACITY];
+static byte_ring_t rx_ = {rx_buf_, FW_CFG_HOST_UART_RX_CAPACITY, 0, 0};
+static byte_ring_t tx_ = {tx_buf_, FW_CFG_HOST_UART_TX_CAPACITY, 0, 0};
 static hal_uart_stats_t stats_;
 static uint32_t discarded_;
 static uint32_t stall_lost_;
@@ -140,21 +145,41 @@ int hal_uart_init(uint32_t baud, hal_uart_rx_fn on_rx, void *ctx)
     return rc;
 }
 
+// Stores what fits of data[0..len) after the bytes already in r; returns how many it stored.
+static size_t ring_put_(byte_ring_t *r, const uint8_t *data, size_t len)
+{
+    size_t n = 0;
+    while (n < len && r->count < r->capacity) {
+        r->buf[(r->head + r->count) % r->capacity] = data[n++];
+        r->count++;
+    }
+    return n;
+}
+
+// Moves up to cap of the oldest bytes of r to buf, under lock_; returns how many (0 with no buf).
+static size_t ring_take_(byte_ring_t *r, uint8_t *buf, size_t cap)
+{
+    if (buf == NULL) {
+        return 0;
+    }
+    pthread_mutex_lock(&lock_);
+    size_t n = 0;
+    while (n < cap && r->count > 0u) {
+        buf[n++] = r->buf[r->head];
+        r->head = (r->head + 1u) % r->capacity;
+        r->count--;
+    }
+    pthread_mutex_unlock(&lock_);
+    return n;
+}
+
 size_t hal_host_uart_feed(const uint8_t *data, size_t len)
 {
     if (data == NULL || len == 0u) {
         return 0;
     }
     pthread_mutex_lock(&lock_);
-    size_t stored = 0;
-    if (ready_) {
-        size_t room = FW_CFG_HOST_UART_RX_CAPACITY - (size_t)(rx_tail_ - rx_head_);
-        stored = len < room ? len : room;
-        for (size_t i = 0; i < stored; i++) {
-            rx_[rx_tail_ & RX_MASK] = data[i];
-            rx_tail_++;
-        }
-    }
+    const size_t stored = ready_ ? ring_put_(&rx_, data, len) : 0u;
     stats_.rx_bytes += (uint32_t)stored;
     if (ready_) {
         stats_.rx_overruns += (uint32_t)(len - stored);
@@ -165,7 +190,7 @@ size_t hal_host_uart_feed(const uint8_t *data, size_t len)
     void *ctx = rx_ctx_;
     // Also when nothing fitted: the firmware's last notification may have been lost (its event
     // queue was full), and a full ring stores no byte to notify it again (hal_uart_rx_fn).
-    const bool unread = ready_ && rx_tail_ != rx_head_;
+    const bool unread = ready_ && rx_.count != 0u;
     pthread_mutex_unlock(&lock_);
 
     if (unread) {
@@ -188,17 +213,7 @@ void hal_host_uart_inject_error(void)
 
 size_t hal_uart_read(uint8_t *buf, size_t cap)
 {
-    if (buf == NULL) {
-        return 0;
-    }
-    pthread_mutex_lock(&lock_);
-    size_t n = 0;
-    while (n < cap && rx_head_ != rx_tail_) {
-        buf[n++] = rx_[rx_head_ & RX_MASK];
-        rx_head_++;
-    }
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return ring_take_(&rx_, buf, cap);
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
@@ -214,10 +229,7 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
         ssize_t w = write(fd_, data, len);
         n = w > 0 ? (size_t)w : 0u; // EAGAIN: the line is busy, the caller retries
     } else {
-        while (n < len && tx_count_ < (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY) {
-            tx_[(tx_head_ + tx_count_) % (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY] = data[n++];
-            tx_count_++;
-        }
+        n = ring_put_(&tx_, data, len);
     }
     pthread_mutex_unlock(&lock_);
     return n;
@@ -232,18 +244,7 @@ void hal_uart_get_stats(hal_uart_stats_t *out)
 
 size_t hal_host_uart_take_tx(uint8_t *buf, size_t cap)
 {
-    if (buf == NULL) {
-        return 0;
-    }
-    pthread_mutex_lock(&lock_);
-    size_t n = 0;
-    while (n < cap && tx_count_ > 0u) {
-        buf[n++] = tx_[tx_head_];
-        tx_head_ = (tx_head_ + 1u) % (uint32_t)FW_CFG_HOST_UART_TX_CAPACITY;
-        tx_count_--;
-    }
-    pthread_mutex_unlock(&lock_);
-    return n;
+    return ring_take_(&tx_, buf, cap);
 }
 
 static int64_t now_us(void)
@@ -502,8 +503,8 @@ void host_uart_reset(void)
     baud_ = DEFAULT_BAUD;
     on_rx_ = NULL;
     rx_ctx_ = NULL;
-    rx_head_ = rx_tail_ = 0;
-    tx_head_ = tx_count_ = 0;
+    rx_.head = rx_.count = 0;
+    tx_.head = tx_.count = 0;
     memset(&stats_, 0, sizeof stats_);
     discarded_ = 0;
     stall_lost_ = 0;
