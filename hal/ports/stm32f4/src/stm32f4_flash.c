@@ -133,8 +133,10 @@ static void reset_data_cache_(stm32f4_flash_if_t *f)
     }
 }
 
-// Runs one operation already described by `cr_bits` (PG, or SER with SNB) and locks again.
-static int begin_(const stm32f4_flash_dev_t *d)
+// Starts one operation: waits for the flash, clears what a previous one left, unlocks, and
+// selects the operation in CR (`op`: PG, or SER with the sector's SNB) at 32-bit parallelism.
+// end_() locks again.
+static int begin_(const stm32f4_flash_dev_t *d, uint32_t op)
 {
     stm32f4_flash_if_t *f = d->regs;
     if (wait_idle_(d, STM32F4_CFG_SHORT_WAIT_POLLS) != FW_OK) {
@@ -147,6 +149,8 @@ static int begin_(const stm32f4_flash_dev_t *d)
     if (unlock_(f) != FW_OK) {
         return FW_ERR_IO;
     }
+    f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SNB_MASK | FLASH_CR_SER | FLASH_CR_PG)) |
+            FLASH_CR_PSIZE_X32 | op;
     return FW_OK;
 }
 
@@ -169,15 +173,12 @@ int stm32f4_flash_erase(const stm32f4_flash_dev_t *d, uint32_t sector)
     if (sector >= d->sector_count) {
         return FW_ERR_INVAL;
     }
-    int rc = begin_(d);
+    const uint32_t snb = stm32f4_flash_snb(d->first_sector + sector) << FLASH_CR_SNB_SHIFT;
+    int rc = begin_(d, FLASH_CR_SER | snb);
     if (rc != FW_OK) {
         return rc;
     }
-    stm32f4_flash_if_t *f = d->regs;
-    f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SNB_MASK | FLASH_CR_PG)) |
-            FLASH_CR_PSIZE_X32 | FLASH_CR_SER |
-            (stm32f4_flash_snb(d->first_sector + sector) << FLASH_CR_SNB_SHIFT);
-    f->CR |= FLASH_CR_STRT;
+    d->regs->CR |= FLASH_CR_STRT;
     rc = end_(d, STM32F4_CFG_ERASE_WAIT_POLLS);
     if (rc != FW_OK) {
         return rc;
@@ -202,13 +203,11 @@ int stm32f4_flash_program(const stm32f4_flash_dev_t *d, uint32_t offset, const v
     if (len == 0u) {
         return FW_OK;
     }
-    int rc = begin_(d);
+    int rc = begin_(d, FLASH_CR_PG);
     if (rc != FW_OK) {
         return rc;
     }
-    stm32f4_flash_if_t *f = d->regs;
-    f->CR = (f->CR & ~(FLASH_CR_PSIZE_MASK | FLASH_CR_SER | FLASH_CR_SNB_MASK)) |
-            FLASH_CR_PSIZE_X32 | FLASH_CR_PG;
+    const stm32f4_flash_if_t *f = d->regs;
     const uint8_t *src = (const uint8_t *)data;
     volatile uint32_t *dst = (volatile uint32_t *)(d->mem + offset);
     for (size_t i = 0; i < len / 4u; i++) {
