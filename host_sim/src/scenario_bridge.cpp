@@ -81,7 +81,9 @@ void set_actions(robot_config_t &r, const world::Scenario &sc)
     r.n_ranges = static_cast<uint8_t>(sc.ranger.rays.size());
     r.step_m = static_cast<float>(sc.actions.step);
     r.turn_rad = static_cast<float>(sc.actions.turn);
-    r.aligned_actions = static_cast<uint8_t>(sc.actions.aligned);
+    r.aligned_actions = static_cast<uint8_t>(sc.actions.aligned == 0 ? ROBOT_ACTIONS_FIXED
+                                             : sc.actions.centred   ? ROBOT_ACTIONS_CENTRED
+                                                                    : ROBOT_ACTIONS_ALIGNED);
     r.step_past_m = static_cast<float>(sc.actions.past);
     r.track_m = static_cast<float>(sc.robot.track);
     r.period_us = static_cast<uint32_t>(std::lround(sc.timing.control_period * 1e6));

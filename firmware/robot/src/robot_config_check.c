@@ -99,7 +99,8 @@ int robot_config_check(const robot_config_t *c)
     }
     // An aligned step ends inside the next cell, not beyond it.
     const float cell = robot_grid_min_side(c);
-    if (c->aligned_actions && (!finite_positive_(c->step_past_m) || !(c->step_past_m < cell))) {
+    if (c->aligned_actions > ROBOT_ACTIONS_CENTRED ||
+        (c->aligned_actions && (!finite_positive_(c->step_past_m) || !(c->step_past_m < cell)))) {
         return FW_ERR_INVAL;
     }
     // Cricket needs three beacons for a fix.

@@ -24,28 +24,73 @@ static float aligned_turn_(float heading, float turn, bool left)
     return (k - h) * turn;
 }
 
-// Distance along `dir` (radians) from the pose to step_past_m beyond the edge of its cell.
-static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+// Distance along `dir` (radians) from the pose to the edge of its cell, at most the cell's
+// diagonal; *axis is the axis whose edge it meets first.
+static float edge_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir, uint32_t *axis)
 {
     const float c = cosf(dir), s = sinf(dir);
     // The cell the state encodes (robot_grid_cell() also clamps a pose just outside the arena).
     float x0, cw, y0, ch;
     robot_grid_span(cfg, ROBOT_AXIS_X, robot_grid_cell(cfg, ROBOT_AXIS_X, pose->x), &x0, &cw);
     robot_grid_span(cfg, ROBOT_AXIS_Y, robot_grid_cell(cfg, ROBOT_AXIS_Y, pose->y), &y0, &ch);
-    float t = 1e9f;
+    float tx = 1e9f, ty = 1e9f;
     if (c > 1e-3f) {
-        t = (x0 + cw - pose->x) / c;
+        tx = (x0 + cw - pose->x) / c;
     } else if (c < -1e-3f) {
-        t = (x0 - pose->x) / c;
+        tx = (x0 - pose->x) / c;
     }
     if (s > 1e-3f) {
-        t = fminf(t, (y0 + ch - pose->y) / s);
+        ty = (y0 + ch - pose->y) / s;
     } else if (s < -1e-3f) {
-        t = fminf(t, (y0 - pose->y) / s);
+        ty = (y0 - pose->y) / s;
     }
-    const float margin = cfg->step_past_m;
-    // At least the margin (a pose on the edge), at most a cell's diagonal and the margin.
-    return fminf(fmaxf(t, 0.0f) + margin, sqrtf(cw * cw + ch * ch) + margin);
+    *axis = ty < tx ? ROBOT_AXIS_Y : ROBOT_AXIS_X;
+    // At least 0 (a pose on the edge), at most a cell's diagonal.
+    return fminf(fmaxf(fminf(tx, ty), 0.0f), sqrtf(cw * cw + ch * ch));
+}
+
+// How far beyond an edge at `edge_at` along `axis` a step moving towards `sign` (+1 or -1)
+// stops: step_past_m, or with centred actions half the side of the cell it enters. A fitted
+// cell narrower than step_past_m lies inside a partition and is stepped over, as step_past_m
+// steps over it.
+static float stop_beyond_(const robot_config_t *cfg, uint32_t axis, float edge_at, float sign)
+{
+    if (cfg->aligned_actions != ROBOT_ACTIONS_CENTRED) {
+        return cfg->step_past_m;
+    }
+    const uint32_t cells = robot_grid_cells(cfg, axis);
+    float beyond = 0.0f, lo = 0.0f, side = 0.0f;
+    uint32_t k = robot_grid_cell(cfg, axis, edge_at + sign * 1e-4f);
+    robot_grid_span(cfg, axis, k, &lo, &side);
+    if (side < cfg->step_past_m && k > 0u && k + 1u < cells) {
+        beyond = side;
+        k = sign > 0.0f ? k + 1u : k - 1u;
+        robot_grid_span(cfg, axis, k, &lo, &side);
+    }
+    return beyond + 0.5f * side;
+}
+
+// Distance along `dir` (radians) from the pose to where an aligned step that way stops, in the
+// next cell.
+static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+{
+    uint32_t axis = ROBOT_AXIS_X;
+    const float t = edge_distance_(cfg, pose, dir, &axis);
+    const float along = axis == ROBOT_AXIS_X ? cosf(dir) : sinf(dir);
+    const float edge_at = (axis == ROBOT_AXIS_X ? pose->x : pose->y) + t * along;
+    return t + stop_beyond_(cfg, axis, edge_at, along > 0.0f ? 1.0f : -1.0f);
+}
+
+// Where along an axis of its cell, `behind` from the edge behind and `ahead` from the edge
+// ahead, an aligned step leaves the robot: the nearer of its two stops step_past_m from either
+// edge, or the centre.
+static float stop_in_cell_(const robot_config_t *cfg, float behind, float ahead)
+{
+    const float len = behind + ahead;
+    if (cfg->aligned_actions == ROBOT_ACTIONS_CENTRED) {
+        return 0.5f * len;
+    }
+    return behind < 0.5f * len ? cfg->step_past_m : len - cfg->step_past_m;
 }
 
 // Shorter drives and turns than these are not worth a motion: the pose is already there.
@@ -103,10 +148,14 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
         const float d = 0.5f * cfg->step_m;
         return drive_motion_(cfg, forward ? -d : d, periods_for_(cfg, 0.5f));
     }
-    // How far back along the step the edge of the pose's cell lies: aligned_step_() the other
-    // way, less the margin it adds; the stop is the margin past that edge.
-    const float behind = aligned_step_(cfg, pose, heading + (forward ? FW_PI_F : 0.0f)) - cfg->step_past_m;
-    const float d = behind - cfg->step_past_m;
+    // How far back along the step the edge of the pose's cell lies; the stop is where a step
+    // into the cell along it ends (step_past_m past that edge, or the centre).
+    uint32_t axis = ROBOT_AXIS_X;
+    const float back = heading + (forward ? FW_PI_F : 0.0f);
+    const float behind = edge_distance_(cfg, pose, back, &axis);
+    const float d = cfg->aligned_actions == ROBOT_ACTIONS_CENTRED
+                        ? behind - 0.5f * (behind + edge_distance_(cfg, pose, back + FW_PI_F, &axis))
+                        : behind - cfg->step_past_m;
     if (!(d > MIN_DRIVE_M)) {
         return m;
     }
@@ -139,11 +188,10 @@ bool robot_settles(const robot_config_t *cfg)
 // edge ahead); 0 when it is there already.
 static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
-    const float ahead = aligned_step_(cfg, pose, dir) - cfg->step_past_m;
-    const float behind = aligned_step_(cfg, pose, dir + FW_PI_F) - cfg->step_past_m;
-    const float len = behind + ahead;
-    const float target = behind < 0.5f * len ? cfg->step_past_m : len - cfg->step_past_m;
-    const float d = target - behind;
+    uint32_t axis = ROBOT_AXIS_X;
+    const float ahead = edge_distance_(cfg, pose, dir, &axis);
+    const float behind = edge_distance_(cfg, pose, dir + FW_PI_F, &axis);
+    const float d = stop_in_cell_(cfg, behind, ahead) - behind;
     return fabsf(d) > MIN_DRIVE_M ? d : 0.0f;
 }
 

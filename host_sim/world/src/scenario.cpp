@@ -115,6 +115,7 @@ private:
     bool key_start(const Tokens &t, Scenario *s);
     bool key_encode(const Tokens &t, Scenario *s);
     bool fit_encoding(Scenario *s);
+    bool resolve_stop(Scenario *s);
     bool key_actions(const Tokens &t, Scenario *s);
     bool key_rewards(const Tokens &t, Scenario *s);
     bool key_learning(const Tokens &t, Scenario *s);
@@ -654,8 +655,13 @@ bool Parser::key_actions(const Tokens &t, Scenario *s)
         {"turn_deg", T::Deg, &s->actions.turn, 0.1, 180.0},
         {"aligned", T::Int, &s->actions.aligned, 0, 1},
         {"past", T::Real, &s->actions.past, 0.001, 10.0},
+        {"stop", T::Text, &s->actions.stop, 0, 0},
     };
-    return fields(t, f);
+    if (!fields(t, f)) return false;
+    if (s->actions.stop != "auto" && s->actions.stop != "past" && s->actions.stop != "centre") {
+        return fail("actions stop '" + s->actions.stop + "': unknown (auto, past, centre)");
+    }
+    return true;
 }
 
 bool Parser::key_rewards(const Tokens &t, Scenario *s)
@@ -793,6 +799,25 @@ bool Parser::validate_encoding(Scenario *s)
         return fail_at(encode_line_ != 0 ? encode_line_ : last_line_,
                        "encode: more than 32 state bits in all");
     }
+    return resolve_stop(s);
+}
+
+// Why centres on a fitted grid: its edges lie on the room's faces, and a stop `past` beyond the
+// edge crossed is one of two per axis, `past` from either edge. The rangers read different codes
+// from the two, and a turn at the one beside a wall sweeps the robot's corner to it (the lab
+// robot's half-diagonal is 0.160 m, its `past` 0.16 m). The centre is one stop, as far from both
+// faces as the cell allows. A robot too large to turn inside a cell (the sonar robot: 0.78 m
+// across its corners, cells of 0.5 m) gains no clearance from it and keeps `past`. Measured on
+// the tuning rooms: docs/agent.md, "A stop at the cell's centre".
+bool Parser::resolve_stop(Scenario *s)
+{
+    ActionSpec &a = s->actions;
+    if (a.stop != "auto" && a.aligned == 0) {
+        return fail_at(actions_line_, "actions stop " + a.stop + " needs aligned 1 (fixed steps have no stops)");
+    }
+    const double max_side = s->encoding.max_cell > 0.0 ? s->encoding.max_cell : fit_cell_side(*s);
+    const bool turns_inside = std::hypot(s->robot.length, s->robot.width) < max_side;
+    a.centred = a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && s->encoding.fitted && turns_inside));
     return true;
 }
 
@@ -1044,7 +1069,7 @@ std::string layout_change_problem(const Scenario &a, const Scenario &b)
              a.encoding.fitted == b.encoding.fitted && a.encoding.max_cell == b.encoding.max_cell &&
              a.encoding.heading_bits == b.encoding.heading_bits && a.encoding.sensor_bits == b.encoding.sensor_bits,
          "the encoding"},
-        {a.actions.step == b.actions.step && a.actions.turn == b.actions.turn && a.actions.aligned == b.actions.aligned &&
+        {a.actions.step == b.actions.step && a.actions.turn == b.actions.turn && a.actions.aligned == b.actions.aligned && a.actions.centred == b.actions.centred &&
              a.actions.past == b.actions.past,
          "the actions"},
         {a.rewards.bump == b.rewards.bump && a.rewards.goal == b.rewards.goal && a.rewards.step == b.rewards.step,

@@ -391,6 +391,50 @@ static void test_fitted_grid(void **state)
     assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
 }
 
+// Centred actions (ROBOT_ACTIONS_CENTRED): a step stops at the centre of the cell it enters,
+// over a thin cell to the centre of the one beyond; settling and the back-off go to the centre.
+static void test_centred_steps_stop_at_the_centre_of_the_next_cell(void **state)
+{
+    (void)state;
+    robot_config_t cfg = *lab_;  // 4.3 x 3.2 m, 0.4 m rows, step_past_m 0.16
+    cfg.grid[0].cells = 4;       // x: 0, 1.0, 1.9, 2.0 (a 0.1 m partition), 4.3
+    const float ex[5] = {0.0f, 1.0f, 1.9f, 2.0f, 4.3f};
+    for (int k = 0; k < 5; k++) {
+        cfg.grid[0].edge[k] = ex[k];
+    }
+    cfg.goal_cells = 0;
+    cfg.aligned_actions = ROBOT_ACTIONS_CENTRED;
+    assert_int_equal(robot_config_check(&cfg), FW_OK);
+    // East from x 0.3: to the centre of cell 1 (1.45).
+    robot_pose_t pose = {0.3f, 1.0f, 0.0f};
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 1.15f, 1e-4);
+    // East from x 1.5: over the partition's thin cell to the centre of cell 3 (3.15).
+    pose.x = 1.5f;
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 1.65f, 1e-4);
+    // Backward (west) from x 3.15 facing east: over the thin cell to 1.45.
+    pose.x = 3.15f;
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_BACKWARD, &pose)), -1.7f, 1e-4);
+    // North along the equal rows from y 1.0 (row 2, 0.8-1.2): to row 3's centre, 1.4.
+    pose = (robot_pose_t){0.5f, 1.0f, 0.5f * 3.14159265f};
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 0.4f, 1e-4);
+    // Into the last row, at the arena's wall: its centre too (from 2.5 in row 6 to 3.0).
+    pose = (robot_pose_t){3.15f, 2.5f, 0.5f * 3.14159265f};
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 0.5f, 1e-4);
+    // Settling goes to the centre: from x 0.3 in cell 0 (0-1.0) facing east, 0.2 east.
+    pose = (robot_pose_t){0.3f, 1.0f, 0.0f};
+    assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose)), 0.2f, 1e-4);
+    pose.x = 0.5f;
+    assert_int_equal(robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose).periods, 0);
+    // A step east that bumped 0.8 m into cell 1 (1.0-1.9) backs off to its centre, 1.45.
+    pose.x = 1.8f;
+    assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose)), -0.35f, 1e-4);
+    pose.x = 1.3f;  // short of the centre: nothing to back off
+    assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
+    // Not a kind of actions.
+    cfg.aligned_actions = ROBOT_ACTIONS_CENTRED + 1;
+    assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
+}
+
 static void test_backoff_returns_to_where_an_aligned_step_stops(void **state)
 {
     (void)state;
@@ -1050,6 +1094,7 @@ int main(void)
         cmocka_unit_test(test_aligned_turns_end_on_the_grid_of_headings),
         cmocka_unit_test(test_aligned_steps_cross_into_the_next_cell),
         cmocka_unit_test(test_fitted_grid),
+        cmocka_unit_test(test_centred_steps_stop_at_the_centre_of_the_next_cell),
         cmocka_unit_test(test_backoff_returns_to_where_an_aligned_step_stops),
         cmocka_unit_test(test_settling_ends_on_the_grid_of_aligned_stops),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),

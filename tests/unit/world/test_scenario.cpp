@@ -175,6 +175,28 @@ void test_encode_auto(void **state)
     assert_true(world::parse_scenario(off + "encode auto\n", "a.scn", &s, &err));
     assert_true(world::in_goal(s, 2.6, 0.4));
     assert_int_equal(world::goal_cells(s).size(), 1u);
+    // Where aligned steps stop (`actions stop`): auto gives the cell's centre on a fitted grid
+    // whose cells the robot turns inside (0.36 m across its corners, 1 m cells), else `past`.
+    assert_true(world::parse_scenario(head + "encode auto\n", "a.scn", &s, &err));
+    assert_true(s.actions.centred);
+    assert_true(world::parse_scenario(head + "encode x 2 y 1 heading 2\n", "a.scn", &s, &err));
+    assert_false(s.actions.centred);  // an equal grid
+    assert_true(world::parse_scenario(head + "encode auto cell 0.3\n", "a.scn", &s, &err));
+    assert_false(s.actions.centred);  // cells narrower than the robot's turn
+    std::string stop = head;
+    stop.replace(stop.find("past 0.2"), std::strlen("past 0.2"), "past 0.2 stop past");
+    assert_true(world::parse_scenario(stop + "encode auto\n", "a.scn", &s, &err));
+    assert_false(s.actions.centred);
+    stop.replace(stop.find("stop past"), std::strlen("stop past"), "stop centre");
+    assert_true(world::parse_scenario(stop + "encode x 2 y 1 heading 2\n", "a.scn", &s, &err));
+    assert_true(s.actions.centred);
+    stop.replace(stop.find("stop centre"), std::strlen("stop centre"), "stop middle");
+    assert_false(world::parse_scenario(stop + "encode auto\n", "a.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "actions stop 'middle': unknown (auto, past, centre)"));
+    std::string fixed_centre = fixed;
+    fixed_centre.replace(fixed_centre.find("aligned 0"), std::strlen("aligned 0"), "aligned 0 stop centre");
+    assert_false(world::parse_scenario(fixed_centre + "encode auto\n", "a.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "needs aligned 1"));
     // Refused: bits with auto, past not inside a cell, more than 32 cells.
     assert_false(world::parse_scenario(head + "encode auto x 3\n", "a.scn", &s, &err));
     assert_non_null(std::strstr(err.c_str(), "unknown field 'x'"));

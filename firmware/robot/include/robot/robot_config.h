@@ -87,6 +87,13 @@ typedef enum robot_values {
 #endif
 
 /// Where the pose comes from.
+/// How actions move (robot_config_t.aligned_actions).
+typedef enum robot_actions_kind {
+    ROBOT_ACTIONS_FIXED = 0,    ///< fixed steps and turns (the paper's)
+    ROBOT_ACTIONS_ALIGNED = 1,  ///< aligned to the grid; a step stops step_past_m past the edge it crosses
+    ROBOT_ACTIONS_CENTRED = 2,  ///< aligned to the grid; a step stops at the centre of the cell it enters
+} robot_actions_kind_t;
+
 typedef enum robot_pose_source {
     ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle
     ROBOT_POSE_CRICKET = 1,  ///< paper-lab: x, y trilaterated from Cricket ranges; heading from the gyro
@@ -143,11 +150,16 @@ typedef struct robot_config {
     /// next one depending on where in the cell the robot stood, a difference the state cannot
     /// show; aligned actions make the outcome of (state, action) nearly deterministic, which is
     /// what a table and its model can learn from in a few thousand steps (docs/scenarios.md).
+    ///
+    /// A robot_actions_kind_t. With ROBOT_ACTIONS_CENTRED a step stops at the centre of the cell
+    /// it enters, so each cell has one stop per axis instead of two, as far from both of its
+    /// edges as the cell allows (docs/scenarios.md, "Where a step stops").
     uint8_t aligned_actions;
     /// Aligned steps end this far past the edge of the cell they leave (m, less than the smaller
     /// side of a cell). Where in the next cell the robot stops decides what its rangers see of
     /// the cell after it; choose it so a wall one cell ahead reads the same every time
-    /// (docs/scenarios.md, "Where a step stops").
+    /// (docs/scenarios.md, "Where a step stops"). Centred steps stop at the centre instead; for
+    /// both, a fitted cell narrower than this lies inside an obstacle and is stepped over.
     float step_past_m;
     /// After the action, wait with the wheels stopped for a fresh pose fix before observing
     /// (the paper's lab robot waited for a stable Cricket fix). 0: observe at once.

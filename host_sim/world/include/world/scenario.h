@@ -160,6 +160,11 @@ struct ActionSpec {
     double turn = 0.78539816339744830962;       ///< rad, turn per action (45 degrees)
     int aligned = 0;  ///< 1: turns end on multiples of `turn`, steps just past the next cell edge
     double past = 0.0;  ///< m an aligned step ends past the cell edge; if not given, the parser sets a fifth of the smaller cell side
+    /// `stop`: where an aligned step stops in the cell it enters: "past" (`past` beyond the edge),
+    /// "centre", or "auto" (the default): the centre on a fitted grid (`encode auto`) whose cells
+    /// the robot turns inside, else `past` (docs/scenarios.md, "Where a step stops").
+    std::string stop = "auto";
+    bool centred = false;  ///< the parser's verdict: aligned steps stop at cell centres
 };
 
 struct Rewards {
