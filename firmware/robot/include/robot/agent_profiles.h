@@ -111,26 +111,19 @@ FW_STATIC_ASSERT(AGENT_PAPER_FITS_(agent_memory_maze_t) && AGENT_PAPER_FITS_(age
                      AGENT_PAPER_FITS_(agent_memory_paper_sim_t) &&
                      AGENT_PAPER_FITS_(agent_memory_paper_sim_large_t),
                  paper_models_fit_in_our_model_s_bytes);
-FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_MAZE_PAPER_INV_CELLS) &&
-                     FW_IS_POW2(FW_CFG_LAB_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_LAB_PAPER_INV_CELLS) &&
-                     FW_IS_POW2(FW_CFG_SIM_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_SIM_PAPER_INV_CELLS),
-                 paper_model_tables_pow2);
-
 // Every hashed table is a power of two (hashing masks the index); the Dyna-Q tables' records
-// need not be (their index is: DYNAQ_INDEX_SLOTS).
-FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_LAB_Q_STATES) && FW_IS_POW2(FW_CFG_LAB_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_LAB_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_LAB_TRIED_PAIRS),
-                 paper_lab_tables_pow2);
-FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_SIM_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_TRIED_PAIRS),
-                 paper_sim_tables_pow2);
-FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_SIM_LARGE_Q_STATES) && FW_IS_POW2(FW_CFG_SIM_LARGE_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_SIM_LARGE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_SIM_LARGE_TRIED_PAIRS) &&
-                     FW_IS_POW2(FW_CFG_SIM_LARGE_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_SIM_LARGE_PAPER_INV_CELLS),
+// need not be (their index is: DYNAQ_INDEX_SLOTS). Of the profile whose limits are FW_CFG_<P>_*:
+// the Q store, CMAC-Model, the queue and the tried pairs; the paper model's CMACs.
+#define AGENT_TABLES_POW2_(P)                                                    \
+    (FW_IS_POW2(FW_CFG_##P##_Q_STATES) && FW_IS_POW2(FW_CFG_##P##_CMAC_CELLS) &&  \
+     FW_IS_POW2(FW_CFG_##P##_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_##P##_TRIED_PAIRS))
+#define AGENT_PAPER_TABLES_POW2_(P)                                               \
+    (FW_IS_POW2(FW_CFG_##P##_PAPER_FWD_CELLS) && FW_IS_POW2(FW_CFG_##P##_PAPER_INV_CELLS))
+FW_STATIC_ASSERT(AGENT_TABLES_POW2_(LAB) && AGENT_PAPER_TABLES_POW2_(LAB), paper_lab_tables_pow2);
+FW_STATIC_ASSERT(AGENT_TABLES_POW2_(SIM) && AGENT_PAPER_TABLES_POW2_(SIM), paper_sim_tables_pow2);
+FW_STATIC_ASSERT(AGENT_TABLES_POW2_(SIM_LARGE) && AGENT_PAPER_TABLES_POW2_(SIM_LARGE),
                  paper_sim_large_tables_pow2);
-FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_MAZE_Q_STATES) && FW_IS_POW2(FW_CFG_MAZE_CMAC_CELLS) &&
-                     FW_IS_POW2(FW_CFG_MAZE_PQ_CAPACITY) && FW_IS_POW2(FW_CFG_MAZE_TRIED_PAIRS),
-                 maze_tables_pow2);
+FW_STATIC_ASSERT(AGENT_TABLES_POW2_(MAZE) && AGENT_PAPER_TABLES_POW2_(MAZE), maze_tables_pow2);
 
 /// The storage of each profile and an agent to run on it, one static instance each, defined in
 /// its own object file so that an image links only the profile it uses and the size report of
