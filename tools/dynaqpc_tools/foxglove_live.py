@@ -193,6 +193,12 @@ class Build:
     def _ts(self, t: float):
         return self.m.Timestamp.from_epoch_secs(t)
 
+    def _scene(self, t: float, frame_id: str, ident: str, **parts):
+        """A scene update of one entity `ident` at time t in frame_id, of `parts` (SceneEntity's
+        cubes=, lines=, texts=... and frame_locked=)."""
+        m = self.m
+        return m.SceneUpdate(entities=[m.SceneEntity(timestamp=self._ts(t), frame_id=frame_id, id=ident, **parts)])
+
     def _quat(self, yaw: float):
         return self.m.Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
 
@@ -263,16 +269,7 @@ class Build:
                 )
             )
             texts.append(self._label(b["x"], b["y"], b["z"] + 0.1, str(b.get("id", "")), purple))
-        entity = m.SceneEntity(
-            timestamp=self._ts(t),
-            frame_id=FRAME,
-            id="arena",
-            cubes=cubes,
-            cylinders=cylinders,
-            spheres=spheres,
-            texts=texts,
-        )
-        return m.SceneUpdate(entities=[entity])
+        return self._scene(t, FRAME, "arena", cubes=cubes, cylinders=cylinders, spheres=spheres, texts=texts)
 
 
 class LiveFoxglove(Build):
@@ -390,17 +387,9 @@ class LiveFoxglove(Build):
             color=self._color(1, 1, 1),
         )
         text = self._label(0, 0, 0.4, self.label(), self._color(0, 0, 0), font_size=14.0)
-        entity = m.SceneEntity(
-            timestamp=self._ts(t),
-            frame_id=BASE,
-            id="robot",
-            frame_locked=True,
-            lines=lines,
-            cylinders=[body],
-            arrows=[arrow],
-            texts=[text],
+        return self._scene(
+            t, BASE, "robot", frame_locked=True, lines=lines, cylinders=[body], arrows=[arrow], texts=[text]
         )
-        return m.SceneUpdate(entities=[entity])
 
     def _points_scene(self, t: float, ident: str, pts, line: bool):
         m = self.m
@@ -411,22 +400,16 @@ class LiveFoxglove(Build):
                 color=self._color(0.1, 0.4, 0.9, 0.7),
                 points=[m.Point3(x=x, y=y, z=0.02) for x, y in pts],
             )
-            ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id=ident, lines=[prim] if pts else [])
-        else:
-            ent = m.SceneEntity(
-                timestamp=self._ts(t),
-                frame_id=FRAME,
-                id=ident,
-                spheres=[
-                    m.SpherePrimitive(
-                        pose=self._pose(x, y, 0.1),
-                        size=m.Vector3(x=0.12, y=0.12, z=0.12),
-                        color=self._color(0.9, 0.1, 0.1, 0.9),
-                    )
-                    for x, y in pts
-                ],
+            return self._scene(t, FRAME, ident, lines=[prim] if pts else [])
+        spheres = [
+            m.SpherePrimitive(
+                pose=self._pose(x, y, 0.1),
+                size=m.Vector3(x=0.12, y=0.12, z=0.12),
+                color=self._color(0.9, 0.1, 0.1, 0.9),
             )
-        return m.SceneUpdate(entities=[ent])
+            for x, y in pts
+        ]
+        return self._scene(t, FRAME, ident, spheres=spheres)
 
     def values_scene(self, t: float):
         m, g = self.m, self.grid
@@ -447,8 +430,7 @@ class LiveFoxglove(Build):
         texts.append(
             self._label(0.0, -0.3, 0.0, f"V {lo:.1f} (blue) .. {hi:.1f} (red), {len(best)} cells", self._color(0, 0, 0))
         )
-        ent = m.SceneEntity(timestamp=self._ts(t), frame_id=FRAME, id="values", cubes=cubes, texts=texts)
-        return m.SceneUpdate(entities=[ent])
+        return self._scene(t, FRAME, "values", cubes=cubes, texts=texts)
 
     def _value(self, msg, t: float) -> None:
         vm = self.value_msg
