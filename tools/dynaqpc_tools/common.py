@@ -147,6 +147,13 @@ def run_main(fn) -> int:
         return 1
 
 
+def run_tool(build_parser, run, argv) -> int:
+    """The main of a tool whose run(args) returns what it made (the tests read it), not an exit
+    status: parses argv with build_parser(), runs, and exits 0, or as run_main says."""
+    args = build_parser().parse_args(argv)
+    return run_main(lambda: (run(args), 0)[1])
+
+
 class ToolArgumentParser(argparse.ArgumentParser):
     """argparse with a user error as one line (naming the option) and exit status 2."""
 

@@ -38,7 +38,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Dict, Iterable, List, Optional, Tuple
 
-from .common import ToolArgumentParser, ToolError, float_in, int_in, run_main
+from .common import ToolArgumentParser, ToolError, float_in, int_in, run_tool
 
 SPEED_OF_SOUND_M_S = 343.0
 #: Keys a Cricket v2 listener writes, in its fixed order (the firmware's CRICKET_FIELD_* bits).
@@ -651,8 +651,7 @@ def run(args, out=None, err=None) -> Console:
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
-    return run_main(lambda: (run(args), 0)[1])
+    return run_tool(build_parser, run, argv)
 
 
 if __name__ == "__main__":

@@ -39,7 +39,7 @@ from .common import (
     float_in,
     int_in,
     load_dbc,
-    run_main,
+    run_tool,
 )
 
 
@@ -420,8 +420,7 @@ def _by_id(db, frame_id: int):
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
-    return run_main(lambda: (run(args), 0)[1])
+    return run_tool(build_parser, run, argv)
 
 
 if __name__ == "__main__":
