@@ -81,6 +81,18 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
     return t + stop_beyond_(cfg, axis, edge_at, along > 0.0f ? 1.0f : -1.0f);
 }
 
+// Distance along `dir` (radians) from the pose to the edge of its cell. For stops step_past_m
+// beyond the edge it is the step's distance less that margin: the arithmetic those stops were
+// measured with, bit for bit.
+static float to_edge_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
+{
+    uint32_t axis = ROBOT_AXIS_X;
+    if (cfg->aligned_actions == ROBOT_ACTIONS_CENTRED) {
+        return edge_distance_(cfg, pose, dir, &axis);
+    }
+    return aligned_step_(cfg, pose, dir) - cfg->step_past_m;
+}
+
 // Where along an axis of its cell, `behind` from the edge behind and `ahead` from the edge
 // ahead, an aligned step leaves the robot: the nearer of its two stops step_past_m from either
 // edge, or the centre.
@@ -150,11 +162,10 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     }
     // How far back along the step the edge of the pose's cell lies; the stop is where a step
     // into the cell along it ends (step_past_m past that edge, or the centre).
-    uint32_t axis = ROBOT_AXIS_X;
     const float back = heading + (forward ? FW_PI_F : 0.0f);
-    const float behind = edge_distance_(cfg, pose, back, &axis);
+    const float behind = to_edge_(cfg, pose, back);
     const float d = cfg->aligned_actions == ROBOT_ACTIONS_CENTRED
-                        ? behind - 0.5f * (behind + edge_distance_(cfg, pose, back + FW_PI_F, &axis))
+                        ? behind - 0.5f * (behind + to_edge_(cfg, pose, back + FW_PI_F))
                         : behind - cfg->step_past_m;
     if (!(d > MIN_DRIVE_M)) {
         return m;
@@ -188,9 +199,8 @@ bool robot_settles(const robot_config_t *cfg)
 // edge ahead); 0 when it is there already.
 static float settle_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
-    uint32_t axis = ROBOT_AXIS_X;
-    const float ahead = edge_distance_(cfg, pose, dir, &axis);
-    const float behind = edge_distance_(cfg, pose, dir + FW_PI_F, &axis);
+    const float ahead = to_edge_(cfg, pose, dir);
+    const float behind = to_edge_(cfg, pose, dir + FW_PI_F);
     const float d = stop_in_cell_(cfg, behind, ahead) - behind;
     return fabsf(d) > MIN_DRIVE_M ? d : 0.0f;
 }

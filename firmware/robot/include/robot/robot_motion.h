@@ -22,7 +22,8 @@ typedef struct robot_motion {
 /// The motion that realises `action` from `pose`. Without cfg->aligned_actions: step_m or turn_rad
 /// over action_periods periods, whatever the pose. With it: a turn ends on the next multiple of
 /// turn_rad in its direction (at least a quarter of turn_rad away), a step ends step_past_m
-/// past the edge of the current x-y cell along the heading (robot_config.h says why).
+/// past the edge of the current x-y cell along the heading, or with ROBOT_ACTIONS_CENTRED at the
+/// centre of the cell it enters (robot_config.h says why).
 robot_motion_t robot_action_motion(const robot_config_t *cfg, uint8_t action, const robot_pose_t *pose);
 
 /// Whether the robot backs off after a step that bumped, unless ROBOT_BUMP_BACKOFF is 0: with
@@ -33,7 +34,8 @@ bool robot_backs_off(const robot_config_t *cfg);
 
 /// After `action` (ROBOT_FORWARD or ROBOT_BACKWARD), started facing `heading`, bumped and left
 /// the robot at `pose`: the motion back the way the step came, to step_past_m past the edge of
-/// the pose's cell behind it, where an aligned step into this cell stops. Periods 0 when the
+/// the pose's cell behind it (with ROBOT_ACTIONS_CENTRED: to the cell's centre), where an aligned
+/// step into this cell stops. Periods 0 when the
 /// pose is not beyond that point, or for a turn. With fixed steps: half a step back.
 robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, float heading,
                                     const robot_pose_t *pose);
@@ -58,7 +60,8 @@ bool robot_settles(const robot_config_t *cfg);
 
 /// Phase `phase` (robot_settle_phase_t) of settling onto the grid, from `pose` (where the
 /// previous phase ended). An aligned stop is an offset in the cell at which an aligned step along
-/// that axis stops: step_past_m past the edge behind, or short of the edge ahead. Periods 0 when
+/// that axis stops: step_past_m past the edge behind, or short of the edge ahead (with
+/// ROBOT_ACTIONS_CENTRED: the cell's centre). Periods 0 when
 /// the phase has nothing to do, for a phase beyond the last, or, with fixed steps, for every
 /// phase but ROBOT_SETTLE_FACE_GRID.
 /// Settling is not a real step: a bump while settling is not counted, not rewarded and not backed
