@@ -145,9 +145,7 @@ int hal_can_send(const hal_can_frame_t *frame)
 void hal_can_get_stats(hal_can_stats_t *out)
 {
     FW_ASSERT(out != NULL);
-    const uint32_t s = stm32f4_irq_save();
-    *out = can_.stats;
-    stm32f4_irq_restore(s);
+    stm32f4_irq_copy(out, &can_.stats, sizeof *out);
 }
 
 void CAN1_RX0_IRQHandler(void)

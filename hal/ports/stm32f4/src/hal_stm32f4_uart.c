@@ -76,7 +76,5 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
 void hal_uart_get_stats(hal_uart_stats_t *out)
 {
     FW_ASSERT(out != NULL);
-    const uint32_t s = stm32f4_irq_save();
-    *out = uart_.stats;
-    stm32f4_irq_restore(s);
+    stm32f4_irq_copy(out, &uart_.stats, sizeof *out);
 }

@@ -6,7 +6,9 @@
 #ifndef STM32F4_CPU_H
 #define STM32F4_CPU_H
 
+#include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "stm32f4/stm32f4_regs.h"
 
@@ -22,6 +24,15 @@ static inline uint32_t stm32f4_irq_save(void)
 static inline void stm32f4_irq_restore(uint32_t primask)
 {
     __asm__ volatile("msr primask, %0" ::"r"(primask) : "memory");
+}
+
+/// Copies n bytes that an interrupt handler updates (a driver's statistics) with interrupts
+/// masked, so that the copy is of one moment.
+static inline void stm32f4_irq_copy(void *dst, const void *src, size_t n)
+{
+    const uint32_t primask = stm32f4_irq_save();
+    memcpy(dst, src, n);
+    stm32f4_irq_restore(primask);
 }
 
 /// Sets the priority of device interrupt `irq` (0 highest, 15 lowest: 4 bits, in the high nibble)
