@@ -52,4 +52,12 @@ static inline bool host_locked_bool(pthread_mutex_t *lock, const bool *value)
     return v;
 }
 
+/// A flag set under the mutex that guards it (the UART reader's line gone, a test's hold).
+static inline void host_locked_set_bool(pthread_mutex_t *lock, bool *flag, bool value)
+{
+    pthread_mutex_lock(lock);
+    *flag = value;
+    pthread_mutex_unlock(lock);
+}
+
 #endif  // HOST_INTERNAL_H

@@ -372,17 +372,13 @@ static void *reader_main(void *arg)
             break; // end of stream (EOF, or EIO from a pty whose master closed)
         }
     }
-    pthread_mutex_lock(&lock_);
-    alive_ = false;
-    pthread_mutex_unlock(&lock_);
+    host_locked_set_bool(&lock_, &alive_, false);
     return NULL;
 }
 
 void hal_host_uart_hold_reader(bool hold)
 {
-    pthread_mutex_lock(&lock_);
-    held_ = hold;
-    pthread_mutex_unlock(&lock_);
+    host_locked_set_bool(&lock_, &held_, hold);
     // Holding returns once the reader is off the line (it may be inside a poll of up to
     // READER_POLL_MS, and would service what arrives there); bounded, should it have ended.
     for (int i = 0; hold && reader_running_ && i < 1000; i++) {
