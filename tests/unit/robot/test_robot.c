@@ -392,7 +392,8 @@ static void test_fitted_grid(void **state)
 }
 
 // Centred actions (ROBOT_ACTIONS_CENTRED): a step stops at the centre of the cell it enters,
-// over a thin cell to the centre of the one beyond; settling and the back-off go to the centre.
+// over a thin cell to the centre of the one beyond; settling and the back-off go to the centre;
+// a cell narrower than twice step_past_m keeps the stop step_past_m past the edge.
 static void test_centred_steps_stop_at_the_centre_of_the_next_cell(void **state)
 {
     (void)state;
@@ -430,6 +431,19 @@ static void test_centred_steps_stop_at_the_centre_of_the_next_cell(void **state)
     assert_float_equal(travel_of_(&cfg, robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose)), -0.35f, 1e-4);
     pose.x = 1.3f;  // short of the centre: nothing to back off
     assert_int_equal(robot_backoff_motion(&cfg, ROBOT_FORWARD, 0.0f, &pose).periods, 0);
+    // A cell narrower than twice step_past_m (0.25 m) keeps the stop step_past_m past the edge.
+    const float narrow[4] = {0.0f, 1.0f, 1.25f, 4.3f};
+    cfg.grid[0].cells = 3;
+    for (int k = 0; k < 4; k++) {
+        cfg.grid[0].edge[k] = narrow[k];
+    }
+    assert_int_equal(robot_config_check(&cfg), FW_OK);
+    pose = (robot_pose_t){0.5f, 1.0f, 0.0f};
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 0.5f + cfg.step_past_m,
+                       1e-4);
+    pose.x = 1.2f;  // settling there: to the nearer stop, step_past_m from the east edge
+    assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose)),
+                       1.25f - cfg.step_past_m - 1.2f, 1e-4);
     // Not a kind of actions.
     cfg.aligned_actions = ROBOT_ACTIONS_CENTRED + 1;
     assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);
