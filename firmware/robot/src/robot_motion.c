@@ -52,7 +52,9 @@ static float edge_distance_(const robot_config_t *cfg, const robot_pose_t *pose,
 // How far beyond an edge at `edge_at` along `axis` a step moving towards `sign` (+1 or -1)
 // stops: step_past_m, or with centred actions half the side of the cell it enters. A fitted
 // cell narrower than step_past_m lies inside a partition and is stepped over, as step_past_m
-// steps over it. A cell narrower than twice step_past_m has no centre that clear of both faces:
+// steps over it; so are two or more such cells in a row (where one partition's face cuts
+// another's thickness, at a T or an L), so that the stop is the next real cell's. A cell
+// narrower than twice step_past_m has no centre that clear of both faces:
 // it keeps the stop step_past_m past the edge crossed (in a users' room, a 0.48 m doorway cut in
 // two by another partition's face learned in 2 of 10 sets with centres, 8 with that stop).
 static float stop_beyond_(const robot_config_t *cfg, uint32_t axis, float edge_at, float sign)
@@ -64,8 +66,8 @@ static float stop_beyond_(const robot_config_t *cfg, uint32_t axis, float edge_a
     float beyond = 0.0f, lo = 0.0f, side = 0.0f;
     uint32_t k = robot_grid_cell(cfg, axis, edge_at + sign * 1e-4f);
     robot_grid_span(cfg, axis, k, &lo, &side);
-    if (side < cfg->step_past_m && k > 0u && k + 1u < cells) {
-        beyond = side;
+    while (side < cfg->step_past_m && k > 0u && k + 1u < cells) {  // at most `cells` times
+        beyond += side;
         k = sign > 0.0f ? k + 1u : k - 1u;
         robot_grid_span(cfg, axis, k, &lo, &side);
     }

@@ -444,6 +444,19 @@ static void test_centred_steps_stop_at_the_centre_of_the_next_cell(void **state)
     pose.x = 1.2f;  // settling there: to the nearer stop, step_past_m from the east edge
     assert_float_equal(travel_of_(&cfg, robot_settle_motion(&cfg, ROBOT_SETTLE_ALONG, &pose)),
                        1.25f - cfg.step_past_m - 1.2f, 1e-4);
+    // Two thin cells in a row (a partition, 1.9-2.0, that another's face at 1.95 cuts in two):
+    // both are stepped over, to the centres of the cells either side (1.45 and 3.15), not to
+    // step_past_m past the second thin cell's edge, 0.06 m from the partition's face.
+    const float tee[6] = {0.0f, 1.0f, 1.9f, 1.95f, 2.0f, 4.3f};
+    cfg.grid[0].cells = 5;
+    for (int k = 0; k < 6; k++) {
+        cfg.grid[0].edge[k] = tee[k];
+    }
+    assert_int_equal(robot_config_check(&cfg), FW_OK);
+    pose = (robot_pose_t){3.15f, 1.0f, 0.0f};
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_BACKWARD, &pose)), -1.7f, 1e-4);
+    pose.x = 1.45f;
+    assert_float_equal(travel_of_(&cfg, robot_action_motion(&cfg, ROBOT_FORWARD, &pose)), 1.7f, 1e-4);
     // Not a kind of actions.
     cfg.aligned_actions = ROBOT_ACTIONS_CENTRED + 1;
     assert_int_equal(robot_config_check(&cfg), FW_ERR_INVAL);

@@ -86,7 +86,6 @@ typedef enum robot_values {
 #define ROBOT_CLOSED_LOOP 1
 #endif
 
-/// Where the pose comes from.
 /// How actions move (robot_config_t.aligned_actions).
 typedef enum robot_actions_kind {
     ROBOT_ACTIONS_FIXED = 0,    ///< fixed steps and turns (the paper's)
@@ -94,6 +93,7 @@ typedef enum robot_actions_kind {
     ROBOT_ACTIONS_CENTRED = 2,  ///< aligned to the grid; a step stops at the centre of the cell it enters
 } robot_actions_kind_t;
 
+/// Where the pose comes from.
 typedef enum robot_pose_source {
     ROBOT_POSE_GPS = 0,      ///< paper-sim: a pose frame on the bus every cycle
     ROBOT_POSE_CRICKET = 1,  ///< paper-lab: x, y trilaterated from Cricket ranges; heading from the gyro
