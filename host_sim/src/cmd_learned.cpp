@@ -116,6 +116,17 @@ std::vector<SlotInfo> slots_of(const agent_t *ag)
     return out;
 }
 
+// Where an aligned step stops (robot_actions_kind_t, `actions ... stop`): "past" the edge it
+// crosses, the "centre" of the cell it enters, or "none" with fixed steps.
+const char *stop_name(const robot_config_t &cfg)
+{
+    switch (cfg.aligned_actions) {
+    case ROBOT_ACTIONS_ALIGNED: return "past";
+    case ROBOT_ACTIONS_CENTRED: return "centre";
+    default: return "none";
+    }
+}
+
 // The state grid: cells, their edges (a grid fitted to the room has cells of different sizes) and
 // the goal's cells.
 void write_grid(std::ostringstream &o, const robot_config_t &cfg)
@@ -212,7 +223,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
         shift += sp.bits[k];
     }
     o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
-      << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << "},\n";
+      << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << ",\"stop\":\"" << stop_name(cfg) << "\"},\n";
     write_grid(o, cfg);
     std::string arena = arena_json(*sb.world);
     while (!arena.empty() && arena.back() == '\n') arena.pop_back();
@@ -242,7 +253,8 @@ std::string grid_json(const ScenarioBundle &sb)
     std::ostringstream g;
     g << "{\"format\":\"dynaqpc-grid 1\",\"scenario\":\"" << sb.name << "\",\"arena\":[" << num(sb.robot.arena_w) << ","
       << num(sb.robot.arena_h) << "],\"bits\":{\"x\":" << unsigned(sb.robot.bits_x) << ",\"y\":" << unsigned(sb.robot.bits_y)
-      << ",\"heading\":" << unsigned(sb.robot.bits_heading) << ",\"sensor\":" << unsigned(sb.robot.bits_code) << "},\n";
+      << ",\"heading\":" << unsigned(sb.robot.bits_heading) << ",\"sensor\":" << unsigned(sb.robot.bits_code)
+      << "},\"stop\":\"" << stop_name(sb.robot) << "\",\n";
     write_grid(g, sb.robot);
     g << "}}\n";
     return g.str();
