@@ -679,6 +679,14 @@ void test_change_layout(void **state)
     c = b;
     c.ranger.rays[1].angle += 0.01;
     assert_true(world::layout_change_problem(a, c).find("the ranger") == 0);
+    // Where aligned steps stop is the parser's verdict (actions stop): how it was asked for
+    // (auto, centre) may differ, not the stop.
+    c = b;
+    c.actions.centred = true;
+    assert_true(world::layout_change_problem(a, c).find("the actions differs") == 0);
+    c = b;
+    c.actions.stop = "past";
+    assert_string_equal(world::layout_change_problem(a, c).c_str(), "");
 
     world::World changed(a, 5);
     changed.set_obstacles(b.obstacles);
