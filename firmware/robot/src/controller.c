@@ -14,12 +14,6 @@ void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
     robot_move_init(&c->move);
 }
 
-static void wheels_(robot_ctrl_t *c, float vl, float vr)
-{
-    c->v_left = vl;
-    c->v_right = vr;
-}
-
 void robot_ctrl_start_episode(robot_ctrl_t *c)
 {
     c->episode++;
@@ -30,7 +24,6 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->safe_stop_held = false;
     c->mode = ROBOT_MODE_WAIT_FIX;
     robot_move_episode(&c->move);
-    wheels_(c, 0.0f, 0.0f);
 }
 
 void robot_ctrl_stop(robot_ctrl_t *c)
@@ -38,7 +31,6 @@ void robot_ctrl_stop(robot_ctrl_t *c)
     c->mode = ROBOT_MODE_IDLE;
     c->safe_stop_held = false;
     robot_move_stop(&c->move);
-    wheels_(c, 0.0f, 0.0f);
 }
 
 void robot_ctrl_safe_stop(robot_ctrl_t *c)
@@ -50,7 +42,6 @@ void robot_ctrl_safe_stop(robot_ctrl_t *c)
     c->mode = ROBOT_MODE_SAFE_STOP;
     c->safe_stop_held = true;  // unlike a sensor's safe stop, only the operator lifts it
     robot_move_stop(&c->move);  // the step is dropped
-    wheels_(c, 0.0f, 0.0f);
 }
 
 // Picks the action in state `s` and starts its step from `at`.
@@ -159,9 +150,7 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
             c->mode = ROBOT_MODE_WAIT_FIX;
         }
     }
-    if (c->mode == ROBOT_MODE_IDLE) {
-        wheels_(c, 0.0f, 0.0f);
-    } else {
+    if (c->mode != ROBOT_MODE_IDLE) {
         // The step's motion, one period of it (robot_move.h); its outcome observed when there.
         robot_pose_t at;
         const bool halted = c->mode == ROBOT_MODE_SAFE_STOP;
@@ -171,10 +160,10 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
         if (c->mode != ROBOT_MODE_IDLE && c->mode != ROBOT_MODE_SAFE_STOP) {
             c->mode = c->move.phase == ROBOT_MOVE_DRIVING ? ROBOT_MODE_ACTING : ROBOT_MODE_WAIT_FIX;
         }
-        wheels_(c, c->move.v_left, c->move.v_right);
     }
-    *v_left = c->v_left;
-    *v_right = c->v_right;
+    // The move's wheels: stopped whenever the controller is idle (it stopped the move).
+    *v_left = c->move.v_left;
+    *v_right = c->move.v_right;
 }
 
 bool robot_ctrl_plan(robot_ctrl_t *c)

@@ -613,7 +613,7 @@ static void test_episode_reaches_goal_with_reward_and_report(void **state)
     assert_true(rep->reward <= 100.0f - (float)(rep->steps - 1));  // -1 a step, +100 at the goal
     assert_float_equal(rep->reward, 100.0f - (float)(rep->steps - 1), 1e-3);
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_IDLE);
-    assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);  // stopped at the end
+    assert_float_equal(bench_.ctrl.move.v_left, 0.0f, 0);  // stopped at the end
 }
 
 static void test_step_cap_ends_the_episode(void **state)
@@ -684,7 +684,7 @@ static void test_bumped_step_backs_off_then_is_observed(void **state)
     }
     assert_true(bench_.ctrl.move.backing_off);
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_ACTING);
-    assert_true(bench_.ctrl.v_left < 0.0f);
+    assert_true(bench_.ctrl.move.v_left < 0.0f);
     assert_int_equal(agent_paper_sim.stats.real_steps, 0);  // not observed yet
     for (int i = 0; i < 50 && !bench_.ctrl.step_done; i++) {
         bench_period_();
@@ -799,8 +799,8 @@ static void test_operator_safe_stop_holds_until_start(void **state)
     for (int i = 0; i < 5; i++) {  // bus and pose are fine: it stays stopped all the same
         bench_period_();
         assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
-        assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
-        assert_float_equal(bench_.ctrl.v_right, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.move.v_left, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.move.v_right, 0.0f, 0);
     }
     assert_int_equal(agent_paper_sim.stats.real_steps, steps);
     assert_int_equal(bench_.ctrl.safe_stops, 1);
@@ -827,8 +827,8 @@ static void test_safe_stop_on_bus_loss_and_resume(void **state)
     for (int i = 0; i < 5; i++) {
         bench_period_();
         assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_SAFE_STOP);
-        assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
-        assert_float_equal(bench_.ctrl.v_right, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.move.v_left, 0.0f, 0);
+        assert_float_equal(bench_.ctrl.move.v_right, 0.0f, 0);
     }
     assert_int_equal(agent_paper_sim.stats.real_steps, steps);  // nothing learned while stopped
     assert_int_equal(bench_.ctrl.safe_stops, 1);
@@ -858,7 +858,7 @@ static void test_waits_for_a_fix_taken_after_stopping(void **state)
         bench_period_();
     }
     assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
-    assert_float_equal(bench_.ctrl.v_left, 0.0f, 0);
+    assert_float_equal(bench_.ctrl.move.v_left, 0.0f, 0);
     // A fix measured before the wheels stopped is not the outcome of the action.
     const uint64_t stopped = bench_.ctrl.move.stopped_at_us;
     robot_sense_t in = bench_.sense;

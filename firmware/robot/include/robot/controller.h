@@ -76,7 +76,6 @@ typedef struct robot_ctrl {
     uint32_t step, episode, bumps;
     float episode_reward;
     uint64_t episode_start_us;
-    float v_left, v_right;     // the wheel speeds being commanded
     uint32_t safe_stops;       ///< times a safe stop was entered
     bool safe_stop_held;       ///< the operator's safe stop: no automatic resume
     bool step_done;            ///< a real step happened in the last period (see last_step)
@@ -106,7 +105,8 @@ bool robot_ctrl_interrupt(robot_ctrl_t *c, uint64_t now_us);
 /// episode's last step is not learned from. Counted in safe_stops. Context: thread.
 void robot_ctrl_safe_stop(robot_ctrl_t *c);
 
-/// One control period: reads the sensors, advances the episode, returns the wheel speeds.
+/// One control period: reads the sensors, advances the episode, returns the wheel speeds (the
+/// move's: c->move.v_left, c->move.v_right; zero when idle).
 void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *sense, float *v_left, float *v_right);
 
 /// One planning update in idle time, when cfg->planning is 0 ("as many as idle allows"). With a
