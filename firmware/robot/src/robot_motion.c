@@ -25,8 +25,9 @@ static float aligned_turn_(float heading, float turn, bool left)
 }
 
 // Distance along `dir` (radians) from the pose to the edge of its cell, at most the cell's
-// diagonal; *axis is the axis whose edge it meets first.
-static float edge_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir, uint32_t *axis)
+// diagonal; *axis is the axis whose edge it meets first and *along dir's component on it.
+static float edge_distance_(const robot_config_t *cfg, const robot_pose_t *pose, float dir, uint32_t *axis,
+                            float *along)
 {
     const float c = cosf(dir), s = sinf(dir);
     // The cell the state encodes (robot_grid_cell() also clamps a pose just outside the arena).
@@ -45,8 +46,16 @@ static float edge_distance_(const robot_config_t *cfg, const robot_pose_t *pose,
         ty = (y0 - pose->y) / s;
     }
     *axis = ty < tx ? ROBOT_AXIS_Y : ROBOT_AXIS_X;
+    *along = ty < tx ? s : c;
     // At least 0 (a pose on the edge), at most a cell's diagonal.
     return fminf(fmaxf(fminf(tx, ty), 0.0f), sqrtf(cw * cw + ch * ch));
+}
+
+// Whether an aligned step into a cell `side` wide along its axis stops at the cell's centre:
+// centred actions, and a cell at least twice step_past_m wide (stop_beyond_() says why).
+static bool stops_at_centre_(const robot_config_t *cfg, float side)
+{
+    return cfg->aligned_actions == ROBOT_ACTIONS_CENTRED && side >= 2.0f * cfg->step_past_m;
 }
 
 // How far beyond an edge at `edge_at` along `axis` a step moving towards `sign` (+1 or -1)
@@ -71,7 +80,7 @@ static float stop_beyond_(const robot_config_t *cfg, uint32_t axis, float edge_a
         k = sign > 0.0f ? k + 1u : k - 1u;
         robot_grid_span(cfg, axis, k, &lo, &side);
     }
-    return beyond + (side < 2.0f * cfg->step_past_m ? cfg->step_past_m : 0.5f * side);
+    return beyond + (stops_at_centre_(cfg, side) ? 0.5f * side : cfg->step_past_m);
 }
 
 // Distance along `dir` (radians) from the pose to where an aligned step that way stops, in the
@@ -79,8 +88,8 @@ static float stop_beyond_(const robot_config_t *cfg, uint32_t axis, float edge_a
 static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
     uint32_t axis = ROBOT_AXIS_X;
-    const float t = edge_distance_(cfg, pose, dir, &axis);
-    const float along = axis == ROBOT_AXIS_X ? cosf(dir) : sinf(dir);
+    float along = 0.0f;
+    const float t = edge_distance_(cfg, pose, dir, &axis, &along);
     const float edge_at = (axis == ROBOT_AXIS_X ? pose->x : pose->y) + t * along;
     return t + stop_beyond_(cfg, axis, edge_at, along > 0.0f ? 1.0f : -1.0f);
 }
@@ -91,8 +100,9 @@ static float aligned_step_(const robot_config_t *cfg, const robot_pose_t *pose, 
 static float to_edge_(const robot_config_t *cfg, const robot_pose_t *pose, float dir)
 {
     uint32_t axis = ROBOT_AXIS_X;
+    float along = 0.0f;
     if (cfg->aligned_actions == ROBOT_ACTIONS_CENTRED) {
-        return edge_distance_(cfg, pose, dir, &axis);
+        return edge_distance_(cfg, pose, dir, &axis, &along);
     }
     return aligned_step_(cfg, pose, dir) - cfg->step_past_m;
 }
@@ -103,7 +113,7 @@ static float to_edge_(const robot_config_t *cfg, const robot_pose_t *pose, float
 static float stop_in_cell_(const robot_config_t *cfg, float behind, float ahead)
 {
     const float len = behind + ahead;
-    if (cfg->aligned_actions == ROBOT_ACTIONS_CENTRED && len >= 2.0f * cfg->step_past_m) {
+    if (stops_at_centre_(cfg, len)) {
         return 0.5f * len;
     }
     return behind < 0.5f * len ? cfg->step_past_m : len - cfg->step_past_m;
@@ -169,9 +179,7 @@ robot_motion_t robot_backoff_motion(const robot_config_t *cfg, uint8_t action, f
     const float back = heading + (forward ? FW_PI_F : 0.0f);
     const float behind = to_edge_(cfg, pose, back);
     const float len = behind + to_edge_(cfg, pose, back + FW_PI_F);
-    const float d = cfg->aligned_actions == ROBOT_ACTIONS_CENTRED && len >= 2.0f * cfg->step_past_m
-                        ? behind - 0.5f * len
-                        : behind - cfg->step_past_m;
+    const float d = behind - (stops_at_centre_(cfg, len) ? 0.5f * len : cfg->step_past_m);
     if (!(d > MIN_DRIVE_M)) {
         return m;
     }

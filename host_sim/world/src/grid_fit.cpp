@@ -46,7 +46,7 @@ bool inside_an_obstacle(const Scenario &s, int axis, double a, double b)
 
 double fit_cell_side(const Scenario &s)
 {
-    return 2.0 * s.actions.step;
+    return s.encoding.max_cell > 0.0 ? s.encoding.max_cell : 2.0 * s.actions.step;
 }
 
 bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,

@@ -612,7 +612,7 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
 bool Parser::fit_encoding(Scenario *s)
 {
     Encoding &e = s->encoding;
-    const double max_side = e.max_cell > 0.0 ? e.max_cell : fit_cell_side(*s);
+    const double max_side = fit_cell_side(*s);
     if (s->actions.past == 0.0) s->actions.past = 0.2 * max_side;
     if (s->actions.past >= max_side) {
         return fail_at(actions_line_, "actions past " + fmt_num(s->actions.past) +
@@ -815,7 +815,7 @@ bool Parser::resolve_stop(Scenario *s)
     if (a.stop != "auto" && a.aligned == 0) {
         return fail_at(actions_line_, "actions stop " + a.stop + " needs aligned 1 (fixed steps have no stops)");
     }
-    const double max_side = s->encoding.max_cell > 0.0 ? s->encoding.max_cell : fit_cell_side(*s);
+    const double max_side = fit_cell_side(*s);
     const bool turns_inside = std::hypot(s->robot.length, s->robot.width) < max_side;
     a.centred = a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && s->encoding.fitted && turns_inside));
     return true;

@@ -39,7 +39,7 @@ inline constexpr int kMaxGridCells = 32;
 /// Obstacle faces closer than this (m) to each other or to a wall are one cut.
 inline constexpr double kFaceMerge = 0.02;
 
-/// The largest cell side a fitted grid uses when the file gives none: twice the robot's step.
+/// The largest cell side of a fitted grid: `encode auto cell M`, else twice the robot's step.
 double fit_cell_side(const Scenario &s);
 
 /// The edges of the cells along `axis` (0: x, 1: y) fitted to `s`'s obstacles, from 0 to the
