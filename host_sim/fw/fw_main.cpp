@@ -352,17 +352,10 @@ void print_final(const FinalCounts &f, const agent_t *agent, double wall_s, doub
                 cs.rx_frames);
 }
 
-int run(const std::vector<std::string> &args)
+// The firmware in real time until a signal, then its counters.
+void run_firmware(const std::string &, const Options &o, Settings &s)
 {
-    Settings s;
-    Options o("", "the robot firmware on the host, in real time on the virtual CAN bus");
-    declare_options(o, s);
-    if (o.parse_or_usage(args, "dynaqpc-fw")) {
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) {
-        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
-    }
+    o.require("--scenario", "paper-sim, paper-lab or a file");
     const ScenarioBundle sb = load_scenario(s.scenario);
     robot_config_t cfg = sb.robot;
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, nullptr, nullptr, nullptr}, &cfg);
@@ -399,7 +392,6 @@ int run(const std::vector<std::string> &args)
     print_final(final_counts, agent, wall_s, s.speed);
     hal_host_flash_detach_file();
     g_bus.close();
-    return kExitOk;
 }
 
 }  // namespace
@@ -408,7 +400,9 @@ int main(int argc, char **argv)
 {
     std::vector<std::string> args(argv + (argc > 0 ? 1 : 0), argv + argc);
     try {
-        return run(args);
+        return run_command("dynaqpc-fw", args, "",
+                           "the robot firmware on the host, in real time on the virtual CAN bus",
+                           declare_options, run_firmware);
     } catch (const UsageError &e) {
         std::cerr << "dynaqpc-fw: " << e.what() << '\n';
         return kExitUsage;

@@ -353,17 +353,10 @@ void print_stopped(const RunCounts &c, const Supervisor &sup, const Devices &dev
     std::fflush(stdout);
 }
 
-}  // namespace
-
-int cmd_devices(const std::string &program, const std::vector<std::string> &args)
+// The devices in real time until stopped (a signal, --duration, or --episodes supervised).
+void run_devices(const std::string &, const Options &o, DevicesSettings &s)
 {
-    DevicesSettings s;
-    Options o("devices", "the simulated robot's devices in real time on the virtual CAN bus");
-    declare_options(o, s);
-    if (o.parse_or_usage(args, program)) {
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
+    o.require("--scenario", "paper-sim, paper-lab or a file");
     if (o.seen("--episodes") && !s.supervise) throw UsageError("--episodes: only with --supervise");
 
     const ScenarioBundle sb = load_scenario(s.scenario);
@@ -399,7 +392,7 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     std::vector<hal_can_frame_t> frames;
     std::string serial;
     std::uint64_t t_us = 0, late_steps = 0, pty_bytes = 0, pty_dropped = 0;
-    if (s.wait_firmware && !wait_for_firmware(bus, sup, s)) return kExitOk;
+    if (s.wait_firmware && !wait_for_firmware(bus, sup, s)) return;
     const auto wall0 = Clock::now();
     const auto wall_of = [&](std::uint64_t t) {
         return wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(t) * 1000.0 / s.speed));
@@ -429,7 +422,15 @@ int cmd_devices(const std::string &program, const std::vector<std::string> &args
     if (cricket) pty_close(&pty);
     const RunCounts counts{wall_s, t_us, late_steps, pty_bytes, pty_dropped};
     print_stopped(counts, sup, devices, pose_check, bus);
-    return kExitOk;
+}
+
+}  // namespace
+
+int cmd_devices(const std::string &program, const std::vector<std::string> &args)
+{
+    return run_command(program, args, "devices",
+                       "the simulated robot's devices in real time on the virtual CAN bus",
+                       declare_options, run_devices);
 }
 
 }  // namespace dynaqpc

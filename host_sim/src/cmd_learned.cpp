@@ -291,13 +291,13 @@ int cmd_learned(const std::string &program, const std::vector<std::string> &args
     if (o.parse_or_usage(args, program)) {
         return kExitOk;
     }
-    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    o.require("--scenario");
     if (grid_only) {
         if (o.seen("--load")) throw UsageError("--grid: the scenario's grid alone, without --load");
         std::fputs(grid_json(load_scenario(scenario)).c_str(), stdout);
         return kExitOk;
     }
-    if (!o.seen("--load")) throw UsageError("--load: required (a flash image: train --save FILE)");
+    o.require("--load", "a flash image: train --save FILE");
     struct stat st;
     if (stat(load.c_str(), &st) != 0) {
         throw UsageError("--load: cannot open '" + load + "': " + std::strerror(errno));

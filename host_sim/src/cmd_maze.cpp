@@ -122,12 +122,8 @@ void declare(Options &o, MazeSettings &s)
 
 void check_combinations(const Options &o)
 {
-    if (!o.seen("--map")) {
-        throw UsageError("--map: required");
-    }
-    if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (" + agent_kind_list() + ")");
-    }
+    o.require("--map");
+    o.require("--agent", agent_kind_list());
     if (o.seen("--episodes") && o.seen("--until-optimal")) {
         throw UsageError("--until-optimal: cannot be combined with --episodes");
     }
@@ -446,22 +442,11 @@ maze_run_config_t run_config(const MazeSettings &s, const maze_t *maze)
     return cfg;
 }
 
-}  // namespace
-
 // ---- The command --------------------------------------------------------------------------------
 
-int cmd_maze(const std::string &program, const std::vector<std::string> &args)
+// The runs, their CSV rows and the summary.
+int run_maze(const std::string &, const Options &opts, MazeSettings &s)
 {
-    MazeSettings s;
-    Options opts("maze",
-                 "Runs of episodes of one agent on a gridworld map (Sutton & Barto's Dyna maze\n"
-                 "protocol). CSV columns: agent,run,episode,steps,updates,wall_s; with\n"
-                 "--until-optimal: agent,run,episodes,real_steps,updates,wall_s. A learning-curve\n"
-                 "summary follows on stdout.");
-    declare(opts, s);
-    if (opts.parse_or_usage(args, program)) {
-        return kExitOk;
-    }
     check_combinations(opts);
 
     // Everything is checked before the CSV is opened.
@@ -521,6 +506,19 @@ int cmd_maze(const std::string &program, const std::vector<std::string> &args)
     }
     print_summary(s.csv == "-" ? std::cerr : std::cout, s, map_path, *maze, sink);
     return kExitOk;
+}
+
+}  // namespace
+
+int cmd_maze(const std::string &program, const std::vector<std::string> &args)
+{
+    return run_command(
+        program, args, "maze",
+        "Runs of episodes of one agent on a gridworld map (Sutton & Barto's Dyna maze\n"
+        "protocol). CSV columns: agent,run,episode,steps,updates,wall_s; with\n"
+        "--until-optimal: agent,run,episodes,real_steps,updates,wall_s. A learning-curve\n"
+        "summary follows on stdout.",
+        declare, run_maze);
 }
 
 }  // namespace dynaqpc

@@ -139,7 +139,7 @@ void check_one(const world::Scenario &s)
     }
 }
 
-int check_rooms(const Options &o, const RoomsArgs &a)
+void check_rooms(const Options &o, const RoomsArgs &a)
 {
     for (const char *other :
          {"--robot", "--base", "--profile", "--seed", "--count", "--out", "--far", "--floor", "--users"}) {
@@ -160,7 +160,6 @@ int check_rooms(const Options &o, const RoomsArgs &a)
         std::printf("%s: a change of %s: only the obstacles differ (%zu -> %zu)\n", after.path.c_str(),
                     before.path.c_str(), before.obstacles.size(), after.obstacles.size());
     }
-    return kExitOk;
 }
 
 // The base scenario's text and the floor the rooms are drawn on (--floor, or the base's).
@@ -266,18 +265,13 @@ std::pair<std::string, world::Room> make_room(const Options &o, const RoomsArgs 
     return {name, std::move(room)};
 }
 
-}  // namespace
-
-int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
+// The rooms, or with --check the check of one scenario file.
+void write_rooms(const std::string &program, const Options &o, RoomsArgs &a)
 {
-    RoomsArgs a;
-    Options o("rooms", "seeded random rooms for a robot: its scenario with a new layout, one file each");
-    declare_options(o, a);
-    if (o.parse_or_usage(args, program)) {
-        print_help();
-        return kExitOk;
+    if (o.seen("--check")) {
+        check_rooms(o, a);
+        return;
     }
-    if (o.seen("--check")) return check_rooms(o, a);
     if (o.seen("--robot") == o.seen("--base")) {
         throw UsageError(o.seen("--robot") ? "--base: cannot be combined with --robot"
                                            : "--robot: required (paper-lab or paper-sim), or --base FILE");
@@ -307,7 +301,16 @@ int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
         std::printf("%s,%d,%d,%u,%ld,%ld\n", path.c_str(), r.second.walls, r.second.obstacles, r.second.draw,
                     r.second.passages.start_points, r.second.path.longest);
     }
-    return kExitOk;
+}
+
+}  // namespace
+
+int cmd_rooms(const std::string &program, const std::vector<std::string> &args)
+{
+    return run_command(
+        program, args, "rooms",
+        "seeded random rooms for a robot: its scenario with a new layout, one file each",
+        declare_options, write_rooms, print_help);
 }
 
 }  // namespace dynaqpc

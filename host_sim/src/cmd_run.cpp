@@ -118,21 +118,14 @@ std::unique_ptr<Lockstep> boot_from_load(const std::string &program, const RunAr
     return sim;
 }
 
-}  // namespace
-
-int cmd_run(const std::string &program, const std::vector<std::string> &args)
+// The replay from --starts random starts, a line each, and what it came to on stderr.
+void replay(const std::string &program, const Options &o, RunArgs &a)
 {
-    RunArgs a;
-    Options o("run", "replay a learned policy greedily from random start poses");
-    declare_options(o, a);
-    if (o.parse_or_usage(args, program)) {
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) throw UsageError("--scenario: required");
+    o.require("--scenario");
     if (o.seen("--planning") && !a.learn) {
         throw UsageError("--planning: only with --learn (a frozen replay plans nothing)");
     }
-    if (!o.seen("--load")) throw UsageError("--load: required (a file written by train --save)");
+    o.require("--load", "a file written by train --save");
     struct stat st;
     if (stat(a.load.c_str(), &st) != 0) {
         throw UsageError("--load: cannot open '" + a.load + "': " + std::strerror(errno));
@@ -184,7 +177,15 @@ int cmd_run(const std::string &program, const std::vector<std::string> &args)
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
     }
     std::fprintf(stderr, "; Q updates %llu\n", static_cast<unsigned long long>(updates));
-    return kExitOk;
+}
+
+}  // namespace
+
+int cmd_run(const std::string &program, const std::vector<std::string> &args)
+{
+    return run_command(program, args, "run",
+                       "replay a learned policy greedily from random start poses", declare_options,
+                       replay);
 }
 
 }  // namespace dynaqpc

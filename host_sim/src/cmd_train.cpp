@@ -152,6 +152,13 @@ void declare_outputs(Options &o, TrainSettings &s)
                &s.counters);
 }
 
+// All of train's options.
+void declare_options(Options &o, TrainSettings &s)
+{
+    declare(o, s);
+    declare_outputs(o, s);
+}
+
 void write_set_records(const std::string &path, const std::string &agent,
                        const std::map<std::uint32_t, std::vector<EpisodeOutcome>> &outcomes,
                        const std::vector<SetRecord> &records)
@@ -399,23 +406,11 @@ void print_summary(const TrainSettings &s, const ScenarioBundle &sb, const Scena
     print_learning_summary(sum, records, threshold);
 }
 
-}  // namespace
-
-int cmd_train(const std::string &program, const std::vector<std::string> &args)
+// The sets, one after another or in --jobs processes, then the CSVs and the summary.
+void train(const std::string &program, const Options &o, TrainSettings &s)
 {
-    TrainSettings s;
-    Options o("train", "the firmware learns on the simulated robot: sets of episodes, one CSV row each");
-    declare(o, s);
-    declare_outputs(o, s);
-    if (o.parse_or_usage(args, program)) {
-        return kExitOk;
-    }
-    if (!o.seen("--scenario")) {
-        throw UsageError("--scenario: required (paper-sim, paper-lab or a file)");
-    }
-    if (!o.seen("--agent")) {
-        throw UsageError("--agent: required (" + agent_kind_list() + ")");
-    }
+    o.require("--scenario", "paper-sim, paper-lab or a file");
+    o.require("--agent", agent_kind_list());
     const ScenarioBundle sb = load_scenario(s.scenario);
     warn_cut_cells(program, s, sb);
     const robot_config_t cfg = configure(o, s, sb);
@@ -454,7 +449,16 @@ int cmd_train(const std::string &program, const std::vector<std::string> &args)
     for (const auto &kv : tally.outcomes) records.push_back(record_of_set(kv.second, threshold));
     if (!s.sets_csv.empty()) write_set_records(s.sets_csv, s.agent, tally.outcomes, records);
     if (!s.quiet) print_summary(s, sb, changed, cfg, tally, records, threshold);
-    return kExitOk;
+}
+
+}  // namespace
+
+int cmd_train(const std::string &program, const std::vector<std::string> &args)
+{
+    return run_command(
+        program, args, "train",
+        "the firmware learns on the simulated robot: sets of episodes, one CSV row each",
+        declare_options, train);
 }
 
 }  // namespace dynaqpc

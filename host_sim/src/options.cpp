@@ -214,6 +214,13 @@ bool Options::parse_or_usage(const std::vector<std::string> &args, const std::st
     return help_;
 }
 
+void Options::require(const std::string &name, const std::string &what) const
+{
+    if (!seen(name)) {
+        throw UsageError(name + ": required" + (what.empty() ? "" : " (" + what + ")"));
+    }
+}
+
 void Options::print_usage(std::ostream &out, const std::string &program) const
 {
     out << "Usage: " << program << ' ' << command_ << " [options]\n" << summary_ << "\n\nOptions:\n";

@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace dynaqpc {
@@ -58,6 +59,9 @@ public:
     /// and returns kExitOk, doing nothing else.
     bool parse_or_usage(const std::vector<std::string> &args, const std::string &program);
     bool seen(const std::string &name) const { return seen_.count(name) != 0; }
+    /// A command's required option: unless it was given, UsageError "<name>: required (<what>)"
+    /// ("<name>: required" when `what` is empty).
+    void require(const std::string &name, const std::string &what = "") const;
 
     /// "Usage: ..." and one line per option.
     void print_usage(std::ostream &out, const std::string &program) const;
@@ -78,6 +82,35 @@ private:
     std::set<std::string> seen_;
     bool help_ = false;
 };
+
+/// A command's main, for a command whose settings are one struct: a `Settings` declared as the
+/// options of `command` by `declare`, then parsed from `args` (parse_or_usage()). With `--help`:
+/// the usage, then `help` (the command's own, if any), and kExitOk. Else `run`, given the options
+/// (which were given: seen()) and the settings they set: the status it returns, or kExitOk when
+/// it returns nothing (it fails by throwing).
+template <typename Settings, typename Result>
+int run_command(const std::string &program, const std::vector<std::string> &args,
+                const std::string &command, const std::string &summary,
+                void (*declare)(Options &, Settings &),
+                Result (*run)(const std::string &program, const Options &o, Settings &s),
+                void (*help)() = nullptr)
+{
+    Settings s;
+    Options o(command, summary);
+    declare(o, s);
+    if (o.parse_or_usage(args, program)) {
+        if (help != nullptr) {
+            help();
+        }
+        return kExitOk;
+    }
+    if constexpr (std::is_void_v<Result>) {
+        run(program, o, s);
+        return kExitOk;
+    } else {
+        return run(program, o, s);
+    }
+}
 
 /// Strict number parsing, for options and for other callers; `what` names the option in errors.
 std::uint32_t parse_uint(const std::string &what, const std::string &text, std::uint32_t min,
