@@ -48,14 +48,18 @@ static void put_key_(writer_t *w, const char *key)
     }
 }
 
-static void put_bool_(writer_t *w, bool b)
+// An entry of the map: its key, then a bool.
+static void put_bool_entry_(writer_t *w, const char *key, bool b)
 {
+    put_key_(w, key);
     put_u8_(w, b ? MSGPACK_TRUE : MSGPACK_FALSE);
 }
 
-// msgpack-python packs a non-negative int in the smallest form.
-static void put_uint_(writer_t *w, uint32_t v)
+// An entry of the map: its key, then a non-negative int in the smallest form, as msgpack-python
+// packs it.
+static void put_uint_entry_(writer_t *w, const char *key, uint32_t v)
 {
+    put_key_(w, key);
     if (v <= MSGPACK_POSFIXINT_MAX) {
         put_u8_(w, (uint8_t)v);
     } else if (v <= 0xFFu) {
@@ -93,30 +97,22 @@ int vcan_encode(const hal_can_frame_t *frame, double timestamp, uint8_t *buf, si
     put_key_(&w, "timestamp");
     put_u8_(&w, MSGPACK_FLOAT64);
     put_be_(&w, ts_bits, 8);
-    put_key_(&w, "arbitration_id");
-    put_uint_(&w, frame->id);
-    put_key_(&w, "is_extended_id");
-    put_bool_(&w, (frame->flags & HAL_CAN_FLAG_EXTENDED) != 0u);
-    put_key_(&w, "is_remote_frame");
-    put_bool_(&w, remote);
-    put_key_(&w, "is_error_frame");
-    put_bool_(&w, false);
+    put_uint_entry_(&w, "arbitration_id", frame->id);
+    put_bool_entry_(&w, "is_extended_id", (frame->flags & HAL_CAN_FLAG_EXTENDED) != 0u);
+    put_bool_entry_(&w, "is_remote_frame", remote);
+    put_bool_entry_(&w, "is_error_frame", false);
     put_key_(&w, "channel");
     put_u8_(&w, MSGPACK_NIL);
-    put_key_(&w, "dlc");
-    put_uint_(&w, frame->dlc);
+    put_uint_entry_(&w, "dlc", frame->dlc);
     put_key_(&w, "data");
     put_u8_(&w, MSGPACK_BIN8);
     put_u8_(&w, n_data);
     for (uint8_t i = 0; i < n_data; i++) {
         put_u8_(&w, frame->data[i]);
     }
-    put_key_(&w, "is_fd");
-    put_bool_(&w, false);
-    put_key_(&w, "bitrate_switch");
-    put_bool_(&w, false);
-    put_key_(&w, "error_state_indicator");
-    put_bool_(&w, false);
+    put_bool_entry_(&w, "is_fd", false);
+    put_bool_entry_(&w, "bitrate_switch", false);
+    put_bool_entry_(&w, "error_state_indicator", false);
     return w.overflow ? FW_ERR_NOMEM : (int)w.len;
 }
 
