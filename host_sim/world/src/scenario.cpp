@@ -815,9 +815,8 @@ bool Parser::resolve_stop(Scenario *s)
     if (a.stop != "auto" && a.aligned == 0) {
         return fail_at(actions_line_, "actions stop " + a.stop + " needs aligned 1 (fixed steps have no stops)");
     }
-    const double max_side = fit_cell_side(*s);
-    const bool turns_inside = std::hypot(s->robot.length, s->robot.width) < max_side;
-    a.centred = a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && s->encoding.fitted && turns_inside));
+    a.centred = a.aligned != 0 &&
+                (a.stop == "centre" || (a.stop == "auto" && s->encoding.fitted && turns_inside_cells(*s)));
     return true;
 }
 

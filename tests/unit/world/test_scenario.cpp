@@ -12,6 +12,7 @@
 extern "C" {
 #include "test_common.h"
 }
+#include "world/grid_fit.h"
 #include "world/random.h"
 #include "world/scenario.h"
 
@@ -183,6 +184,23 @@ void test_encode_auto(void **state)
     assert_false(s.actions.centred);  // an equal grid
     assert_true(world::parse_scenario(head + "encode auto cell 0.3\n", "a.scn", &s, &err));
     assert_false(s.actions.centred);  // cells narrower than the robot's turn
+    // The cell side follows the robot that turns inside it: twice the step, widened to the
+    // diagonal + 2 x 0.08 m; a robot too large to turn inside twice its step keeps that side.
+    auto side_for = [&](const char *robot, double step) {
+        std::string r = head;
+        r.replace(r.find("robot length 0.3 width 0.2"), std::strlen("robot length 0.3 width 0.2"), robot);
+        r.replace(r.find("step 0.5 turn_deg 90 aligned 1 past 0.2"),
+                  std::strlen("step 0.5 turn_deg 90 aligned 1 past 0.2"),
+                  "step " + std::to_string(step) + " turn_deg 90 aligned 1 past 0.1");
+        assert_true(world::parse_scenario(r + "encode auto\n", "a.scn", &s, &err));
+        return world::fit_cell_side(s);
+    };
+    assert_true(std::fabs(side_for("robot length 0.25 width 0.2", 0.25) - 0.5) < 1e-12);  // the lab robot
+    assert_true(s.actions.centred);
+    assert_true(std::fabs(side_for("robot length 0.34 width 0.28", 0.25) - (std::hypot(0.34, 0.28) + 0.16)) < 1e-12);
+    assert_true(s.actions.centred);
+    assert_true(std::fabs(side_for("robot length 0.6 width 0.5", 0.25) - 0.5) < 1e-12);  // the sonar robot
+    assert_false(s.actions.centred);
     std::string stop = head;
     stop.replace(stop.find("past 0.2"), std::strlen("past 0.2"), "past 0.2 stop past");
     assert_true(world::parse_scenario(stop + "encode auto\n", "a.scn", &s, &err));

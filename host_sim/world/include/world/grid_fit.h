@@ -18,7 +18,10 @@
 //     least one): `encode auto cell M`, else fit_cell_side(), twice the robot's step, so the
 //     lab robot's cells stay near the paper's 54 x 40 cm (cells from 2/3 to 3/2 of it; rounding
 //     rather than cutting every gap below the side kept paper-lab's cell count at 63, against
-//     77, and its real steps within 13 % of the paper's grid on tuning seeds).
+//     77, and its real steps within 13 % of the paper's grid on tuning seeds). A robot that
+//     turns inside that side, but with less than kTurnClearance to spare on each side of its
+//     turn, gets cells of its diagonal plus that clearance on each side instead: it stops at
+//     their centres (`actions stop auto`) and turns there clear of the faces.
 //  Only the faces of boxes square to the arena cut: a round pillar's or a turned box's edge
 //  crosses cells whatever the cuts, and cutting at its bounding box only adds cells (on the
 //  tuning rooms: 92 % of sets learned against 100 % without those cuts).
@@ -38,8 +41,18 @@ namespace world {
 inline constexpr int kMaxGridCells = 32;
 /// Obstacle faces closer than this (m) to each other or to a wall are one cut.
 inline constexpr double kFaceMerge = 0.02;
+/// What a robot that turns at a cell's centre keeps between its turning circle and the cell's
+/// faces, on each side (m). Measured on the users-tune rooms with a 0.34 x 0.28 m base
+/// (docs/agent.md, "A stop at the cell's centre"): 0.08 relapsed least of 0.055, 0.08 and 0.13.
+/// The lab robot's cells of twice its step already give it 0.09: it keeps them.
+inline constexpr double kTurnClearance = 0.08;
 
-/// The largest cell side of a fitted grid: `encode auto cell M`, else twice the robot's step.
+/// Whether the robot turns inside a fitted cell: its diagonal is shorter than `encode auto cell
+/// M`, else than twice its step. Such a robot stops at its cells' centres (`actions stop auto`).
+bool turns_inside_cells(const Scenario &s);
+
+/// The largest cell side of a fitted grid: `encode auto cell M`; else twice the robot's step,
+/// widened for a robot that turns inside it to its diagonal + 2 kTurnClearance.
 double fit_cell_side(const Scenario &s);
 
 /// The edges of the cells along `axis` (0: x, 1: y) fitted to `s`'s obstacles, from 0 to the
