@@ -612,14 +612,14 @@ static uint8_t stay_share_(const world_model_t *m, const model_class_t *c)
     return (uint8_t)((c->stay * 255u + all / 2u) / all);
 }
 
-// The relocatable model's prediction for an untried pair: the situation's usual change, the
-// percepts the map has for the place it leads to (a place never seen is not predictable; one
-// seen with several percepts, where the range code depends on where in the cell the robot is,
-// has each as an outcome: refusing it left the values of pairs leading there as they were when
-// the place still showed one, and learned slower: docs/agent.md), and the reward of arriving
-// there if an episode ended there before (else the situation's reward).
-static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
-                             model_step_t *out)
+// Where the relocatable model's prediction for an untried pair leads, before what it says there:
+// the situation's (or percept's) outcome `*cls`; the state its change reaches (`to` and `*next`,
+// still with the percept of `from`); whether it moves; and, for a move in a space with a percept
+// map, the percepts seen there (`*seen`, never 0), else 0. False where predict_general_()
+// refuses.
+AGENT_ALWAYS_INLINE bool general_reach_(world_model_t *m, const uint32_t *from, agent_state_t s,
+                                        uint32_t a, const model_class_t **cls, uint32_t *to,
+                                        agent_state_t *next, bool *moved, uint32_t *seen)
 {
     if (m->classes == NULL || (m->ablate & MODEL_ABLATE_GENERALISE) != 0u) {
         return false;
@@ -637,18 +637,29 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
             return false;
         }
     }
-    uint32_t to[FW_CFG_MAX_COMPONENTS];
-    agent_state_t next;
-    if (!apply_delta_(m, from, c->delta, 1, to, &next)) {
+    if (!apply_delta_(m, from, c->delta, 1, to, next)) {
         return false;
     }
-    const bool moved = moves_(c->delta);
-    uint32_t others = 0;
-    if (moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
-        const uint32_t seen = seen_at_(m, next, to);
-        if (seen == 0u) {
+    *moved = moves_(c->delta);
+    *seen = 0u;
+    if (*moved && m->percepts != NULL) {  // a step that goes nowhere keeps what it perceives
+        *seen = seen_at_(m, *next, to);
+        if (*seen == 0u) {
             return false;
         }
+    }
+    *cls = c;
+    return true;
+}
+
+// The rest of the relocatable model's prediction, from what general_reach_() found: the
+// outcomes, the reward, the end of an episode, the stay share. Counts it in `generalised`.
+AGENT_ALWAYS_INLINE void general_outcome_(world_model_t *m, const model_class_t *c, uint32_t *to,
+                                          agent_state_t next, bool moved, uint32_t seen,
+                                          model_step_t *out)
+{
+    uint32_t others = 0;
+    if (seen != 0u) {
         // A place seen with several percepts: each is an outcome.
         others = seen & (seen - 1u);
         set_percept_(m, lowest_bit_(seen), &next, to);
@@ -660,7 +671,51 @@ static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state
     out->others = (uint16_t)others;
     out->stay = out->terminal ? 0u : stay_share_(m, c);
     m->generalised++;
+}
+
+// The relocatable model's prediction for an untried pair: the situation's usual change, the
+// percepts the map has for the place it leads to (a place never seen is not predictable; one
+// seen with several percepts, where the range code depends on where in the cell the robot is,
+// has each as an outcome: refusing it left the values of pairs leading there as they were when
+// the place still showed one, and learned slower: docs/agent.md), and the reward of arriving
+// there if an episode ended there before (else the situation's reward).
+static bool predict_general_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
+                             model_step_t *out)
+{
+    const model_class_t *c;
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
+    agent_state_t next;
+    bool moved;
+    uint32_t seen;
+    if (!general_reach_(m, from, s, a, &c, to, &next, &moved, &seen)) {
+        return false;
+    }
+    general_outcome_(m, c, to, next, moved, seen, out);
     return true;
+}
+
+// A tried pair's prediction (predict_exact_()) with its stay share: a tried move stays as often
+// as its situation's moves do (a property of the heading against the cell, not of the place); its
+// own stays were not kept (model_learn()). A tried pair that only ever stayed, with its
+// situation's reward, is predicted as the situation's move: it was the same step, not finished.
+static void exact_stays_(world_model_t *m, const uint32_t *from, agent_state_t s, uint32_t a,
+                         model_step_t *out)
+{
+    if (m->classes != NULL && !out->terminal && (m->ablate & MODEL_ABLATE_STAY) == 0u) {
+        const model_class_t *c = class_of_(m, s, from, a);
+        if (!class_trusted_(c) && m->n_percept_classes != 0u) {
+            c = percept_class_of_(m, s, from, a);
+        }
+        const uint8_t share = stay_share_(m, c);
+        if (out->next != s) {
+            out->stay = share;
+        } else if (share != 0u && agent_absf_((float)c->reward / (float)CMAC_ONE - out->reward) <= 0.5f) {
+            const model_step_t kept = *out;
+            if (!predict_general_(m, from, s, a, out)) {
+                *out = kept;
+            }
+        }
+    }
 }
 
 // The model's prediction for (from, a): CMAC-Model's if the pair was tried, else the
@@ -669,25 +724,7 @@ static bool predict_(world_model_t *m, const uint32_t *from, agent_state_t s,
                      const cmac_tiles_t *tiles, uint32_t a, model_step_t *out)
 {
     if (predict_exact_(m, from, tiles, a, out)) {
-        // A tried move stays as often as its situation's moves do (a property of the heading
-        // against the cell, not of the place); its own stays were not kept (model_learn()). A
-        // tried pair that only ever stayed, with its situation's reward, is predicted as the
-        // situation's move: it was the same step, not finished.
-        if (m->classes != NULL && !out->terminal && (m->ablate & MODEL_ABLATE_STAY) == 0u) {
-            const model_class_t *c = class_of_(m, s, from, a);
-            if (!class_trusted_(c) && m->n_percept_classes != 0u) {
-                c = percept_class_of_(m, s, from, a);
-            }
-            const uint8_t share = stay_share_(m, c);
-            if (out->next != s) {
-                out->stay = share;
-            } else if (share != 0u && agent_absf_((float)c->reward / (float)CMAC_ONE - out->reward) <= 0.5f) {
-                const model_step_t kept = *out;
-                if (!predict_general_(m, from, s, a, out)) {
-                    *out = kept;
-                }
-            }
-        }
+        exact_stays_(m, from, s, a, out);
         return true;
     }
     if (predict_general_(m, from, s, a, out)) {
@@ -780,6 +817,44 @@ AGENT_ALWAYS_INLINE bool leads_to_(const world_model_t *m, const model_step_t *s
            with_percept_(m, step->next, percept) == q->state;
 }
 
+// Whether the candidate predecessor `prev` (its state, components and tiles) confirms by `a`:
+// predict_() leads to q's state (q's percept value `percept`) without ending the episode, as the
+// predecessor search asks, into *step. Counts what predict_() counts, but works out a
+// prediction's reward, end and stay share only where it leads to q: about three candidates in
+// four lead elsewhere (paper-sim), and for them only whether there is a prediction (the counts)
+// and where it goes are needed.
+AGENT_ALWAYS_INLINE bool confirms_(world_model_t *m, const model_query_t *prev, uint32_t a,
+                                   const model_query_t *q, uint32_t percept, model_step_t *step)
+{
+    if (predict_exact_(m, prev->comp, &prev->tiles, a, step)) {
+        // A tried pair's one outcome is step->next, which its stay share leaves as it is unless
+        // it stays where it is (exact_stays_() may then take the situation's move).
+        if (step->terminal || (step->next != prev->state && step->next != q->state)) {
+            return false;
+        }
+        exact_stays_(m, prev->comp, prev->state, a, step);
+        return !step->terminal && leads_to_(m, step, q, percept);
+    }
+    const model_class_t *c;
+    uint32_t to[FW_CFG_MAX_COMPONENTS];
+    agent_state_t next;
+    bool moved;
+    uint32_t seen;
+    if (!general_reach_(m, prev->comp, prev->state, a, &c, to, &next, &moved, &seen)) {
+        m->untrusted++;
+        return false;
+    }
+    // Without a map's percepts the outcome is `next`; with them, `next` with each percept seen
+    // there (general_outcome_()), of which leads_to_() looks for q's.
+    if (seen == 0u ? next != q->state
+                   : ((seen >> percept) & 1u) == 0u || with_percept_(m, next, percept) != q->state) {
+        m->generalised++;  // a prediction all the same
+        return false;
+    }
+    general_outcome_(m, c, to, next, moved, seen, step);
+    return !step->terminal && leads_to_(m, step, q, percept);
+}
+
 uint32_t model_step_outcomes(const world_model_t *m, const model_step_t *step, agent_state_t *out)
 {
     FW_ASSERT(m != NULL && step != NULL && out != NULL);
@@ -830,8 +905,7 @@ uint32_t model_query_predecessors(world_model_t *m, const model_query_t *q, mode
                 cmac_tiles_of_packed(&m->forward, prev->state, prev->comp, a, &prev->tiles);
                 // Confirmed only if the forward prediction leads here, not ending the episode;
                 // the same lookup gives the predecessor's reward.
-                if (!predict_(m, prev->comp, prev->state, &prev->tiles, a, &step) ||
-                    step.terminal || !leads_to_(m, &step, q, percept)) {
+                if (!confirms_(m, prev, a, q, percept, &step)) {
                     m->rejected++;
                     continue;
                 }
