@@ -32,4 +32,15 @@
 #define FW_CFG_MAX_PROBE 16
 #endif
 
+// ---- The host's extras ---------------------------------------------------------------------------
+
+/// Dyna-QPC's planner keeps the predecessors of this many states (a table of ~220 bytes an entry,
+/// outside every profile's storage) until the model next changes, and finds them there instead of
+/// searching again (dyna_qpc.c): the same planning, faster. 0 (the MCU's images): no table. The
+/// host's builds set it (firmware/CMakeLists.txt), where the simulator spends most of its time
+/// in the planner's searches.
+#ifndef FW_CFG_PLAN_CACHE_ENTRIES
+#define FW_CFG_PLAN_CACHE_ENTRIES 0
+#endif
+
 #endif // FW_CONFIG_H

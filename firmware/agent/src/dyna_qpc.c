@@ -6,14 +6,61 @@
 
 #include "algorithm.h"
 #include "fw/fw_base.h"
+#include "fw_config.h"
 
 FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS,
                  dyna_qpc_lists_at_most_AGENT_MAX_REGIONS);
+
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+// The predecessors the planner found, kept until the model next changes (fw_config.h): between
+// two real steps the model stands still, and idle-time planning (one update a call) searches the
+// same few dozen states again and again (paper-sim-real from scratch: 94 % of its searches are of
+// a state searched since the last real step). A search found again gives what the search gave
+// and counts what it counted (model_count_again()), so planning and the counters are those of
+// the MCU, which has no room for this table. One table for the process (the host runs one agent
+// at a time): its entries name their model, and every change to any model makes them all stale.
+typedef struct plan_cache_entry {
+    const world_model_t *model;
+    uint32_t generation;  ///< current while it equals generation_
+    agent_state_t state;
+    uint32_t n;
+    model_counts_t counted;
+    model_pred_t pred[MODEL_MAX_PREDECESSORS];
+} plan_cache_entry_t;
+
+FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_PLAN_CACHE_ENTRIES) && FW_CFG_PLAN_CACHE_ENTRIES >= 2,
+                 plan_cache_entries_are_a_power_of_two);
+
+static plan_cache_entry_t cache_[FW_CFG_PLAN_CACHE_ENTRIES];
+static uint32_t generation_ = 1u;  // 0 is no entry's: a fresh table holds nothing current
+
+// Every entry stale: a model changed (learned, cleared, restored, made).
+static void cache_forget_(void)
+{
+    generation_++;
+    if (generation_ == 0u) {  // after 2^32 changes the oldest entries would come back: clear them
+        for (uint32_t i = 0; i < FW_CFG_PLAN_CACHE_ENTRIES; i++) {
+            cache_[i].generation = 0u;
+        }
+        generation_ = 1u;
+    }
+}
+
+// The entry s maps to: the top bits of its Fibonacci hash, which depend on all of its bits.
+static plan_cache_entry_t *cache_entry_(agent_state_t s)
+{
+    return &cache_[(uint32_t)(s * 0x9E3779B1u) / (0x80000000u / (FW_CFG_PLAN_CACHE_ENTRIES / 2u))];
+}
+#define CACHE_FORGET_() cache_forget_()
+#else
+#define CACHE_FORGET_() ((void)0)
+#endif
 
 static int init_(agent_t *ag, const agent_storage_t *st)
 {
     const agent_dyna_qpc_storage_t *mine = &st->dyna_qpc;
     agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    CACHE_FORGET_();
     int err = model_init(&me->model, ag->space, ag->params.tilings, ag->params.model_rate,
                          ag->params.min_count, &mine->forward, &mine->reloc);
     if (err) {
@@ -34,6 +81,7 @@ static int init_(agent_t *ag, const agent_storage_t *st)
 
 static void clear_(agent_t *ag)
 {
+    CACHE_FORGET_();
     model_clear(&ag->alg.dyna_qpc.model);
     pq_clear(&ag->alg.dyna_qpc.pq);
 }
@@ -141,6 +189,7 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
     // New to the map (which learning is about to show it); a space without one has no new
     // states.
     const bool new_state = me->model.percepts != NULL && !model_has_seen(&me->model, s_next);
+    CACHE_FORGET_();
     const bool plannable = model_learn(&me->model, s, a, r, s_next, terminal);
     if (priority > ag->params.theta) {
         (void)pq_push(&me->pq, agent_pair_(ag, s, a) | (plannable ? 0u : UNPLANNABLE_BIT), priority);
@@ -163,10 +212,45 @@ static void observe_(agent_t *ag, agent_state_t s, uint8_t a, float r, agent_sta
 static void plan_carry_init_(agent_plan_carry_t *c)
 {
     c->valid = false;
+    c->queries_missing = false;
     c->here = &c->store[0];
     for (uint32_t i = 0; i < MODEL_MAX_PREDECESSORS; i++) {
         c->query[i] = &c->store[i + 1u];
     }
+}
+
+// The predecessors of the carry's `here`, with their queries, into the carry (and what finding
+// them counted); from the cache when this model's were found since it last changed, without the
+// queries then (made when needed: c->queries_missing).
+static void find_predecessors_(world_model_t *model, agent_plan_carry_t *c)
+{
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+    plan_cache_entry_t *const e = cache_entry_(c->here->state);
+    if (e->generation == generation_ && e->model == model && e->state == c->here->state) {
+        c->n = e->n;
+        for (uint32_t i = 0; i < e->n; i++) {
+            c->pred[i] = e->pred[i];
+        }
+        c->counted = e->counted;
+        c->queries_missing = true;
+        model_count_again(model, e->counted);
+        return;
+    }
+#endif
+    const model_counts_t before = model_counts(model);
+    c->n = model_query_predecessors(model, c->here, c->pred, c->query);
+    c->counted = model_counts_since(model, before);
+    c->queries_missing = false;
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+    e->model = model;
+    e->generation = generation_;
+    e->state = c->here->state;
+    e->n = c->n;
+    e->counted = c->counted;
+    for (uint32_t i = 0; i < c->n; i++) {
+        e->pred[i] = c->pred[i];
+    }
+#endif
 }
 
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
@@ -203,6 +287,11 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
         step.stay = c->pred[known].stay;
         if (!same) {  // the predecessor's query becomes `here`, its old place is free
             model_query_t *const q = c->query[known];
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+            if (c->queries_missing) {  // found in the cache: the search's query, made here
+                model_query_init(&me->model, c->pred[known].state, q);
+            }
+#endif
             c->query[known] = c->here;
             c->here = q;
             c->valid = false;
@@ -233,9 +322,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     if (c->valid) {  // s is the carry's state: its predecessors are the ones found then
         model_count_again(&me->model, c->counted);
     } else {
-        const model_counts_t before = model_counts(&me->model);
-        c->n = model_query_predecessors(&me->model, c->here, c->pred, c->query);
-        c->counted = model_counts_since(&me->model, before);
+        find_predecessors_(&me->model, c);
         c->valid = true;
     }
     if (c->n == 0u) {
@@ -276,6 +363,7 @@ static int check_(const agent_t *ag, const void *const *image, uint32_t state_bi
 
 static void restored_(agent_t *ag)
 {
+    CACHE_FORGET_();
     model_restored(&ag->alg.dyna_qpc.model);
     pq_clear(&ag->alg.dyna_qpc.pq);  // work in progress, not knowledge: never saved
 }

@@ -21,6 +21,8 @@ extern "C" {
 /// size report counts it and the MCU's planning stack stays small.
 typedef struct agent_plan_carry {
     bool valid;           ///< `here` and the predecessors belong together
+    /// the predecessors came from the host's cache (dyna_qpc.c) without their queries
+    bool queries_missing;
     model_query_t *here;  ///< the last state whose predecessors were found
     uint32_t n;
     model_pred_t pred[MODEL_MAX_PREDECESSORS];
