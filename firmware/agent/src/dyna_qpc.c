@@ -253,6 +253,49 @@ static void find_predecessors_(world_model_t *model, agent_plan_carry_t *c)
 #endif
 }
 
+// What the popped pair (s, a) leads to: from the carry when s is a predecessor the previous
+// update found (its query then becomes the carry's `here`), else predicted from a fresh query.
+// False, counted as skipped, when the model cannot predict it.
+static bool popped_outcome_(agent_t *ag, agent_plan_carry_t *c, uint32_t key, agent_state_t s, uint8_t a,
+                            model_step_t *step)
+{
+    agent_dyna_qpc_t *me = &ag->alg.dyna_qpc;
+    const bool same = c->valid && c->here->state == s;
+    uint32_t known = 0;
+    while (c->valid && known < c->n &&
+           agent_pair_(ag, c->pred[known].state, c->pred[known].action) != key) {
+        known++;
+    }
+    if (c->valid && known < c->n) {
+        step->next = c->here->state;
+        step->reward = c->pred[known].reward;
+        step->terminal = 0;
+        step->others = c->pred[known].others;
+        step->stay = c->pred[known].stay;
+        if (!same) {  // the predecessor's query becomes `here`, its old place is free
+            model_query_t *const q = c->query[known];
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+            if (c->queries_missing) {  // found in the cache: the search's query, made here
+                model_query_init(&me->model, c->pred[known].state, q);
+            }
+#endif
+            c->query[known] = c->here;
+            c->here = q;
+            c->valid = false;
+        }
+    } else {
+        if (!same) {
+            c->valid = false;
+            model_query_init(&me->model, s, c->here);
+        }
+        if (!model_query_predict(&me->model, c->here, a, step)) {
+            ag->stats.planning_skipped++;
+            return false;
+        }
+    }
+    return true;
+}
+
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
 // model knows is queued by how much this change matters to it. `c` holds what the previous
 // updates of this agent_plan() call found, and receives what this one finds.
@@ -272,39 +315,9 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     const uint32_t n_actions = ag->space->n_actions;
     const agent_state_t s = key / n_actions;
     const uint8_t a = (uint8_t)(key % n_actions);
-    const bool same = c->valid && c->here->state == s;
-    uint32_t known = 0;
-    while (c->valid && known < c->n &&
-           agent_pair_(ag, c->pred[known].state, c->pred[known].action) != key) {
-        known++;
-    }
     model_step_t step;
-    if (c->valid && known < c->n) {
-        step.next = c->here->state;
-        step.reward = c->pred[known].reward;
-        step.terminal = 0;
-        step.others = c->pred[known].others;
-        step.stay = c->pred[known].stay;
-        if (!same) {  // the predecessor's query becomes `here`, its old place is free
-            model_query_t *const q = c->query[known];
-#if FW_CFG_PLAN_CACHE_ENTRIES > 0
-            if (c->queries_missing) {  // found in the cache: the search's query, made here
-                model_query_init(&me->model, c->pred[known].state, q);
-            }
-#endif
-            c->query[known] = c->here;
-            c->here = q;
-            c->valid = false;
-        }
-    } else {
-        if (!same) {
-            c->valid = false;
-            model_query_init(&me->model, s, c->here);
-        }
-        if (!model_query_predict(&me->model, c->here, a, &step)) {
-            ag->stats.planning_skipped++;
-            return true;
-        }
+    if (!popped_outcome_(ag, c, key, s, a, &step)) {
+        return true;
     }
     const float target = step_target_(ag, s, &step) + agent_plan_bonus_(ag, s, a);
     // Q(s, a) += alpha (target - Q(s, a)); planning never forgets a state to make room for s,
