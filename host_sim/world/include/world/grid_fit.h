@@ -41,15 +41,15 @@ namespace world {
 inline constexpr int kMaxGridCells = 32;
 /// Obstacle faces closer than this (m) to each other or to a wall are one cut.
 inline constexpr double kFaceMerge = 0.02;
-/// What a robot that turns at a cell's centre keeps between its turning circle and the cell's
-/// faces, on each side (m). Measured on the users-tune rooms with a 0.34 x 0.28 m base
-/// (docs/agent.md, "A stop at the cell's centre"): 0.08 relapsed least of 0.055, 0.08 and 0.13.
-/// The lab robot's cells of twice its step already give it 0.09: it keeps them.
-inline constexpr double kTurnClearance = 0.08;
-
 /// Whether the robot turns inside a fitted cell: its diagonal is shorter than `encode auto cell
 /// M`, else than twice its step. Such a robot stops at its cells' centres (`actions stop auto`).
 bool turns_inside_cells(const Scenario &s);
+
+/// What a robot that turns at a cell's centre keeps between its turning circle and the cell's
+/// faces, on each side (m). Measured on the users-tune rooms with a 0.34 x 0.28 m base
+/// (docs/agent.md, "A robot larger than the lab robot"): 0.08 relapsed least of 0.055, 0.08 and
+/// 0.13. The lab robot's cells of twice its step already give it 0.09: it keeps them.
+inline constexpr double kTurnClearance = 0.08;
 
 /// The largest cell side of a fitted grid: `encode auto cell M`; else twice the robot's step,
 /// widened for a robot that turns inside it to its diagonal + 2 kTurnClearance.
