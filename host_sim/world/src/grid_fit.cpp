@@ -42,12 +42,17 @@ bool inside_an_obstacle(const Scenario &s, int axis, double a, double b)
     return false;
 }
 
+// `encode auto cell M`, else twice the step: the side a turn is judged against and widened from.
+double unwidened_cell_side(const Scenario &s)
+{
+    return s.encoding.max_cell > 0.0 ? s.encoding.max_cell : 2.0 * s.actions.step;
+}
+
 }  // namespace
 
 bool turns_inside_cells(const Scenario &s)
 {
-    const double side = s.encoding.max_cell > 0.0 ? s.encoding.max_cell : 2.0 * s.actions.step;
-    return 2.0 * robot_radius(s.robot) < side;
+    return 2.0 * robot_radius(s.robot) < unwidened_cell_side(s);
 }
 
 // Why widen: a turn at a cell's centre sweeps the robot's corners round a circle of its
@@ -58,10 +63,9 @@ bool turns_inside_cells(const Scenario &s)
 // those cells and its `past` stops: widening them to its turn would make steps of a metre.
 double fit_cell_side(const Scenario &s)
 {
-    if (s.encoding.max_cell > 0.0) return s.encoding.max_cell;
-    const double step_cell = 2.0 * s.actions.step;
-    if (!turns_inside_cells(s)) return step_cell;
-    return std::max(step_cell, 2.0 * robot_radius(s.robot) + 2.0 * kTurnClearance);
+    const double side = unwidened_cell_side(s);
+    if (s.encoding.max_cell > 0.0 || !turns_inside_cells(s)) return side;
+    return std::max(side, 2.0 * robot_radius(s.robot) + 2.0 * kTurnClearance);
 }
 
 bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
