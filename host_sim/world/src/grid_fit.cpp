@@ -95,13 +95,17 @@ bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, st
     }
     if (side - cuts.back() < kFaceMerge) cuts.pop_back();
     cuts.push_back(side);
-    // 2. Gaps narrower than `past`: a thin obstacle keeps its own cell; free space closes it.
+    // 2. Gaps narrower than `past`: a thin obstacle keeps its own cell; free space closes it. A
+    //    gap exactly `past` wide in the firmware's single precision is closed too, inside an
+    //    obstacle or not: the firmware would neither step over it nor stop `past` inside it, and
+    //    refuses the grid (a 0.16 m box against the wall with paper-lab's `past 0.16`).
     const double past = s.actions.past;
     for (bool changed = true; changed;) {
         changed = false;
         for (std::size_t i = 0; i + 1 < cuts.size(); i++) {
             const double a = cuts[i], b = cuts[i + 1];
-            if (b - a >= past || inside_an_obstacle(s, axis, a, b)) continue;
+            const bool as_wide_as_past = static_cast<float>(b) - static_cast<float>(a) == static_cast<float>(past);
+            if ((b - a >= past || inside_an_obstacle(s, axis, a, b)) && !as_wide_as_past) continue;
             if (i == 0) {
                 cuts.erase(cuts.begin() + 1);  // next to the wall: the wall's cut stays
             } else if (i + 2 == cuts.size()) {

@@ -606,6 +606,18 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
     return true;
 }
 
+// Whether an aligned step can end in a goal cell: the firmware steps over a fitted cell narrower
+// than `past` (a partition's), so a goal whose cells are all that narrow is never reached (a goal
+// drawn above the end of a thin wall, on the wall's column of cells). Fixed steps land anywhere.
+bool goal_has_a_stop(const Scenario &s)
+{
+    if (!s.actions.aligned) return !goal_cells(s).empty();
+    for (const CellBox &c : goal_cells(s)) {
+        if (c.x1 - c.x0 > s.actions.past && c.y1 - c.y0 > s.actions.past) return true;
+    }
+    return false;
+}
+
 // `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
 // and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
 // every cell a step stops in.
@@ -625,7 +637,13 @@ bool Parser::fit_encoding(Scenario *s)
             !fit_axis(*s, 1, max_side, goal_square, &e.y_edges, &problem)) {
             return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
         }
-        if (!s->goal.cells || !goal_cells(*s).empty()) break;  // else: a cell centred on the goal
+        if (!s->goal.cells || goal_has_a_stop(*s)) break;  // else: a cell centred on the goal
+    }
+    if (s->goal.cells && !goal_cells(*s).empty() && !goal_has_a_stop(*s)) {
+        return fail_at(goal_line_, "goal ... cells: every cell of the fitted grid with its centre in the "
+                                   "circle is narrower than 'past' (" + fmt_num(s->actions.past) +
+                                       " m), and aligned steps pass over such a cell: the goal could "
+                                       "never be reached (move it into the open, or make it larger)");
     }
     auto bits_for = [](std::size_t cells) {
         int b = 1;

@@ -227,6 +227,39 @@ void test_encode_auto(void **state)
     assert_non_null(std::strstr(err.c_str(), "cells along x"));
 }
 
+// encode auto and `past`: the firmware steps over a fitted cell narrower than `past` and cannot
+// stop `past` inside one exactly that wide, so neither may hold the whole goal or be a cell.
+void test_encode_auto_past(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 2\nrobot length 0.25 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\n"
+                             "actions step 0.25 turn_deg 90 aligned 1 past 0.2\nencode auto heading 2\n";
+    world::Scenario s;
+    std::string err;
+    // A box exactly `past` wide against the wall: no cell is `past` wide (in single precision).
+    assert_true(world::parse_scenario(head + "goal 3.5 1.5 0.3 cells\nobstacle box 0.1 1.0 0.2 0.4\n", "a.scn",
+                                      &s, &err));
+    const std::vector<double> &x = s.encoding.x_edges;
+    for (std::size_t k = 0; k + 1 < x.size(); k++) {
+        assert_true(static_cast<float>(x[k + 1]) - static_cast<float>(x[k]) != 0.2f);
+    }
+    assert_true(std::fabs(x[1] - 0.2) > 1e-9);
+    // A goal above the end of a thin wall, whose only cell centred in it is the wall's 0.1 m
+    // column: a cell centred on the goal is cut instead, wide enough to stop in.
+    const std::string wall = "obstacle box 2.0 0.7 0.1 1.4\n";
+    assert_true(world::parse_scenario(head + wall + "goal 2.0 1.7 0.3 cells\n", "a.scn", &s, &err));
+    bool stop = false;
+    for (const world::CellBox &c : world::goal_cells(s)) {
+        stop = stop || (c.x1 - c.x0 > 0.2 && c.y1 - c.y0 > 0.2);
+    }
+    assert_true(stop);
+    // The same with a goal too small to hold a cell a step can end in: refused, saying why (here
+    // the goal's own square merges with the wall's faces, and no cell centre is left in it).
+    assert_false(world::parse_scenario(head + wall + "goal 2.0 1.7 0.06 cells\n", "a.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "goal ... cells: "));
+}
+
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
 // unknown model or malformed widths are refused with the line.
 void test_learning_model(void **state)
@@ -552,6 +585,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_goal_cells),
         cmocka_unit_test(test_gamma_auto),
         cmocka_unit_test(test_encode_auto),
+        cmocka_unit_test(test_encode_auto_past),
         cmocka_unit_test(test_explore),
         cmocka_unit_test(test_learning_model),
         cmocka_unit_test(test_name_resolution),

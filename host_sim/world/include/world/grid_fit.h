@@ -13,7 +13,9 @@
 //  2. A gap narrower than the step's `past` that lies inside one obstacle's extent (a thin
 //     partition) stays a cell of its own: aligned steps cross it and never stop in it, so the
 //     stops on either side are `past` clear of the partition's faces. A gap that narrow in free
-//     space is closed: its two cuts become one at its middle.
+//     space, or exactly `past` wide in single precision anywhere (the firmware could neither
+//     step over it nor stop in it), is closed: its two cuts become one at its middle (at a wall,
+//     the wall's cut stays).
 //  3. A gap is cut into the number of equal cells nearest its width over the cell side (at
 //     least one): `encode auto cell M`, else fit_cell_side(), twice the robot's step, so the
 //     lab robot's cells stay near the paper's 54 x 40 cm (cells from 2/3 to 3/2 of it; rounding
