@@ -22,6 +22,7 @@
 #include "hal_host/hal_host_config.h"
 #include "learning_record.h"
 #include "world/grid_fit.h"
+#include "world/rooms.h"
 #include "lockstep.h"
 #include "options.h"
 #include "scenario_bridge.h"
@@ -267,16 +268,22 @@ struct TrainTally {
     std::uint64_t done = 0;
 };
 
-// A user's room (a file, not a shipped name) on equal cells that its walls cut.
-void warn_cut_cells(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
+// A user's room (a file, not a shipped name) on equal cells that its walls cut, or with starts
+// that no passage as wide as the robot's diagonal joins to the goal (rooms --check refuses such
+// a room; train runs it, and the sets that start there cannot learn).
+void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
-    if (!s.quiet && s.scenario.find('/') != std::string::npos) {
-        if (const int faces = world::faces_inside_cells(*sb.world)) {
-            std::fprintf(stderr,
-                         "%s train: warning: %s: %d wall face(s) lie inside state cells of the equal grid; 'encode "
-                         "auto' fits the cells to the room (dynaqpc-sim rooms --check says more)\n",
-                         program.c_str(), s.scenario.c_str(), faces);
-        }
+    if (s.quiet || s.scenario.find('/') == std::string::npos) return;
+    if (const int faces = world::faces_inside_cells(*sb.world)) {
+        std::fprintf(stderr,
+                     "%s train: warning: %s: %d wall face(s) lie inside state cells of the equal grid; 'encode "
+                     "auto' fits the cells to the room (dynaqpc-sim rooms --check says more)\n",
+                     program.c_str(), s.scenario.c_str(), faces);
+    }
+    const world::PassageReport passages = world::check_passages(*sb.world);
+    if (!passages.ok) {
+        std::fprintf(stderr, "%s train: warning: %s: %s: the robot cannot learn from those starts\n",
+                     program.c_str(), s.scenario.c_str(), passages.problem.c_str());
     }
 }
 
@@ -412,7 +419,7 @@ void train(const std::string &program, const Options &o, TrainSettings &s)
     o.require("--scenario", "paper-sim, paper-lab or a file");
     o.require("--agent", agent_kind_list());
     const ScenarioBundle sb = load_scenario(s.scenario);
-    warn_cut_cells(program, s, sb);
+    warn_room(program, s, sb);
     const robot_config_t cfg = configure(o, s, sb);
     const ScenarioBundle changed = load_change_options(o, sb, s.changed, s.change_at, s.episodes, "episode");
     s.changed_world = changed.world.get();
