@@ -105,7 +105,8 @@ bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, st
         for (std::size_t i = 0; i + 1 < cuts.size(); i++) {
             const double a = cuts[i], b = cuts[i + 1];
             const bool as_wide_as_past = static_cast<float>(b) - static_cast<float>(a) == static_cast<float>(past);
-            if ((b - a >= past || inside_an_obstacle(s, axis, a, b)) && !as_wide_as_past) continue;
+            const bool keeps_its_cell = b - a >= past || inside_an_obstacle(s, axis, a, b);
+            if (keeps_its_cell && !as_wide_as_past) continue;
             if (i == 0) {
                 cuts.erase(cuts.begin() + 1);  // next to the wall: the wall's cut stays
             } else if (i + 2 == cuts.size()) {

@@ -632,14 +632,17 @@ bool Parser::fit_encoding(Scenario *s)
                                           fmt_num(max_side) + " m)");
     }
     std::string problem;
+    bool goal_reached = false;
     for (bool goal_square : {false, true}) {
         if (!fit_axis(*s, 0, max_side, goal_square, &e.x_edges, &problem) ||
             !fit_axis(*s, 1, max_side, goal_square, &e.y_edges, &problem)) {
             return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
         }
-        if (!s->goal.cells || goal_has_a_stop(*s)) break;  // else: a cell centred on the goal
+        goal_reached = !s->goal.cells || goal_has_a_stop(*s);
+        if (goal_reached) break;  // else: a cell centred on the goal
     }
-    if (s->goal.cells && !goal_cells(*s).empty() && !goal_has_a_stop(*s)) {
+    // No cell at all is validate_goal_cells()'s to say; cells no step ends in, this one's.
+    if (!goal_reached && !goal_cells(*s).empty()) {
         return fail_at(goal_line_, "goal ... cells: every cell of the fitted grid with its centre in the "
                                    "circle is narrower than 'past' (" + fmt_num(s->actions.past) +
                                        " m), and aligned steps pass over such a cell: the goal could "
