@@ -258,6 +258,10 @@ void test_encode_auto_past(void **state)
     // the goal's own square merges with the wall's faces, and no cell centre is left in it).
     assert_false(world::parse_scenario(head + wall + "goal 2.0 1.7 0.06 cells\n", "a.scn", &s, &err));
     assert_non_null(std::strstr(err.c_str(), "goal ... cells: "));
+    // A goal on the wall's face whose own square cuts where the wall's faces do: its only cell
+    // is still the wall's column, and the file says so.
+    assert_false(world::parse_scenario(head + wall + "goal 1.95 1.6 0.07 cells\n", "a.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "narrower than 'past' (0.2 m)"));
 }
 
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
