@@ -256,7 +256,12 @@ std::string grid_json(const ScenarioBundle &sb)
       << ",\"heading\":" << unsigned(sb.robot.bits_heading) << ",\"sensor\":" << unsigned(sb.robot.bits_code)
       << "},\"stop\":\"" << stop_name(sb.robot) << "\",\n";
     write_grid(g, sb.robot);
-    g << "}}\n";
+    // What the firmware learns the room's values with (robot_config_agent_params()): the
+    // discount, the sweep's threshold and what a state never met is worth (docs/agent.md, 11. and
+    // 13.).
+    const agent_params_t &p = sb.robot.params;
+    g << "},\n\"values\":{\"gamma\":" << num(p.gamma) << ",\"theta\":" << num(p.theta) << ",\"prior\":" << num(p.q_prior)
+      << "}}\n";
     return g.str();
 }
 
