@@ -12,21 +12,30 @@ FW_STATIC_ASSERT(QSTORE_MAX_REGIONS + MODEL_MAX_REGIONS <= AGENT_MAX_REGIONS,
                  dyna_qpc_lists_at_most_AGENT_MAX_REGIONS);
 
 #if FW_CFG_PLAN_CACHE_ENTRIES > 0
-// The predecessors the planner found, kept until the model next changes (fw_config.h): between
-// two real steps the model stands still, and idle-time planning (one update a call) searches the
-// same few dozen states again and again (paper-sim-real from scratch: 94 % of its searches are of
-// a state searched since the last real step). A search found again gives what the search gave
-// and counts what it counted (model_count_again()), so planning and the counters are those of
-// the MCU, which has no room for this table. One table for the process (the host runs one agent
-// at a time): its entries name their model, and every change to any model makes them all stale.
+// What the planner's model gave about a state, kept until the model next changes (fw_config.h):
+// the predecessors it found, and the prediction of each action of the state that was popped.
+// Between two real steps the model stands still, and idle-time planning (one update a call) pops
+// and searches the same few dozen states again and again (paper-sim-real from scratch: 94 % of
+// its searches are of a state searched since the last real step). An answer found again is what
+// the model gave and counts what it counted (model_count_again()), so planning and the counters
+// are those of the MCU, which has no room for this table. One table for the process (the host
+// runs one agent at a time): its entries name their model, and every change to any model makes
+// them all stale.
 typedef struct plan_cache_entry {
     const world_model_t *model;
     uint32_t generation;  ///< current while it equals generation_
     agent_state_t state;
+    bool searched;        ///< n, counted and pred hold the predecessor search's answer
+    uint32_t predicted;   ///< bit a: action a's prediction is in moved, step[a], step_counted[a]
+    uint32_t moved;       ///< bit a: model_query_predict() gave step[a] (else it refused)
     uint32_t n;
     model_counts_t counted;
     model_pred_t pred[MODEL_MAX_PREDECESSORS];
+    model_step_t step[FW_CFG_MAX_ACTIONS];
+    model_counts_t step_counted[FW_CFG_MAX_ACTIONS];
 } plan_cache_entry_t;
+
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 32, plan_cache_action_masks_fit);
 
 FW_STATIC_ASSERT(FW_IS_POW2(FW_CFG_PLAN_CACHE_ENTRIES) && FW_CFG_PLAN_CACHE_ENTRIES >= 2,
                  plan_cache_entries_are_a_power_of_two);
@@ -50,6 +59,21 @@ static void cache_forget_(void)
 static plan_cache_entry_t *cache_entry_(agent_state_t s)
 {
     return &cache_[(uint32_t)(s * 0x9E3779B1u) / (0x80000000u / (FW_CFG_PLAN_CACHE_ENTRIES / 2u))];
+}
+
+// The entry of s for `model`, as it stands (holding nothing of s's when it held another state or
+// an older model's answers).
+static plan_cache_entry_t *cache_entry_for_(const world_model_t *model, agent_state_t s)
+{
+    plan_cache_entry_t *const e = cache_entry_(s);
+    if (e->generation != generation_ || e->model != model || e->state != s) {
+        e->model = model;
+        e->generation = generation_;
+        e->state = s;
+        e->searched = false;
+        e->predicted = 0u;
+    }
+    return e;
 }
 #define CACHE_FORGET_() cache_forget_()
 #else
@@ -213,6 +237,9 @@ static void plan_carry_init_(agent_plan_carry_t *c)
 {
     c->valid = false;
     c->queries_missing = false;
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+    c->here_missing = false;
+#endif
     c->here = &c->store[0];
     for (uint32_t i = 0; i < MODEL_MAX_PREDECESSORS; i++) {
         c->query[i] = &c->store[i + 1u];
@@ -225,8 +252,8 @@ static void plan_carry_init_(agent_plan_carry_t *c)
 static void find_predecessors_(world_model_t *model, agent_plan_carry_t *c)
 {
 #if FW_CFG_PLAN_CACHE_ENTRIES > 0
-    plan_cache_entry_t *const e = cache_entry_(c->here->state);
-    if (e->generation == generation_ && e->model == model && e->state == c->here->state) {
+    plan_cache_entry_t *const e = cache_entry_for_(model, c->here->state);
+    if (e->searched) {
         c->n = e->n;
         for (uint32_t i = 0; i < e->n; i++) {
             c->pred[i] = e->pred[i];
@@ -236,15 +263,17 @@ static void find_predecessors_(world_model_t *model, agent_plan_carry_t *c)
         model_count_again(model, e->counted);
         return;
     }
+    if (c->here_missing) {  // the popped pair's prediction came from the cache: the query, made here
+        model_query_init(model, c->here->state, c->here);
+        c->here_missing = false;
+    }
 #endif
     const model_counts_t before = model_counts(model);
     c->n = model_query_predecessors(model, c->here, c->pred, c->query);
     c->counted = model_counts_since(model, before);
     c->queries_missing = false;
 #if FW_CFG_PLAN_CACHE_ENTRIES > 0
-    e->model = model;
-    e->generation = generation_;
-    e->state = c->here->state;
+    e->searched = true;
     e->n = c->n;
     e->counted = c->counted;
     for (uint32_t i = 0; i < c->n; i++) {
@@ -281,13 +310,51 @@ static bool popped_outcome_(agent_t *ag, agent_plan_carry_t *c, uint32_t key, ag
 #endif
             c->query[known] = c->here;
             c->here = q;
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+            c->here_missing = false;
+#endif
             c->valid = false;
         }
     } else {
         if (!same) {
             c->valid = false;
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+            // The prediction from the cache, or made and kept there; the query only when it is
+            // made (or the search needs it: find_predecessors_()).
+            plan_cache_entry_t *const e = cache_entry_for_(&me->model, s);
+            const uint32_t bit = 1u << a;
+            if ((e->predicted & bit) == 0u) {
+                model_query_init(&me->model, s, c->here);
+                const model_counts_t before = model_counts(&me->model);
+                if (model_query_predict(&me->model, c->here, a, &e->step[a])) {
+                    e->moved |= bit;
+                } else {
+                    e->moved &= ~bit;
+                }
+                e->step_counted[a] = model_counts_since(&me->model, before);
+                e->predicted |= bit;
+                c->here_missing = false;
+            } else {
+                model_count_again(&me->model, e->step_counted[a]);
+                c->here->state = s;
+                c->here_missing = true;
+            }
+            if ((e->moved & bit) == 0u) {
+                ag->stats.planning_skipped++;
+                return false;
+            }
+            *step = e->step[a];
+            return true;
+#else
             model_query_init(&me->model, s, c->here);
+#endif
         }
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+        if (c->here_missing) {
+            model_query_init(&me->model, s, c->here);
+            c->here_missing = false;
+        }
+#endif
         if (!model_query_predict(&me->model, c->here, a, step)) {
             ag->stats.planning_skipped++;
             return false;

@@ -23,6 +23,9 @@ typedef struct agent_plan_carry {
     bool valid;           ///< `here` and the predecessors belong together
     /// the predecessors came from the host's cache (dyna_qpc.c) without their queries
     bool queries_missing;
+    /// `here` names its state, but its query was not made: its prediction came from the host's
+    /// cache (dyna_qpc.c)
+    bool here_missing;
     model_query_t *here;  ///< the last state whose predecessors were found
     uint32_t n;
     model_pred_t pred[MODEL_MAX_PREDECESSORS];
