@@ -363,6 +363,67 @@ static bool popped_outcome_(agent_t *ag, agent_plan_carry_t *c, uint32_t key, ag
     return true;
 }
 
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+// The host's way of queueing the predecessors of `here` (state s, whose Q row is `row`): the
+// same targets as pred_target_() and step_target_(), computed by the same operations in the same
+// order, and the same pushes as agent_sweep_queue_(), with each state's values looked up once an
+// update. About half the predecessors lead to s and to s with other percepts, or may stay where
+// they are (paper-sim-real); the MCU's loop then looks s and each of those states up again for
+// every predecessor, and each predecessor's state twice.
+static void queue_predecessors_(agent_t *ag, const agent_plan_carry_t *c, agent_state_t s,
+                                qstore_row_t row)
+{
+    const float max_here = qstore_row_max(&ag->q, row);
+    const float value_here = ag->params.gamma * max_here;
+    const bool expected = (ag->params.ablate & AGENT_ABLATE_EXPECTED) == 0u;
+    float max_other[MODEL_MAX_PERCEPTS];  // qstore_max() of s with percept p, once known[p]
+    uint32_t known = 0;
+    for (uint32_t i = 0; i < c->n; i++) {
+        const model_pred_t *pred = &c->pred[i];
+        const qstore_row_t pred_row = qstore_row_of(&ag->q, pred->state);
+        float target;
+        if (pred->others == 0u && pred->stay == 0u) {
+            target = pred->reward + value_here;
+        } else if ((pred->others == 0u || !expected) && pred->stay == 0u) {
+            target = pred->reward + ag->params.gamma * max_here;  // step_target_()'s agent_target_()
+        } else {
+            float sum = 0.0f;
+            sum += max_here;
+            uint32_t n = 1;
+            if (expected) {
+                if ((pred->others & ~known) != 0u) {
+                    const model_step_t step = {s, pred->reward, 0u, pred->others, pred->stay};
+                    agent_state_t next[MODEL_MAX_PERCEPTS];
+                    (void)model_step_outcomes(&ag->alg.dyna_qpc.model, &step, next);
+                    uint32_t k = 1;
+                    for (uint32_t rest = pred->others; rest != 0u; rest &= rest - 1u, k++) {
+                        const uint32_t p = (uint32_t)__builtin_ctz(rest);
+                        if (((known >> p) & 1u) == 0u) {
+                            max_other[p] = qstore_max(&ag->q, next[k]);
+                            known |= 1u << p;
+                        }
+                    }
+                }
+                for (uint32_t rest = pred->others; rest != 0u; rest &= rest - 1u) {
+                    sum += max_other[__builtin_ctz(rest)];
+                    n++;
+                }
+            }
+            const float stay = (float)pred->stay / 255.0f;
+            const float v = (1.0f - stay) * (sum / (float)n) + stay * qstore_row_max(&ag->q, pred_row);
+            target = pred->reward + ag->params.gamma * v;
+        }
+        target += agent_plan_bonus_(ag, pred->state, pred->action);
+        // agent_sweep_queue_() with the value looked up in the row found above
+        const float q = qstore_row_get(&ag->q, pred_row, pred->action);
+        const float p = agent_abs_(target - q);
+        if (p > ag->params.theta && qstore_moves(&ag->q, q, target, ag->params.plan_alpha)) {
+            (void)pq_push(&ag->alg.dyna_qpc.pq, agent_pair_(ag, pred->state, pred->action), p);
+        }
+    }
+}
+#endif
+
 // Fig. 3 (g): the most urgent pair is updated through the model, then every predecessor the
 // model knows is queued by how much this change matters to it. `c` holds what the previous
 // updates of this agent_plan() call found, and receives what this one finds.
@@ -408,6 +469,9 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
     if (c->n == 0u) {
         return true;
     }
+#if FW_CFG_PLAN_CACHE_ENTRIES > 0
+    queue_predecessors_(ag, c, s, row);
+#else
     const float value_here = ag->params.gamma * qstore_row_max(&ag->q, row);
     for (uint32_t i = 0; i < c->n; i++) {
         const model_pred_t *pred = &c->pred[i];
@@ -416,6 +480,7 @@ static bool plan_one_(agent_t *ag, agent_plan_carry_t *c)
             agent_plan_bonus_(ag, pred->state, pred->action);
         agent_sweep_queue_(ag, pred->state, pred->action, target_pred);
     }
+#endif
     return true;
 }
 

@@ -206,6 +206,16 @@ float qstore_max(const qstore_t *qs, agent_state_t s)
     return max_of_(qs, row_of_(qs, s));
 }
 
+qstore_row_t qstore_row_of(const qstore_t *qs, agent_state_t s)
+{
+    return row_of_(qs, s);
+}
+
+float qstore_row_get(const qstore_t *qs, qstore_row_t row, uint8_t a)
+{
+    return row == QSTORE_NO_ROW ? qs->prior : load_(qs, row * qs->n_actions + a);
+}
+
 bool qstore_moves(const qstore_t *qs, float q, float target, float alpha)
 {
     const float next = q + alpha * (target - q);

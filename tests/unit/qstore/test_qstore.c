@@ -133,6 +133,13 @@ static void unknown_states_read_the_prior(void **state)
     assert_float_equal(q, -15.0f, 0.0f);  // learning starts from the prior, not from 0
     assert_float_equal(qstore_get(&qs, 4242, 0), -20.0f, 0.0f);  // the row's other actions too
     assert_float_equal(qstore_row_max(&qs, row), -15.0f, 0.0f);
+    // One lookup for several values: the row of a known state, none of an unknown one.
+    assert_int_equal(qstore_row_of(&qs, 4242), row);
+    assert_float_equal(qstore_row_get(&qs, row, 1), -15.0f, 0.0f);
+    assert_float_equal(qstore_row_get(&qs, row, 0), -20.0f, 0.0f);
+    assert_int_equal(qstore_row_of(&qs, 4243), QSTORE_NO_ROW);
+    assert_float_equal(qstore_row_get(&qs, QSTORE_NO_ROW, 2), -20.0f, 0.0f);
+    assert_float_equal(qstore_row_max(&qs, QSTORE_NO_ROW), -20.0f, 0.0f);
     // A full table forgets the row nearest the prior: a row at -20 has learned nothing, one
     // at 0 has learned 20 in each action.
     qstore_set(&qs, qstore_row_for_update(&qs, 7), 2, 0.0f);

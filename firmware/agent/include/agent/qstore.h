@@ -131,8 +131,15 @@ bool qstore_moves(const qstore_t *qs, float q, float target, float alpha);
 /// Sets action a of `row` to v (rounded to the nearest value16).
 void qstore_set(qstore_t *qs, qstore_row_t row, uint8_t a, float v);
 
-/// max over a of the values of `row`.
+/// max over a of the values of `row` (QSTORE_NO_ROW: the prior).
 float qstore_row_max(const qstore_t *qs, qstore_row_t row);
+
+/// The row of state s for reading, QSTORE_NO_ROW if it has none; a row stays s's until a write
+/// makes or forgets a row. For a reader that wants several values of a state from one lookup.
+qstore_row_t qstore_row_of(const qstore_t *qs, agent_state_t s);
+
+/// Action a's value in `row` (QSTORE_NO_ROW: the prior): qstore_get() of the row's state.
+float qstore_row_get(const qstore_t *qs, qstore_row_t row, uint8_t a);
 
 /// The largest |Q| a restored table of floats may hold: far beyond any return a robot's rewards
 /// and discount give, and far enough below FLT_MAX that learning from it cannot overflow.
