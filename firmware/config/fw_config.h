@@ -43,4 +43,13 @@
 #define FW_CFG_PLAN_CACHE_ENTRIES 0
 #endif
 
+/// 1: the Q store reads its 16-bit values (agent/value16.h) by one float multiplication, which
+/// gives value16_to_float()'s floats exactly (checked for every value16 by the unit tests) where
+/// the FPU reads subnormal operands as they are: the host's (firmware/CMakeLists.txt), where the
+/// planner reads about ten values an update. 0 (the MCU's images): value16_to_float(), which
+/// needs no subnormal float.
+#ifndef FW_CFG_VALUE16_BY_SCALING
+#define FW_CFG_VALUE16_BY_SCALING 0
+#endif
+
 #endif // FW_CONFIG_H

@@ -11,11 +11,28 @@
 #include "fw/fw_util.h"
 #include "inline.h"
 
+#if FW_CFG_VALUE16_BY_SCALING
+// value16_to_float() in one multiplication (fw_config.h): the value16's bits below its sign,
+// placed where a float's exponent and fraction are, read a float 2^96 times too small, a
+// subnormal one for exponent 0; its sign is the float's. Exact for every value16 (each is a
+// float, and scaling by a power of two is exact where the product is normal, as all are), but
+// only where the FPU reads subnormal operands as they are.
+AGENT_ALWAYS_INLINE float value16_read_(value16_t v)
+{
+    const uint32_t x = ((uint32_t)(v & 0x8000u) << 16) | ((uint32_t)(v & 0x7fffu) << 14);
+    float f;
+    memcpy(&f, &x, sizeof f);
+    return f * 0x1p96f;
+}
+#else
+#define value16_read_ value16_to_float
+#endif
+
 // Value i of the table (row * n_actions + action), in either width. The branch goes the same
 // way for the life of the store.
 AGENT_ALWAYS_INLINE float load_(const qstore_t *qs, uint32_t i)
 {
-    return qs->wide ? qs->v.f[i] : value16_to_float(qs->v.h[i]);
+    return qs->wide ? qs->v.f[i] : value16_read_(qs->v.h[i]);
 }
 
 AGENT_ALWAYS_INLINE void store_(qstore_t *qs, uint32_t i, float x)

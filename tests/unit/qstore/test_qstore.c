@@ -258,6 +258,25 @@ static void every_value16_round_trips(void **state)
     assert_float_equal(value16_to_float(0x0200u), 0x1p-30f, 0.0f);  // the smallest normal
 }
 
+// The store reads every value16 as value16_to_float() gives it, bit for bit (the host's builds
+// read them by a multiplication: fw_config.h, FW_CFG_VALUE16_BY_SCALING), the signed zeros and
+// the subnormal values included.
+static void the_store_reads_every_value16_exactly(void **state)
+{
+    (void)state;
+    qstore_t qs;
+    assert_int_equal(qstore_init(&qs, q_, 2, NULL, 256, 4, 8), FW_OK);
+    for (uint32_t v = 0; v <= 0xffffu; v++) {
+        if (!value16_ok((value16_t)v)) {
+            continue;
+        }
+        q_[5u * 4u + 2u] = (value16_t)v;
+        const float want = value16_to_float((value16_t)v);
+        const float got = qstore_get(&qs, 5, 2);
+        assert_memory_equal(&got, &want, sizeof want);
+    }
+}
+
 // Rounding is to nearest with ties to even, in the normal and the subnormal range; beyond the
 // largest value16 a value saturates; a gridworld's far values keep their 10 bits.
 static void conversion_rounds_to_nearest_even_and_saturates(void **state)
@@ -468,6 +487,7 @@ int main(void)
         cmocka_unit_test(init_rejects_bad_arguments),
         cmocka_unit_test(saved_regions_check_and_restore_themselves),
         cmocka_unit_test(every_value16_round_trips),
+        cmocka_unit_test(the_store_reads_every_value16_exactly),
         cmocka_unit_test(a_float_store_keeps_floats),
         cmocka_unit_test(conversion_rounds_to_nearest_even_and_saturates),
         cmocka_unit_test(learning_rounds_each_write_and_bad_values_are_refused),
