@@ -34,11 +34,14 @@
 
 // ---- The host's extras ---------------------------------------------------------------------------
 
-/// Dyna-QPC's planner keeps the predecessors of this many states (a table of ~220 bytes an entry,
-/// outside every profile's storage) until the model next changes, and finds them there instead of
-/// searching again (dyna_qpc.c): the same planning, faster. 0 (the MCU's images): no table. The
-/// host's builds set it (firmware/CMakeLists.txt), where the simulator spends most of its time
-/// in the planner's searches.
+/// Dyna-QPC's planner keeps the predecessors of this many states, and the predictions of their
+/// popped actions (a table of 352 bytes an entry on the host, outside every profile's storage),
+/// until the model next changes, and finds them there instead of asking the model again
+/// (dyna_qpc.c): the same planning, faster. 0 (the MCU's images): no table. The host's builds set
+/// it (firmware/CMakeLists.txt), where the simulator spends most of its time in the planner:
+/// 16,384 (5.8 MB) leave paper-sim-real 42 % fewer searches than 1,024 did (72,457 in 5
+/// episodes, half of them of a state another had pushed out), nearly all of them the first of a
+/// state since the model changed.
 #ifndef FW_CFG_PLAN_CACHE_ENTRIES
 #define FW_CFG_PLAN_CACHE_ENTRIES 0
 #endif
