@@ -631,11 +631,13 @@ bool Parser::fit_encoding(Scenario *s)
                                           " is not inside the next cell (encode auto's cells are at most " +
                                           fmt_num(max_side) + " m)");
     }
+    // resolve_stop()'s answer (rule 5 is for centred stops), which the edges do not change.
+    const ActionSpec &a = s->actions;
+    const bool centred = a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && turns_inside_cells(*s)));
     std::string problem;
     bool goal_reached = false;
     for (bool goal_square : {false, true}) {
-        if (!fit_axis(*s, 0, max_side, goal_square, &e.x_edges, &problem) ||
-            !fit_axis(*s, 1, max_side, goal_square, &e.y_edges, &problem)) {
+        if (!fit_grid(*s, max_side, goal_square, centred, &e.x_edges, &e.y_edges, &problem)) {
             return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
         }
         goal_reached = !s->goal.cells || goal_has_a_stop(*s);

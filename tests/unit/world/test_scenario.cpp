@@ -264,6 +264,52 @@ void test_encode_auto_past(void **state)
     assert_non_null(std::strstr(err.c_str(), "narrower than 'past' (0.2 m)"));
 }
 
+// encode auto's rule 5: a bin in the middle of a 1 m aisle sits where the aisle's two equal
+// cells meet, its edge 1 cm beyond the lab robot's turn from the centred stops around it; the
+// aisle's cut moves onto the bin's face, keeping its two cells, each wider than a turn. A turned
+// box, or stops `past` the edge, leave the grid as rules 1-4 cut it.
+void test_encode_auto_pinch(void **state)
+{
+    (void)state;
+    const std::string head = "arena 5.5 3\nrobot length 0.25 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode auto heading 2\n"
+                             "obstacle box 1.4 1.1 0.4 2.2\nobstacle box 2.8 1.9 0.4 2.2\ngoal 5 0.5 0.3 cells\n";
+    const std::string centre = "actions step 0.25 turn_deg 90 aligned 1 past 0.16\n";
+    const std::string bin = "obstacle circle 2.1 2.6 0.15\n";
+    world::Scenario s;
+    std::string err;
+    auto has = [](const std::vector<double> &e, double v) {
+        for (double x : e) {
+            if (std::fabs(x - v) < 1e-9) return true;
+        }
+        return false;
+    };
+    assert_true(world::parse_scenario(head + centre, "a.scn", &s, &err));
+    const std::vector<double> plain_x = s.encoding.x_edges, plain_y = s.encoding.y_edges;
+    assert_true(has(plain_x, 1.6) && has(plain_x, 2.1) && has(plain_x, 2.6));  // the aisle in two
+    assert_true(world::parse_scenario(head + centre + bin, "a.scn", &s, &err));
+    assert_true(s.actions.centred);
+    const std::vector<double> &x = s.encoding.x_edges;
+    assert_int_equal(x.size(), plain_x.size());
+    assert_true(has(x, 1.6) && has(x, 1.95) && has(x, 2.6) && !has(x, 2.1));
+    assert_true(s.encoding.y_edges == plain_y);  // 2.45 or 2.75 would leave a row under 0.32 m
+    // Every cell of the aisle is as wide as the robot's turn.
+    const double turn = std::hypot(0.25, 0.2) / 2.0;
+    for (std::size_t i = 0; i + 1 < x.size(); i++) {
+        if (x[i + 1] > 1.6 && x[i] < 2.6) assert_true(x[i + 1] - x[i] >= 2.0 * turn);
+    }
+    // A turned box where the bin was, or `past` stops: rules 1-4's grid.
+    assert_true(world::parse_scenario(head + centre + "obstacle box 2.1 2.6 0.2 0.2 45\n", "a.scn", &s, &err));
+    assert_true(s.encoding.x_edges == plain_x);
+    std::string past = centre;
+    past.replace(past.find("past 0.16"), std::strlen("past 0.16"), "past 0.16 stop past");
+    assert_true(world::parse_scenario(head + past, "a.scn", &s, &err));
+    const std::vector<double> past_x = s.encoding.x_edges;
+    assert_true(world::parse_scenario(head + past + bin, "a.scn", &s, &err));
+    assert_false(s.actions.centred);
+    assert_true(s.encoding.x_edges == past_x);
+}
+
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
 // unknown model or malformed widths are refused with the line.
 void test_learning_model(void **state)
@@ -590,6 +636,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_gamma_auto),
         cmocka_unit_test(test_encode_auto),
         cmocka_unit_test(test_encode_auto_past),
+        cmocka_unit_test(test_encode_auto_pinch),
         cmocka_unit_test(test_explore),
         cmocka_unit_test(test_learning_model),
         cmocka_unit_test(test_name_resolution),

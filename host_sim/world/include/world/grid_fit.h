@@ -29,6 +29,13 @@
 //  tuning rooms: 92 % of sets learned against 100 % without those cuts).
 //  4. At most kMaxGridCells cells per side (the firmware's ROBOT_MAX_GRID_CELLS): a room that
 //     needs more is refused with the count it needs.
+//  5. For a robot that stops at its cells' centres, both axes together: a cell whose centre the
+//     robot stands on but whose turn (half-diagonal + kPinchClearance) reaches a round obstacle
+//     has that obstacle's bounding faces inside it moved into rule 3: the gap they lie in keeps
+//     its cell count, cut at the face and split evenly on either side, when every cell of the
+//     gap stays as wide as the robot's diagonal (else that face is left out). Again until no
+//     cell gives a new face (fit_grid()). Only there, and only round ones: cutting those faces
+//     everywhere, adding them as cuts, or moving cuts onto turned boxes' faces learned worse.
 #ifndef WORLD_GRID_FIT_H
 #define WORLD_GRID_FIT_H
 
@@ -65,6 +72,16 @@ double fit_cell_side(const Scenario &s);
 /// than kMaxGridCells cells.
 bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
               std::string *error);
+
+/// How far beyond a turn (the robot's half-diagonal) a round obstacle must be from a cell's centre
+/// for rule 5 to leave the cell alone (m): the aisles' bin lay 0.01 m beyond the turn.
+inline constexpr double kPinchClearance = 0.04;
+
+/// Both axes fitted (fit_axis(), rules 1-4) and, for a robot whose stops are `centred`, rule 5
+/// until it adds no face; a fit rule 5 would take past kMaxGridCells keeps the grid before. False
+/// with *error (one line) as fit_axis().
+bool fit_grid(const Scenario &s, double max_side, bool goal_square, bool centred, std::vector<double> *x_edges,
+              std::vector<double> *y_edges, std::string *error);
 
 /// How many faces of boxes square to the arena lie inside a cell of an equal grid (`encode x y`),
 /// farther than `past` from its edges: where steps beside a wall pass or bump by where in the cell
