@@ -27,15 +27,20 @@
 # seeds, default 9101 20; shortcut: the experiment seed and the sets, default 9101 20), --jobs J
 # (default 2), --explore MODE and --kappa K (the exploration, egreedy, plan-bonus or act-bonus,
 # and its bonus's scale: docs/agent.md; default the scenario's, egreedy; block passes them to the
-# learning replay too). Needs the host-release build.
+# learning replay too), --profile exact|real (default exact: the shipped files; real: the robot of
+# docs/scenarios.md "The realistic profile" in the same rooms: each file of the pair copied into a
+# temp dir as its arena, obstacle and goal lines followed by every other line, comments left out, of
+# host_sim/scenarios/<robot>-real.scn; the copies pass `dynaqpc-sim rooms --check A --changed B`,
+# and paper-lab's copy trains byte for byte as paper-lab-real). Needs the host-release build.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 sim=$root/build/host-release/bin/dynaqpc-sim
 changes=$root/host_sim/rooms/changes
+scenarios=$root/host_sim/scenarios
 mode=${1:-}
 [[ $mode == block || $mode == shortcut ]] || { echo "bench_change.sh: block or shortcut first (see the header)" >&2; exit 2; }
 shift
-robot=paper-lab agent=dyna-qpc planning= K=20 after=8 episodes=40 first=9101 count=20 jobs=2 explore=()
+robot=paper-lab agent=dyna-qpc planning= K=20 after=8 episodes=40 first=9101 count=20 jobs=2 explore=() profile=exact
 while (($#)); do
     case $1 in
         --robot) robot=$2; shift 2 ;;
@@ -47,6 +52,7 @@ while (($#)); do
         --seeds) first=$2 count=$3; shift 3 ;;
         --jobs) jobs=$2; shift 2 ;;
         --explore|--kappa) explore+=("$1" "$2"); shift 2 ;;
+        --profile) profile=$2; shift 2 ;;
         *) echo "bench_change.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
 done
@@ -56,22 +62,45 @@ case $robot in
     paper-sim) blocked=$changes/paper-sim-blocked.scn ;;
     *) echo "bench_change.sh: --robot paper-lab or paper-sim" >&2; exit 2 ;;
 esac
+[[ $profile == exact || $profile == real ]] || { echo "bench_change.sh: --profile exact or real" >&2; exit 2; }
+room=$robot closed=$changes/$robot-door-closed.scn open=$changes/$robot-door-open.scn
 plan=()
 [ -z "$planning" ] || plan=(--planning "$planning")
 plan+=("${explore[@]}")  # train and run --learn take them alike
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+if [[ $profile == real ]]; then
+    realistic() {  # realistic <file>: prints <out>/<name>-real.scn, FILE's layout on the realistic robot
+        local to
+        to=$out/$(basename "$1" .scn)-real.scn
+        {
+            echo "# $(basename "$1" .scn) on the realistic profile: its arena, obstacle and goal lines, then"
+            echo "# every other line of $robot-real.scn (tools/bench_change.sh --profile real)."
+            grep -E '^(arena|obstacle|goal)[[:space:]]' "$1"
+            grep -vE '^(arena|obstacle|goal)[[:space:]]|^[[:space:]]*(#|$)' "$scenarios/$robot-real.scn"
+        } > "$to"
+        echo "$to"
+    }
+    if [[ $mode == block ]]; then
+        room=$(realistic "$scenarios/$robot.scn") blocked=$(realistic "$blocked")
+        "$sim" rooms --check "$room" --changed "$blocked" > /dev/null
+    else
+        closed=$(realistic "$closed") open=$(realistic "$open")
+        "$sim" rooms --check "$closed" --changed "$open" > /dev/null
+    fi
+fi
 if [ -n "$planning" ]; then label="$agent, N = $planning"; else label="$agent, idle-time planning"; fi
 ((${#explore[@]} == 0)) || label="$label, ${explore[*]}"
+[[ $profile == exact ]] || label="$label, the realistic profile"
 
 if [[ $mode == block ]]; then
     one() {  # one <seed>
         local k=$1 n=$((K - 1 + after))
         if ((after > 0)); then
-            "$sim" train --scenario "$robot" --changed "$blocked" --change-at "$K" --agent "$agent" "${plan[@]}" \
+            "$sim" train --scenario "$room" --changed "$blocked" --change-at "$K" --agent "$agent" "${plan[@]}" \
                 --sets 1 --episodes "$n" --seed "$k" --quiet --save "$out/l-$k.flash" --csv "$out/t-$k.csv"
         else
-            "$sim" train --scenario "$robot" --agent "$agent" "${plan[@]}" --sets 1 --episodes "$n" --seed "$k" \
+            "$sim" train --scenario "$room" --agent "$agent" "${plan[@]}" --sets 1 --episodes "$n" --seed "$k" \
                 --quiet --save "$out/l-$k.flash"
         fi
         "$sim" run --scenario "$blocked" --agent "$agent" --load "$out/l-$k.flash" --starts 50 --seed 7 --learn \
@@ -80,7 +109,7 @@ if [[ $mode == block ]]; then
             > "$out/frozen-$k.csv" 2>/dev/null
     }
     export -f one
-    export sim robot blocked agent K after out
+    export sim room blocked agent K after out
     export plan_s="${plan[*]}"
     # arrays do not cross bash -c: rebuild plan from plan_s
     seq "$first" $((first + count - 1)) | xargs -P "$jobs" -I{} bash -c 'plan=($plan_s); one {}'
@@ -103,7 +132,6 @@ if [[ $mode == block ]]; then
 fi
 
 # shortcut
-closed=$changes/$robot-door-closed.scn open=$changes/$robot-door-open.scn
 n=$((K - 1 + episodes))
 common=(--agent "$agent" "${plan[@]}" --sets "$count" --episodes "$n" --seed "$first" --jobs "$jobs" --quiet)
 "$sim" train --scenario "$closed" --changed "$open" --change-at "$K" "${common[@]}" --csv "$out/change.csv"
