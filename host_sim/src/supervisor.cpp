@@ -11,6 +11,8 @@
 #include "drivers/telemetry.h"
 #include "dynaqpc_can.h"
 #include "fw/fw_util.h"
+#include "robot/robot_geometry.h"
+#include "robot/robot_motion.h"
 
 namespace dynaqpc {
 
@@ -29,10 +31,24 @@ hal_can_frame_t start_episode_frame(const robot_config_t &cfg, const world::Pose
     return f;
 }
 
+// A real step's periods: its motion, which takes action_periods per step_m driven, and an aligned
+// step drives across up to a whole cell and past its edge (a fitted sonar cell is 0.6 m, 2.4
+// steps); a step that bumps backs off, as far again; each motion's closed-loop corrections; and
+// the observation (a fix's wait). The fixed action_periods alone were outlasted by a frozen
+// robot bumping its way to the step cap in paper-sim-blocked: `run` stopped with an error.
 std::uint64_t episode_limit_us(const robot_config_t &cfg)
 {
-    return static_cast<std::uint64_t>(cfg.step_cap + 2) * (cfg.action_periods + (cfg.wait_for_fix ? 60u : 1u)) *
-               cfg.period_us + 10000000u;
+    float longest = cfg.step_m;
+    for (std::uint32_t axis = 0; axis < 2u; axis++) {
+        for (std::uint32_t k = 0; k < robot_grid_cells(&cfg, axis); k++) {
+            float lo = 0.0f, side = 0.0f;
+            robot_grid_span(&cfg, axis, k, &lo, &side);
+            longest = std::max(longest, side + cfg.step_past_m);
+        }
+    }
+    const std::uint64_t motion = static_cast<std::uint64_t>(std::ceil(longest / cfg.step_m)) * cfg.action_periods;
+    const std::uint64_t per_step = 2u * (motion + ROBOT_RUN_MAX_CORRECTIONS) + (cfg.wait_for_fix ? 60u : 1u);
+    return static_cast<std::uint64_t>(cfg.step_cap + 2) * per_step * cfg.period_us + 10000000u;
 }
 
 void PoseCheck::on_frame(const hal_can_frame_t &f, const world::Pose &truth)

@@ -19,8 +19,9 @@ namespace dynaqpc {
 hal_can_frame_t start_episode_frame(const robot_config_t &cfg, const world::Pose &start,
                                     std::uint8_t *counter);
 
-/// A generous bound on one episode's robot time: the step cap's actions and fix waits, plus 10 s.
-/// An episode that outlasts it means the firmware stopped ending episodes.
+/// A generous bound on one episode's robot time: the step cap's steps, each as long as a step
+/// across the grid's largest cell and a back-off as far with their corrections, and fix waits,
+/// plus 10 s. An episode that outlasts it means the firmware stopped ending episodes.
 std::uint64_t episode_limit_us(const robot_config_t &cfg);
 
 /// How far the firmware's idea of where it is (its TLM_POSE) is from the simulated robot's true
