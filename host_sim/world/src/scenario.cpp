@@ -621,6 +621,14 @@ bool goal_has_a_stop(const Scenario &s)
 // `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
 // and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
 // every cell a step stops in.
+// Whether aligned steps stop at cell centres (`stop centre`, or `auto` on a fitted grid the robot
+// turns inside): what resolve_stop() records and rule 5 of the fit asks before it is recorded.
+static bool stops_at_centres(const Scenario &s, bool fitted)
+{
+    const ActionSpec &a = s.actions;
+    return a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && fitted && turns_inside_cells(s)));
+}
+
 bool Parser::fit_encoding(Scenario *s)
 {
     Encoding &e = s->encoding;
@@ -631,9 +639,8 @@ bool Parser::fit_encoding(Scenario *s)
                                           " is not inside the next cell (encode auto's cells are at most " +
                                           fmt_num(max_side) + " m)");
     }
-    // resolve_stop()'s answer (rule 5 is for centred stops), which the edges do not change.
-    const ActionSpec &a = s->actions;
-    const bool centred = a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && turns_inside_cells(*s)));
+    // Rule 5 is for centred stops: resolve_stop()'s answer on a fitted grid, which the edges do not change.
+    const bool centred = stops_at_centres(*s, true);
     std::string problem;
     bool goal_reached = false;
     for (bool goal_square : {false, true}) {
@@ -838,8 +845,7 @@ bool Parser::resolve_stop(Scenario *s)
     if (a.stop != "auto" && a.aligned == 0) {
         return fail_at(actions_line_, "actions stop " + a.stop + " needs aligned 1 (fixed steps have no stops)");
     }
-    a.centred = a.aligned != 0 &&
-                (a.stop == "centre" || (a.stop == "auto" && s->encoding.fitted && turns_inside_cells(*s)));
+    a.centred = stops_at_centres(*s, s->encoding.fitted);
     return true;
 }
 
