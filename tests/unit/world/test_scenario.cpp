@@ -310,6 +310,33 @@ void test_encode_auto_pinch(void **state)
     assert_true(s.encoding.x_edges == past_x);
 }
 
+// A plain goal circle (no `cells`) and steps that stop at cell centres: the episode ends only
+// when a step ends in the circle, so the fit cuts the goal's square when no stop lies in it (a
+// dining room drawn by hand learned 0 of 20 sets before, 20 of 20 after). Stops `past` an edge
+// land anywhere across the step, and keep rules 1-4's grid.
+void test_encode_auto_plain_goal(void **state)
+{
+    (void)state;
+    const std::string head = "arena 3.6 3.6\nrobot length 0.25 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode auto heading 2\n"
+                             "obstacle box 1.8 1.8 1.2 0.8\nobstacle box 0.2 1.8 0.4 1.4\n";
+    const std::string centre = "actions step 0.25 turn_deg 90 aligned 1 past 0.16\n";
+    const std::string past = "actions step 0.25 turn_deg 90 aligned 1 past 0.16 stop past\n";
+    world::Scenario s;
+    std::string err;
+    // With `cells` the goal square is cut already: the plain goal must get the same grid.
+    assert_true(world::parse_scenario(head + centre + "goal 1.8 0.35 0.25 cells\n", "g.scn", &s, &err));
+    const std::vector<double> cells_x = s.encoding.x_edges, cells_y = s.encoding.y_edges;
+    assert_true(world::parse_scenario(head + centre + "goal 1.8 0.35 0.25\n", "g.scn", &s, &err));
+    assert_true(s.actions.centred);
+    assert_true(s.encoding.x_edges == cells_x && s.encoding.y_edges == cells_y);
+    assert_false(world::goal_cells(s).empty());
+    // Stops past the edge: no cut at the goal's square, and no cell centre in the circle.
+    assert_true(world::parse_scenario(head + past + "goal 1.8 0.35 0.25\n", "g.scn", &s, &err));
+    assert_false(s.actions.centred);
+    assert_true(world::goal_cells(s).empty());
+}
+
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
 // unknown model or malformed widths are refused with the line.
 void test_learning_model(void **state)
@@ -637,6 +664,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_encode_auto),
         cmocka_unit_test(test_encode_auto_past),
         cmocka_unit_test(test_encode_auto_pinch),
+        cmocka_unit_test(test_encode_auto_plain_goal),
         cmocka_unit_test(test_explore),
         cmocka_unit_test(test_learning_model),
         cmocka_unit_test(test_name_resolution),
