@@ -97,10 +97,15 @@ void PoseCheck::reset()
 std::string PoseCheck::summary() const
 {
     char buf[192];
-    std::snprintf(buf, sizeof buf,
-                  "head_err_mean_deg=%.1f head_err_max_deg=%.1f pos_err_mean_m=%.3f off_grid_10deg=%u/%u",
-                  heading_err_mean_deg(), heading_err_max_deg(), position_err_mean_m(), off_grid_, n_);
-    return buf;
+    std::snprintf(buf, sizeof buf, "head_err_mean_deg=%.1f head_err_max_deg=%.1f pos_err_mean_m=%.3f",
+                  heading_err_mean_deg(), heading_err_max_deg(), position_err_mean_m());
+    char grid[48];
+    if (grid_rad_ > 0.0) {
+        std::snprintf(grid, sizeof grid, " off_grid_10deg=%u/%u", off_grid_, n_);
+    } else {
+        std::snprintf(grid, sizeof grid, " off_grid_10deg=none");  // no heading grid to be off
+    }
+    return std::string(buf) + grid;
 }
 
 }  // namespace dynaqpc
