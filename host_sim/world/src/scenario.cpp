@@ -606,21 +606,6 @@ bool Parser::key_encode(const Tokens &t, Scenario *s)
     return true;
 }
 
-// Whether an aligned step can end in a goal cell: the firmware steps over a fitted cell narrower
-// than `past` (a partition's), so a goal whose cells are all that narrow is never reached (a goal
-// drawn above the end of a thin wall, on the wall's column of cells). Fixed steps land anywhere.
-bool goal_has_a_stop(const Scenario &s)
-{
-    if (!s.actions.aligned) return !goal_cells(s).empty();
-    for (const CellBox &c : goal_cells(s)) {
-        if (c.x1 - c.x0 > s.actions.past && c.y1 - c.y0 > s.actions.past) return true;
-    }
-    return false;
-}
-
-// `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
-// and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
-// every cell a step stops in.
 // Whether aligned steps stop at cell centres (`stop centre`, or `auto` on a fitted grid the robot
 // turns inside): what resolve_stop() records and rule 5 of the fit asks before it is recorded.
 static bool stops_at_centres(const Scenario &s, bool fitted)
@@ -628,6 +613,39 @@ static bool stops_at_centres(const Scenario &s, bool fitted)
     const ActionSpec &a = s.actions;
     return a.aligned != 0 && (a.stop == "centre" || (a.stop == "auto" && fitted && turns_inside_cells(s)));
 }
+
+// How far inside a plain goal circle a centred stop must lie to count: a stop settles within about
+// 2 cm of its centre (the lab robot's position error, 0.018 m), so a centre on the circle's edge
+// would end the episode one time in two.
+constexpr double kCentredStopMargin = 0.02;
+
+// Whether an aligned step can end in the goal. A `cells` goal is its cells: the firmware steps over
+// a fitted cell narrower than `past` (a partition's), so a goal whose cells are all that narrow is
+// never reached (a goal drawn above the end of a thin wall, on the wall's column of cells). A plain
+// circle is reached where a step ends in it: for a robot that stops at its cells' centres, some
+// centre of a cell it stops in must lie inside, by kCentredStopMargin (a hand-drawn dining room
+// whose 0.25 m goal lay between two centres learned 0 of 20 sets); a `past` stop lands along the
+// whole cell across its step. Fixed steps land anywhere.
+bool goal_has_a_stop(const Scenario &s)
+{
+    const bool plain = !s.goal.cells;
+    if (plain && !stops_at_centres(s, s.encoding.fitted)) return true;  // fixed or `past` stops
+    if (!s.actions.aligned) return !goal_cells(s).empty();
+    // A circle that holds a whole cell around its centre holds that cell's centre: decided without
+    // walking the cells under it (an equal grid may have 2^16 a side).
+    const double half_diagonal = 0.5 * std::hypot(grid_max_side(s, 0), grid_max_side(s, 1));
+    if (plain && !s.encoding.fitted && s.goal.radius - kCentredStopMargin >= half_diagonal) return true;
+    for (const CellBox &c : goal_cells(s)) {
+        if (!(c.x1 - c.x0 > s.actions.past && c.y1 - c.y0 > s.actions.past)) continue;
+        const double d = std::hypot(0.5 * (c.x0 + c.x1) - s.goal.cx, 0.5 * (c.y0 + c.y1) - s.goal.cy);
+        if (!plain || d <= s.goal.radius - kCentredStopMargin) return true;
+    }
+    return false;
+}
+
+// `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
+// and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
+// every cell a step stops in.
 
 bool Parser::fit_encoding(Scenario *s)
 {
@@ -647,17 +665,14 @@ bool Parser::fit_encoding(Scenario *s)
         if (!fit_grid(*s, max_side, goal_square, centred, &e.x_edges, &e.y_edges, &problem)) {
             return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
         }
-        // A step that stops at a cell's centre reaches a plain goal circle only if some stop lies
-        // in it, as a `cells` goal needs (drawn/-style dining room: a 0.25 m goal between two
-        // centres was reached in 29 of 400 episodes, by bumps).
-        goal_reached = (!s->goal.cells && !centred) || goal_has_a_stop(*s);
+        goal_reached = goal_has_a_stop(*s);
         if (goal_reached) break;  // else: a cell centred on the goal
     }
-    // No cell at all is validate_goal_cells()'s to say; cells no step ends in, this one's.
-    if (!goal_reached && !goal_cells(*s).empty()) {
-        return fail_at(goal_line_, std::string(s->goal.cells ? "goal ... cells" : "goal") +
-                                       ": every cell of the fitted grid with its centre in the "
-                                       "circle is narrower than 'past' (" + fmt_num(s->actions.past) +
+    // No cell at all, or a plain goal no stop reaches, is validate_goal_cells()'s to say; `cells`
+    // no step ends in, this one's.
+    if (!goal_reached && s->goal.cells && !goal_cells(*s).empty()) {
+        return fail_at(goal_line_, "goal ... cells: every cell of the fitted grid with its centre in the "
+                                   "circle is narrower than 'past' (" + fmt_num(s->actions.past) +
                                        " m), and aligned steps pass over such a cell: the goal could "
                                        "never be reached (move it into the open, or make it larger)");
     }
@@ -909,9 +924,15 @@ bool Parser::validate_goal_cells(const Scenario &s)
                                        "precision may disagree; change the radius");
         }
         if (goal_cells(s).empty()) {
-            return fail_at(goal_line_, "goal ... cells: no cell of the state grid has its centre "
-                                       "in the circle (make it larger, or drop 'cells')");
+            return fail_at(goal_line_, std::string("goal ... cells: no cell of the state grid has its centre "
+                                                   "in the circle (make it larger") +
+                                           (s.actions.centred ? ")" : ", or drop 'cells')"));
         }
+    } else if (!goal_has_a_stop(s)) {  // a robot that stops at its cells' centres
+        return fail_at(goal_line_, "goal: no step ends in the circle: this robot's steps stop at its cells' "
+                                   "centres, and no centre lies " + fmt_num(kCentredStopMargin) +
+                                       " m inside it (make it larger or move it, or say 'actions ... "
+                                       "stop past')");
     }
     return true;
 }

@@ -335,6 +335,17 @@ void test_encode_auto_plain_goal(void **state)
     assert_true(world::parse_scenario(head + past + "goal 1.8 0.35 0.25\n", "g.scn", &s, &err));
     assert_false(s.actions.centred);
     assert_true(world::goal_cells(s).empty());
+    // A goal too small for a cell of its own (0.14 m, under `past`) is refused with its line, as
+    // is a centred robot's goal between the centres of an equal grid; `stop past` reaches both.
+    assert_false(world::parse_scenario(head + centre + "goal 1.8 1.3 0.07\n", "g.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "g.scn:9: goal: no step ends in the circle"));
+    assert_true(world::parse_scenario(head + past + "goal 1.8 1.3 0.07\n", "g.scn", &s, &err));
+    std::string equal = head;
+    equal.replace(equal.find("encode auto heading 2"), std::strlen("encode auto heading 2"), "encode x 3 y 3 heading 2");
+    const std::string centre_stop = "actions step 0.25 turn_deg 90 aligned 1 past 0.16 stop centre\n";
+    assert_false(world::parse_scenario(equal + centre_stop + "goal 1.8 0.35 0.25\n", "g.scn", &s, &err));
+    assert_non_null(std::strstr(err.c_str(), "goal: no step ends in the circle"));
+    assert_true(world::parse_scenario(equal + centre_stop + "goal 2.025 0.675 0.25\n", "g.scn", &s, &err));
 }
 
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an

@@ -66,9 +66,10 @@ double fit_cell_side(const Scenario &s);
 
 /// The edges of the cells along `axis` (0: x, 1: y) fitted to `s`'s obstacles, from 0 to the
 /// arena's side, with cells about `max_side` wide. With `goal_square`, the goal circle's bounding
-/// square cuts too, so that a cell is centred on the goal: the parser asks for it only when
-/// `goal ... cells` would otherwise hold no cell (cutting it always learned worse on the tuning
-/// rooms: 96 % of sets against 100 %). False with *error (one line) when the side needs more
+/// square cuts too, so that a cell is centred on the goal: the parser asks for it only when no
+/// step could otherwise end in the goal (a `goal ... cells` with no cell a step stops in, or a
+/// plain circle holding no centre of a robot that stops at centres; cutting it always learned
+/// worse on the tuning rooms: 96 % of sets against 100 %). False with *error (one line) when the side needs more
 /// than kMaxGridCells cells.
 bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
               std::string *error);
