@@ -105,7 +105,7 @@ void split_gap(const Scenario &s, double a, double b, double max_side, const std
     }
 }
 
-bool fit_axis_with(const Scenario &s, int axis, double max_side, bool goal_square, const std::vector<double> &pinch,
+bool fit_axis_with(const Scenario &s, int axis, double max_side, GoalCut goal_cut, const std::vector<double> &pinch,
                    std::vector<double> *edges, std::string *error)
 {
     const double side = axis == 0 ? s.arena_w : s.arena_h;
@@ -119,9 +119,21 @@ bool fit_axis_with(const Scenario &s, int axis, double max_side, bool goal_squar
             if (f > kFaceMerge && f < side - kFaceMerge) faces.push_back(f);
         }
     }
-    if (goal_square) {
+    if (goal_cut != GoalCut::None) {
+        // GoalCut::Square leaves out a face that would cut a sliver narrower than a turn off the
+        // wall or a face beside it: the goal's cell reaches to them instead.
+        const double turn = 2.0 * robot_radius(s.robot);
+        const std::vector<double> room_faces = faces;
+        auto sliver = [&](double f) {
+            if (f < turn || side - f < turn) return true;
+            for (double o : room_faces) {
+                if (std::fabs(f - o) < turn) return true;
+            }
+            return false;
+        };
         const double g = axis == 0 ? s.goal.cx : s.goal.cy;
         for (double f : {g - s.goal.radius, g + s.goal.radius}) {
+            if (goal_cut == GoalCut::Square && sliver(f)) continue;
             if (f > kFaceMerge && f < side - kFaceMerge) faces.push_back(f);
         }
     }
@@ -205,10 +217,10 @@ bool add_pinch_faces(const Scenario &s, const std::vector<double> &xe, const std
 
 }  // namespace
 
-bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
+bool fit_axis(const Scenario &s, int axis, double max_side, GoalCut goal_cut, std::vector<double> *edges,
               std::string *error)
 {
-    return fit_axis_with(s, axis, max_side, goal_square, {}, edges, error);
+    return fit_axis_with(s, axis, max_side, goal_cut, {}, edges, error);
 }
 
 // Why rule 5: a centred stop a centimetre beyond a turn's reach of a bin passes or bumps by how
@@ -221,11 +233,11 @@ bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, st
 // off the box, and moving cuts onto them fixed one generated room but raised the relapses of the
 // users-tune furniture rooms from 0.2 % to 2.2 %. Faces only grow (two per pillar and axis), so
 // the loop ends; a grid the faces would take past kMaxGridCells keeps the fit without them.
-bool fit_grid(const Scenario &s, double max_side, bool goal_square, bool centred, std::vector<double> *x_edges,
+bool fit_grid(const Scenario &s, double max_side, GoalCut goal_cut, bool centred, std::vector<double> *x_edges,
               std::vector<double> *y_edges, std::string *error)
 {
-    if (!fit_axis(s, 0, max_side, goal_square, x_edges, error) ||
-        !fit_axis(s, 1, max_side, goal_square, y_edges, error)) {
+    if (!fit_axis(s, 0, max_side, goal_cut, x_edges, error) ||
+        !fit_axis(s, 1, max_side, goal_cut, y_edges, error)) {
         return false;
     }
     if (!centred) return true;
@@ -233,8 +245,8 @@ bool fit_grid(const Scenario &s, double max_side, bool goal_square, bool centred
     while (add_pinch_faces(s, *x_edges, *y_edges, pinch)) {
         std::vector<double> x, y;
         std::string ignored;
-        if (!fit_axis_with(s, 0, max_side, goal_square, pinch[0], &x, &ignored) ||
-            !fit_axis_with(s, 1, max_side, goal_square, pinch[1], &y, &ignored)) {
+        if (!fit_axis_with(s, 0, max_side, goal_cut, pinch[0], &x, &ignored) ||
+            !fit_axis_with(s, 1, max_side, goal_cut, pinch[1], &y, &ignored)) {
             break;
         }
         *x_edges = x;

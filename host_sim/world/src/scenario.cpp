@@ -661,8 +661,8 @@ bool Parser::fit_encoding(Scenario *s)
     const bool centred = stops_at_centres(*s, true);
     std::string problem;
     bool goal_reached = false;
-    for (bool goal_square : {false, true}) {
-        if (!fit_grid(*s, max_side, goal_square, centred, &e.x_edges, &e.y_edges, &problem)) {
+    for (GoalCut cut : {GoalCut::None, GoalCut::Square, GoalCut::WholeSquare}) {
+        if (!fit_grid(*s, max_side, cut, centred, &e.x_edges, &e.y_edges, &problem)) {
             return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
         }
         goal_reached = goal_has_a_stop(*s);

@@ -64,14 +64,20 @@ inline constexpr double kTurnClearance = 0.08;
 /// widened for a robot that turns inside it to its diagonal + 2 kTurnClearance.
 double fit_cell_side(const Scenario &s);
 
+/// Whether the fit cuts at the goal circle's bounding square: not at all; at its faces that leave
+/// no sliver narrower than the robot's diagonal to a wall or a face (the goal's cell then reaches
+/// to them: a 0.2 m row a turn cannot clear beside a wall relapsed in a hand-drawn zig-zag room);
+/// or at all four.
+enum class GoalCut { None, Square, WholeSquare };
+
 /// The edges of the cells along `axis` (0: x, 1: y) fitted to `s`'s obstacles, from 0 to the
-/// arena's side, with cells about `max_side` wide. With `goal_square`, the goal circle's bounding
+/// arena's side, with cells about `max_side` wide. With a `goal_cut`, the goal circle's bounding
 /// square cuts too, so that a cell is centred on the goal: the parser asks for it only when no
 /// step could otherwise end in the goal (a `goal ... cells` with no cell a step stops in, or a
 /// plain circle holding no centre of a robot that stops at centres; cutting it always learned
 /// worse on the tuning rooms: 96 % of sets against 100 %). False with *error (one line) when the side needs more
 /// than kMaxGridCells cells.
-bool fit_axis(const Scenario &s, int axis, double max_side, bool goal_square, std::vector<double> *edges,
+bool fit_axis(const Scenario &s, int axis, double max_side, GoalCut goal_cut, std::vector<double> *edges,
               std::string *error);
 
 /// How far beyond a turn (the robot's half-diagonal) a round obstacle must be from a cell's centre
@@ -81,7 +87,7 @@ inline constexpr double kPinchClearance = 0.04;
 /// Both axes fitted (fit_axis(), rules 1-4) and, for a robot whose stops are `centred`, rule 5
 /// until it adds no face; a fit rule 5 would take past kMaxGridCells keeps the grid before. False
 /// with *error (one line) as fit_axis().
-bool fit_grid(const Scenario &s, double max_side, bool goal_square, bool centred, std::vector<double> *x_edges,
+bool fit_grid(const Scenario &s, double max_side, GoalCut goal_cut, bool centred, std::vector<double> *x_edges,
               std::vector<double> *y_edges, std::string *error);
 
 /// How many faces of boxes square to the arena lie inside a cell of an equal grid (`encode x y`),
