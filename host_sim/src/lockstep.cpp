@@ -23,6 +23,7 @@
 #include "hal_host/hal_host.h"
 #include "robot/robot_app.h"
 #include "robot/pose_trust.h"
+#include "robot/robot_motion.h"
 #include "supervisor.h"
 #include "world/scenario.h"
 #include "world/world.h"
@@ -62,12 +63,9 @@ struct Lockstep::Impl {
         : cfg(c), opt(o), world(sc, o.seed), devices(world, o.seed)
     {
         cfg.name = world.scenario().name.c_str();
-        // Aligned turns keep the robot on the quarter-turn grid; fixed turns that divide the circle
-        // keep it on multiples of the turn (the start settles there). Other turns have no grid.
-        const double turns = 2.0 * FW_PI / sc.actions.turn;
-        if (sc.actions.aligned != 0 || std::fabs(turns - std::round(turns)) < 1e-6) {
-            pose_check.set_heading_grid(sc.actions.turn);
-        }
+        // Aligned turns keep the robot on the quarter-turn grid; fixed turns keep it on multiples
+        // of the turn where its start settles there (robot_settles()). Other turns have no grid.
+        if (sc.actions.aligned != 0 || robot_settles(&cfg)) pose_check.set_heading_grid(sc.actions.turn);
         dt_us = static_cast<std::uint64_t>(std::llround(sc.timing.physics_dt * 1e6));
         hal_host_reset();
         hal_host_time_set_mode(HAL_HOST_CLOCK_LOCKSTEP);

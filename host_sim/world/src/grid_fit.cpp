@@ -123,11 +123,11 @@ bool fit_axis_with(const Scenario &s, int axis, double max_side, GoalCut goal_cu
         // GoalCut::Square leaves out a face that would cut a sliver narrower than a turn off the
         // wall or a face beside it: the goal's cell reaches to them instead.
         const double turn = 2.0 * robot_radius(s.robot);
-        const std::vector<double> room_faces = faces;
+        const std::size_t room_faces = faces.size();  // the goal's own faces come after
         auto sliver = [&](double f) {
             if (f < turn || side - f < turn) return true;
-            for (double o : room_faces) {
-                if (std::fabs(f - o) < turn) return true;
+            for (std::size_t i = 0; i < room_faces; i++) {
+                if (std::fabs(f - faces[i]) < turn) return true;
             }
             return false;
         };

@@ -646,7 +646,6 @@ bool goal_has_a_stop(const Scenario &s)
 // `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
 // and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
 // every cell a step stops in.
-
 bool Parser::fit_encoding(Scenario *s)
 {
     Encoding &e = s->encoding;

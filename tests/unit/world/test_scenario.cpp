@@ -264,6 +264,15 @@ void test_encode_auto_past(void **state)
     assert_non_null(std::strstr(err.c_str(), "narrower than 'past' (0.2 m)"));
 }
 
+// Whether the grid's edges `e` hold a cut at `v` (m).
+static bool has_edge(const std::vector<double> &e, double v)
+{
+    for (double x : e) {
+        if (std::fabs(x - v) < 1e-9) return true;
+    }
+    return false;
+}
+
 // encode auto's rule 5: a bin in the middle of a 1 m aisle sits where the aisle's two equal
 // cells meet, its edge 1 cm beyond the lab robot's turn from the centred stops around it; the
 // aisle's cut moves onto the bin's face, keeping its two cells, each wider than a turn. A turned
@@ -278,20 +287,14 @@ void test_encode_auto_pinch(void **state)
     const std::string bin = "obstacle circle 2.1 2.6 0.15\n";
     world::Scenario s;
     std::string err;
-    auto has = [](const std::vector<double> &e, double v) {
-        for (double x : e) {
-            if (std::fabs(x - v) < 1e-9) return true;
-        }
-        return false;
-    };
     assert_true(world::parse_scenario(head + centre, "a.scn", &s, &err));
     const std::vector<double> plain_x = s.encoding.x_edges, plain_y = s.encoding.y_edges;
-    assert_true(has(plain_x, 1.6) && has(plain_x, 2.1) && has(plain_x, 2.6));  // the aisle in two
+    assert_true(has_edge(plain_x, 1.6) && has_edge(plain_x, 2.1) && has_edge(plain_x, 2.6));  // the aisle in two
     assert_true(world::parse_scenario(head + centre + bin, "a.scn", &s, &err));
     assert_true(s.actions.centred);
     const std::vector<double> &x = s.encoding.x_edges;
     assert_int_equal(x.size(), plain_x.size());
-    assert_true(has(x, 1.6) && has(x, 1.95) && has(x, 2.6) && !has(x, 2.1));
+    assert_true(has_edge(x, 1.6) && has_edge(x, 1.95) && has_edge(x, 2.6) && !has_edge(x, 2.1));
     assert_true(s.encoding.y_edges == plain_y);  // 2.45 or 2.75 would leave a row under 0.32 m
     // Every cell of the aisle is as wide as the robot's turn.
     const double turn = std::hypot(0.25, 0.2) / 2.0;
@@ -366,14 +369,8 @@ void test_encode_auto_goal_sliver(void **state)
     }
     assert_false(world::goal_cells(s).empty());
     assert_true(world::parse_scenario(head + "goal 2.5 1.5 0.3\n", "z.scn", &s, &err));
-    auto has = [](const std::vector<double> &e, double v) {
-        for (double x : e) {
-            if (std::fabs(x - v) < 1e-9) return true;
-        }
-        return false;
-    };
-    assert_true(has(s.encoding.x_edges, 2.2) && has(s.encoding.x_edges, 2.8));
-    assert_true(has(s.encoding.y_edges, 1.2) && has(s.encoding.y_edges, 1.8));
+    assert_true(has_edge(s.encoding.x_edges, 2.2) && has_edge(s.encoding.x_edges, 2.8));
+    assert_true(has_edge(s.encoding.y_edges, 1.2) && has_edge(s.encoding.y_edges, 1.8));
 }
 
 // `learning model paper tiles 1,1,0,0`: Dyna-QPC's model and the paper's model's tile widths; an
