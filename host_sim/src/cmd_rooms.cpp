@@ -45,7 +45,7 @@ void write_file(const std::string &path, const std::string &text)
 }
 
 struct RoomsArgs {
-    std::string robot, base, out, check, far, floor, changed, users, profile = "exact";
+    std::string robot, base, out, check, far, floor, changed, users, profile = "exact", goal = "base";
     std::uint32_t seed = 1, count = 10;
 };
 
@@ -81,6 +81,11 @@ void declare_options(Options &o, RoomsArgs &a)
                  "furniture (at an angle), or mixed (room i: each in turn); floors of any size, thin "
                  "partitions, doorways from the robot's diagonal up, encode auto (docs/scenarios.md)",
                  &a.users, {"partitions", "s-floor", "u-floor", "pillars", "furniture", "mixed"});
+    o.add_choice("--goal", "G",
+                 "with --users: base (the base's goal line, default) or circle (a plain circle as users draw "
+                 "one, reached when the robot's centre is inside, 0.4 to 1 robot diagonals across; files named "
+                 "<robot>-circle-<family>-...)",
+                 &a.goal, {"base", "circle"});
     o.add_string("--floor", "WxH",
                  "with --far: the floor in m, each side the base's times 1/4, 1/2, 1, 2 or 4 (the state "
                  "cells keep their size; default: the base's)",
@@ -142,7 +147,7 @@ void check_one(const world::Scenario &s)
 void check_rooms(const Options &o, const RoomsArgs &a)
 {
     for (const char *other :
-         {"--robot", "--base", "--profile", "--seed", "--count", "--out", "--far", "--floor", "--users"}) {
+         {"--robot", "--base", "--profile", "--seed", "--count", "--out", "--far", "--floor", "--users", "--goal"}) {
         if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
     }
     world::Scenario before, after;
@@ -249,11 +254,16 @@ std::pair<std::string, world::Room> make_room(const Options &o, const RoomsArgs 
             world::user_family_from_name(a.users, &family);
         }
         const std::string at = command.substr(0, command.rfind(" --seed "));
-        room_command = at + " --users " + world::user_family_name(family) + command.substr(command.rfind(" --seed "));
+        world::UserGoal goal{};
+        world::user_goal_from_name(a.goal, &goal);
+        const std::string circle = goal == world::UserGoal::Circle ? "circle-" : "";
+        room_command = at + " --users " + world::user_family_name(family) +
+                       (circle.empty() ? "" : " --goal circle") + command.substr(command.rfind(" --seed "));
         char idx[16];
         std::snprintf(idx, sizeof idx, "%03u", i);
-        name = n.prefix + "-" + world::user_family_name(family) + "-" + std::to_string(a.seed) + "-" + idx + ".scn";
-        if (!world::generate_user_room(b.text, n.label, room_command, a.seed, i, family, name, &room, &error)) {
+        name = n.prefix + "-" + circle + world::user_family_name(family) + "-" + std::to_string(a.seed) + "-" + idx +
+               ".scn";
+        if (!world::generate_user_room(b.text, n.label, room_command, a.seed, i, family, goal, name, &room, &error)) {
             throw std::runtime_error(error);
         }
     } else {
@@ -279,6 +289,7 @@ void write_rooms(const std::string &program, const Options &o, RoomsArgs &a)
     if (!o.seen("--out") || a.out.empty()) throw UsageError("--out: required (a directory)");
     if (o.seen("--floor") && !o.seen("--far")) throw UsageError("--floor: needs --far");
     if (o.seen("--users") && o.seen("--far")) throw UsageError("--users: cannot be combined with --far");
+    if (o.seen("--goal") && !o.seen("--users")) throw UsageError("--goal: needs --users");
     if (o.seen("--changed")) throw UsageError("--changed: only with --check");
     if (o.seen("--profile") && o.seen("--base")) {
         throw UsageError("--profile: only with --robot (a --base file carries its own imperfections)");

@@ -39,8 +39,8 @@ struct Drawn {
 
 class UserDrawer {
 public:
-    UserDrawer(const Scenario &base, std::uint32_t seed, std::uint32_t draw)
-        : base_(base), rng_(seed, draw), d_(2.0 * robot_radius(base.robot))
+    UserDrawer(const Scenario &base, UserGoal goal, std::uint32_t seed, std::uint32_t draw)
+        : base_(base), goal_(goal), rng_(seed, draw), d_(2.0 * robot_radius(base.robot))
     {
     }
     bool run(UserFamily family, Drawn *out);
@@ -62,6 +62,7 @@ private:
     bool goal_in(Drawn *o, double x0, double x1, double y0, double y1);
 
     const Scenario &base_;
+    UserGoal goal_;
     RandomStream rng_;
     double d_;
 };
@@ -147,7 +148,8 @@ void UserDrawer::furniture(Drawn *o, int n)
 
 bool UserDrawer::goal_in(Drawn *o, double x0, double x1, double y0, double y1)
 {
-    const double r = base_.goal.radius;
+    // A circle's radius is drawn only for UserGoal::Circle: the base's rooms keep their draws.
+    const double r = goal_ == UserGoal::Circle ? std::round(in_d(kUserGoalRadius) * 100.0) / 100.0 : base_.goal.radius;
     Scenario probe = base_;
     probe.arena_w = o->w;
     probe.arena_h = o->h;
@@ -156,7 +158,7 @@ bool UserDrawer::goal_in(Drawn *o, double x0, double x1, double y0, double y1)
         const double x = q_pos(u(std::max(x0, r), std::min(x1, o->w - r)));
         const double y = q_pos(u(std::max(y0, r), std::min(y1, o->h - r)));
         if (clearance(probe, x, y) >= r + 0.25 * d_) {
-            o->goal.cx = x, o->goal.cy = y, o->goal.radius = r, o->goal.cells = base_.goal.cells;
+            o->goal.cx = x, o->goal.cy = y, o->goal.radius = r, o->goal.cells = goal_ == UserGoal::Base && base_.goal.cells;
             return true;
         }
     }
@@ -252,14 +254,30 @@ bool user_family_from_name(const std::string &name, UserFamily *out)
     return false;
 }
 
+const char *user_goal_name(UserGoal g)
+{
+    return g == UserGoal::Circle ? "circle" : "base";
+}
+
+bool user_goal_from_name(const std::string &name, UserGoal *out)
+{
+    for (UserGoal g : {UserGoal::Base, UserGoal::Circle}) {
+        if (name == user_goal_name(g)) {
+            *out = g;
+            return true;
+        }
+    }
+    return false;
+}
+
 UserFamily user_family_of_index(std::uint32_t index)
 {
     return static_cast<UserFamily>((index + kUserFamilies - 1) % kUserFamilies);
 }
 
 bool generate_user_room(std::string_view base_text, const std::string &base_label, const std::string &command,
-                        std::uint32_t seed, std::uint32_t index, UserFamily family, const std::string &file,
-                        Room *out, std::string *error)
+                        std::uint32_t seed, std::uint32_t index, UserFamily family, UserGoal goal,
+                        const std::string &file, Room *out, std::string *error)
 {
     Scenario base;
     if (!parse_scenario(base_text, base_label, &base, error)) return false;
@@ -268,7 +286,7 @@ bool generate_user_room(std::string_view base_text, const std::string &base_labe
     const std::uint32_t rs = room_seed(room_seed(seed, index), 0x5000u + static_cast<std::uint32_t>(family));
     std::string last_problem;
     for (std::uint32_t draw = 0; draw < kMaxRoomDraws; draw++) {
-        UserDrawer dr(base, rs, draw);
+        UserDrawer dr(base, goal, rs, draw);
         Drawn d;
         if (!dr.run(family, &d)) {
             last_problem = std::string("the ") + user_family_name(family) + " does not fit this draw";

@@ -536,6 +536,7 @@ world::Room make_user(const std::string &robot, world::UserFamily f, std::uint32
     world::Room room;
     std::string err;
     const bool ok = world::generate_user_room(base_text(robot), label(robot), command(robot, seed), seed, index, f,
+                                              world::UserGoal::Base,
                                               name, &room, &err);
     if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
     assert_true(ok);
@@ -572,6 +573,40 @@ void test_user_rooms(void **state)
     }
 }
 
+// --goal circle (UserGoal::Circle): every family for both robots draws a plain circle, not the
+// base's `cells`, of 0.4 to 1 robot diagonals across, that some stop of the robot reaches (the file
+// parses: encode auto refuses a goal no step ends in); the base's rooms keep the base's goal line.
+void test_user_rooms_circle_goal(void **state)
+{
+    (void)state;
+    for (const char *robot : kRobots) {
+        world::Scenario base;
+        std::string err;
+        assert_true(world::load_scenario(robot, &base, &err));
+        const double d = 2.0 * world::robot_radius(base.robot);
+        for (int f = 0; f < world::kUserFamilies; f++) {
+            const auto family = static_cast<world::UserFamily>(f);
+            const std::string name = std::string(robot) + "-circle.scn";
+            world::Room room;
+            assert_true(world::generate_user_room(base_text(robot), label(robot), command(robot, 31), 31, 1, family,
+                                                  world::UserGoal::Circle, name, &room, &err));
+            world::Scenario s;
+            assert_true(world::parse_scenario(room.text, "again.scn", &s, &err));
+            assert_false(s.goal.cells);
+            assert_true(s.goal.radius >= world::kUserGoalRadius[0] * d - 0.005);
+            assert_true(s.goal.radius <= world::kUserGoalRadius[1] * d + 0.005);
+            assert_true(world::check_passages(s).ok);
+            const world::Room as_base = make_user(robot, family, 31, 1);
+            assert_true(world::parse_scenario(as_base.text, "base.scn", &s, &err));
+            assert_true(s.goal.cells == base.goal.cells && s.goal.radius == base.goal.radius);
+        }
+    }
+    world::UserGoal g{};
+    assert_true(world::user_goal_from_name("circle", &g) && g == world::UserGoal::Circle);
+    assert_true(world::user_goal_from_name("base", &g) && g == world::UserGoal::Base);
+    assert_false(world::user_goal_from_name("cells", &g));
+}
+
 // The committed rooms like users' rooms: at least 12 per robot in each of users-tune and
 // users-eval, each what its command generates now, the two sets on different seeds.
 void test_committed_user_rooms(void **state)
@@ -597,7 +632,8 @@ void test_committed_user_rooms(void **state)
             world::Room room;
             std::string err;
             const std::string cmd = "dynaqpc-sim rooms --robot " + r + " --users " + fam + " --seed " + std::to_string(seed);
-            assert_true(world::generate_user_room(base_text(r), label(r), cmd, seed, index, f, file, &room, &err));
+            assert_true(world::generate_user_room(base_text(r), label(r), cmd, seed, index, f, world::UserGoal::Base, file,
+                                                  &room, &err));
             if (room.text != read(entry.path().string())) {
                 std::fprintf(stderr, "%s/%s differs from what its command generates now\n", set, file.c_str());
             }
@@ -624,6 +660,7 @@ int main(void)
         cmocka_unit_test(test_unreachable_goal_refused),
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_user_rooms),
+        cmocka_unit_test(test_user_rooms_circle_goal),
         cmocka_unit_test(test_committed_user_rooms),
         cmocka_unit_test(test_same_seed_same_room),
         cmocka_unit_test(test_committed_rooms),

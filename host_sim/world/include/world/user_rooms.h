@@ -34,13 +34,25 @@ bool user_family_from_name(const std::string &name, UserFamily *out);
 /// The family `--users mixed` gives room `index` (1-based): each in turn.
 UserFamily user_family_of_index(std::uint32_t index);
 
+/// The goal a room draws: the base's goal line (its radius; `cells` if the base says so), or a
+/// plain circle as users draw one, reached when the robot's centre is inside, of a radius from
+/// kUserGoalRadius[0] to [1] robot diagonals (the lab robot: 0.13 to 0.32 m; the sonar robot:
+/// 0.31 to 0.78 m).
+enum class UserGoal { Base, Circle };
+inline constexpr double kUserGoalRadius[2] = {0.4, 1.0};
+
+/// "base", "circle".
+const char *user_goal_name(UserGoal g);
+/// The goal kind named `name`; false if none is.
+bool user_goal_from_name(const std::string &name, UserGoal *out);
+
 /// Room `index` of `seed` in `family`, from the base scenario's text (as generate_room()). A draw
 /// is refused and drawn again when its file does not parse (e.g. `encode auto` needs more than 32
 /// cells), or its passages fail check_passages(), or a start cannot reach the goal on the grid
 /// (longest_path()). Returns false with *error when no draw of kMaxRoomDraws passes.
 bool generate_user_room(std::string_view base_text, const std::string &base_label, const std::string &command,
-                        std::uint32_t seed, std::uint32_t index, UserFamily family, const std::string &file,
-                        Room *out, std::string *error);
+                        std::uint32_t seed, std::uint32_t index, UserFamily family, UserGoal goal,
+                        const std::string &file, Room *out, std::string *error);
 
 }  // namespace world
 
