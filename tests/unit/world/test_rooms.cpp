@@ -608,12 +608,13 @@ void test_user_rooms_circle_goal(void **state)
 }
 
 // The committed rooms like users' rooms: at least 12 per robot in each of users-tune and
-// users-eval, each what its command generates now, the two sets on different seeds.
+// users-eval (the base's goal) and users-circle-tune and users-circle-eval (--goal circle), each
+// what its command generates now, each tuning set on other seeds than its evaluation set.
 void test_committed_user_rooms(void **state)
 {
     (void)state;
     std::map<std::string, std::set<std::uint32_t>> seeds;
-    for (const char *set : {"users-tune", "users-eval"}) {
+    for (const char *set : {"users-tune", "users-eval", "users-circle-tune", "users-circle-eval"}) {
         std::map<std::string, int> per_robot;
         const std::string dir = std::string(WORLD_TEST_ROOMS) + "/" + set;
         assert_true(std::filesystem::is_directory(dir));
@@ -626,14 +627,19 @@ void test_committed_user_rooms(void **state)
             const std::uint32_t index = static_cast<std::uint32_t>(std::stoul(stem.substr(i2 + 1)));
             const std::uint32_t seed = static_cast<std::uint32_t>(std::stoul(stem.substr(i1 + 1, i2 - i1 - 1)));
             const std::string r = stem.substr(0, 9);  // paper-lab, paper-sim
-            const std::string fam = stem.substr(10, i1 - 10);
+            std::string fam = stem.substr(10, i1 - 10);
+            const bool circle = fam.rfind("circle-", 0) == 0;  // paper-<robot>-circle-<family>-...
+            if (circle) fam = fam.substr(7);
+            assert_true(circle == (std::string(set).find("circle") != std::string::npos));
             world::UserFamily f{};
             assert_true(world::user_family_from_name(fam, &f));
             world::Room room;
             std::string err;
-            const std::string cmd = "dynaqpc-sim rooms --robot " + r + " --users " + fam + " --seed " + std::to_string(seed);
-            assert_true(world::generate_user_room(base_text(r), label(r), cmd, seed, index, f, world::UserGoal::Base, file,
-                                                  &room, &err));
+            const std::string cmd = "dynaqpc-sim rooms --robot " + r + " --users " + fam +
+                                    (circle ? " --goal circle" : "") + " --seed " + std::to_string(seed);
+            assert_true(world::generate_user_room(base_text(r), label(r), cmd, seed, index, f,
+                                                  circle ? world::UserGoal::Circle : world::UserGoal::Base, file, &room,
+                                                  &err));
             if (room.text != read(entry.path().string())) {
                 std::fprintf(stderr, "%s/%s differs from what its command generates now\n", set, file.c_str());
             }
@@ -644,8 +650,10 @@ void test_committed_user_rooms(void **state)
         for (const char *robot : kRobots) assert_true(per_robot[robot] >= 12);
     }
     for (const char *robot : kRobots) {
-        for (std::uint32_t s : seeds[std::string("users-tune/") + robot]) {
-            assert_int_equal(seeds[std::string("users-eval/") + robot].count(s), 0);
+        for (const char *kind : {"users", "users-circle"}) {
+            for (std::uint32_t s : seeds[std::string(kind) + "-tune/" + robot]) {
+                assert_int_equal(seeds[std::string(kind) + "-eval/" + robot].count(s), 0);
+            }
         }
     }
 }
