@@ -83,7 +83,7 @@ void declare_options(Options &o, RoomsArgs &a)
                  &a.users, {"partitions", "s-floor", "u-floor", "pillars", "furniture", "mixed"});
     o.add_choice("--goal", "G",
                  "with --users: base (the base's goal line, default) or circle (a plain circle as users draw "
-                 "one, reached when the robot's centre is inside, 0.4 to 1 robot diagonals across; files named "
+                 "one, reached when the robot's centre is inside, of radius 0.4 to 1 robot diagonals; files named "
                  "<robot>-circle-<family>-...)",
                  &a.goal, {"base", "circle"});
     o.add_string("--floor", "WxH",

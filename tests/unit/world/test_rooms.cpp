@@ -574,7 +574,7 @@ void test_user_rooms(void **state)
 }
 
 // --goal circle (UserGoal::Circle): every family for both robots draws a plain circle, not the
-// base's `cells`, of 0.4 to 1 robot diagonals across, that some stop of the robot reaches (the file
+// base's `cells`, of radius 0.4 to 1 robot diagonals, that some stop of the robot reaches (the file
 // parses: encode auto refuses a goal no step ends in); the base's rooms keep the base's goal line.
 void test_user_rooms_circle_goal(void **state)
 {
