@@ -530,14 +530,14 @@ void test_committed_rooms(void **state)
 // Rooms like users' rooms (world/user_rooms.h): every family for both robots parses again from its
 // text, passes the passage check, reaches the goal on its fitted grid (encode auto), keeps the
 // base's robot, and is the same text for the same seed and index.
-world::Room make_user(const std::string &robot, world::UserFamily f, std::uint32_t seed, std::uint32_t index)
+world::Room make_user(const std::string &robot, world::UserFamily f, std::uint32_t seed, std::uint32_t index,
+                      world::UserGoal goal = world::UserGoal::Base)
 {
     const std::string name = robot + "-" + world::user_family_name(f) + "-" + std::to_string(seed) + ".scn";
     world::Room room;
     std::string err;
     const bool ok = world::generate_user_room(base_text(robot), label(robot), command(robot, seed), seed, index, f,
-                                              world::UserGoal::Base,
-                                              name, &room, &err);
+                                              goal, name, &room, &err);
     if (!ok) std::fprintf(stderr, "%s\n", err.c_str());
     assert_true(ok);
     return room;
@@ -586,10 +586,7 @@ void test_user_rooms_circle_goal(void **state)
         const double d = 2.0 * world::robot_radius(base.robot);
         for (int f = 0; f < world::kUserFamilies; f++) {
             const auto family = static_cast<world::UserFamily>(f);
-            const std::string name = std::string(robot) + "-circle.scn";
-            world::Room room;
-            assert_true(world::generate_user_room(base_text(robot), label(robot), command(robot, 31), 31, 1, family,
-                                                  world::UserGoal::Circle, name, &room, &err));
+            const world::Room room = make_user(robot, family, 31, 1, world::UserGoal::Circle);
             world::Scenario s;
             assert_true(world::parse_scenario(room.text, "again.scn", &s, &err));
             assert_false(s.goal.cells);
