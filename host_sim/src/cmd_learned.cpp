@@ -127,6 +127,22 @@ const char *stop_name(const robot_config_t &cfg)
     }
 }
 
+// What the firmware learns the room's values with (robot_config_agent_params(), gamma auto
+// resolved; a train --gamma override is not in an image): the discount, the sweep's threshold,
+// what a state never met is worth (docs/agent.md, 11. and 13.), the rewards, and the value of
+// wandering for ever (every step's reward, never the goal), where a region the model closes off
+// settles (dynaqpc-learned's closed regions).
+std::string values_json(const robot_config_t &cfg)
+{
+    const agent_params_t &p = cfg.params;
+    std::ostringstream o;
+    o << "{\"gamma\":" << num(p.gamma) << ",\"theta\":" << num(p.theta) << ",\"prior\":" << num(p.q_prior)
+      << ",\"reward_goal\":" << num(cfg.reward_goal) << ",\"reward_bump\":" << num(cfg.reward_bump)
+      << ",\"reward_step\":" << num(cfg.reward_step) << ",\"wander\":"
+      << (p.gamma < 1.0f ? num(cfg.reward_step / (1.0f - p.gamma)) : std::string("null")) << "}";
+    return o.str();
+}
+
 // The state grid: cells, their edges (a grid fitted to the room has cells of different sizes) and
 // the goal's cells.
 void write_grid(std::ostringstream &o, const robot_config_t &cfg)
@@ -224,6 +240,7 @@ std::string json_of(const ScenarioBundle &sb, const robot_config_t &cfg, agent_t
     }
     o << "],\"actions\":[\"forward\",\"backward\",\"left\",\"right\"],\"turn_deg\":" << num(cfg.turn_rad * 180.0 / FW_PI)
       << ",\"aligned\":" << (cfg.aligned_actions ? "true" : "false") << ",\"stop\":\"" << stop_name(cfg) << "\"},\n";
+    o << "\"values\":" << values_json(cfg) << ",\n";
     write_grid(o, cfg);
     std::string arena = arena_json(*sb.world);
     while (!arena.empty() && arena.back() == '\n') arena.pop_back();
@@ -256,12 +273,7 @@ std::string grid_json(const ScenarioBundle &sb)
       << ",\"heading\":" << unsigned(sb.robot.bits_heading) << ",\"sensor\":" << unsigned(sb.robot.bits_code)
       << "},\"stop\":\"" << stop_name(sb.robot) << "\",\n";
     write_grid(g, sb.robot);
-    // What the firmware learns the room's values with (robot_config_agent_params()): the
-    // discount, the sweep's threshold and what a state never met is worth (docs/agent.md, 11. and
-    // 13.).
-    const agent_params_t &p = sb.robot.params;
-    g << "},\n\"values\":{\"gamma\":" << num(p.gamma) << ",\"theta\":" << num(p.theta) << ",\"prior\":" << num(p.q_prior)
-      << "}}\n";
+    g << "},\n\"values\":" << values_json(sb.robot) << "}\n";
     return g.str();
 }
 

@@ -218,6 +218,95 @@ def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
     return {"starts": starts, "outcomes": outcomes}
 
 
+# --- regions the model closed off ----------------------------------------------------------------
+
+# A state reads "hopeless" when its V is within this share of the value of wandering for ever
+# (reward_step / (1 - gamma)): on paper-lab's gamma 0.9, within 0.1 of -10, a goal some 60 steps
+# away or none the model knows of.
+HOPELESS_SHARE = 0.01
+
+
+def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+    """Where the model sees no way home, and the moves that bumped on the way out of it.
+
+    A visited state whose V sits at the value of wandering for ever believes that no path the
+    model knows reaches the goal from it; its actions' values then differ by planning's noise and
+    a greedy robot turns or steps on one spot (docs/agent.md, "What it does not handle yet"). A
+    move tried from such a state whose value is a bump's (below the value of wandering by a
+    quarter of a bump or more) and whose next cell on the grid holds a visited state worth more is
+    a *closed passage*: often one bump, from a place in the cell the state does not show, closed
+    the way on. None for a dump without the values (an older dynaqpc-sim)."""
+    vals = dump.get("values")
+    if not vals or vals.get("wander") is None:
+        return None
+    wander = vals["wander"]
+    tol = HOPELESS_SHARE * abs(wander)
+    bumped = wander + vals["reward_bump"] / 4.0
+    grid = dump["grid"]
+    ix = {c: i for i, c in enumerate(dump["states_columns"])}
+    goal = {tuple(c) for c in grid["goal_cells"]}
+    rows = [r for r in dump["states"] if r[ix["visited"]] and r[ix["row"]] and r[ix["v"]] is not None]
+    best: Dict[Tuple[int, int], float] = {}
+    for r in rows:
+        key = (r[ix["x"]], r[ix["y"]])
+        best[key] = max(best.get(key, -math.inf), r[ix["v"]])
+    hopeless = [r for r in rows if (r[ix["x"]], r[ix["y"]]) not in goal and r[ix["v"]] <= wander + tol]
+    cells: Dict[Tuple[int, int], int] = {}
+    passages: Dict[Tuple[int, int, int, int], Dict[str, Any]] = {}
+    for r in hopeless:
+        x, y, h = r[ix["x"]], r[ix["y"]], r[ix["heading"]]
+        cells[(x, y)] = cells.get((x, y), 0) + 1
+        for a in (0, 1):  # the moves; turns stay in the cell
+            q, n = r[ix["q"]][a], r[ix["n"]][a]
+            if q is None or n < 1 or q > bumped:
+                continue
+            bx, by, _ = _step(grid, x, y, h, a)
+            beyond = best.get((bx, by))
+            if beyond is None or beyond <= wander + tol:
+                continue
+            k = (x, y, h, a)
+            p = passages.get(k)
+            if p is None or n < p["tries"]:  # one per (cell, heading, move): the fewest tries
+                passages[k] = {
+                    "cell": [x, y],
+                    "heading": h,
+                    "action": ACTIONS[a],
+                    "code": r[ix["code"]],
+                    "tries": n,
+                    "q": q,
+                    "into": [bx, by],
+                    "into_v": beyond,
+                }
+    return {
+        "wander": wander,
+        "closed_cells": sorted([x, y] for (x, y) in cells if best[(x, y)] <= wander + tol),
+        "visited_states": sum(1 for r in rows if (r[ix["x"]], r[ix["y"]]) not in goal),
+        "hopeless_states": len(hopeless),
+        "hopeless_cells": [[x, y, k] for (x, y), k in sorted(cells.items())],
+        "closed_passages": sorted(passages.values(), key=lambda p: (-p["q"], p["tries"], p["cell"], p["heading"])),
+    }
+
+
+def describe_closed(closed: Optional[Dict[str, Any]], most: int = 3) -> str:
+    """One sentence for the summary line ('' without values or without a hopeless state)."""
+    if not closed or not closed["hopeless_states"]:
+        return ""
+    text = (
+        f"; {closed['hopeless_states']} of {closed['visited_states']} visited states read the value of "
+        f"wandering for ever ({closed['wander']:g}): the model sees no way home from them"
+    )
+    ps = closed["closed_passages"]
+    if ps:
+        shown = ", ".join(
+            f"cell ({p['cell'][0]}, {p['cell'][1]}) heading {p['heading']} {p['action']} "
+            f"({p['tries']} {'try' if p['tries'] == 1 else 'tries'}, Q {p['q']:.0f}) into ({p['into'][0]}, "
+            f"{p['into'][1]}) worth {p['into_v']:.1f}"
+            for p in ps[:most]
+        )
+        text += f"; {len(ps)} move(s) that bumped lead out of them: {shown}"
+    return text
+
+
 # --- drawing -------------------------------------------------------------------------------------
 
 
@@ -310,7 +399,7 @@ class _MarkHandler:
 _KEY_HANDLERS: Dict[Any, Any] = {}
 
 
-def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
+def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float, closed: Optional[Dict[str, Any]] = None) -> list:
     """Proxy artists for the key; _KEY_HANDLERS says how the arrows and turns are drawn."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -331,6 +420,25 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float) -> list:
         handles.append(h)
     handles.append(Patch(facecolor="white", edgecolor="0.5", label="white cell: no value for this heading"))
     handles.append(Patch(facecolor="0.6", edgecolor="0.3", label="obstacle"))
+    if closed and closed["closed_cells"]:
+        handles.append(
+            Patch(
+                facecolor="none",
+                edgecolor="0.2",
+                hatch="xx",
+                label="cross-hatched (last panel): the model sees\nno way home from this cell",
+            )
+        )
+    if closed and closed["closed_passages"]:
+        handles.append(
+            Line2D(
+                [],
+                [],
+                color="red",
+                linewidth=3,
+                label="red bar: a move that bumped out of\nsuch a cell (least certain first)",
+            )
+        )
     return handles + goal_key(arena, "goal cells (the episode ends there:\nno action drawn)")
 
 
@@ -357,6 +465,26 @@ def _draw_heading_panel(ax, view, arena, h, visited, cmap, norm, scale) -> None:
     ax.set_title(f"heading {h} ({deg:.1f}\u00b0): {len(by_h)} cells", fontsize=9)
     ax.set_xlabel("")
     ax.set_ylabel("")
+
+
+# The closed passages drawn (the least certain bumps first): more would mark every wall.
+CLOSED_DRAWN = 5
+
+
+def _draw_edge(ax, grid: Dict[str, Any], cell: List[int], into: List[int]) -> None:
+    """A red bar on the edge between two neighbouring cells (a move that bumped there)."""
+    x0, y0, cw, ch = cell_rect(grid, cell[0], cell[1])
+    dx, dy = into[0] - cell[0], into[1] - cell[1]
+    if dx and not dy:
+        ex = x0 + cw if dx > 0 else x0
+        xs, ys = [ex, ex], [y0 + 0.15 * ch, y0 + 0.85 * ch]
+    elif dy and not dx:
+        ey = y0 + ch if dy > 0 else y0
+        xs, ys = [x0 + 0.15 * cw, x0 + 0.85 * cw], [ey, ey]
+    else:  # a diagonal step: a bar across the corner
+        cx, cy = x0 + (cw if dx > 0 else 0.0), y0 + (ch if dy > 0 else 0.0)
+        xs, ys = [cx - 0.2 * cw, cx + 0.2 * cw], [cy + 0.2 * ch * dx * dy, cy - 0.2 * ch * dx * dy]
+    ax.plot(xs, ys, color="red", linewidth=3, solid_capstyle="butt", zorder=5)
 
 
 def _draw_visited_panel(ax, view, arena, visited, plt) -> None:
@@ -386,10 +514,17 @@ def _draw_visited_panel(ax, view, arena, visited, plt) -> None:
                 fontsize=7,
                 color="black",
             )
+    closed = view.get("closed") or {}
+    for x, y in closed.get("closed_cells", []):
+        x0, y0, cw, ch = cell_rect(grid, x, y)
+        ax.add_patch(Rectangle((x0, y0), cw, ch, facecolor="none", edgecolor="0.2", hatch="xx", linewidth=0))
+    for p in closed.get("closed_passages", [])[:CLOSED_DRAWN]:
+        _draw_edge(ax, grid, p["cell"], p["into"])
     draw_arena(ax, arena)
-    ax.set_title(
-        "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)", fontsize=8
-    )
+    title = "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)"
+    if closed.get("closed_cells"):
+        title += "\ncross-hatched: no way home; red: bumped moves out"
+    ax.set_title(title, fontsize=8)
     ax.set_xlabel("")
     ax.set_ylabel("")
 
@@ -415,9 +550,9 @@ def _draw_fill_panel(ax, view) -> None:
     ax.set_title("tables' fill", fontsize=9)
 
 
-def _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax) -> None:
+def _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax, closed=None) -> None:
     """The key: what every mark means, in the first free panel, else under the figure."""
-    handles = _key_handles(arena, cmap, norm, vmax)
+    handles = _key_handles(arena, cmap, norm, vmax, closed)
     if n_panels < nrows * ncols:
         key_ax = axes[n_panels // ncols][n_panels % ncols]
         key_ax.legend(
@@ -492,7 +627,7 @@ def draw(
         aspect=30,
         label="V = max_a Q (cell colour)",
     )
-    _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax)
+    _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax, view.get("closed"))
     rec = view["record"]
     shown = (
         f"all {nh} headings"
@@ -559,6 +694,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                     f"--headings: {bad[0]} is not a heading of {view['scenario']} (0..{view['grid']['headings'] - 1})"
                 )
         view["arrows_followed"] = follow_all(view)
+        view["closed"] = closed_regions(dump)
         if args.json:
             text = json.dumps(view, indent=1)
             if args.json == "-":
@@ -581,7 +717,7 @@ def main(argv: Optional[List[str]] = None) -> int:
             f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
             f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
             f"{fill['capacity']} rows); from {f['starts']} visited ones the greedy arrows reach the goal from "
-            f"{f['outcomes'].get('goal', 0)}" + (f"; picture: {png}" if png else ""),
+            f"{f['outcomes'].get('goal', 0)}" + describe_closed(view["closed"]) + (f"; picture: {png}" if png else ""),
             file=out,
         )
         return 0
