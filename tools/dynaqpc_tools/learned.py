@@ -226,16 +226,31 @@ def follow_all(view: Dict[str, Any]) -> Dict[str, Any]:
 HOPELESS_SHARE = 0.01
 
 
+def _experience(dump: Dict[str, Any]) -> Optional[str]:
+    """What the dump's `n` column says of a pair (docs/tools.md, *Experience*): 'count' (CMAC-Model's
+    training count, Dyna-QPC), 'recorded' (1 if the pair is recorded, Dyna-Q), or None
+    (Q-learning keeps no counts)."""
+    agent = dump.get("agent", "dyna-qpc")
+    if agent.startswith("dyna-qpc"):
+        return "count"
+    if agent.startswith("dyna-q"):
+        return "recorded"
+    return None
+
+
 def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
     """Where the model sees no way home, and the moves that bumped on the way out of it.
 
-    A visited state whose V sits at the value of wandering for ever believes that no path the
-    model knows reaches the goal from it; its actions' values then differ by planning's noise and
-    a greedy robot turns or steps on one spot (docs/agent.md, "What it does not handle yet"). A
-    move tried from such a state whose value is a bump's (below the value of wandering by a
-    quarter of a bump or more) and whose next cell on the grid holds a visited state worth more is
-    a *closed passage*: often one bump, from a place in the cell the state does not show, closed
-    the way on. None for a dump without the values (an older dynaqpc-sim)."""
+    A visited state whose V sits at the value of wandering for ever (within HOPELESS_SHARE of it,
+    either side) believes that no path the model knows reaches the goal from it; its actions'
+    values then differ by planning's noise and a greedy robot turns or steps on one spot
+    (docs/agent.md, "What it does not handle yet"). A move tried from such a state whose value is
+    a bump's (below the value of wandering by a quarter of a bump or more) and whose next cell on
+    the grid is a goal cell or holds a visited state worth more is a *closed passage*: often one
+    bump, from a place in the cell the state does not show, closed the way on. Passages are named
+    only where a step moves to the next cell (aligned actions) and the agent keeps experience per
+    pair (not Q-learning). None for a dump without the values (an older dynaqpc-sim) or with
+    gamma 1 (no value of wandering)."""
     vals = dump.get("values")
     if not vals or vals.get("wander") is None:
         return None
@@ -243,6 +258,8 @@ def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
     tol = HOPELESS_SHARE * abs(wander)
     bumped = wander + vals["reward_bump"] / 4.0
     grid = dump["grid"]
+    aligned = bool(dump.get("space", {}).get("aligned", True))
+    experience = _experience(dump)
     ix = {c: i for i, c in enumerate(dump["states_columns"])}
     goal = {tuple(c) for c in grid["goal_cells"]}
     rows = [r for r in dump["states"] if r[ix["visited"]] and r[ix["row"]] and r[ix["v"]] is not None]
@@ -250,15 +267,20 @@ def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
     for r in rows:
         key = (r[ix["x"]], r[ix["y"]])
         best[key] = max(best.get(key, -math.inf), r[ix["v"]])
-    hopeless = [r for r in rows if (r[ix["x"]], r[ix["y"]]) not in goal and r[ix["v"]] <= wander + tol]
+    for key in goal:  # a step into the goal ends the episode with its reward
+        best[key] = vals["reward_goal"]
+    outside = [r for r in rows if (r[ix["x"]], r[ix["y"]]) not in goal]
+    hopeless = [r for r in outside if abs(r[ix["v"]] - wander) <= tol]
     cells: Dict[Tuple[int, int], int] = {}
     passages: Dict[Tuple[int, int, int, int], Dict[str, Any]] = {}
     for r in hopeless:
         x, y, h = r[ix["x"]], r[ix["y"]], r[ix["heading"]]
         cells[(x, y)] = cells.get((x, y), 0) + 1
+        if not aligned or experience is None:
+            continue
         for a in (0, 1):  # the moves; turns stay in the cell
             q, n = r[ix["q"]][a], r[ix["n"]][a]
-            if q is None or n < 1 or q > bumped:
+            if q is None or not n or q > bumped:
                 continue
             bx, by, _ = _step(grid, x, y, h, a)
             beyond = best.get((bx, by))
@@ -266,7 +288,9 @@ def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
                 continue
             k = (x, y, h, a)
             p = passages.get(k)
-            if p is None or n < p["tries"]:  # one per (cell, heading, move): the fewest tries
+            # One per (cell, heading, move), of its range codes the least certain bump: the
+            # highest Q, then the fewest tries.
+            if p is None or (q, -n) > (p["q"], -p["tries"]):
                 passages[k] = {
                     "cell": [x, y],
                     "heading": h,
@@ -279,8 +303,10 @@ def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
                 }
     return {
         "wander": wander,
+        "experience": experience,
+        "aligned": aligned,
         "closed_cells": sorted([x, y] for (x, y) in cells if best[(x, y)] <= wander + tol),
-        "visited_states": sum(1 for r in rows if (r[ix["x"]], r[ix["y"]]) not in goal),
+        "visited_states": len(outside),
         "hopeless_states": len(hopeless),
         "hopeless_cells": [[x, y, k] for (x, y), k in sorted(cells.items())],
         "closed_passages": sorted(passages.values(), key=lambda p: (-p["q"], p["tries"], p["cell"], p["heading"])),
@@ -291,16 +317,24 @@ def describe_closed(closed: Optional[Dict[str, Any]], most: int = 3) -> str:
     """One sentence for the summary line ('' without values or without a hopeless state)."""
     if not closed or not closed["hopeless_states"]:
         return ""
+    who = "the model sees" if closed.get("experience", "count") else "its Q values see"
     text = (
         f"; {closed['hopeless_states']} of {closed['visited_states']} visited states read the value of "
-        f"wandering for ever ({closed['wander']:g}): the model sees no way home from them"
+        f"wandering for ever ({closed['wander']:g}): {who} no way home from them"
     )
+    if not closed.get("aligned", True):
+        return text + " (steps not aligned to the grid: no moves named)"
     ps = closed["closed_passages"]
     if ps:
+
+        def tried(p: Dict[str, Any]) -> str:
+            if closed.get("experience") == "recorded":
+                return "recorded"
+            return f"{p['tries']} {'try' if p['tries'] == 1 else 'tries'}"
+
         shown = ", ".join(
             f"cell ({p['cell'][0]}, {p['cell'][1]}) heading {p['heading']} {p['action']} "
-            f"({p['tries']} {'try' if p['tries'] == 1 else 'tries'}, Q {p['q']:.0f}) into ({p['into'][0]}, "
-            f"{p['into'][1]}) worth {p['into_v']:.1f}"
+            f"({tried(p)}, Q {p['q']:.0f}) into ({p['into'][0]}, {p['into'][1]}) worth {p['into_v']:.1f}"
             for p in ps[:most]
         )
         text += f"; {len(ps)} move(s) that bumped lead out of them: {shown}"

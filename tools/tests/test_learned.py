@@ -171,6 +171,36 @@ def test_closed_regions_name_the_bumps_that_closed_the_way():
     assert closed_regions(old) is None and describe_closed(None) == ""
 
 
+def test_closed_regions_edge_cases():
+    from dynaqpc_tools.learned import closed_regions, describe_closed
+
+    d = synthetic_dump()
+    # (1, 0) facing east once bumped stepping into the goal, and now reads the value of wandering
+    # too (by 0.5 % below it); a state far below that value (every action bumped) is not hopeless.
+    d["states"][2] = [2, 1, 0, 0, 0, 1, 1, 1, 2, -10.05, [-74.0, -10.05, -10.05, -10.05], [1, 0, 1, 1]]
+    d["states"].append([4, 0, 0, 1, 0, 1, 1, 1, 2, -60.0, [-100.0, -100.0, -60.0, -60.0], [1, 1, 1, 1]])
+    c = closed_regions(d)
+    assert c["hopeless_states"] == 3 and c["visited_states"] == 5
+    assert [(p["cell"], p["into"], p["into_v"]) for p in c["closed_passages"]] == [
+        ([0, 0], [1, 0], -5.0),
+        ([1, 0], [2, 0], 100),
+    ]
+    assert "1 try" in describe_closed(c)
+    d["agent"] = "dyna-q"  # n: 1 if the pair is recorded, not a count of tries
+    assert "(recorded, Q -74)" in describe_closed(closed_regions(d))
+    d["agent"] = "q"  # no counts: the hopeless states, no moves
+    c = closed_regions(d)
+    assert c["hopeless_states"] == 3 and c["closed_passages"] == []
+    assert "its Q values see no way home" in describe_closed(c)
+    d["agent"] = "dyna-qpc"
+    d["space"] = {"aligned": False}  # fixed steps: the next cell is a guess, no moves named
+    c = closed_regions(d)
+    assert c["hopeless_states"] == 3 and c["closed_passages"] == []
+    assert "no moves named" in describe_closed(c)
+    d["values"]["wander"] = None  # gamma 1: wandering has no value
+    assert closed_regions(d) is None
+
+
 def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
     """A realistic tuning room whose set relapsed in 13 of 17 episodes (docs/agent.md): after 13
     episodes most visited states read the value of wandering, and the least certain bump that
