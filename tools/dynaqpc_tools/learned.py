@@ -470,7 +470,7 @@ def _key_handles(arena: Dict[str, Any], cmap, norm, vmax: float, closed: Optiona
                 [],
                 color="red",
                 linewidth=3,
-                label="red bar: a move that bumped out of\nsuch a cell (least certain first)",
+                label="red bar: a move that bumped from a state\nwith no way home (least certain first)",
             )
         )
     return handles + goal_key(arena, "goal cells (the episode ends there:\nno action drawn)")
@@ -556,8 +556,13 @@ def _draw_visited_panel(ax, view, arena, visited, plt) -> None:
         _draw_edge(ax, grid, p["cell"], p["into"])
     draw_arena(ax, arena)
     title = "visited / modelled headings per cell\n(shade: headings visited; hatched: modelled, never visited)"
+    marks = []
     if closed.get("closed_cells"):
-        title += "\ncross-hatched: no way home; red: bumped moves out"
+        marks.append("cross-hatched: no way home")
+    if closed.get("closed_passages"):
+        marks.append("red: bumped moves out")
+    if marks:
+        title += "\n" + "; ".join(marks)
     ax.set_title(title, fontsize=8)
     ax.set_xlabel("")
     ax.set_ylabel("")
