@@ -732,7 +732,11 @@ def main(argv: Optional[List[str]] = None) -> int:
                 raise ToolError(
                     f"--headings: {bad[0]} is not a heading of {view['scenario']} (0..{view['grid']['headings'] - 1})"
                 )
-        view["arrows_followed"] = follow_all(view)
+        # Following the arrows walks the grid as aligned actions move (_step()); a robot with fixed
+        # steps and turns (paper-lab-motion) may stay in its cell or end between headings, so a
+        # walk there would be a guess.
+        aligned = bool(dump.get("space", {}).get("aligned", True))
+        view["arrows_followed"] = follow_all(view) if aligned else None
         view["closed"] = closed_regions(dump)
         if args.json:
             text = json.dumps(view, indent=1)
@@ -752,11 +756,17 @@ def main(argv: Optional[List[str]] = None) -> int:
         rec = view["record"]
         fill = view["fill"]["q"]
         out = sys.stderr if args.json == "-" else sys.stdout
+        arrows = (
+            f"from {f['starts']} visited ones the greedy arrows reach the goal from {f['outcomes'].get('goal', 0)}"
+            if f is not None
+            else "fixed steps and turns, not aligned to the grid: the arrows are not followed"
+        )
         print(
             f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
             f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
-            f"{fill['capacity']} rows); from {f['starts']} visited ones the greedy arrows reach the goal from "
-            f"{f['outcomes'].get('goal', 0)}" + describe_closed(view["closed"]) + (f"; picture: {png}" if png else ""),
+            f"{fill['capacity']} rows); {arrows}"
+            + describe_closed(view["closed"])
+            + (f"; picture: {png}" if png else ""),
             file=out,
         )
         return 0

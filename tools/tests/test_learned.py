@@ -269,6 +269,41 @@ def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
     assert "the model sees no way home" in p.stderr
 
 
+def test_arrows_are_not_followed_where_steps_are_not_aligned(sim, tmp_path):
+    """paper-lab-motion's fixed 25 cm steps and 45-degree turns may stay in a cell or end between
+    headings: walking the grid there would be a guess, so the tool does not claim a count."""
+    img = tmp_path / "motion.flash"
+    subprocess.run(
+        [
+            str(sim),
+            "train",
+            "--scenario",
+            "paper-lab-motion",
+            "--agent",
+            "dyna-qpc",
+            "--planning",
+            "1000",
+            "--sets",
+            "1",
+            "--episodes",
+            "3",
+            "--seed",
+            "3",
+            "--quiet",
+            "--save",
+            str(img),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
+    p = learned(img, "--scenario", "paper-lab-motion", "--sim", sim, "--json", "-")
+    assert p.returncode == 0, p.stderr
+    view = json.loads(p.stdout)
+    assert view["arrows_followed"] is None
+    assert "the arrows are not followed" in p.stderr and "reach the goal from" not in p.stderr
+
+
 def corrupt(src, dst, offsets):
     data = bytearray(src.read_bytes())
     for o in offsets:
