@@ -688,6 +688,24 @@ def draw(
     save_figure(fig, out, dpi=110)
 
 
+def summary_line(view: Dict[str, Any], png: Optional[str]) -> str:
+    """The line the tool prints: what the image holds, where its arrows lead, where it sees no way
+    home, and the picture."""
+    f = view["arrows_followed"]
+    rec = view["record"]
+    fill = view["fill"]["q"]
+    arrows = (
+        f"from {f['starts']} visited ones the greedy arrows reach the goal from {f['outcomes'].get('goal', 0)}"
+        if f is not None
+        else "fixed steps and turns, not aligned to the grid: the arrows are not followed"
+    )
+    return (
+        f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
+        f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
+        f"{fill['capacity']} rows); {arrows}" + describe_closed(view["closed"]) + (f"; picture: {png}" if png else "")
+    )
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     p = ToolArgumentParser(
         prog="dynaqpc-learned",
@@ -752,23 +770,8 @@ def main(argv: Optional[List[str]] = None) -> int:
             png = str(Path(args.image).with_suffix(".png"))
         if png:
             draw(view, dump["arena"], png, args.headings)
-        f = view["arrows_followed"]
-        rec = view["record"]
-        fill = view["fill"]["q"]
         out = sys.stderr if args.json == "-" else sys.stdout
-        arrows = (
-            f"from {f['starts']} visited ones the greedy arrows reach the goal from {f['outcomes'].get('goal', 0)}"
-            if f is not None
-            else "fixed steps and turns, not aligned to the grid: the arrows are not followed"
-        )
-        print(
-            f"{view['agent']} on {view['scenario']}, {rec['episodes']} episodes: {len(view['cells'])} "
-            f"(cell, heading) pairs with Q rows ({fill['rows'] if not fill['dense'] else 'dense'} of "
-            f"{fill['capacity']} rows); {arrows}"
-            + describe_closed(view["closed"])
-            + (f"; picture: {png}" if png else ""),
-            file=out,
-        )
+        print(summary_line(view, png), file=out)
         return 0
 
     return run_main(body)
