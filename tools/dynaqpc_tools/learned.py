@@ -238,6 +238,13 @@ def _experience(dump: Dict[str, Any]) -> Optional[str]:
     return None
 
 
+def steps_aligned(dump: Dict[str, Any]) -> bool:
+    """Whether a step moves to the next cell on the grid (aligned actions), so that _step() says
+    where it leads; fixed steps and turns (paper-lab-motion) may stay in a cell or end between
+    headings."""
+    return bool(dump.get("space", {}).get("aligned", True))
+
+
 def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
     """Where the model sees no way home, and the moves that bumped on the way out of it.
 
@@ -258,7 +265,7 @@ def closed_regions(dump: Dict[str, Any]) -> Optional[Dict[str, Any]]:
     tol = HOPELESS_SHARE * abs(wander)
     bumped = wander + vals["reward_bump"] / 4.0
     grid = dump["grid"]
-    aligned = bool(dump.get("space", {}).get("aligned", True))
+    aligned = steps_aligned(dump)
     experience = _experience(dump)
     ix = {c: i for i, c in enumerate(dump["states_columns"])}
     goal = {tuple(c) for c in grid["goal_cells"]}
@@ -750,11 +757,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                 raise ToolError(
                     f"--headings: {bad[0]} is not a heading of {view['scenario']} (0..{view['grid']['headings'] - 1})"
                 )
-        # Following the arrows walks the grid as aligned actions move (_step()); a robot with fixed
-        # steps and turns (paper-lab-motion) may stay in its cell or end between headings, so a
-        # walk there would be a guess.
-        aligned = bool(dump.get("space", {}).get("aligned", True))
-        view["arrows_followed"] = follow_all(view) if aligned else None
+        # Following the arrows walks the grid as aligned actions move: elsewhere it would be a guess.
+        view["arrows_followed"] = follow_all(view) if steps_aligned(dump) else None
         view["closed"] = closed_regions(dump)
         if args.json:
             text = json.dumps(view, indent=1)

@@ -33,34 +33,23 @@ def sim():
     return s
 
 
-@pytest.fixture(scope="module")
-def image(sim, tmp_path_factory):
-    """Dyna-QPC trained on paper-lab long enough to learn (the issue's recipe)."""
-    path = tmp_path_factory.mktemp("learned") / "lab.flash"
+def train_image(sim, scenario, path, episodes, seed, *extra):
+    """Dyna-QPC at N = 1,000 trains one set on `scenario` and saves its flash image to `path`."""
     subprocess.run(
-        [
-            str(sim),
-            "train",
-            "--scenario",
-            "paper-lab",
-            "--agent",
-            "dyna-qpc",
-            "--sets",
-            "1",
-            "--episodes",
-            "60",
-            "--planning",
-            "1000",
-            "--seed",
-            "7",
-            "--save",
-            str(path),
-        ],
+        [str(sim), "train", "--scenario", str(scenario), "--agent", "dyna-qpc", "--planning", "1000", "--sets", "1"]
+        + [str(a) for a in extra]
+        + ["--episodes", str(episodes), "--seed", str(seed), "--quiet", "--save", str(path)],
         check=True,
         capture_output=True,
         timeout=600,
     )
     return path
+
+
+@pytest.fixture(scope="module")
+def image(sim, tmp_path_factory):
+    """Dyna-QPC trained on paper-lab long enough to learn (the issue's recipe)."""
+    return train_image(sim, "paper-lab", tmp_path_factory.mktemp("learned") / "lab.flash", 60, 7)
 
 
 def step(grid, x, y, h, a):
@@ -230,33 +219,7 @@ def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
         timeout=120,
     )
     room = next(rooms.glob("*culdesac*.scn"))
-    img = tmp_path / "cd.flash"
-    subprocess.run(
-        [
-            str(sim),
-            "train",
-            "--scenario",
-            str(room),
-            "--agent",
-            "dyna-qpc",
-            "--planning",
-            "1000",
-            "--sets",
-            "1",
-            "--first-set",
-            "3",
-            "--episodes",
-            "13",
-            "--seed",
-            "105",
-            "--quiet",
-            "--save",
-            str(img),
-        ],
-        check=True,
-        capture_output=True,
-        timeout=300,
-    )
+    img = train_image(sim, room, tmp_path / "cd.flash", 13, 105, "--first-set", 3)
     p = learned(img, "--scenario", room, "--sim", sim, "--json", "-")
     assert p.returncode == 0, p.stderr
     c = json.loads(p.stdout)["closed"]
@@ -272,31 +235,7 @@ def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
 def test_arrows_are_not_followed_where_steps_are_not_aligned(sim, tmp_path):
     """paper-lab-motion's fixed 25 cm steps and 45-degree turns may stay in a cell or end between
     headings: walking the grid there would be a guess, so the tool does not claim a count."""
-    img = tmp_path / "motion.flash"
-    subprocess.run(
-        [
-            str(sim),
-            "train",
-            "--scenario",
-            "paper-lab-motion",
-            "--agent",
-            "dyna-qpc",
-            "--planning",
-            "1000",
-            "--sets",
-            "1",
-            "--episodes",
-            "3",
-            "--seed",
-            "3",
-            "--quiet",
-            "--save",
-            str(img),
-        ],
-        check=True,
-        capture_output=True,
-        timeout=300,
-    )
+    img = train_image(sim, "paper-lab-motion", tmp_path / "motion.flash", 3, 3)
     p = learned(img, "--scenario", "paper-lab-motion", "--sim", sim, "--json", "-")
     assert p.returncode == 0, p.stderr
     view = json.loads(p.stdout)
