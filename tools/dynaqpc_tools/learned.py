@@ -34,6 +34,7 @@ import math
 import os
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
@@ -599,7 +600,7 @@ def _draw_fill_panel(ax, view) -> None:
 def _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax, closed=None) -> None:
     """The key: what every mark means, in the first free panel, else under the figure."""
     handles = _key_handles(arena, cmap, norm, vmax, closed)
-    if n_panels < nrows * ncols:
+    if n_panels < nrows * ncols and fig.get_size_inches()[1] / nrows >= KEY_HEIGHT:
         key_ax = axes[n_panels // ncols][n_panels % ncols]
         key_ax.legend(
             handles=handles,
@@ -616,6 +617,36 @@ def _draw_key(fig, axes, n_panels, nrows, ncols, arena, cmap, norm, vmax, closed
         fig.legend(
             handles=handles, loc="outside lower center", ncol=3, fontsize=8, frameon=False, handler_map=_KEY_HANDLERS
         )
+
+
+# The shortest side a panel may have (inches): its title, its arena and the fill panel's bars.
+PANEL_MIN_SIDE = 2.0
+# The key (legend) needs about this much height (inches) to sit in a free panel; else it goes under
+# the panels.
+KEY_HEIGHT = 3.0
+
+
+def panel_size(arena: Dict[str, Any], nx: int, ny: int) -> Tuple[float, float, float]:
+    """One panel's width and height (inches) and a mark's size over a cell's. The arena's longer side
+    gets 4 inches on an 8-cell grid and grows with the cells along it (paper-sim's 32), so a long
+    hall's cells are as wide as a square room's; marks shrink a little on large grids."""
+    n = max(nx, ny)
+    side = 4.0 * max(1.0, math.sqrt(n / 8.0))
+    aspect = arena["height"] / arena["width"]
+    width, height = (side, side * aspect) if aspect <= 1.0 else (side / aspect, side)
+    scale = min(1.0, side * 2.0 / n)  # as on an 8-cell grid in 4 inches
+    return max(width, PANEL_MIN_SIDE), max(height, PANEL_MIN_SIDE), scale
+
+
+def panel_columns(n_panels: int, panel_w: float, panel_h: float, most: int = 6) -> int:
+    """Columns that make the figure nearest a 16:10 landscape page: 4 for a room about square, 2 for
+    a hall five times as long as wide, more for a tall narrow floor."""
+
+    def off(ncols: int) -> float:
+        nrows = (n_panels + ncols - 1) // ncols
+        return abs(math.log((ncols * panel_w) / (nrows * panel_h) / 1.6))
+
+    return min(range(1, most + 1), key=off)
 
 
 def draw(
@@ -643,16 +674,12 @@ def draw(
     vmin, vmax = (min(vals), max(vals)) if vals else (0.0, 1.0)
     if vmin == vmax:
         vmax = vmin + 1.0
-    ncols = 4
     n_panels = len(hs) + 2
+    panel_w, panel_h, scale = panel_size(arena, nx, ny)
+    ncols = panel_columns(n_panels, panel_w, panel_h)
     nrows = (n_panels + ncols - 1) // ncols
-    aspect = arena["height"] / arena["width"]
-    # Panels grow with the grid (paper-sim's 32 x 32 cells), marks shrink a little.
-    n = max(nx, ny)
-    panel = 4.0 * max(1.0, math.sqrt(n / 8.0))
-    scale = min(1.0, panel * 2.0 / n)  # a mark's size over a cell's, as on an 8-cell grid in 4 inches
     fig, axes = plt.subplots(
-        nrows, ncols, figsize=(panel * ncols + 1.0, panel * aspect * nrows + 1.2), squeeze=False, layout="constrained"
+        nrows, ncols, figsize=(panel_w * ncols + 1.0, panel_h * nrows + 1.2), squeeze=False, layout="constrained"
     )
     cmap = plt.get_cmap("viridis")
     norm = matplotlib.colors.Normalize(vmin=vmin, vmax=vmax)
@@ -683,15 +710,17 @@ def draw(
         else f"{len(hs)} of the {nh} headings (--headings)"
     )
     codes = "the largest V" if view["combine"] == "max" else "the most experienced"
-    fig.suptitle(
-        title
-        or (
-            f"What {view['agent']} learned on {view['scenario']} in {rec['episodes']} episodes, "
-            f"read from its flash image\nper heading: the greedy action in each cell, on V = max_a Q; "
-            f"{shown}; several range codes in a cell: {codes}"
-        ),
-        fontsize=10,
-    )
+    if title is None:
+        # Each line wrapped to the figure's width (about 14 characters an inch at 10 points): a long
+        # hall's figure is narrower than a square room's.
+        width = max(60, int(fig.get_size_inches()[0] * 14))
+        lines = [
+            f"What {view['agent']} learned on {view['scenario']} in {rec['episodes']} episodes, read from its flash image",
+            f"per heading: the greedy action in each cell, on V = max_a Q; {shown}; several range codes in a cell: "
+            f"{codes}",
+        ]
+        title = "\n".join(textwrap.fill(line, width) for line in lines)
+    fig.suptitle(title, fontsize=10)
     save_figure(fig, out, dpi=110)
 
 

@@ -243,6 +243,23 @@ def test_arrows_are_not_followed_where_steps_are_not_aligned(sim, tmp_path):
     assert "the arrows are not followed" in p.stderr and "reach the goal from" not in p.stderr
 
 
+def test_panels_keep_a_long_hall_readable():
+    """A hall five times as long as wide gets fewer, wider columns than a square room, rows tall
+    enough for a title, and cells as wide as a square room's of as many cells; paper-lab keeps its
+    four columns; a tall narrow floor gets more columns."""
+    from dynaqpc_tools.learned import PANEL_MIN_SIDE, panel_columns, panel_size
+
+    lab_w, lab_h, _ = panel_size({"width": 4.3, "height": 3.2}, 8, 8)
+    assert (lab_w, round(lab_h, 3)) == (4.0, round(4.0 * 3.2 / 4.3, 3))
+    assert panel_columns(10, lab_w, lab_h) == 4
+    hall_w, hall_h, _ = panel_size({"width": 8.6, "height": 1.6}, 16, 4)
+    assert hall_h == PANEL_MIN_SIDE and math.isclose(hall_w / 16, 4.0 * math.sqrt(2) / 16)
+    hall_cols = panel_columns(10, hall_w, hall_h)
+    assert 2 <= hall_cols < 4
+    tall_w, tall_h, _ = panel_size({"width": 1.6, "height": 8.6}, 4, 16)
+    assert tall_w == PANEL_MIN_SIDE and panel_columns(10, tall_w, tall_h) > 4
+
+
 def corrupt(src, dst, offsets):
     data = bytearray(src.read_bytes())
     for o in offsets:
