@@ -100,8 +100,13 @@ def combine(dump: Dict[str, Any], how: str = "max") -> Dict[str, Any]:
     codes: Dict[Tuple[int, int, int], List[int]] = {}
     visited: Dict[Tuple[int, int], set] = {}
     modelled: Dict[Tuple[int, int], set] = {}
+    nx, ny = dump["grid"]["cells_x"], dump["grid"]["cells_y"]
     for r in dump["states"]:
         x, y, h, c = r[ix["x"]], r[ix["y"]], r[ix["heading"]], r[ix["code"]]
+        if x >= nx or y >= ny:
+            # A fitted grid of 9 cells has 16 slots in its 4 bits: the slots past the room are no
+            # place (the model answers for them by situation, but nothing is ever learned there).
+            continue
         if r[ix["visited"]]:
             visited.setdefault((x, y), set()).add(h)
         if r[ix["modelled"]]:

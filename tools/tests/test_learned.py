@@ -160,6 +160,19 @@ def test_closed_regions_name_the_bumps_that_closed_the_way():
     assert closed_regions(old) is None and describe_closed(None) == ""
 
 
+def test_slots_past_a_fitted_grid_are_no_cells():
+    """A fitted grid of 3 cells keeps 4 slots in its 2 bits: the model answers for the fourth by
+    situation, but it is no place, and the picture once labelled it outside the arena."""
+    from dynaqpc_tools.learned import combine
+
+    d = synthetic_dump()
+    d.update(scenario="s", agent="dyna-qpc", record={"episodes": 1}, fill={})
+    d["states"].append([4, 3, 0, 0, 0, 0, 0, 1, 0, None, [0, 0, 0, 0], [0, 0, 0, 0]])  # modelled, x = 3
+    view = combine(d)
+    assert [c[:2] for c in view["modelled_cells"]] == [[0, 0], [1, 0]]
+    assert all(c["x"] < 3 for c in view["cells"])
+
+
 def test_closed_regions_edge_cases():
     from dynaqpc_tools.learned import closed_regions, describe_closed
 
