@@ -8,7 +8,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <queue>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "room_text.h"
@@ -27,6 +29,7 @@ struct FreeGrid {
     double step = 0;
     long nx = 0, ny = 0;
     std::vector<unsigned char> cell;  // kFree | kStart | kGoal per point, j * nx + i
+    std::vector<double> clear;        // the distance to the nearest wall or obstacle, up to `enough`
     double x(long i) const { return step / 2 + i * step; }
     double y(long j) const { return step / 2 + j * step; }
 };
@@ -44,7 +47,8 @@ FreeGrid free_grid(const Scenario &s, PassageReport *rep)
     // obstacle is measured only over the points its bounding box, grown by `enough`, covers: the
     // others are farther from it.
     const double enough = need + s.start.margin + step;
-    std::vector<double> clear(static_cast<std::size_t>(nx * ny));
+    std::vector<double> &clear = g.clear;
+    clear.resize(static_cast<std::size_t>(nx * ny));
     for (long j = 0; j < ny; j++) {
         for (long i = 0; i < nx; i++) {
             const double x = step / 2 + i * step, y = step / 2 + j * step;
@@ -85,6 +89,100 @@ FreeGrid free_grid(const Scenario &s, PassageReport *rep)
         }
     }
     return g;
+}
+
+// The 4-neighbours of point k on the passage grid (-1 past its edges).
+std::array<long, 4> neighbours(const FreeGrid &g, long k)
+{
+    const long i = k % g.nx, j = k / g.nx;
+    return {i > 0 ? k - 1 : -1, i + 1 < g.nx ? k + 1 : -1, j > 0 ? k - g.nx : -1, j + 1 < g.ny ? k + g.nx : -1};
+}
+
+// Points reached from `seeds` through points whose clearance is above `above`, marked in `in`.
+void flood_above(const FreeGrid &g, const std::vector<long> &seeds, double above, std::vector<char> *in)
+{
+    std::vector<long> queue = seeds;
+    for (long k : seeds) (*in)[static_cast<std::size_t>(k)] = 1;
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        for (long m : neighbours(g, queue[head])) {
+            if (m >= 0 && !(*in)[static_cast<std::size_t>(m)] && g.clear[static_cast<std::size_t>(m)] > above) {
+                (*in)[static_cast<std::size_t>(m)] = 1;
+                queue.push_back(m);
+            }
+        }
+    }
+}
+
+// Where the way from a stranded point `from` to the goal is too narrow, and how wide it is there.
+// Of all the ways, the widest is only as wide as twice its narrowest point's clearance b (a
+// max-min search from the goal). The points wider than b split in two: those joined to the goal
+// and those joined to `from`; the pinch is the middle of the shortest way between them through
+// points as wide as b: a doorway, not a wall the way runs beside.
+struct Pinch {
+    long at = -1;
+    double clearance = 0;
+};
+
+Pinch widest_way_pinch(const FreeGrid &g, long from)
+{
+    const long n = g.nx * g.ny;
+    std::vector<double> best(static_cast<std::size_t>(n), -1.0);  // the widest way's narrowest clearance
+    std::priority_queue<std::pair<double, long>> open;
+    std::vector<long> goal;
+    for (long k = 0; k < n; k++) {
+        if (g.cell[static_cast<std::size_t>(k)] & kGoal) {
+            goal.push_back(k);
+            best[static_cast<std::size_t>(k)] = g.clear[static_cast<std::size_t>(k)];
+            open.push({best[static_cast<std::size_t>(k)], k});
+        }
+    }
+    while (!open.empty()) {
+        const auto [w, k] = open.top();
+        open.pop();
+        if (w < best[static_cast<std::size_t>(k)]) continue;  // a wider way reached it first
+        if (k == from) break;
+        for (long m : neighbours(g, k)) {
+            if (m < 0 || g.clear[static_cast<std::size_t>(m)] <= 0.0) continue;
+            const double wm = std::min(w, g.clear[static_cast<std::size_t>(m)]);
+            if (wm > best[static_cast<std::size_t>(m)]) {
+                best[static_cast<std::size_t>(m)] = wm;
+                open.push({wm, m});
+            }
+        }
+    }
+    Pinch p;
+    const double b = best[static_cast<std::size_t>(from)];
+    if (b <= 0.0) return p;  // walled off entirely
+    std::vector<char> to_goal(static_cast<std::size_t>(n), 0), to_from(static_cast<std::size_t>(n), 0);
+    flood_above(g, goal, b, &to_goal);
+    flood_above(g, {from}, b, &to_from);
+    std::vector<long> parent(static_cast<std::size_t>(n), -2), queue;
+    for (long k = 0; k < n; k++) {
+        if (to_goal[static_cast<std::size_t>(k)]) {
+            parent[static_cast<std::size_t>(k)] = -1;
+            queue.push_back(k);
+        }
+    }
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        const long k = queue[head];
+        if (to_from[static_cast<std::size_t>(k)]) {
+            std::vector<long> way;  // the points between the two sides
+            for (long q = parent[static_cast<std::size_t>(k)]; q >= 0 && !to_goal[static_cast<std::size_t>(q)];
+                 q = parent[static_cast<std::size_t>(q)]) {
+                way.push_back(q);
+            }
+            p.at = way.empty() ? k : way[way.size() / 2];
+            p.clearance = b;
+            return p;
+        }
+        for (long m : neighbours(g, k)) {
+            if (m >= 0 && parent[static_cast<std::size_t>(m)] == -2 && g.clear[static_cast<std::size_t>(m)] >= b) {
+                parent[static_cast<std::size_t>(m)] = k;
+                queue.push_back(m);
+            }
+        }
+    }
+    return p;
 }
 
 using PlaceLinks = std::vector<std::array<std::vector<long>, 4>>;
@@ -128,7 +226,7 @@ PassageReport check_passages(const Scenario &s)
     PassageReport rep;
     FreeGrid g = free_grid(s, &rep);
     const long nx = g.nx, ny = g.ny;
-    const double step = g.step, need = robot_radius(s.robot);
+    const double need = robot_radius(s.robot);
     std::vector<unsigned char> &cell = g.cell;
     std::vector<long> queue;
     for (long k = 0; k < nx * ny; k++) {
@@ -171,9 +269,16 @@ PassageReport check_passages(const Scenario &s)
         std::snprintf(buf, sizeof buf,
                       "%ld of %ld start points cannot reach the goal, the first at (%.3f, %.3f): "
                       "no passage at least the robot's diagonal (%.3f m) wide",
-                      rep.stranded_points, rep.start_points, step / 2 + (first % nx) * step,
-                      step / 2 + (first / nx) * step, diag);
+                      rep.stranded_points, rep.start_points, g.x(first % nx), g.y(first / nx), diag);
         rep.problem = buf;
+        const Pinch p = widest_way_pinch(g, first);
+        if (p.at >= 0) {
+            std::snprintf(buf, sizeof buf, "; the widest way from there narrows to about %.3f m at (%.3f, %.3f)",
+                          2.0 * p.clearance, g.x(p.at % nx), g.y(p.at / nx));
+        } else {
+            std::snprintf(buf, sizeof buf, "; walls close it off from the goal");
+        }
+        rep.problem += buf;
         return rep;
     }
     rep.ok = true;

@@ -880,9 +880,23 @@ bool Parser::validate_layout(const Scenario &s)
             ex = ey = o.radius;
         }
         const double eps = 1e-9;
-        if (o.cx - ex < -eps || o.cx + ex > s.arena_w + eps || o.cy - ey < -eps ||
-            o.cy + ey > s.arena_h + eps) {
-            return fail_at(o.line, "obstacle outside the arena");
+        // The first side it crosses, and how far it reaches: what a user moves or shrinks.
+        const struct {
+            bool out;
+            const char *axis;
+            double reach;
+            const char *wall;
+            double at;
+        } sides[] = {{o.cx - ex < -eps, "x", o.cx - ex, "west", 0.0},
+                     {o.cx + ex > s.arena_w + eps, "x", o.cx + ex, "east", s.arena_w},
+                     {o.cy - ey < -eps, "y", o.cy - ey, "south", 0.0},
+                     {o.cy + ey > s.arena_h + eps, "y", o.cy + ey, "north", s.arena_h}};
+        for (const auto &side : sides) {
+            if (side.out) {
+                return fail_at(o.line, std::string("obstacle outside the arena: it reaches ") + side.axis + " = " +
+                                           fmt_num(side.reach) + " m, past the " + side.wall + " wall at " +
+                                           fmt_num(side.at) + " m");
+            }
         }
     }
     const Goal &g = s.goal;

@@ -154,6 +154,16 @@ void test_narrow_door_refused(void **state)
         assert_false(rn.ok);
         assert_true(rn.stranded_points > 0);
         assert_true(rn.problem.find("cannot reach the goal") != std::string::npos);
+        // It names the door as where the way is narrowest, about as wide as the door.
+        double width = 0, px = 0, py = 0;
+        const std::size_t at = rn.problem.find("narrows to about ");
+        assert_true(at != std::string::npos);
+        assert_int_equal(std::sscanf(rn.problem.c_str() + at, "narrows to about %lf m at (%lf, %lf)", &width, &px, &py),
+                         3);
+        const double step_ = world::start_grid_step(narrow);
+        assert_true(std::fabs(px - c.wall_x) <= 0.05 + step_);  // in the 0.1 m wall's door
+        assert_true(py >= c.door_y && py <= c.door_y + 0.9 * diag);
+        assert_true(width <= 0.9 * diag + 1e-9 && width >= 0.9 * diag - 2 * step_);
         const world::Scenario wide =
             with_layout(c.robot, wall_with_door(base.arena_h, c.wall_x, c.door_y, 1.2 * diag) + c.goal);
         const world::PassageReport rw = world::check_passages(wide);
@@ -186,6 +196,7 @@ void test_unreachable_goal_refused(void **state)
     const world::PassageReport rb = world::check_passages(boxed);
     assert_false(rb.ok);
     assert_true(rb.problem.find("cannot reach the goal") != std::string::npos);
+    assert_true(rb.problem.find("walls close it off from the goal") != std::string::npos);
 }
 
 void test_generated_rooms(void **state)

@@ -626,7 +626,7 @@ void test_text_rules(void **state)
     assert_true(starts_with(err, "t.scn:6: ray mount point outside"));
     // An obstacle poking out of the arena.
     assert_false(world::parse_scenario(base + "obstacle circle 0.1 1 0.2\n", "t.scn", &s, &err));
-    assert_true(starts_with(err, "t.scn:6: obstacle outside the arena"));
+    assert_true(starts_with(err, "t.scn:6: obstacle outside the arena: it reaches x = -0.1 m, past the west wall at 0 m"));
     // Beacons need a ceiling above the listener.
     assert_false(world::parse_scenario(base + "beacon 1:2:3:4:5:6:7:8 1 1 0.05\n", "t.scn", &s,
                                        &err));
