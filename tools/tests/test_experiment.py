@@ -61,9 +61,9 @@ def test_table_reports_relapses(tmp_path):
     (tmp_path / "dyna-qpc.csv").write_text("".join(rows))
     runs = experiment.read_csv_dir(str(tmp_path))
     s = experiment.summarise(runs[0], LearnSettings(learned_steps=50, smooth=1))
-    assert s.relapse_text() == "3/5 (60.0 %), longest 2"
+    assert s.relapse_text() == "3/5 (60.0 %) in 1 set, longest 2"
     table = experiment.table_markdown([s], LearnSettings(learned_steps=50, smooth=1), "paper-lab")
-    assert "Relapses after learning" in table and "3/5 (60.0 %), longest 2" in table
+    assert "Relapses after learning" in table and "3/5 (60.0 %) in 1 set, longest 2" in table
 
 
 def _by_agent(runs):
@@ -102,7 +102,7 @@ def test_table1_numbers(csv_dir):
     assert rows[1].startswith(
         "| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | 6.5 ± 2.1 | 0.307 | – | 100.0 | – |"
     )
-    assert rows[2].startswith("| Dyna-QPC | scenario's | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
+    assert rows[2].startswith("| Dyna-QPC | not in the CSV (name it AGENT-pN.csv) | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
     assert rows[2].endswith("| 2,019 steps (1.12 h) |")
     assert "paper 0.192" in table
 

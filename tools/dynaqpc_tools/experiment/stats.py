@@ -211,7 +211,8 @@ class AgentSummary:
 
     def relapse_text(self) -> str:
         """Relapses after learning over every set that reached the goal within the threshold
-        LEARNED_RUN episodes running: 'r/n (p %), longest L'."""
+        LEARNED_RUN episodes running: 'r/n (p %) in K sets, longest L'. K is that rule's count of
+        sets, which may differ from the 'Sets learned' column's trailing mean."""
         rel = [r.relapses for r in self.sets if r.relapses is not None and r.relapses.learned]
         if not any(r.relapses is not None for r in self.sets):
             return "–"
@@ -221,7 +222,8 @@ class AgentSummary:
         n = sum(r.relapses.relapses for r in self.sets if r.relapses is not None)
         longest = max(r.relapses.longest_run for r in self.sets if r.relapses is not None)
         pct = 100.0 * n / after if after else 0.0
-        return f"{n}/{after} ({pct:.1f} %), longest {longest}"
+        sets = f"{len(rel)} set" + ("" if len(rel) == 1 else "s")
+        return f"{n}/{after} ({pct:.1f} %) in {sets}, longest {longest}"
 
     @property
     def steps_mean_sd(self):
@@ -294,7 +296,8 @@ def budget_text(s: AgentSummary) -> str:
     if s.agent == "q":
         return "none (Q-learning)"
     if s.budget is None:
-        return "scenario's"
+        # The CSV does not say what --planning was; its name can (runs.budget_from_name()).
+        return "not in the CSV (name it AGENT-pN.csv)"
     return "idle time (MCU model)" if s.budget == 0 else f"{s.budget:,}"
 
 
