@@ -102,7 +102,9 @@ def test_table1_numbers(csv_dir):
     assert rows[1].startswith(
         "| Q-learning | none (Q-learning) | 9.0 | 2/2 | 3,355 ± 926 | 0.18 ± 0.06 | 6.5 ± 2.1 | 0.307 | – | 100.0 | – |"
     )
-    assert rows[2].startswith("| Dyna-QPC | not in the CSV (name it AGENT-pN.csv) | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |")
+    assert rows[2].startswith(
+        "| Dyna-QPC | not in the CSV (name it AGENT-pN.csv) | 9.0 | 2/2 | 1,050 ± 0 | 0.03 ± 0.00 | 3.0 ± 0.0 |"
+    )
     assert rows[2].endswith("| 2,019 steps (1.12 h) |")
     assert "paper 0.192" in table
 
