@@ -136,6 +136,21 @@ void check_one(const world::Scenario &s)
                     "state cannot show; 'encode auto' fits the cells to the room (docs/agent.md)\n",
                     s.path.c_str(), faces);
     }
+    const world::StopWalkReport walk = world::stop_walk(s);
+    if (walk.stranded > 0) {
+        std::printf("%s: warning: %ld of the %ld cells the robot stops in (at their centres) reach no goal cell "
+                    "a step and a turn at a time",
+                    s.path.c_str(), walk.stranded, walk.cells);
+        for (std::size_t k = 0; k < walk.blocking.size() && k < 3; k++) {
+            const world::TightStop &t = walk.blocking[k];
+            std::printf("%s cell (%d, %d)'s stop at (%.3f, %.3f) lies %.3f m from %s", k ? ";" : "; beside them,",
+                        t.i, t.j, t.x, t.y, t.clearance,
+                        t.line ? ("the obstacle on line " + std::to_string(t.line)).c_str() : "the wall");
+        }
+        std::printf(": its ways from them pass stops where it bumps, and it may never learn them; leave it a "
+                    "turn's room (%.3f m) there (docs/agent.md, \"What it does not handle yet\")\n",
+                    world::robot_radius(s.robot));
+    }
     const world::PathReport p = world::longest_path(s);
     if (p.longest >= 0) {
         std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "

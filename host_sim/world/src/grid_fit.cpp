@@ -276,4 +276,92 @@ int faces_inside_cells(const Scenario &s)
     return n;
 }
 
+namespace {
+
+// The nearest wall or obstacle to (x, y): its distance and its line (0: the arena's wall).
+double nearest(const Scenario &s, double x, double y, int *line)
+{
+    double d = std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+    *line = 0;
+    for (const Obstacle &o : s.obstacles) {
+        const double od = obstacle_distance(o, x, y);
+        if (od < d) {
+            d = od;
+            *line = o.line;
+        }
+    }
+    return d;
+}
+
+// Whether a straight step from (x0, y0) to (x1, y1) keeps `side` clear all the way (1 cm samples).
+bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, double side)
+{
+    const int n = std::max(1, static_cast<int>(std::ceil(std::hypot(x1 - x0, y1 - y0) / 0.01)));
+    for (int k = 0; k <= n; k++) {
+        const double f = static_cast<double>(k) / n;
+        if (!(clearance(s, x0 + f * (x1 - x0), y0 + f * (y1 - y0)) >= side)) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+StopWalkReport stop_walk(const Scenario &s)
+{
+    StopWalkReport rep;
+    if (!s.actions.centred) return rep;
+    const int nx = grid_cells(s, 0), ny = grid_cells(s, 1);
+    const double turn = robot_radius(s.robot), side = 0.5 * s.robot.width;
+    std::vector<TightStop> cell(static_cast<std::size_t>(nx * ny));
+    std::vector<char> stand(cell.size(), 0), reached(cell.size(), 0);
+    std::vector<int> queue;
+    for (int j = 0; j < ny; j++) {
+        for (int i = 0; i < nx; i++) {
+            TightStop &t = cell[static_cast<std::size_t>(j * nx + i)];
+            double lo = 0, hi = 0;
+            grid_span(s, 0, i, &lo, &hi);
+            t.x = 0.5 * (lo + hi);
+            grid_span(s, 1, j, &lo, &hi);
+            t.y = 0.5 * (lo + hi);
+            t.i = i;
+            t.j = j;
+            t.clearance = nearest(s, t.x, t.y, &t.line);
+            if (t.clearance < turn) continue;
+            stand[static_cast<std::size_t>(j * nx + i)] = 1;
+            rep.cells++;
+            if (in_goal(s, t.x, t.y)) {
+                reached[static_cast<std::size_t>(j * nx + i)] = 1;
+                queue.push_back(j * nx + i);
+            }
+        }
+    }
+    for (std::size_t head = 0; head < queue.size(); head++) {
+        const int k = queue[head], i = k % nx, j = k / nx;
+        const int next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
+        for (int m : next) {
+            if (m < 0 || !stand[static_cast<std::size_t>(m)] || reached[static_cast<std::size_t>(m)]) continue;
+            const TightStop &a = cell[static_cast<std::size_t>(k)], &b = cell[static_cast<std::size_t>(m)];
+            if (!step_clear(s, a.x, a.y, b.x, b.y, side)) continue;
+            reached[static_cast<std::size_t>(m)] = 1;
+            queue.push_back(m);
+        }
+    }
+    std::vector<char> listed(cell.size(), 0);
+    for (int k = 0; k < nx * ny; k++) {
+        if (!stand[static_cast<std::size_t>(k)] || reached[static_cast<std::size_t>(k)]) continue;
+        rep.stranded++;
+        const int i = k % nx, j = k / nx;
+        const int next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
+        for (int m : next) {
+            const TightStop &t = cell[static_cast<std::size_t>(m < 0 ? 0 : m)];
+            if (m < 0 || listed[static_cast<std::size_t>(m)] || !(t.clearance > 0.0 && t.clearance < turn)) continue;
+            listed[static_cast<std::size_t>(m)] = 1;
+            rep.blocking.push_back(t);
+        }
+    }
+    std::stable_sort(rep.blocking.begin(), rep.blocking.end(),
+                     [](const TightStop &a, const TightStop &b) { return a.clearance < b.clearance; });
+    return rep;
+}
+
 }  // namespace world

@@ -17,6 +17,7 @@
 extern "C" {
 #include "test_common.h"
 }
+#include "world/grid_fit.h"
 #include "world/rooms.h"
 #include "world/user_rooms.h"
 #include "world/scenario.h"
@@ -197,6 +198,31 @@ void test_unreachable_goal_refused(void **state)
     assert_false(rb.ok);
     assert_true(rb.problem.find("cannot reach the goal") != std::string::npos);
     assert_true(rb.problem.find("walls close it off from the goal") != std::string::npos);
+}
+
+// The grid walk of a robot that stops at centres: the den's armchair closes a way, an S on
+// paper-lab's floor leaves none closed, and a robot that stops past an edge has no such walk.
+void test_stop_walk(void **state)
+{
+    (void)state;
+    const std::string drawn = std::string(WORLD_TEST_ROOMS) + "/drawn/";
+    world::Scenario den, s_lab, sim;
+    std::string err;
+    assert_true(world::load_scenario(drawn + "paper-lab-sofa-den.scn", &den, &err));
+    assert_true(world::load_scenario(drawn + "paper-lab-s-lab.scn", &s_lab, &err));
+    assert_true(world::load_scenario("paper-sim", &sim, &err));
+    const world::StopWalkReport d = world::stop_walk(den);
+    assert_true(d.stranded > d.cells / 2);
+    bool armchair = false;
+    for (const world::TightStop &t : d.blocking) {
+        assert_true(t.clearance > 0.0 && t.clearance < world::robot_radius(den.robot));
+        armchair = armchair || (t.i == 1 && t.j == 6 && t.line == 6);
+    }
+    assert_true(armchair);
+    const world::StopWalkReport ok = world::stop_walk(s_lab);
+    assert_true(ok.cells > 0);
+    assert_int_equal(ok.stranded, 0);
+    assert_int_equal(world::stop_walk(sim).cells, 0);  // stops past an edge, not at centres
 }
 
 void test_generated_rooms(void **state)
@@ -674,6 +700,7 @@ int main(void)
         cmocka_unit_test(test_shipped_scenarios_pass),
         cmocka_unit_test(test_narrow_door_refused),
         cmocka_unit_test(test_unreachable_goal_refused),
+        cmocka_unit_test(test_stop_walk),
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_user_rooms),
         cmocka_unit_test(test_user_rooms_circle_goal),

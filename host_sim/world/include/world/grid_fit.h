@@ -95,6 +95,27 @@ bool fit_grid(const Scenario &s, double max_side, GoalCut goal_cut, bool centred
 /// the robot stands. 0 for a fitted grid. Loading a file warns when this is not 0.
 int faces_inside_cells(const Scenario &s);
 
+/// A cell whose centred stop a turn cannot clear: its centre lies outside every wall and obstacle
+/// but nearer one than the robot's half-diagonal.
+struct TightStop {
+    int i = 0, j = 0;      ///< the cell
+    double x = 0, y = 0;   ///< its centre, where the robot stops (m)
+    double clearance = 0;  ///< to the nearest wall or obstacle there (m)
+    int line = 0;          ///< that obstacle's line in the file; 0 for the arena's wall
+};
+
+/// The walk a robot that stops at its cells' centres (`actions.centred`) can make: from cell to
+/// neighbouring cell where both centres clear a turn (the robot's half-diagonal) and the step
+/// between them keeps its half-width clear. `stranded` counts the cells it can stand in that reach
+/// no goal cell that way, out of `cells`; `blocking` holds the tight stops (centres outside every
+/// obstacle but within a turn of one) beside them, nearest first: where a user's furniture closes
+/// the grid's way (the den of docs/results/users-rooms.md). Empty for any other robot.
+struct StopWalkReport {
+    long cells = 0, stranded = 0;
+    std::vector<TightStop> blocking;
+};
+StopWalkReport stop_walk(const Scenario &s);
+
 }  // namespace world
 
 #endif  // WORLD_GRID_FIT_H
