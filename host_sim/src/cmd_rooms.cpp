@@ -117,9 +117,7 @@ void print_help()
 // bits, range sensors, Cricket beacons, a pose source) are narrower than the world's.
 void load_checked(const std::string &file, world::Scenario &s)
 {
-    std::string error;
-    if (!world::load_scenario(file, &s, &error)) throw UsageError(error);
-    (void)load_scenario(file);
+    s = *load_scenario(file).world;
 }
 
 // --check's report of one room: its passages, wall faces inside state cells, its longest path.

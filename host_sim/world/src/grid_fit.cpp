@@ -3,6 +3,7 @@
 #include "world/grid_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace world {
@@ -315,6 +316,10 @@ StopWalkReport stop_walk(const Scenario &s)
     std::vector<TightStop> cell(static_cast<std::size_t>(nx * ny));
     std::vector<char> stand(cell.size(), 0), reached(cell.size(), 0);
     std::vector<int> queue;
+    auto neighbours = [nx, ny](int k) -> std::array<int, 4> {
+        const int i = k % nx, j = k / nx;
+        return {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
+    };
     for (int j = 0; j < ny; j++) {
         for (int i = 0; i < nx; i++) {
             TightStop &t = cell[static_cast<std::size_t>(j * nx + i)];
@@ -336,9 +341,8 @@ StopWalkReport stop_walk(const Scenario &s)
         }
     }
     for (std::size_t head = 0; head < queue.size(); head++) {
-        const int k = queue[head], i = k % nx, j = k / nx;
-        const int next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
-        for (int m : next) {
+        const int k = queue[head];
+        for (int m : neighbours(k)) {
             if (m < 0 || !stand[static_cast<std::size_t>(m)] || reached[static_cast<std::size_t>(m)]) continue;
             const TightStop &a = cell[static_cast<std::size_t>(k)], &b = cell[static_cast<std::size_t>(m)];
             if (!step_clear(s, a.x, a.y, b.x, b.y, side)) continue;
@@ -350,11 +354,10 @@ StopWalkReport stop_walk(const Scenario &s)
     for (int k = 0; k < nx * ny; k++) {
         if (!stand[static_cast<std::size_t>(k)] || reached[static_cast<std::size_t>(k)]) continue;
         rep.stranded++;
-        const int i = k % nx, j = k / nx;
-        const int next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
-        for (int m : next) {
-            const TightStop &t = cell[static_cast<std::size_t>(m < 0 ? 0 : m)];
-            if (m < 0 || listed[static_cast<std::size_t>(m)] || !(t.clearance > 0.0 && t.clearance < turn)) continue;
+        for (int m : neighbours(k)) {
+            if (m < 0 || listed[static_cast<std::size_t>(m)]) continue;
+            const TightStop &t = cell[static_cast<std::size_t>(m)];
+            if (!(t.clearance > 0.0 && t.clearance < turn)) continue;  // covered, or a stop it stands in
             listed[static_cast<std::size_t>(m)] = 1;
             rep.blocking.push_back(t);
         }

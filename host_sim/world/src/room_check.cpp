@@ -245,10 +245,7 @@ PassageReport check_passages(const Scenario &s)
         return rep;
     }
     for (std::size_t head = 0; head < queue.size(); head++) {
-        const long k = queue[head], i = k % nx, j = k / nx;
-        const long next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1,
-                              j + 1 < ny ? k + nx : -1};
-        for (long n : next) {
+        for (long n : neighbours(g, queue[head])) {
             if (n < 0) continue;
             unsigned char &c = cell[static_cast<std::size_t>(n)];
             if ((c & kFree) && !(c & kReached)) {
