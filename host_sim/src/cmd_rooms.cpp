@@ -134,9 +134,15 @@ void check_one(const world::Scenario &s)
                     "state cannot show; 'encode auto' fits the cells to the room (docs/agent.md)\n",
                     s.path.c_str(), faces);
     }
+    if (const world::Encoding::WalkRefit &w = s.encoding.walk_refit; w.to > 0.0) {
+        std::printf("%s: grid: cells of about %.3f m, not %.3f m: there %ld of the %ld stops reached no goal "
+                    "stop a step and a turn at a time, here all do (docs/agent.md, \"When furniture closes the "
+                    "grid's way\")\n",
+                    s.path.c_str(), w.to, w.from, w.stranded, w.stops);
+    }
     const world::StopWalkReport walk = world::stop_walk(s);
     if (walk.stranded > 0) {
-        std::printf("%s: warning: %ld of the %ld cells the robot stops in (at their centres) reach no goal cell "
+        std::printf("%s: warning: %ld of the %ld stops the robot's steps end at reach no goal stop "
                     "a step and a turn at a time",
                     s.path.c_str(), walk.stranded, walk.cells);
         for (std::size_t k = 0; k < walk.blocking.size() && k < 3; k++) {

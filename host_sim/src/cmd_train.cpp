@@ -283,8 +283,9 @@ void warn_room(const std::string &program, const TrainSettings &s, const Scenari
     const world::StopWalkReport walk = world::stop_walk(*sb.world);
     if (walk.stranded > 0) {
         std::fprintf(stderr,
-                     "%s train: warning: %s: %ld of the %ld cells the robot stops in reach no goal cell a step "
-                     "and a turn at a time, past stops where it bumps (dynaqpc-sim rooms --check says where)\n",
+                     "%s train: warning: %s: %ld of the %ld stops the robot's steps end at reach no goal stop a "
+                     "step and a turn at a time, past stops where it bumps (dynaqpc-sim rooms --check says "
+                     "where)\n",
                      program.c_str(), s.scenario.c_str(), walk.stranded, walk.cells);
     }
     const world::PassageReport passages = world::check_passages(*sb.world);

@@ -305,58 +305,114 @@ bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, d
     return true;
 }
 
+// The stops an aligned step can end at along one axis, as the firmware's stop_beyond_() places
+// them: a cell at least twice `past` wide has its centre; a narrower one the two stops `past`
+// inside either edge (entered from below, from above); a cell narrower than `past` inside the
+// grid lies in a partition and has none (a step crosses it).
+struct AxisStops {
+    std::vector<double> at;    // stop positions, ascending
+    std::vector<int> cell;     // the cell each lies in
+    std::vector<int> up, down; // the stop a step towards +/- reaches; -1 at the wall
+};
+
+AxisStops axis_stops(const Scenario &s, int axis)
+{
+    AxisStops a;
+    const int n = grid_cells(s, axis);
+    const double past = s.actions.past;
+    std::vector<int> enter_up(static_cast<std::size_t>(n), -1), enter_down(static_cast<std::size_t>(n), -1);
+    for (int k = 0; k < n; k++) {
+        double lo = 0, hi = 0;
+        grid_span(s, axis, k, &lo, &hi);
+        const double side = hi - lo;
+        if (side < past && k > 0 && k + 1 < n) continue;  // stepped over
+        enter_up[static_cast<std::size_t>(k)] = static_cast<int>(a.at.size());
+        if (side >= 2.0 * past) {
+            a.at.push_back(0.5 * (lo + hi));
+            a.cell.push_back(k);
+        } else {
+            a.at.push_back(lo + past);
+            a.cell.push_back(k);
+            a.at.push_back(hi - past);
+            a.cell.push_back(k);
+        }
+        enter_down[static_cast<std::size_t>(k)] = static_cast<int>(a.at.size()) - 1;
+    }
+    for (std::size_t m = 0; m < a.at.size(); m++) {
+        int up = -1, down = -1;
+        for (int k = a.cell[m] + 1; k < n && up < 0; k++) up = enter_up[static_cast<std::size_t>(k)];
+        for (int k = a.cell[m] - 1; k >= 0 && down < 0; k--) down = enter_down[static_cast<std::size_t>(k)];
+        a.up.push_back(up);
+        a.down.push_back(down);
+    }
+    return a;
+}
+
 }  // namespace
 
+// Why the firmware's stops and not each cell's centre: a thin partition's cell has a centre a
+// turn cannot clear but no stop (steps cross it), and a doorway's cell narrower than twice
+// `past` stops the robot `past` inside the edge it crossed; walking centres warned of 27 of a
+// partitioned room's 102 cells for ways the robot takes.
 StopWalkReport stop_walk(const Scenario &s)
 {
     StopWalkReport rep;
     if (!s.actions.centred) return rep;
-    const int nx = grid_cells(s, 0), ny = grid_cells(s, 1);
+    const AxisStops ax = axis_stops(s, 0), ay = axis_stops(s, 1);
+    const int nx = static_cast<int>(ax.at.size()), ny = static_cast<int>(ay.at.size());
     const double turn = robot_radius(s.robot), side = 0.5 * s.robot.width;
-    std::vector<TightStop> cell(static_cast<std::size_t>(nx * ny));
-    std::vector<char> stand(cell.size(), 0), reached(cell.size(), 0);
-    std::vector<int> queue;
-    auto neighbours = [nx, ny](int k) -> std::array<int, 4> {
-        const int i = k % nx, j = k / nx;
-        return {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1, j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
-    };
+    const std::size_t nodes = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+    std::vector<TightStop> stop(nodes);
+    std::vector<char> stand(nodes, 0), reached(nodes, 0);
+    std::vector<std::array<int, 4>> next(nodes);
     for (int j = 0; j < ny; j++) {
         for (int i = 0; i < nx; i++) {
-            TightStop &t = cell[static_cast<std::size_t>(j * nx + i)];
-            double lo = 0, hi = 0;
-            grid_span(s, 0, i, &lo, &hi);
-            t.x = 0.5 * (lo + hi);
-            grid_span(s, 1, j, &lo, &hi);
-            t.y = 0.5 * (lo + hi);
-            t.i = i;
-            t.j = j;
+            const std::size_t k = static_cast<std::size_t>(j * nx + i);
+            TightStop &t = stop[k];
+            t.i = ax.cell[static_cast<std::size_t>(i)];
+            t.j = ay.cell[static_cast<std::size_t>(j)];
+            t.x = ax.at[static_cast<std::size_t>(i)];
+            t.y = ay.at[static_cast<std::size_t>(j)];
             t.clearance = nearest(s, t.x, t.y, &t.line);
-            if (t.clearance < turn) continue;
-            stand[static_cast<std::size_t>(j * nx + i)] = 1;
-            rep.cells++;
-            if (in_goal(s, t.x, t.y)) {
-                reached[static_cast<std::size_t>(j * nx + i)] = 1;
-                queue.push_back(j * nx + i);
-            }
+            const int ui = ax.up[static_cast<std::size_t>(i)], di = ax.down[static_cast<std::size_t>(i)];
+            const int uj = ay.up[static_cast<std::size_t>(j)], dj = ay.down[static_cast<std::size_t>(j)];
+            next[k] = {ui < 0 ? -1 : j * nx + ui, di < 0 ? -1 : j * nx + di, uj < 0 ? -1 : uj * nx + i,
+                       dj < 0 ? -1 : dj * nx + i};
+            stand[k] = t.clearance >= turn;
+            rep.cells += stand[k];
+        }
+    }
+    // The stops that reach a goal stop: from the goal backwards over the clear steps between stops
+    // the robot can turn at (a step from a narrow cell's stop need not come back to it).
+    std::vector<std::vector<int>> into(nodes);
+    std::vector<int> queue;
+    for (std::size_t k = 0; k < nodes; k++) {
+        if (!stand[k]) continue;
+        for (int m : next[k]) {
+            if (m < 0 || !stand[static_cast<std::size_t>(m)]) continue;
+            const TightStop &a = stop[k], &b = stop[static_cast<std::size_t>(m)];
+            if (!step_clear(s, a.x, a.y, b.x, b.y, side)) continue;
+            into[static_cast<std::size_t>(m)].push_back(static_cast<int>(k));
+        }
+        if (in_goal(s, stop[k].x, stop[k].y)) {
+            reached[k] = 1;
+            queue.push_back(static_cast<int>(k));
         }
     }
     for (std::size_t head = 0; head < queue.size(); head++) {
-        const int k = queue[head];
-        for (int m : neighbours(k)) {
-            if (m < 0 || !stand[static_cast<std::size_t>(m)] || reached[static_cast<std::size_t>(m)]) continue;
-            const TightStop &a = cell[static_cast<std::size_t>(k)], &b = cell[static_cast<std::size_t>(m)];
-            if (!step_clear(s, a.x, a.y, b.x, b.y, side)) continue;
+        for (int m : into[static_cast<std::size_t>(queue[head])]) {
+            if (reached[static_cast<std::size_t>(m)]) continue;
             reached[static_cast<std::size_t>(m)] = 1;
             queue.push_back(m);
         }
     }
-    std::vector<char> listed(cell.size(), 0);
-    for (int k = 0; k < nx * ny; k++) {
-        if (!stand[static_cast<std::size_t>(k)] || reached[static_cast<std::size_t>(k)]) continue;
+    std::vector<char> listed(nodes, 0);
+    for (std::size_t k = 0; k < nodes; k++) {
+        if (!stand[k] || reached[k]) continue;
         rep.stranded++;
-        for (int m : neighbours(k)) {
+        for (int m : next[k]) {
             if (m < 0 || listed[static_cast<std::size_t>(m)]) continue;
-            const TightStop &t = cell[static_cast<std::size_t>(m)];
+            const TightStop &t = stop[static_cast<std::size_t>(m)];
             if (!(t.clearance > 0.0 && t.clearance < turn)) continue;  // covered, or a stop it stands in
             listed[static_cast<std::size_t>(m)] = 1;
             rep.blocking.push_back(t);

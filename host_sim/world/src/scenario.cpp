@@ -643,6 +643,36 @@ bool goal_has_a_stop(const Scenario &s)
     return false;
 }
 
+// Rule 6 (grid_fit.h): when a quarter or more of the stops of the fit at `max_side` reach no goal
+// stop, the first side of kWalkSideFactors whose fit every stop reaches the goal from. Why a
+// quarter: there furniture cuts a region of the room off (34 of a generated room's 44 stops; its
+// relapses went from 36 % and 24 % to 0 % and 2 % over two seeds), where a few tight stops in a
+// corner cost nothing, and refitting those raised relapses in two tuning rooms of fifteen (docs/agent.md).
+template <typename Fit>
+static void refit_for_the_walk(Scenario *s, double max_side, Fit &&fit_side, bool *goal_reached)
+{
+    Encoding &e = s->encoding;
+    auto walk = [s]() {
+        Scenario t = *s;
+        t.actions.centred = true;
+        return stop_walk(t);
+    };
+    const StopWalkReport first = walk();
+    if (first.stranded == 0 || first.stranded * kWalkStrandedShare < first.cells) return;
+    const std::vector<double> x = e.x_edges, y = e.y_edges;
+    for (double f : kWalkSideFactors) {
+        const double side = f * max_side;
+        if (!(s->actions.past < side) || !fit_side(side) || !*goal_reached) continue;
+        if (walk().stranded == 0) {
+            e.walk_refit = {max_side, side, first.stranded, first.cells};
+            return;
+        }
+    }
+    e.x_edges = x;
+    e.y_edges = y;
+    *goal_reached = goal_has_a_stop(*s);
+}
+
 // `encode auto`: the x and y cells fitted to the room (grid_fit.h), the bits their counts need,
 // and `past` (when not given) a fifth of the largest cell side, which the fit keeps clear of
 // every cell a step stops in.
@@ -660,13 +690,16 @@ bool Parser::fit_encoding(Scenario *s)
     const bool centred = stops_at_centres(*s, true);
     std::string problem;
     bool goal_reached = false;
-    for (GoalCut cut : {GoalCut::None, GoalCut::Square, GoalCut::WholeSquare}) {
-        if (!fit_grid(*s, max_side, cut, centred, &e.x_edges, &e.y_edges, &problem)) {
-            return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
+    auto fit_side = [&](double side) {
+        for (GoalCut cut : {GoalCut::None, GoalCut::Square, GoalCut::WholeSquare}) {
+            if (!fit_grid(*s, side, cut, centred, &e.x_edges, &e.y_edges, &problem)) return false;
+            goal_reached = goal_has_a_stop(*s);
+            if (goal_reached) break;  // else: a cell centred on the goal
         }
-        goal_reached = goal_has_a_stop(*s);
-        if (goal_reached) break;  // else: a cell centred on the goal
-    }
+        return true;
+    };
+    if (!fit_side(max_side)) return fail_at(encode_line_ != 0 ? encode_line_ : last_line_, problem);
+    if (centred && e.max_cell == 0.0) refit_for_the_walk(s, max_side, fit_side, &goal_reached);
     // No cell at all, or a plain goal no stop reaches, is validate_goal_cells()'s to say; `cells`
     // no step ends in, this one's.
     if (!goal_reached && s->goal.cells && !goal_cells(*s).empty()) {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -200,28 +201,52 @@ void test_unreachable_goal_refused(void **state)
     assert_true(rb.problem.find("walls close it off from the goal") != std::string::npos);
 }
 
-// The grid walk of a robot that stops at centres: the den's armchair closes a way, an S on
-// paper-lab's floor leaves none closed, and a robot that stops past an edge has no such walk.
+// The walk of a robot that stops at centres: at the robot's cell side the den's armchair closes
+// the way behind the sofa, and the fit moves the side (rule 6) until every stop reaches the goal;
+// a partition's thin cells are stepped over, not stops; an S on paper-lab's floor leaves no way
+// closed; a robot that stops past an edge has no such walk.
 void test_stop_walk(void **state)
 {
     (void)state;
     const std::string drawn = std::string(WORLD_TEST_ROOMS) + "/drawn/";
-    world::Scenario den, s_lab, sim;
+    world::Scenario den, den_half_metre, partitions, s_lab, sim;
     std::string err;
     assert_true(world::load_scenario(drawn + "paper-lab-sofa-den.scn", &den, &err));
+    std::ifstream in(drawn + "paper-lab-sofa-den.scn");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = text.find("\nencode auto ");
+    assert_true(at != std::string::npos);
+    text.replace(at, 13, "\nencode auto cell 0.5 ");  // a side the user gives: no refit
+    assert_true(world::parse_scenario(text, "den.scn", &den_half_metre, &err));
+    assert_true(world::load_scenario(std::string(WORLD_TEST_ROOMS) +
+                                         "/users-circle-tune/paper-lab-circle-partitions-31-011.scn",
+                                     &partitions, &err));
     assert_true(world::load_scenario(drawn + "paper-lab-s-lab.scn", &s_lab, &err));
     assert_true(world::load_scenario("paper-sim", &sim, &err));
-    const world::StopWalkReport d = world::stop_walk(den);
-    assert_true(d.stranded > d.cells / 2);
+
+    const world::StopWalkReport d = world::stop_walk(den_half_metre);
+    assert_true(d.stranded * world::kWalkStrandedShare >= d.cells);
     bool armchair = false;
     for (const world::TightStop &t : d.blocking) {
         assert_true(t.clearance > 0.0 && t.clearance < world::robot_radius(den.robot));
         armchair = armchair || (t.i == 1 && t.j == 6 && t.line == 6);
     }
     assert_true(armchair);
+    assert_true(den_half_metre.encoding.walk_refit.to == 0.0);
+
+    const world::Encoding::WalkRefit &r = den.encoding.walk_refit;
+    assert_true(r.from == 0.5 && r.to > 0.0 && r.to != r.from);
+    assert_int_equal(r.stranded, d.stranded);
+    assert_int_equal(r.stops, d.cells);
+    const world::StopWalkReport refit = world::stop_walk(den);
+    assert_true(refit.cells > 0);
+    assert_int_equal(refit.stranded, 0);
+
+    assert_int_equal(world::stop_walk(partitions).stranded, 0);
     const world::StopWalkReport ok = world::stop_walk(s_lab);
     assert_true(ok.cells > 0);
     assert_int_equal(ok.stranded, 0);
+    assert_true(s_lab.encoding.walk_refit.to == 0.0);
     assert_int_equal(world::stop_walk(sim).cells, 0);  // stops past an edge, not at centres
 }
 

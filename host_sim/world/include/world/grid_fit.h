@@ -36,6 +36,11 @@
 //     gap stays as wide as the robot's diagonal (else that face is left out). Again until no
 //     cell gives a new face (fit_grid()). Only there, and only round ones: cutting those faces
 //     everywhere, adding them as cuts, or moving cuts onto turned boxes' faces learned worse.
+//  6. For a robot that stops at its cells' centres, with no `cell M` given: when a quarter or more
+//     of the stops reach no goal stop on the walk stop_walk() makes (furniture has closed off a
+//     part of the room), the side is tried at kWalkSideFactors of it, nearest first, and the first
+//     fit from whose every stop the walk reaches the goal is kept (Encoding::walk_refit); if none
+//     does, the fit stays. Rules 1-5 then apply as before at that side.
 #ifndef WORLD_GRID_FIT_H
 #define WORLD_GRID_FIT_H
 
@@ -84,6 +89,12 @@ bool fit_axis(const Scenario &s, int axis, double max_side, GoalCut goal_cut, st
 /// for rule 5 to leave the cell alone (m): the aisles' bin lay 0.01 m beyond the turn.
 inline constexpr double kPinchClearance = 0.04;
 
+/// Rule 6: the share of stranded stops that refits (one in kWalkStrandedShare), and the cell
+/// sides tried, as factors of fit_cell_side(), nearest first. Tuned on 15 generated rooms that
+/// warn (docs/agent.md, "When furniture closes the grid's way").
+inline constexpr long kWalkStrandedShare = 4;
+inline constexpr double kWalkSideFactors[] = {0.95, 1.05, 0.9, 1.1, 0.85, 1.15, 0.8, 1.2, 0.75, 1.25};
+
 /// Both axes fitted (fit_axis(), rules 1-4) and, for a robot whose stops are `centred`, rule 5
 /// until it adds no face; a fit rule 5 would take past kMaxGridCells keeps the grid before. False
 /// with *error (one line) as fit_axis().
@@ -95,23 +106,26 @@ bool fit_grid(const Scenario &s, double max_side, GoalCut goal_cut, bool centred
 /// the robot stands. 0 for a fitted grid. Loading a file warns when this is not 0.
 int faces_inside_cells(const Scenario &s);
 
-/// A cell whose centred stop a turn cannot clear: its centre lies outside every wall and obstacle
-/// but nearer one than the robot's half-diagonal.
+/// A stop a turn cannot clear: it lies outside every wall and obstacle but nearer one than the
+/// robot's half-diagonal.
 struct TightStop {
-    int i = 0, j = 0;      ///< the cell
-    double x = 0, y = 0;   ///< its centre, where the robot stops (m)
+    int i = 0, j = 0;      ///< the cell it lies in
+    double x = 0, y = 0;   ///< where the robot stops (m)
     double clearance = 0;  ///< to the nearest wall or obstacle there (m)
     int line = 0;          ///< that obstacle's line in the file; 0 for the arena's wall
 };
 
-/// The walk a robot that stops at its cells' centres (`actions.centred`) can make: from cell to
-/// neighbouring cell where both centres clear a turn (the robot's half-diagonal) and the step
-/// between them keeps its half-width clear. `stranded` counts the cells it can stand in that reach
-/// no goal cell that way, out of `cells`; `blocking` holds the tight stops (centres outside every
-/// obstacle but within a turn of one) beside them, nearest first: where a user's furniture closes
-/// the grid's way (the den of docs/results/users-rooms.md). Empty for any other robot.
+/// The walk a robot that stops at its cells' centres (`actions.centred`) can make: from stop to
+/// the stop an aligned step reaches, as the firmware places them (a cell twice `past` wide: its
+/// centre; a narrower one: `past` inside the edge crossed; a partition's cell narrower than
+/// `past`: stepped over), where both stops clear a turn (the robot's half-diagonal) and the step
+/// between them keeps its half-width clear. `stranded` counts the stops it can stand at that
+/// reach no goal stop that way, out of `cells` (stops, for the name's history); `blocking` holds
+/// the tight stops (outside every obstacle but within a turn of one) they step into, nearest
+/// first: where a user's furniture closes the grid's way (the den of
+/// docs/results/users-rooms.md). Empty for any other robot.
 struct StopWalkReport {
-    long cells = 0, stranded = 0;
+    long cells = 0, stranded = 0;  ///< stops
     std::vector<TightStop> blocking;
 };
 StopWalkReport stop_walk(const Scenario &s);
