@@ -643,7 +643,7 @@ bool goal_has_a_stop(const Scenario &s)
     return false;
 }
 
-// Rule 6 (grid_fit.h): when a quarter or more of the stops of the fit at `max_side` reach no goal
+// Rule 7 (grid_fit.h): when a quarter or more of the stops of the fit at `max_side` reach no goal
 // stop, the first side of kWalkSideFactors whose fit every stop reaches the goal from. Why a
 // quarter: there furniture cuts a region of the room off (34 of a generated room's 44 stops; its
 // relapses went from 36 % and 24 % to 0 % and 2 % over two seeds), where a few tight stops in a

@@ -202,7 +202,7 @@ void test_unreachable_goal_refused(void **state)
 }
 
 // The walk of a robot that stops at centres: at the robot's cell side the den's armchair closes
-// the way behind the sofa, and the fit moves the side (rule 6) until every stop reaches the goal;
+// the way behind the sofa, and the fit moves the side (rule 7) until every stop reaches the goal;
 // a partition's thin cells are stepped over, not stops; an S on paper-lab's floor leaves no way
 // closed; a robot that stops past an edge has no such walk.
 void test_stop_walk(void **state)

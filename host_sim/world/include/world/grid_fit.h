@@ -36,7 +36,8 @@
 //     gap stays as wide as the robot's diagonal (else that face is left out). Again until no
 //     cell gives a new face (fit_grid()). Only there, and only round ones: cutting those faces
 //     everywhere, adding them as cuts, or moving cuts onto turned boxes' faces learned worse.
-//  6. For a robot that stops at its cells' centres, with no `cell M` given: when a quarter or more
+//  7. (6 in docs/agent.md is the goal's square, fit_axis()'s GoalCut.) For a robot that stops at
+//     its cells' centres, with no `cell M` given: when a quarter or more
 //     of the stops reach no goal stop on the walk stop_walk() makes (furniture has closed off a
 //     part of the room), the side is tried at kWalkSideFactors of it, nearest first, and the first
 //     fit from whose every stop the walk reaches the goal is kept (Encoding::walk_refit); if none
@@ -89,7 +90,7 @@ bool fit_axis(const Scenario &s, int axis, double max_side, GoalCut goal_cut, st
 /// for rule 5 to leave the cell alone (m): the aisles' bin lay 0.01 m beyond the turn.
 inline constexpr double kPinchClearance = 0.04;
 
-/// Rule 6: the share of stranded stops that refits (one in kWalkStrandedShare), and the cell
+/// Rule 7: the share of stranded stops that refits (one in kWalkStrandedShare), and the cell
 /// sides tried, as factors of fit_cell_side(), nearest first. Tuned on 15 generated rooms that
 /// warn (docs/agent.md, "When furniture closes the grid's way").
 inline constexpr long kWalkStrandedShare = 4;

@@ -153,7 +153,7 @@ struct Encoding {
     double max_cell = 0.0;
     /// fitted: cell k along x spans [x_edges[k], x_edges[k + 1]); from 0 to the arena's side
     std::vector<double> x_edges, y_edges;
-    /// fitted: rule 6 of the fit (grid_fit.h) moved the cell side from `from` to `to` (m), because
+    /// fitted: rule 7 of the fit (grid_fit.h) moved the cell side from `from` to `to` (m), because
     /// `stranded` of the `stops` at `from` reached no goal stop; all 0 when it did not.
     struct WalkRefit {
         double from = 0.0, to = 0.0;
