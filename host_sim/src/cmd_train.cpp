@@ -268,9 +268,10 @@ struct TrainTally {
     std::uint64_t done = 0;
 };
 
-// A user's room (a file, not a shipped name) on equal cells that its walls cut, or with starts
-// that no passage as wide as the robot's diagonal joins to the goal (rooms --check refuses such
-// a room; train runs it, and the sets that start there cannot learn).
+// A user's room (a file, not a shipped name) on equal cells that its walls cut, fitted at another
+// cell side than the robot's (rule 7), with stops that reach no goal stop, or with starts that no
+// passage as wide as the robot's diagonal joins to the goal (rooms --check refuses such a room;
+// train runs it, and the sets that start there cannot learn).
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
     if (s.quiet || s.scenario.find('/') == std::string::npos) return;
@@ -279,6 +280,12 @@ void warn_room(const std::string &program, const TrainSettings &s, const Scenari
                      "%s train: warning: %s: %d wall face(s) lie inside state cells of the equal grid; 'encode "
                      "auto' fits the cells to the room (dynaqpc-sim rooms --check says more)\n",
                      program.c_str(), s.scenario.c_str(), faces);
+    }
+    if (const world::Encoding::WalkRefit &w = sb.world->encoding.walk_refit; w.to > 0.0) {
+        std::fprintf(stderr,
+                     "%s train: note: %s: cells of about %.3f m, not %.3f m, so that every stop reaches the goal "
+                     "(dynaqpc-sim rooms --check says more)\n",
+                     program.c_str(), s.scenario.c_str(), w.to, w.from);
     }
     const world::StopWalkReport walk = world::stop_walk(*sb.world);
     if (walk.stranded > 0) {
