@@ -937,14 +937,12 @@ bool Parser::validate_layout(const Scenario &s)
         g.cy + g.radius > s.arena_h) {
         return fail_at(goal_line_, "goal outside the arena");
     }
-    {
-        Scenario one = s;
-        for (const Obstacle &o : s.obstacles) {
-            one.obstacles.assign(1, o);
-            if (clearance(one, g.cx, g.cy) < g.radius) {
-                return fail_at(goal_line_, "goal overlaps the obstacle on line " +
-                                               std::to_string(o.line));
-            }
+    // The obstacles' own distance: a circle that touches a wall is inside the arena (above), and
+    // the arena's walls are not an obstacle to name (a goal drawn against the east wall was
+    // refused as overlapping the file's first obstacle).
+    for (const Obstacle &o : s.obstacles) {
+        if (obstacle_distance(o, g.cx, g.cy) < g.radius) {
+            return fail_at(goal_line_, "goal overlaps the obstacle on line " + std::to_string(o.line));
         }
     }
     return true;

@@ -436,6 +436,14 @@ void test_goal_cells(void **state)
     assert_false(world::start_position_ok(s, 2.02, 2.98));
     assert_false(world::start_position_ok(s, 1.97, 2.97));  // 0.71 m out, 3 cm from the cell
     assert_true(world::start_position_ok(s, 1.5, 2.5));
+    // A circle against a wall is inside the arena, and the wall is no obstacle (4.5 - 4.2 is a
+    // shade under 0.3 in double: it was refused as overlapping the file's first obstacle).
+    const std::string hall = "arena 4.5 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.1 max 0.8\nray 0\nencode x 2 y 2 heading 2\n"
+                             "obstacle box 1 1 0.4 0.4\n";
+    assert_true(world::parse_scenario(hall + "goal 4.2 2.95 0.3\n", "g.scn", &s, &err));
+    assert_false(world::parse_scenario(hall + "goal 1.3 1.3 0.3 cells\n", "g.scn", &s, &err));
+    assert_true(err.find("goal overlaps the obstacle on line 6") != std::string::npos);
     // Without 'cells' the circle itself is the goal.
     assert_true(world::parse_scenario(head + "goal 2.5 2.5 0.6\n", "g.scn", &s, &err));
     assert_false(s.goal.cells);
