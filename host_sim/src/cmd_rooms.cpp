@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // dynaqpc-sim rooms: seeded random rooms for a robot, one scenario file each (world/rooms.h).
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -152,8 +154,15 @@ void check_one(const world::Scenario &s)
                         t.line ? ("the obstacle on line " + std::to_string(t.line)).c_str() : "the wall");
         }
         std::printf(": its ways from them pass stops where it bumps, and it may never learn them; leave it a "
-                    "turn's room (%.3f m) there (docs/agent.md, \"What it does not handle yet\")\n",
+                    "turn's room (%.3f m) there",
                     world::robot_radius(s.robot));
+        if (const world::Encoding::WalkRefit &w = s.encoding.walk_refit; w.from > 0.0 && w.to == 0.0) {
+            const auto [lo, hi] =
+                std::minmax_element(std::begin(world::kWalkSideFactors), std::end(world::kWalkSideFactors));
+            std::printf(" (encode auto tried cells of %.3f to %.3f m: none leaves every stop a way to the goal)",
+                        *lo * w.from, *hi * w.from);
+        }
+        std::printf(" (docs/agent.md, \"What it does not handle yet\")\n");
     }
     const world::PathReport p = world::longest_path(s);
     if (p.longest >= 0) {

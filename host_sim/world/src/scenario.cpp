@@ -670,6 +670,7 @@ static void refit_for_the_walk(Scenario *s, double max_side, Fit &&fit_side, boo
     }
     e.x_edges = x;
     e.y_edges = y;
+    e.walk_refit = {max_side, 0.0, first.stranded, first.cells};
     *goal_reached = goal_has_a_stop(*s);
 }
 

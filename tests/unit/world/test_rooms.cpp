@@ -243,6 +243,7 @@ void test_stop_walk(void **state)
     assert_int_equal(refit.stranded, 0);
 
     assert_int_equal(world::stop_walk(partitions).stranded, 0);
+    assert_true(partitions.encoding.walk_refit.from == 0.0);  // nothing stranded: not tried
     const world::StopWalkReport ok = world::stop_walk(s_lab);
     assert_true(ok.cells > 0);
     assert_int_equal(ok.stranded, 0);

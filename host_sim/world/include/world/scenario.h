@@ -154,7 +154,8 @@ struct Encoding {
     /// fitted: cell k along x spans [x_edges[k], x_edges[k + 1]); from 0 to the arena's side
     std::vector<double> x_edges, y_edges;
     /// fitted: rule 7 of the fit (grid_fit.h) moved the cell side from `from` to `to` (m), because
-    /// `stranded` of the `stops` at `from` reached no goal stop; all 0 when it did not.
+    /// `stranded` of the `stops` at `from` reached no goal stop; `to` 0 and `from` the side when it
+    /// tried every side and none freed them all; all 0 when it did not try.
     struct WalkRefit {
         double from = 0.0, to = 0.0;
         long stranded = 0, stops = 0;
