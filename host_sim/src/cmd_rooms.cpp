@@ -164,6 +164,13 @@ void check_one(const world::Scenario &s)
         }
         std::printf(" (docs/agent.md, \"What it does not handle yet\")\n");
     }
+    if (const world::SlotReport slot = world::tight_slot(s); world::slot_warns(slot)) {
+        std::printf("%s: warning: %ld of the %ld start points reach the goal only through a slot narrower "
+                    "than %.3f m beside furniture at an angle or round (the obstacle on line %d: about %.3f m at "
+                    "(%.3f, %.3f)): the robot's steps pass it by centimetres and relapse there; leave it about "
+                    "0.5 m (docs/scenarios.md, \"Leave the robot room on its way to the goal\")\n",
+                    s.path.c_str(), slot.behind, slot.starts, slot.limit, slot.line, slot.width, slot.x, slot.y);
+    }
     const world::PathReport p = world::longest_path(s);
     if (p.longest >= 0) {
         std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "

@@ -269,8 +269,9 @@ struct TrainTally {
 };
 
 // A user's room (a file, not a shipped name) on equal cells that its walls cut, fitted at another
-// cell side than the robot's (rule 7), with stops that reach no goal stop, or with starts that no
-// passage as wide as the robot's diagonal joins to the goal (rooms --check refuses such a room;
+// cell side than the robot's (rule 7), with stops that reach no goal stop, with starts behind a
+// slot beside angled or round furniture, or with starts that no passage as wide as the robot's
+// diagonal joins to the goal (rooms --check refuses such a room;
 // train runs it, and the sets that start there cannot learn).
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
@@ -294,6 +295,13 @@ void warn_room(const std::string &program, const TrainSettings &s, const Scenari
                      "step and a turn at a time, past stops where it bumps (dynaqpc-sim rooms --check says "
                      "where)\n",
                      program.c_str(), s.scenario.c_str(), walk.stranded, walk.cells);
+    }
+    if (const world::SlotReport slot = world::tight_slot(*sb.world); world::slot_warns(slot)) {
+        std::fprintf(stderr,
+                     "%s train: warning: %s: %ld of the %ld start points reach the goal only through a slot "
+                     "narrower than %.3f m beside furniture at an angle or round (dynaqpc-sim rooms --check says "
+                     "where)\n",
+                     program.c_str(), s.scenario.c_str(), slot.behind, slot.starts, slot.limit);
     }
     const world::PassageReport passages = world::check_passages(*sb.world);
     if (!passages.ok) {

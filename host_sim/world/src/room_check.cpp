@@ -8,12 +8,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <queue>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "room_text.h"
+#include "world/grid_fit.h"
 
 namespace world {
 
@@ -123,15 +125,16 @@ struct Pinch {
     double clearance = 0;
 };
 
-Pinch widest_way_pinch(const FreeGrid &g, long from)
+// Per point, the narrowest clearance of the widest way from it to the goal (a max-min search from
+// the goal points; -1 where no way leads, or beyond `from` once it is reached when from >= 0).
+std::vector<double> widest_ways(const FreeGrid &g, long from, std::vector<long> *goal)
 {
     const long n = g.nx * g.ny;
-    std::vector<double> best(static_cast<std::size_t>(n), -1.0);  // the widest way's narrowest clearance
+    std::vector<double> best(static_cast<std::size_t>(n), -1.0);
     std::priority_queue<std::pair<double, long>> open;
-    std::vector<long> goal;
     for (long k = 0; k < n; k++) {
         if (g.cell[static_cast<std::size_t>(k)] & kGoal) {
-            goal.push_back(k);
+            goal->push_back(k);
             best[static_cast<std::size_t>(k)] = g.clear[static_cast<std::size_t>(k)];
             open.push({best[static_cast<std::size_t>(k)], k});
         }
@@ -150,6 +153,14 @@ Pinch widest_way_pinch(const FreeGrid &g, long from)
             }
         }
     }
+    return best;
+}
+
+Pinch widest_way_pinch(const FreeGrid &g, long from)
+{
+    const long n = g.nx * g.ny;
+    std::vector<long> goal;
+    const std::vector<double> best = widest_ways(g, from, &goal);
     Pinch p;
     const double b = best[static_cast<std::size_t>(from)];
     if (b <= 0.0) return p;  // walled off entirely
@@ -359,6 +370,51 @@ PathReport longest_path(const Scenario &s)
         }
     }
     rep.longest = rep.stranded > 0 || rep.start_states == 0 ? -1 : longest;
+    return rep;
+}
+
+// Why: a way to the goal narrower than a turn with kTurnClearance each side, past an obstacle at
+// an angle or a round one, is one the grid's stops (square to the arena, cut only at square faces)
+// pass by centimetres: rooms a new user drew relapsed there without a warning
+// (docs/results/users-rooms.md, "Eight rooms a second new user drew").
+SlotReport tight_slot(const Scenario &s)
+{
+    SlotReport rep;
+    PassageReport counts;
+    const FreeGrid g = free_grid(s, &counts);
+    std::vector<long> goal;
+    const std::vector<double> best = widest_ways(g, -1, &goal);
+    const double limit = robot_radius(s.robot) + kPinchClearance;
+    std::map<double, std::pair<long, long>> by_width;  // a bottleneck's clearance: its starts, one of them
+    for (long k = 0; k < g.nx * g.ny; k++) {
+        if (!(g.cell[static_cast<std::size_t>(k)] & kStart)) continue;
+        rep.starts++;
+        const double b = best[static_cast<std::size_t>(k)];
+        if (b > 0.0 && b < limit) {  // behind a slot
+            auto &e = by_width[b];
+            if (e.first++ == 0) e.second = k;
+        }
+    }
+    rep.limit = 2.0 * limit;
+    for (const auto &[b, e] : by_width) {
+        const Pinch p = widest_way_pinch(g, e.second);
+        if (p.at < 0) continue;
+        const double x = g.x(p.at % g.nx), y = g.y(p.at / g.nx);
+        // The obstacles that make the pinch: those within a grid step of its clearance.
+        for (const Obstacle &o : s.obstacles) {
+            const bool square =
+                o.shape == Obstacle::Shape::Box && std::fabs(std::remainder(o.angle, 1.5707963267948966)) < 1e-6;
+            if (square || !(obstacle_distance(o, x, y) < b + g.step)) continue;
+            if (rep.behind == 0 || 2.0 * b < rep.width) {
+                rep.width = 2.0 * b;
+                rep.x = x;
+                rep.y = y;
+                rep.line = o.line;
+            }
+            rep.behind += e.first;
+            break;
+        }
+    }
     return rep;
 }
 

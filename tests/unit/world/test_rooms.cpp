@@ -251,6 +251,30 @@ void test_stop_walk(void **state)
     assert_int_equal(world::stop_walk(sim).cells, 0);  // stops past an edge, not at centres
 }
 
+// Slots beside furniture at an angle or round: a bedroom whose goal corner lies behind 0.34 m
+// beside a nightstand and the bed warns; a kitchen island's 0.42 m ways and an S of square
+// partitions do not.
+void test_tight_slot(void **state)
+{
+    (void)state;
+    const std::string drawn = std::string(WORLD_TEST_ROOMS) + "/drawn/";
+    world::Scenario bedroom, kitchen, s_lab;
+    std::string err;
+    assert_true(world::load_scenario(drawn + "paper-lab-bedroom-angled-bed.scn", &bedroom, &err));
+    assert_true(world::load_scenario(drawn + "paper-lab-kitchen-island.scn", &kitchen, &err));
+    assert_true(world::load_scenario(drawn + "paper-lab-s-lab.scn", &s_lab, &err));
+    const world::SlotReport b = world::tight_slot(bedroom);
+    assert_true(world::slot_warns(b));
+    assert_true(b.behind * 2 > b.starts);
+    assert_true(b.width > 2.0 * world::robot_radius(bedroom.robot) && b.width < b.limit);
+    assert_true(std::fabs(b.limit - 2.0 * (world::robot_radius(bedroom.robot) + world::kPinchClearance)) < 1e-12);
+    assert_int_equal(b.line, 8);
+    assert_false(world::slot_warns(world::tight_slot(kitchen)));
+    const world::SlotReport s = world::tight_slot(s_lab);
+    assert_true(s.starts > 0);
+    assert_int_equal(s.behind, 0);
+}
+
 void test_generated_rooms(void **state)
 {
     (void)state;
@@ -727,6 +751,7 @@ int main(void)
         cmocka_unit_test(test_narrow_door_refused),
         cmocka_unit_test(test_unreachable_goal_refused),
         cmocka_unit_test(test_stop_walk),
+        cmocka_unit_test(test_tight_slot),
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_user_rooms),
         cmocka_unit_test(test_user_rooms_circle_goal),

@@ -43,6 +43,23 @@ struct PassageReport {
 /// grid step) may count as closed.
 PassageReport check_passages(const Scenario &s);
 
+/// Starts whose every way to the goal narrows below the robot's diagonal + 2 kPinchClearance
+/// (`limit`, 0.40 m for the lab robot) beside an obstacle at an angle or a round one: `behind` of
+/// the `starts` (points of the passage check's grid), and the narrowest such pinch, `width` m at
+/// (x, y) beside the obstacle on `line`. The grid's stops pass such a slot by centimetres
+/// (docs/scenarios.md, "Leave the robot room on its way to the goal"). Slots between walls and
+/// boxes square to the arena are left out: the fitted grid centres a column of stops on them.
+/// `rooms --check` and `train` warn when `behind` is kSlotWarnShare of `starts` or more.
+struct SlotReport {
+    long starts = 0, behind = 0;
+    double limit = 0, width = 0, x = 0, y = 0;
+    int line = 0;
+};
+SlotReport tight_slot(const Scenario &s);
+/// One start point in this many behind a slot warns: a region, not a corner's few points.
+inline constexpr long kSlotWarnShare = 100;
+inline bool slot_warns(const SlotReport &r) { return r.behind > 0 && r.behind * kSlotWarnShare >= r.starts; }
+
 /// What longest_path() found.
 struct PathReport {
     /// The most actions any start needs to reach the goal at best (the longest of the shortest
