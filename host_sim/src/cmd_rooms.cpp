@@ -95,7 +95,9 @@ void declare_options(Options &o, RoomsArgs &a)
                  &a.floor);
     o.add_string("--check", "FILE",
                  "instead: check one scenario file as the rooms are checked (it parses; every start "
-                 "reaches the goal through passages at least the robot's diagonal wide)",
+                 "reaches the goal through passages at least the robot's diagonal wide); it also warns "
+                 "where the room's grid or furniture may make the robot relapse, and says when encode "
+                 "auto chose another cell side (docs/scenarios.md)",
                  &a.check);
     o.add_string("--changed", "FILE",
                  "with --check: also check FILE, a room that --check's becomes during a run (train "
