@@ -81,9 +81,10 @@ void declare_options(Options &o, RoomsArgs &a)
                  &a.far, {"hall", "open", "culdesac", "serpentine", "mixed"});
     o.add_choice("--users", "FAMILY",
                  "rooms like users' rooms instead: partitions (with doorways anywhere), s-floor, u-floor, pillars, "
-                 "furniture (at an angle), or mixed (room i: each in turn); floors of any size, thin "
-                 "partitions, doorways from the robot's diagonal up, encode auto (docs/scenarios.md)",
-                 &a.users, {"partitions", "s-floor", "u-floor", "pillars", "furniture", "mixed"});
+                 "furniture (at an angle), along-walls (furniture against its wall or a slot off it, some turned), "
+                 "or mixed (room i: each of the first five in turn); floors of any size, thin partitions, "
+                 "doorways from the robot's diagonal up, encode auto (docs/scenarios.md)",
+                 &a.users, {"partitions", "s-floor", "u-floor", "pillars", "furniture", "along-walls", "mixed"});
     o.add_choice("--goal", "G",
                  "with --users: base (the base's goal line, default) or circle (a plain circle as users draw "
                  "one, reached when the robot's centre is inside, of radius 0.4 to 1 robot diagonals; files named "

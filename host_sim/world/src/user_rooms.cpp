@@ -3,6 +3,7 @@
 #include "world/user_rooms.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -28,11 +29,19 @@ constexpr double kAtWall = 0.35;                 // share of doorways against a 
 constexpr double kPillarR[2] = {0.2, 0.6};
 constexpr double kFurniture[2] = {0.8, 3.0};     // a box's sides
 constexpr double kSpacing = 2.2;                 // partitions and lanes at least this far apart
+// Along the walls: a piece stands against its wall or a slot's width off it (from the diagonal to
+// about 1.6 of it: the 0.32-0.5 m slots beside a bed or a nightstand that new users' rooms relapsed
+// in), square to the wall or turned a little (users' rooms: 10-35 degrees).
+constexpr double kAgainstWall = 0.5;             // share of pieces touching their wall
+constexpr double kSlot[2] = {1.0, 1.6};
+constexpr double kAskew = 0.6;                   // share of pieces turned off their wall
+constexpr double kAskewDeg[2] = {8.0, 30.0};
 
 struct Drawn {
     double w = 0, h = 0;
     std::vector<Obstacle> parts;
     std::vector<std::string> what;
+    std::vector<std::array<double, 4>> slots;  // along-walls: x0, x1, y0, y1 between a piece and its wall
     Goal goal;
     std::string shape;  // one line saying what was drawn
 };
@@ -59,6 +68,8 @@ private:
     double door_start(double from, double to, double door, int end);  // end: -1 low, 1 high, 0 any
     void pillars(Drawn *o, int n);
     void furniture(Drawn *o, int n);
+    void along_walls(Drawn *o, int n);
+    bool goal_in_a_slot(Drawn *o);
     bool goal_in(Drawn *o, double x0, double x1, double y0, double y1);
 
     const Scenario &base_;
@@ -146,6 +157,60 @@ void UserDrawer::furniture(Drawn *o, int n)
     }
 }
 
+void UserDrawer::along_walls(Drawn *o, int n)
+{
+    for (int k = 0; k < n; k++) {
+        const int wall = static_cast<int>(u(0.0, 4.0));  // 0 west, 1 east, 2 south, 3 north
+        const bool across_x = wall < 2;                   // the wall is one of constant x
+        Obstacle b;
+        const bool round = coin(0.25);
+        double ex = 0, ey = 0, deg = 0;  // half extents along x and y
+        if (round) {
+            b.shape = Obstacle::Shape::Circle;
+            b.radius = q_size(in_d(kPillarR));
+            ex = ey = b.radius;
+        } else {
+            b.shape = Obstacle::Shape::Box;
+            const double along = q_size(in_d(kFurniture)), deep = q_size(in_d(kFurniture) * 0.5);
+            deg = coin(kAskew) ? std::round(u(kAskewDeg[0], kAskewDeg[1])) * (coin(0.5) ? 1 : -1) : 0.0;
+            // Along the wall is the box's w; a wall of constant x has it along y.
+            b.w = along;
+            b.h = deep;
+            const double a = (across_x ? 90.0 + deg : deg) * kPi / 180.0;
+            b.angle = a;
+            const double c = std::fabs(std::cos(a)), sn = std::fabs(std::sin(a));
+            ex = (b.w * c + b.h * sn) / 2.0;
+            ey = (b.w * sn + b.h * c) / 2.0;
+        }
+        const double gap = coin(kAgainstWall) ? 0.0 : in_d(kSlot);
+        const double side = across_x ? o->w : o->h, len = across_x ? o->h : o->w;
+        const double half_in = across_x ? ex : ey, half_along = across_x ? ey : ex;
+        if (2 * half_in + gap >= 0.5 * side || 2 * half_along >= len) continue;
+        const double in = wall % 2 == 0 ? gap + half_in : side - gap - half_in;
+        const double at = u(half_along, len - half_along);
+        b.cx = q_pos(across_x ? in : at);
+        b.cy = q_pos(across_x ? at : in);
+        o->parts.push_back(b);
+        if (gap > 0.0) {
+            const double lo = at - half_along, hi = at + half_along;
+            const double w0 = wall % 2 == 0 ? 0.0 : side - gap, w1 = wall % 2 == 0 ? gap : side;
+            o->slots.push_back(across_x ? std::array<double, 4>{w0, w1, lo, hi} : std::array<double, 4>{lo, hi, w0, w1});
+        }
+        const char *where = gap == 0.0 ? "against" : "a slot off";
+        o->what.push_back(std::string(round ? "a round piece " : "furniture ") + where + " the " +
+                          (wall == 0 ? "west" : wall == 1 ? "east" : wall == 2 ? "south" : "north") + " wall" +
+                          (deg != 0.0 ? ", turned " + std::to_string(static_cast<int>(deg)) + " degrees" : ""));
+    }
+}
+
+// As users place a goal among furniture along the walls: behind a piece, in the slot it leaves to
+// its wall (a bedroom's corner behind the nightstands).
+bool UserDrawer::goal_in_a_slot(Drawn *o)
+{
+    const auto &b = o->slots[static_cast<std::size_t>(u(0.0, static_cast<double>(o->slots.size()))) % o->slots.size()];
+    return goal_in(o, b[0], b[1], b[2], b[3]);
+}
+
 bool UserDrawer::goal_in(Drawn *o, double x0, double x1, double y0, double y1)
 {
     // A circle's radius is drawn only for UserGoal::Circle: the base's rooms keep their draws.
@@ -230,11 +295,20 @@ bool UserDrawer::run(UserFamily family, Drawn *o)
         o->shape = "furniture at an angle";
         return goal_lu(0, L, 0, S);
     }
+    case UserFamily::AlongWalls: {
+        along_walls(o, 4 + static_cast<int>(u(0.0, 4.0)));
+        if (coin(0.5)) {
+            const double at = u(0.3, 0.7) * L, dw = door();
+            partition(o, along, at, 0, S, dw, door_start(0, S, dw, end_of_door()), "a partition with a doorway");
+        }
+        o->shape = "furniture along the walls";
+        return !o->slots.empty() && coin(0.6) ? goal_in_a_slot(o) : goal_lu(0, L, 0, S);
+    }
     }
     return false;
 }
 
-const char *const kNames[kUserFamilies] = {"partitions", "s-floor", "u-floor", "pillars", "furniture"};
+const char *const kNames[kUserFamilies] = {"partitions", "s-floor", "u-floor", "pillars", "furniture", "along-walls"};
 
 }  // namespace
 
@@ -272,7 +346,7 @@ bool user_goal_from_name(const std::string &name, UserGoal *out)
 
 UserFamily user_family_of_index(std::uint32_t index)
 {
-    return static_cast<UserFamily>((index + kUserFamilies - 1) % kUserFamilies);
+    return static_cast<UserFamily>((index + kMixedUserFamilies - 1) % kMixedUserFamilies);
 }
 
 bool generate_user_room(std::string_view base_text, const std::string &base_label, const std::string &command,

@@ -692,13 +692,15 @@ void test_user_rooms_circle_goal(void **state)
 }
 
 // The committed rooms like users' rooms: at least 12 per robot in each of users-tune and
-// users-eval (the base's goal) and users-circle-tune and users-circle-eval (--goal circle), each
-// what its command generates now, each tuning set on other seeds than its evaluation set.
+// users-eval (the base's goal), users-circle-tune and users-circle-eval (--goal circle) and
+// users-circle-walls-tune and -eval (along-walls, --goal circle), each what its command generates
+// now, each tuning set on other seeds than its evaluation set.
 void test_committed_user_rooms(void **state)
 {
     (void)state;
     std::map<std::string, std::set<std::uint32_t>> seeds;
-    for (const char *set : {"users-tune", "users-eval", "users-circle-tune", "users-circle-eval"}) {
+    for (const char *set : {"users-tune", "users-eval", "users-circle-tune", "users-circle-eval",
+                            "users-circle-walls-tune", "users-circle-walls-eval"}) {
         std::map<std::string, int> per_robot;
         const std::string dir = std::string(WORLD_TEST_ROOMS) + "/" + set;
         assert_true(std::filesystem::is_directory(dir));
@@ -734,7 +736,7 @@ void test_committed_user_rooms(void **state)
         for (const char *robot : kRobots) assert_true(per_robot[robot] >= 12);
     }
     for (const char *robot : kRobots) {
-        for (const char *kind : {"users", "users-circle"}) {
+        for (const char *kind : {"users", "users-circle", "users-circle-walls"}) {
             for (std::uint32_t s : seeds[std::string(kind) + "-tune/" + robot]) {
                 assert_int_equal(seeds[std::string(kind) + "-eval/" + robot].count(s), 0);
             }

@@ -23,15 +23,18 @@ namespace world {
 
 /// The families (docs/scenarios.md): partitions across the floor with a doorway each; an S of
 /// two partitions with doorways at opposite ends; a U around one partition from an end wall;
-/// round pillars and bins with a partition; furniture at an angle.
-enum class UserFamily { Partitions, SFloor, UFloor, Pillars, Furniture };
-inline constexpr int kUserFamilies = 5;
+/// round pillars and bins with a partition; furniture at an angle; furniture along the walls, as
+/// rooms are furnished, some of it a little askew and some a slot's width off the wall.
+enum class UserFamily { Partitions, SFloor, UFloor, Pillars, Furniture, AlongWalls };
+inline constexpr int kUserFamilies = 6;
+/// `--users mixed` takes the first five in turn (the rooms it drew before along-walls keep their draws).
+inline constexpr int kMixedUserFamilies = 5;
 
-/// "partitions", "s-floor", "u-floor", "pillars", "furniture".
+/// "partitions", "s-floor", "u-floor", "pillars", "furniture", "along-walls".
 const char *user_family_name(UserFamily f);
 /// The family named `name`; false if none is.
 bool user_family_from_name(const std::string &name, UserFamily *out);
-/// The family `--users mixed` gives room `index` (1-based): each in turn.
+/// The family `--users mixed` gives room `index` (1-based): each of the first kMixedUserFamilies in turn.
 UserFamily user_family_of_index(std::uint32_t index);
 
 /// The goal a room draws: the base's goal line (its radius; `cells` if the base says so), or a
