@@ -295,12 +295,52 @@ double nearest(const Scenario &s, double x, double y, int *line)
 }
 
 // Whether a straight step from (x0, y0) to (x1, y1) keeps `side` clear all the way (1 cm samples).
+// The samples, a run of kRun at a time, ask only the walls and obstacles that come within `side`
+// (and a micrometre) of the run (and of the step): a distance changes no faster than the point
+// moves, so a wall or obstacle farther than that from a run's middle, less half the run's length,
+// is farther than `side` from every sample of it, and the answer is clearance()'s. Why: the
+// parser walks a fitted grid up to 11 times (rule 7), and asking all 256 obstacles at every
+// centimetre of a 32 x 32 grid of 20 m cells took 8.5 s a walk.
 bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, double side)
 {
+    constexpr int kRun = 50;
     const int n = std::max(1, static_cast<int>(std::ceil(std::hypot(x1 - x0, y1 - y0) / 0.01)));
-    for (int k = 0; k <= n; k++) {
+    auto at = [&](int k, double *x, double *y) {
         const double f = static_cast<double>(k) / n;
-        if (!(clearance(s, x0 + f * (x1 - x0), y0 + f * (y1 - y0)) >= side)) return false;
+        *x = x0 + f * (x1 - x0);
+        *y = y0 + f * (y1 - y0);
+    };
+    auto walls = [&s](double x, double y) {
+        return std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+    };
+    // The obstacles near samples first to last, of those in `from`; whether the walls are far.
+    auto near_run = [&](int first, int last, const std::vector<const Obstacle *> &from,
+                        std::vector<const Obstacle *> *near) {
+        double ax = 0, ay = 0, bx = 0, by = 0;
+        at(first, &ax, &ay);
+        at(last, &bx, &by);
+        const double mx = 0.5 * (ax + bx), my = 0.5 * (ay + by), half = 0.5 * std::hypot(bx - ax, by - ay);
+        near->clear();
+        for (const Obstacle *o : from) {
+            if (!(obstacle_distance(*o, mx, my) - half >= side + 1e-6)) near->push_back(o);
+        }
+        return walls(mx, my) - half >= side + 1e-6;
+    };
+    std::vector<const Obstacle *> all, step, near;
+    for (const Obstacle &o : s.obstacles) all.push_back(&o);
+    near_run(0, n, all, &step);
+    for (int first = 0; first <= n; first += kRun) {
+        const int last = std::min(n, first + kRun - 1);
+        const bool walls_far = near_run(first, last, step, &near);
+        if (walls_far && near.empty()) continue;
+        for (int k = first; k <= last; k++) {
+            double x = 0, y = 0;
+            at(k, &x, &y);
+            if (!walls_far && !(walls(x, y) >= side)) return false;
+            for (const Obstacle *o : near) {
+                if (obstacle_distance(*o, x, y) < side) return false;  // a NaN passes, as in clearance()
+            }
+        }
     }
     return true;
 }
