@@ -644,7 +644,7 @@ bool goal_has_a_stop(const Scenario &s)
 }
 
 // Rule 7 (grid_fit.h): when a quarter or more of the stops of the fit at `max_side` reach no goal
-// stop, the first side of kWalkSideFactors whose fit every stop reaches the goal from. Why a
+// stop, the first side of kWalkSideFactors whose fit has stops that all reach the goal. Why a
 // quarter: there furniture cuts a region of the room off (34 of a generated room's 44 stops; its
 // relapses went from 36 % and 24 % to 0 % and 2 % over two seeds), where a few tight stops in a
 // corner cost nothing, and refitting those raised relapses in two tuning rooms of fifteen (docs/agent.md).
@@ -652,25 +652,31 @@ template <typename Fit>
 static void refit_for_the_walk(Scenario *s, double max_side, Fit &&fit_side, bool *goal_reached)
 {
     Encoding &e = s->encoding;
-    auto walk = [s]() {
-        Scenario t = *s;
-        t.actions.centred = true;
-        return stop_walk(t);
+    struct Walked {
+        long stranded, stops;
     };
-    const StopWalkReport first = walk();
-    if (first.stranded == 0 || first.stranded * kWalkStrandedShare < first.cells) return;
+    auto walk = [s]() {
+        const bool centred = s->actions.centred;
+        s->actions.centred = true;  // as resolve_stop() records it after the fit
+        const StopWalkReport w = stop_walk(*s);
+        s->actions.centred = centred;
+        return Walked{w.stranded, w.cells};
+    };
+    const Walked first = walk();
+    if (first.stranded == 0 || first.stranded * kWalkStrandedShare < first.stops) return;
     const std::vector<double> x = e.x_edges, y = e.y_edges;
     for (double f : kWalkSideFactors) {
         const double side = f * max_side;
         if (!(s->actions.past < side) || !fit_side(side) || !*goal_reached) continue;
-        if (walk().stranded == 0) {
-            e.walk_refit = {max_side, side, first.stranded, first.cells};
+        // Some stop, too: a fit whose every stop an obstacle crowds has none stranded either.
+        if (const Walked w = walk(); w.stops > 0 && w.stranded == 0) {
+            e.walk_refit = {max_side, side, first.stranded, first.stops};
             return;
         }
     }
     e.x_edges = x;
     e.y_edges = y;
-    e.walk_refit = {max_side, 0.0, first.stranded, first.cells};
+    e.walk_refit = {max_side, 0.0, first.stranded, first.stops};
     *goal_reached = goal_has_a_stop(*s);
 }
 

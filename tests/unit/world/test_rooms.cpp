@@ -275,6 +275,35 @@ void test_tight_slot(void **state)
     assert_int_equal(s.behind, 0);
 }
 
+// Rule 7 keeps a side only where some stop is left: on a 4.2 m floor of small pins (turned boxes,
+// which cut no cell) at every centre of the 0.475 m side's 9 x 9 grid, that side's stops all lie
+// within a turn of a pin, so none is stranded either; the 0.5 m grid keeps the goal's stop.
+void test_walk_refit_needs_a_stop(void **state)
+{
+    (void)state;
+    std::ifstream in(std::string(WORLD_TEST_ROOMS) + "/drawn/paper-lab-sofa-den.scn");
+    std::ostringstream text;
+    text << "arena 4.2 4.2\ngoal 0.25 0.25 0.05\nobstacle box 0.127 0.127 0.02 0.02 45\n";
+    for (int i = 0; i < 9; i++) {
+        for (int j = 0; j < 9; j++) {
+            if (i == 0 && j == 0) continue;
+            text << "obstacle box " << 4.2 / 9 * (i + 0.5) << " " << 4.2 / 9 * (j + 0.5) << " 0.02 0.02 45\n";
+        }
+    }
+    for (std::string line; std::getline(in, line);) {
+        const std::string key = line.substr(0, line.find(' '));
+        if (key != "arena" && key != "obstacle" && key != "goal") text << line << "\n";
+    }
+    world::Scenario pins;
+    std::string err;
+    assert_true(world::parse_scenario(text.str(), "pins.scn", &pins, &err));
+    assert_true(pins.encoding.walk_refit.to == 0.0);
+    assert_int_equal(pins.encoding.x_edges.size(), 9);  // the 0.5 m side's 8 cells
+    const world::StopWalkReport w = world::stop_walk(pins);
+    assert_true(w.cells > 0);
+    assert_true(w.stranded * world::kWalkStrandedShare >= w.cells);
+}
+
 void test_generated_rooms(void **state)
 {
     (void)state;
@@ -754,6 +783,7 @@ int main(void)
         cmocka_unit_test(test_unreachable_goal_refused),
         cmocka_unit_test(test_stop_walk),
         cmocka_unit_test(test_tight_slot),
+        cmocka_unit_test(test_walk_refit_needs_a_stop),
         cmocka_unit_test(test_generated_rooms),
         cmocka_unit_test(test_user_rooms),
         cmocka_unit_test(test_user_rooms_circle_goal),

@@ -40,8 +40,8 @@
 //     its cells' centres, with no `cell M` given: when a quarter or more
 //     of the stops reach no goal stop on the walk stop_walk() makes (furniture has closed off a
 //     part of the room), the side is tried at kWalkSideFactors of it, nearest first, and the first
-//     fit from whose every stop the walk reaches the goal is kept (Encoding::walk_refit); if none
-//     does, the fit stays. Rules 1-5 then apply as before at that side.
+//     fit with a stop, from whose every stop the walk reaches the goal, is kept
+//     (Encoding::walk_refit); if none does, the fit stays. Rules 1-5 then apply as before at that side.
 #ifndef WORLD_GRID_FIT_H
 #define WORLD_GRID_FIT_H
 
