@@ -271,8 +271,8 @@ struct TrainTally {
 // A user's room (a file, not a shipped name) on equal cells that its walls cut, fitted at another
 // cell side than the robot's (rule 7), with stops that reach no goal stop, with starts behind a
 // slot beside angled or round furniture, or with starts that no passage as wide as the robot's
-// diagonal joins to the goal (rooms --check refuses such a room;
-// train runs it, and the sets that start there cannot learn).
+// diagonal joins to the goal (rooms --check refuses such a room; train runs it, and the sets that
+// start there cannot learn).
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
     if (s.quiet || s.scenario.find('/') == std::string::npos) return;

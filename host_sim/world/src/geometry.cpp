@@ -27,9 +27,14 @@ double obstacle_distance(const Obstacle &o, double x, double y)
     return outside + std::min(std::max(lx, ly), 0.0);
 }
 
+double wall_distance(const Scenario &s, double x, double y)
+{
+    return std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+}
+
 double clearance(const Scenario &s, double x, double y)
 {
-    double d = std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+    double d = wall_distance(s, x, y);
     for (const Obstacle &o : s.obstacles) {
         d = std::min(d, obstacle_distance(o, x, y));
     }
@@ -43,8 +48,7 @@ namespace {
 // where the parser's search for room asks up to a million points of a crowded arena.
 bool clear_by(const Scenario &s, double x, double y, double need)
 {
-    const double walls = std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
-    if (!(walls >= need)) return false;
+    if (!(wall_distance(s, x, y) >= need)) return false;
     for (const Obstacle &o : s.obstacles) {
         if (obstacle_distance(o, x, y) < need) return false;
     }

@@ -23,7 +23,8 @@ void extent(const Obstacle &o, int axis, double *lo, double *hi)
     *hi = mid + half;
 }
 
-// A box turned by a multiple of 90 degrees: its faces are straight lines of the grid's kind.
+}  // namespace
+
 bool axis_aligned(const Obstacle &o)
 {
     if (o.shape != Obstacle::Shape::Box) return false;
@@ -31,6 +32,8 @@ bool axis_aligned(const Obstacle &o)
     const double turns = o.angle / quarter;
     return std::fabs(turns - std::round(turns)) < 1e-6;
 }
+
+namespace {
 
 // Whether [a, b] lies inside one obstacle's extent along `axis`.
 bool inside_an_obstacle(const Scenario &s, int axis, double a, double b)
@@ -282,7 +285,7 @@ namespace {
 // The nearest wall or obstacle to (x, y): its distance and its line (0: the arena's wall).
 double nearest(const Scenario &s, double x, double y, int *line)
 {
-    double d = std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
+    double d = wall_distance(s, x, y);
     *line = 0;
     for (const Obstacle &o : s.obstacles) {
         const double od = obstacle_distance(o, x, y);
@@ -310,9 +313,6 @@ bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, d
         *x = x0 + f * (x1 - x0);
         *y = y0 + f * (y1 - y0);
     };
-    auto walls = [&s](double x, double y) {
-        return std::min(std::min(x, s.arena_w - x), std::min(y, s.arena_h - y));
-    };
     // The obstacles near samples first to last, of those in `from`; whether the walls are far.
     auto near_run = [&](int first, int last, const std::vector<const Obstacle *> &from,
                         std::vector<const Obstacle *> *near) {
@@ -324,7 +324,7 @@ bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, d
         for (const Obstacle *o : from) {
             if (!(obstacle_distance(*o, mx, my) - half >= side + 1e-6)) near->push_back(o);
         }
-        return walls(mx, my) - half >= side + 1e-6;
+        return wall_distance(s, mx, my) - half >= side + 1e-6;
     };
     std::vector<const Obstacle *> all, step, near;
     for (const Obstacle &o : s.obstacles) all.push_back(&o);
@@ -336,7 +336,7 @@ bool step_clear(const Scenario &s, double x0, double y0, double x1, double y1, d
         for (int k = first; k <= last; k++) {
             double x = 0, y = 0;
             at(k, &x, &y);
-            if (!walls_far && !(walls(x, y) >= side)) return false;
+            if (!walls_far && !(wall_distance(s, x, y) >= side)) return false;
             for (const Obstacle *o : near) {
                 if (obstacle_distance(*o, x, y) < side) return false;  // a NaN passes, as in clearance()
             }

@@ -54,7 +54,7 @@ FreeGrid free_grid(const Scenario &s, PassageReport *rep)
     for (long j = 0; j < ny; j++) {
         for (long i = 0; i < nx; i++) {
             const double x = step / 2 + i * step, y = step / 2 + j * step;
-            clear[static_cast<std::size_t>(j * nx + i)] = std::min({x, s.arena_w - x, y, s.arena_h - y});
+            clear[static_cast<std::size_t>(j * nx + i)] = wall_distance(s, x, y);
         }
     }
     for (const Obstacle &o : s.obstacles) {
@@ -156,11 +156,11 @@ std::vector<double> widest_ways(const FreeGrid &g, long from, std::vector<long> 
     return best;
 }
 
-Pinch widest_way_pinch(const FreeGrid &g, long from)
+// The pinch on the widest way from `from`, given widest_ways()' `best` (complete at least up to
+// `from`) and its goal points.
+Pinch pinch_on(const FreeGrid &g, const std::vector<double> &best, const std::vector<long> &goal, long from)
 {
     const long n = g.nx * g.ny;
-    std::vector<long> goal;
-    const std::vector<double> best = widest_ways(g, from, &goal);
     Pinch p;
     const double b = best[static_cast<std::size_t>(from)];
     if (b <= 0.0) return p;  // walled off entirely
@@ -194,6 +194,13 @@ Pinch widest_way_pinch(const FreeGrid &g, long from)
         }
     }
     return p;
+}
+
+Pinch widest_way_pinch(const FreeGrid &g, long from)
+{
+    std::vector<long> goal;
+    const std::vector<double> best = widest_ways(g, from, &goal);
+    return pinch_on(g, best, goal, from);
 }
 
 using PlaceLinks = std::vector<std::array<std::vector<long>, 4>>;
@@ -397,14 +404,12 @@ SlotReport tight_slot(const Scenario &s)
     }
     rep.limit = 2.0 * limit;
     for (const auto &[b, e] : by_width) {
-        const Pinch p = widest_way_pinch(g, e.second);
+        const Pinch p = pinch_on(g, best, goal, e.second);  // one search serves every start
         if (p.at < 0) continue;
         const double x = g.x(p.at % g.nx), y = g.y(p.at / g.nx);
         // The obstacles that make the pinch: those within a grid step of its clearance.
         for (const Obstacle &o : s.obstacles) {
-            const bool square =
-                o.shape == Obstacle::Shape::Box && std::fabs(std::remainder(o.angle, 1.5707963267948966)) < 1e-6;
-            if (square || !(obstacle_distance(o, x, y) < b + g.step)) continue;
+            if (axis_aligned(o) || !(obstacle_distance(o, x, y) < b + g.step)) continue;
             if (rep.behind == 0 || 2.0 * b < rep.width) {
                 rep.width = 2.0 * b;
                 rep.x = x;

@@ -164,24 +164,19 @@ void UserDrawer::along_walls(Drawn *o, int n)
         const bool across_x = wall < 2;                   // the wall is one of constant x
         Obstacle b;
         const bool round = coin(0.25);
-        double ex = 0, ey = 0, deg = 0;  // half extents along x and y
+        double deg = 0;
         if (round) {
             b.shape = Obstacle::Shape::Circle;
             b.radius = q_size(in_d(kPillarR));
-            ex = ey = b.radius;
         } else {
             b.shape = Obstacle::Shape::Box;
-            const double along = q_size(in_d(kFurniture)), deep = q_size(in_d(kFurniture) * 0.5);
+            b.w = q_size(in_d(kFurniture));  // along the wall: a wall of constant x has it along y
+            b.h = q_size(in_d(kFurniture) * 0.5);
             deg = coin(kAskew) ? std::round(u(kAskewDeg[0], kAskewDeg[1])) * (coin(0.5) ? 1 : -1) : 0.0;
-            // Along the wall is the box's w; a wall of constant x has it along y.
-            b.w = along;
-            b.h = deep;
-            const double a = (across_x ? 90.0 + deg : deg) * kPi / 180.0;
-            b.angle = a;
-            const double c = std::fabs(std::cos(a)), sn = std::fabs(std::sin(a));
-            ex = (b.w * c + b.h * sn) / 2.0;
-            ey = (b.w * sn + b.h * c) / 2.0;
+            b.angle = (across_x ? 90.0 + deg : deg) * kPi / 180.0;
         }
+        double ex = 0, ey = 0;  // half extents along x and y
+        extents(b, &ex, &ey);
         const double gap = coin(kAgainstWall) ? 0.0 : in_d(kSlot);
         const double side = across_x ? o->w : o->h, len = across_x ? o->h : o->w;
         const double half_in = across_x ? ex : ey, half_along = across_x ? ey : ex;

@@ -52,6 +52,10 @@
 
 namespace world {
 
+/// A box turned by a multiple of 90 degrees: its faces are straight lines of the grid's kind
+/// (only those faces cut a fitted grid).
+bool axis_aligned(const Obstacle &o);
+
 /// Most cells along one side of a fitted grid (the firmware's ROBOT_MAX_GRID_CELLS).
 inline constexpr int kMaxGridCells = 32;
 /// Obstacle faces closer than this (m) to each other or to a wall are one cut.

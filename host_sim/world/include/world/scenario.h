@@ -288,6 +288,9 @@ double robot_radius(const RobotSpec &robot);
 /// Signed distance from (x, y) to one obstacle's surface, m (negative inside it).
 double obstacle_distance(const Obstacle &o, double x, double y);
 
+/// Distance from (x, y) to the nearest of the arena's walls, m (negative outside the arena).
+double wall_distance(const Scenario &s, double x, double y);
+
 /// Distance from (x, y) to the nearest wall or obstacle surface, m (negative inside one).
 double clearance(const Scenario &s, double x, double y);
 
