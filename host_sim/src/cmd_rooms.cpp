@@ -128,6 +128,9 @@ void load_checked(const std::string &file, world::Scenario &s)
 // --check's report of one room: its passages, wall faces inside state cells, its longest path.
 void check_one(const world::Scenario &s)
 {
+    for (const world::ConstantCodeBit &c : world::constant_code_bits(s)) {
+        std::printf("%s:%d: warning: %s\n", s.path.c_str(), c.line, world::constant_code_bit_warning(s, c).c_str());
+    }
     const world::PassageReport r = world::check_passages(s);
     if (!r.ok) throw UsageError(s.path + ": " + r.problem);
     std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "

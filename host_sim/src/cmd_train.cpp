@@ -276,6 +276,10 @@ struct TrainTally {
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
     if (s.quiet || s.scenario.find('/') == std::string::npos) return;
+    for (const world::ConstantCodeBit &c : world::constant_code_bits(*sb.world)) {
+        std::fprintf(stderr, "%s train: warning: %s:%d: %s\n", program.c_str(), s.scenario.c_str(), c.line,
+                     world::constant_code_bit_warning(*sb.world, c).c_str());
+    }
     if (const int faces = world::faces_inside_cells(*sb.world)) {
         std::fprintf(stderr,
                      "%s train: warning: %s: %d wall face(s) lie inside state cells of the equal grid; 'encode "

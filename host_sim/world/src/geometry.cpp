@@ -2,7 +2,10 @@
 // dynaqpc world: distances in the arena (scenario validation and start poses) and the sensor code.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "world/scenario.h"
 
@@ -245,6 +248,30 @@ std::uint32_t sensor_code(const Scenario &s, const float *ranges)
         }
     }
     return code;
+}
+
+std::vector<ConstantCodeBit> constant_code_bits(const Scenario &s)
+{
+    std::vector<ConstantCodeBit> out;
+    const float lo = static_cast<float>(s.ranger.min_range), hi = static_cast<float>(s.ranger.max_range);
+    for (std::size_t b = 0; b < s.code_bits.size(); ++b) {
+        const float t = static_cast<float>(s.code_bits[b].threshold);
+        if (hi < t || t <= lo) out.push_back({static_cast<int>(b), s.code_bits[b].line, hi < t});
+    }
+    return out;
+}
+
+std::string constant_code_bit_warning(const Scenario &s, const ConstantCodeBit &c)
+{
+    char buf[320];
+    const double t = s.code_bits[static_cast<std::size_t>(c.bit)].threshold;
+    std::snprintf(buf, sizeof buf,
+                  "code_bit %g (bit %d) is %s set: its rays read %g to %g m (the ranger's min and max), %s "
+                  "%g, so it tells the robot nothing; give a threshold above %g and up to %g m",
+                  t, c.bit, c.always ? "always" : "never", s.ranger.min_range,
+                  s.ranger.max_range, c.always ? "all below" : "none below", t, s.ranger.min_range,
+                  s.ranger.max_range);
+    return buf;
 }
 
 }  // namespace world

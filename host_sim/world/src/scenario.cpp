@@ -448,6 +448,7 @@ bool Parser::key_code_bit(const Tokens &t, Scenario *s)
         if (!integer(t[i], "code_bit ray index", 0, kMaxRays - 1, &idx)) return false;
         b.rays.push_back(idx);
     }
+    b.line = line_;
     s->code_bits.push_back(b);
     code_bit_lines_.push_back(line_);
     return true;

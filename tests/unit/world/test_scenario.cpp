@@ -122,6 +122,39 @@ void test_gamma_auto(void **state)
     assert_non_null(std::strstr(err.c_str(), "gamma"));
 }
 
+// A code bit whose threshold no reading crosses never changes: readings lie in [min, max], so a
+// threshold above max is always set and one at or below min never; max itself (a hit read below
+// it) and anything just above min change. rooms --check and train warn of such a bit, its line
+// and the ranger's range (a new user's 5 ToF rays of 0.04-0.30 m with `code_bit 0.40 0`).
+void test_constant_code_bits(void **state)
+{
+    (void)state;
+    const std::string head = "arena 4 4\nrobot length 0.3 width 0.2 track 0.18\n"
+                             "ranger kind ir min 0.04 max 0.30\nray 0\nray 45\nencode x 2 y 2 heading 2\n"
+                             "goal 2.5 2.5 0.6\n";
+    world::Scenario s;
+    std::string err;
+    assert_true(world::parse_scenario(head + "code_bit 0.30 0\ncode_bit 0.041 1\n", "b.scn", &s, &err));
+    assert_true(world::constant_code_bits(s).empty());
+    assert_true(world::parse_scenario(head + "code_bit 0.40 0\ncode_bit 0.2 0 1\ncode_bit 0.04 1\n"
+                                             "code_bit 0.03 0\n",
+                                      "b.scn", &s, &err));
+    const std::vector<world::ConstantCodeBit> c = world::constant_code_bits(s);
+    assert_int_equal(c.size(), 3);
+    assert_int_equal(c[0].bit, 0);
+    assert_int_equal(c[0].line, 8);
+    assert_true(c[0].always);
+    assert_int_equal(c[1].bit, 2);
+    assert_int_equal(c[1].line, 10);
+    assert_false(c[1].always);
+    assert_int_equal(c[2].line, 11);
+    assert_string_equal(world::constant_code_bit_warning(s, c[0]).c_str(),
+                        "code_bit 0.4 (bit 0) is always set: its rays read 0.04 to 0.3 m (the ranger's min and "
+                        "max), all below 0.4, so it tells the robot nothing; give a threshold above 0.04 and up to "
+                        "0.3 m");
+    assert_non_null(std::strstr(world::constant_code_bit_warning(s, c[2]).c_str(), "code_bit 0.03 (bit 3) is never set"));
+}
+
 // `encode auto`: the cells fitted to the room (world/grid_fit.h). A 4 x 2 m floor with a 0.1 m
 // partition at x 1.95-2.05 (y 0-1.4: a 0.6 m doorway above it) and 0.5 m steps: along x a cut at
 // each face of the partition, the partition its own thin cell, the gaps on either side cut into
@@ -705,6 +738,7 @@ int run_scenario_tests(void)
         cmocka_unit_test(test_paper_lab_parses),
         cmocka_unit_test(test_goal_cells),
         cmocka_unit_test(test_gamma_auto),
+        cmocka_unit_test(test_constant_code_bits),
         cmocka_unit_test(test_encode_auto),
         cmocka_unit_test(test_encode_auto_past),
         cmocka_unit_test(test_encode_auto_pinch),

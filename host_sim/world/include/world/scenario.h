@@ -72,6 +72,7 @@ struct RangerSpec {
 struct CodeBit {
     double threshold = 0.0;  ///< m
     std::vector<int> rays;   ///< indices into RangerSpec::rays
+    int line = 0;            ///< line of the scenario file that defined it
 };
 
 struct GyroSpec {
@@ -305,6 +306,18 @@ double start_grid_step(const Scenario &s);
 
 /// The sensor code of a set of readings (one per ray): bit i = CodeBit i.
 std::uint32_t sensor_code(const Scenario &s, const float *ranges);
+
+/// A code bit that can never change: every reading lies in [min, max] of the ranger, so a
+/// threshold above `max` is always passed (the bit always set) and one at or below `min` never
+/// (compared in single precision, as the firmware compares).
+struct ConstantCodeBit {
+    int bit = 0, line = 0;
+    bool always = false;  ///< always set; else never set
+};
+std::vector<ConstantCodeBit> constant_code_bits(const Scenario &s);
+/// What to tell a user of it, after "<file>:<line>: warning: ": "code_bit 0.4 (bit 0) is always
+/// set: its rays read 0.04 to 0.3 m ...", and what threshold to give.
+std::string constant_code_bit_warning(const Scenario &s, const ConstantCodeBit &c);
 
 }  // namespace world
 
