@@ -275,7 +275,7 @@ struct TrainTally {
 // start there cannot learn).
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
-    if (s.quiet || s.scenario.find('/') == std::string::npos) return;
+    if (s.quiet || world::resolve_scenario_path(s.scenario) != s.scenario) return;  // a shipped name
     for (const world::ConstantCodeBit &c : world::constant_code_bits(*sb.world)) {
         std::fprintf(stderr, "%s train: warning: %s:%d: %s\n", program.c_str(), s.scenario.c_str(), c.line,
                      world::constant_code_bit_warning(*sb.world, c).c_str());
