@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "learning_record.h"
 #include "options.h"
 #include "scenario_bridge.h"
 #include "world/grid_fit.h"
@@ -97,8 +98,9 @@ void declare_options(Options &o, RoomsArgs &a)
     o.add_string("--check", "FILE",
                  "instead: check one scenario file as the rooms are checked (it parses; every start "
                  "reaches the goal through passages at least the robot's diagonal wide); it also warns "
-                 "where the room's grid or furniture may make the robot relapse, and says when encode "
-                 "auto chose another cell side (docs/scenarios.md)",
+                 "of code bits no reading changes, where the room's grid or furniture may make the robot "
+                 "relapse and when its longest path is longer than train's learned threshold, and says "
+                 "when encode auto chose another cell side (docs/scenarios.md)",
                  &a.check);
     o.add_string("--changed", "FILE",
                  "with --check: also check FILE, a room that --check's becomes during a run (train "
@@ -120,13 +122,16 @@ void print_help()
 
 // The file as the world reads it, refused as train would refuse it: the firmware's limits (code
 // bits, range sensors, Cricket beacons, a pose source) are narrower than the world's.
-void load_checked(const std::string &file, world::Scenario &s)
+robot_config_t load_checked(const std::string &file, world::Scenario &s)
 {
-    s = *load_scenario(file).world;
+    const ScenarioBundle b = load_scenario(file);
+    s = *b.world;
+    return b.robot;
 }
 
-// --check's report of one room: its passages, wall faces inside state cells, its longest path.
-void check_one(const world::Scenario &s)
+// --check's report of one room: its passages, wall faces inside state cells, its longest path
+// against the steps within which train counts an episode toward learning (the robot's default).
+void check_one(const world::Scenario &s, const robot_config_t &robot)
 {
     for (const world::ConstantCodeBit &c : world::constant_code_bits(s)) {
         std::printf("%s:%d: warning: %s\n", s.path.c_str(), c.line, world::constant_code_bit_warning(s, c).c_str());
@@ -182,6 +187,10 @@ void check_one(const world::Scenario &s)
         std::printf("%s: longest path: %ld actions from the farthest start to the goal at best (%dx%d state "
                     "cells, forward/backward one cell, 90-degree turns)\n",
                     s.path.c_str(), p.longest, p.nx, p.ny);
+        const std::string late = long_path_warning(p.longest, p.beyond(default_learned_threshold(robot)),
+                                                   p.start_states, default_learned_threshold(robot),
+                                                   default_threshold_source(robot), s.encoding.fitted);
+        if (!late.empty()) std::printf("%s: warning: %s\n", s.path.c_str(), late.c_str());
     } else {
         std::printf("%s: longest path: none: %ld of %ld start (place, heading) pairs cannot reach the goal "
                     "one state cell at a time (%dx%d cells)\n",
@@ -196,17 +205,18 @@ void check_rooms(const Options &o, const RoomsArgs &a)
         if (o.seen(other)) throw UsageError(std::string("--check: cannot be combined with ") + other);
     }
     world::Scenario before, after;
-    load_checked(a.check, before);
+    const robot_config_t robot = load_checked(a.check, before);
+    robot_config_t robot_after{};
     if (o.seen("--changed")) {  // the pair first: a refusal prints nothing else
-        load_checked(a.changed, after);
+        robot_after = load_checked(a.changed, after);
         const std::string problem = world::layout_change_problem(before, after);
         if (!problem.empty()) {
             throw UsageError("--changed: " + after.path + " is not a change of " + before.path + ": " + problem);
         }
     }
-    check_one(before);
+    check_one(before, robot);
     if (o.seen("--changed")) {
-        check_one(after);
+        check_one(after, robot_after);
         std::printf("%s: a change of %s: only the obstacles differ (%zu -> %zu)\n", after.path.c_str(),
                     before.path.c_str(), before.obstacles.size(), after.obstacles.size());
     }

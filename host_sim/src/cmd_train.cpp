@@ -307,6 +307,16 @@ void warn_room(const std::string &program, const TrainSettings &s, const Scenari
                      "where)\n",
                      program.c_str(), s.scenario.c_str(), slot.behind, slot.starts, slot.limit);
     }
+    if (const world::PathReport p = world::longest_path(*sb.world); p.longest >= 0) {
+        const std::uint32_t threshold = s.threshold != 0 ? s.threshold : default_learned_threshold(sb.robot);
+        const std::string late =
+            long_path_warning(p.longest, p.beyond(threshold), p.start_states, threshold,
+                              s.threshold != 0 ? "--threshold" : default_threshold_source(sb.robot),
+                              sb.world->encoding.fitted);
+        if (!late.empty()) {
+            std::fprintf(stderr, "%s train: warning: %s: %s\n", program.c_str(), s.scenario.c_str(), late.c_str());
+        }
+    }
     const world::PassageReport passages = world::check_passages(*sb.world);
     if (!passages.ok) {
         std::fprintf(stderr, "%s train: warning: %s: %s: the robot cannot learn from those starts\n",

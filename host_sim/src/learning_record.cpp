@@ -3,6 +3,7 @@
 #include "learning_record.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace dynaqpc {
 
@@ -39,6 +40,26 @@ SetRecord record_of_set(const std::vector<EpisodeOutcome> &episodes, std::uint32
 std::uint32_t default_learned_threshold(const robot_config_t &cfg)
 {
     return cfg.pose_source == ROBOT_POSE_CRICKET ? 50u : 500u;
+}
+
+const char *default_threshold_source(const robot_config_t &cfg)
+{
+    return cfg.pose_source == ROBOT_POSE_CRICKET ? "train's default for a robot on Cricket beacons; 500 on GPS"
+                                                 : "train's default for a robot on GPS; 50 on Cricket beacons";
+}
+
+std::string long_path_warning(long longest, long beyond, long starts, std::uint32_t threshold,
+                              const std::string &which, bool fitted)
+{
+    if (longest <= static_cast<long>(threshold)) return "";
+    char line[640];
+    std::snprintf(line, sizeof line,
+                  "the longest path, %ld actions at best, is longer than the %u steps within which an episode "
+                  "counts toward learning (%s): episodes from %ld of the %ld start (place, heading) pairs can "
+                  "never count; give train --threshold %ld or more, or %s",
+                  longest, threshold, which.c_str(), beyond, starts, longest,
+                  fitted ? "a larger cell (encode auto cell M)" : "a coarser grid (fewer encode x/y bits) or encode auto");
+    return line;
 }
 
 void print_learning_summary(std::FILE *out, const std::vector<SetRecord> &sets, std::uint32_t threshold)

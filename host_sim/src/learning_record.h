@@ -42,6 +42,17 @@ SetRecord record_of_set(const std::vector<EpisodeOutcome> &episodes, std::uint32
 /// 4.3 x 3.2 m room), 500 for the sonar robot (GPS pose, the paper's 8 x 8 m floor).
 std::uint32_t default_learned_threshold(const robot_config_t &cfg);
 
+/// When a room's longest path at best (world::longest_path(): `longest` actions; `beyond` of its
+/// `starts` (place, heading) pairs need more than `threshold`) is longer than `threshold`, what to
+/// tell the user after "warning: ": episodes from those starts can never count toward learning, and
+/// what to change; "" otherwise. `which` says where the threshold came from ("--threshold", "the
+/// default for a robot on Cricket beacons"); `fitted`: the grid is already `encode auto`'s.
+std::string long_path_warning(long longest, long beyond, long starts, std::uint32_t threshold,
+                              const std::string &which, bool fitted);
+
+/// Where default_learned_threshold() took its figure from, for a message.
+const char *default_threshold_source(const robot_config_t &cfg);
+
 /// Prints the summary of `sets` records: sets learned, median real steps to learn, relapses as a
 /// share of the episodes after learning, the longest run and the sets with a run of 3 or more.
 void print_learning_summary(std::FILE *out, const std::vector<SetRecord> &sets, std::uint32_t threshold);

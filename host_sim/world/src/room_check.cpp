@@ -237,6 +237,28 @@ std::vector<long> distances_from_goal(const PlaceLinks &next, const std::vector<
     return dist;
 }
 
+// The start (place, heading) pairs' fewest actions `dist` into `rep`: how many, how many reach no
+// goal, how many need d actions, the longest (-1 when some reach none).
+void count_starts(const std::vector<long> &dist, const std::vector<unsigned char> &flags, PathReport *rep)
+{
+    long longest = 0;
+    for (std::size_t p = 0; p < flags.size(); p++) {
+        if (!(flags[p] & kStart)) continue;
+        for (std::size_t h = 0; h < 4; h++) {
+            rep->start_states++;
+            const long d = dist[p * 4 + h];
+            if (d < 0) {
+                rep->stranded++;
+                continue;
+            }
+            longest = std::max(longest, d);
+            if (rep->by_actions.size() <= static_cast<std::size_t>(d)) rep->by_actions.resize(static_cast<std::size_t>(d) + 1);
+            rep->by_actions[static_cast<std::size_t>(d)]++;
+        }
+    }
+    rep->longest = rep->stranded > 0 || rep->start_states == 0 ? -1 : longest;
+}
+
 }  // namespace
 
 PassageReport check_passages(const Scenario &s)
@@ -365,18 +387,7 @@ PathReport longest_path(const Scenario &s)
             v.erase(std::unique(v.begin(), v.end()), v.end());
         }
     }
-    const std::vector<long> dist = distances_from_goal(next, flags);
-    long longest = 0;
-    for (long p = 0; p < places; p++) {
-        if (!(flags[static_cast<std::size_t>(p)] & kStart)) continue;
-        for (int h = 0; h < 4; h++) {
-            rep.start_states++;
-            const long d = dist[static_cast<std::size_t>(p * 4 + h)];
-            if (d < 0) rep.stranded++;
-            longest = std::max(longest, d);
-        }
-    }
-    rep.longest = rep.stranded > 0 || rep.start_states == 0 ? -1 : longest;
+    count_starts(distances_from_goal(next, flags), flags, &rep);
     return rep;
 }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Tests of the learning record (host_sim/src/learning_record.h): when a set has learned, which
 // later episodes are relapses, and their longest run.
+#include <cstring>
+#include <string>
 #include <vector>
 
 // cmocka 1.1.5's header has no extern "C" of its own.
@@ -62,6 +64,23 @@ void default_thresholds(void **state)
     assert_int_equal(dynaqpc::default_learned_threshold(c), 500);
 }
 
+// A room whose farthest start needs more actions at best than the threshold: episodes from there
+// can never count toward learning, and the warning says how many starts and what to change.
+void long_path_warns_over_threshold(void **state)
+{
+    (void)state;
+    assert_string_equal(dynaqpc::long_path_warning(50, 0, 100, 50, "x", false).c_str(), "");
+    const std::string w = dynaqpc::long_path_warning(56, 80, 3068, 50, "--threshold", false);
+    assert_string_equal(w.c_str(), "the longest path, 56 actions at best, is longer than the 50 steps within which an "
+                                   "episode counts toward learning (--threshold): episodes from 80 of the 3068 start "
+                                   "(place, heading) pairs can never count; give train --threshold 56 or more, or a "
+                                   "coarser grid (fewer encode x/y bits) or encode auto");
+    assert_non_null(std::strstr(dynaqpc::long_path_warning(51, 1, 9, 50, "x", true).c_str(), "encode auto cell M"));
+    robot_config_t c{};
+    c.pose_source = ROBOT_POSE_CRICKET;
+    assert_non_null(std::strstr(dynaqpc::default_threshold_source(c), "Cricket beacons; 500 on GPS"));
+}
+
 }  // namespace
 
 int main(void)
@@ -71,6 +90,7 @@ int main(void)
         cmocka_unit_test(learned_then_relapses),
         cmocka_unit_test(threshold_is_inclusive_and_goal_needed),
         cmocka_unit_test(default_thresholds),
+        cmocka_unit_test(long_path_warns_over_threshold),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

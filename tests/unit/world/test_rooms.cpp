@@ -399,6 +399,16 @@ void test_longest_path_corridor(void **state)
     assert_int_equal(r.places, 30);
     assert_int_equal(r.stranded, 0);
     assert_int_equal(r.longest, 28);
+    // The start pairs by their actions: column 1 facing north or south needs 28, facing east or
+    // west 27 as column 2 facing north or south does; train's learned threshold counts them.
+    assert_int_equal(static_cast<long>(r.by_actions.size()), 29);
+    long counted = 0;
+    for (long k : r.by_actions) counted += k;
+    assert_int_equal(counted, r.start_states);
+    assert_int_equal(r.beyond(28), 0);
+    assert_int_equal(r.beyond(27), 2);
+    assert_int_equal(r.beyond(26), 6);
+    assert_int_equal(r.beyond(-1), r.start_states);
     // The goal two columns nearer: 26.
     const world::Scenario nearer = with_layout("paper-sim", walls + "goal 6.8 3.93 0.3\n", equal);
     assert_int_equal(world::longest_path(nearer).longest, 26);

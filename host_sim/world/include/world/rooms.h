@@ -16,9 +16,11 @@
 #ifndef WORLD_ROOMS_H
 #define WORLD_ROOMS_H
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "world/scenario.h"
 
@@ -70,6 +72,15 @@ struct PathReport {
     long start_states = 0;   ///< (place, heading) pairs holding a start point
     long stranded = 0;       ///< start pairs with no path to the goal
     int nx = 0, ny = 0;      ///< the state grid (the encoding's x and y bits over the arena)
+    /// by_actions[d]: the start pairs whose fewest actions to the goal are d (d up to `longest`).
+    std::vector<long> by_actions;
+    /// The start pairs that need more than n actions at best.
+    long beyond(long n) const
+    {
+        long k = 0;
+        for (std::size_t d = static_cast<std::size_t>(std::max(0L, n + 1)); d < by_actions.size(); d++) k += by_actions[d];
+        return k;
+    }
 };
 
 /// The longest shortest path from a start to the goal, in the robot's aligned actions: forward
