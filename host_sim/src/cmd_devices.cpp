@@ -4,10 +4,11 @@
 //
 // One thread. World time advances in physics steps (the scenario's physics_dt); step k is due at
 // wall time k * dt / speed after the start. At each step the devices' due frames go on the bus
-// (paced by vcan: UDP has no flow control) and the Cricket listener's lines into the pty; until
-// the next step is due the bus is read: MOTOR_CMD drives the wheels, and the supervisor watches
-// the firmware's telemetry. A step that falls behind its wall time (a busy host) runs at once,
-// so world time keeps up with the firmware's clock; such steps are counted (late_steps).
+// (paced by vcan: UDP has no flow control; a frame due between two steps at its own time) and the
+// Cricket listener's lines into the pty; until the next step is due the bus is read: MOTOR_CMD
+// drives the wheels, and the supervisor watches the firmware's telemetry. A step that falls
+// behind its wall time (a busy host) runs at once, so world time keeps up with the firmware's
+// clock; such steps are counted (late_steps).
 #include <poll.h>
 #include <signal.h>
 
@@ -410,6 +411,11 @@ void run_devices(const std::string &, const Options &o, DevicesSettings &s)
         if (s.duration > 0.0 && std::chrono::duration<double>(Clock::now() - wall0).count() >= s.duration) break;
         if (s.supervise) sup.poll(t_us);
         emit(devices, bus, cricket ? &pty : nullptr, t_us, &frames, &serial, &pty_bytes, &pty_dropped);
+        // A device's frame due between two physics steps goes on the bus at its own time.
+        for (std::uint64_t at = devices.next_due_us(); at < t_us + dt_us; at = devices.next_due_us()) {
+            receive_until(bus, wall_of(at), on_frame);
+            emit(devices, bus, cricket ? &pty : nullptr, at, &frames, &serial, &pty_bytes, &pty_dropped);
+        }
         const auto due = wall_of(t_us + dt_us);
         if (Clock::now() > due) late_steps++;
         receive_until(bus, due, on_frame);

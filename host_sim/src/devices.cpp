@@ -28,6 +28,15 @@ std::uint16_t to_mm(double m, std::uint16_t max_mm)
     return static_cast<std::uint16_t>(std::clamp(mm, 0.0, static_cast<double>(max_mm)));
 }
 
+// Whether a frame of a device whose next frame is due at `*due` is due by t; if so the one after
+// is due a cycle later.
+bool take_due(std::uint64_t *due, std::uint64_t cycle, std::uint64_t t)
+{
+    if (*due > t) return false;
+    *due += cycle;
+    return true;
+}
+
 }  // namespace
 
 Devices::Devices(world::World &world, std::uint32_t seed)
@@ -70,10 +79,27 @@ void Devices::check_timeouts(std::uint64_t t_us)
     }
 }
 
+std::uint64_t Devices::ranges_cycle() const
+{
+    return sc_.ranger.kind == world::RangerSpec::Kind::Ir ? DeviceCycles::kIr : DeviceCycles::kSonar;
+}
+
+std::uint64_t Devices::next_due_us() const
+{
+    const std::uint64_t due = std::min({motor_due_, gyro_due_, ranges_due_});
+    return sc_.gps.enabled ? std::min(due, gps_due_) : due;
+}
+
+// Why each device keeps its own clock: a real controller sends MOTOR_STATUS every 48 ms and the
+// gyro every 16 ms, whatever the simulation's physics step. A device that spoke only at the
+// physics steps on its cycle (t % cycle == 0) fell silent for the least common multiple of the
+// two: with physics_dt 0.02 the gyro spoke every 80 ms and MOTOR_STATUS every 240 ms, while the
+// gyro's counter said one 16 ms sample had passed, so the firmware turned its heading by a fifth
+// of each turn and its dead reckoning called every Cricket fix a jump.
 void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::string *serial)
 {
     hal_can_frame_t f;
-    if (t % DeviceCycles::kMotorStatus == 0) {
+    while (take_due(&motor_due_, DeviceCycles::kMotorStatus, t)) {
         const world::WheelSpeeds w = world_.wheel_speeds();
         motor_status_t st{};
         st.speed_left_mm_s = static_cast<std::int16_t>(std::lround(std::clamp(w.left * 1000.0, -2000.0, 2000.0)));
@@ -84,32 +110,36 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
         bump_since_status_ = false;
         if (motor_encode_status(&motor_ctr_, &st, &f) == FW_OK) frames->push_back(f);
     }
-    if (t % DeviceCycles::kGyro == 0) {
+    while (take_due(&gyro_due_, DeviceCycles::kGyro, t)) {
         const double cdeg = std::clamp(world_.gyro_rate() * kRadToCdeg, -GYRO_RANGE_DEG_S * 100.0, GYRO_RANGE_DEG_S * 100.0);
         if (gyro_encode_rate(&gyro_ctr_, static_cast<std::int16_t>(std::lround(cdeg)), 25, GYRO_STATUS_OK, &f) == FW_OK)
             frames->push_back(f);
     }
     const bool ir = sc_.ranger.kind == world::RangerSpec::Kind::Ir;
-    if (ir && t % DeviceCycles::kIr == 0 && ranges_.size() >= RANGES_IR_COUNT) {
-        world_.range_readings(ranges_.data());
-        std::uint16_t mm[RANGES_IR_COUNT];
-        bool valid[RANGES_IR_COUNT];
-        for (unsigned i = 0; i < RANGES_IR_COUNT; i++) {
-            valid[i] = ranges_[i] < sc_.ranger.max_range;  // max range: nothing in view
-            mm[i] = to_mm(ranges_[i], RANGES_IR_MAX_MM);
+    while (take_due(&ranges_due_, ranges_cycle(), t)) {
+        if (ir && ranges_.size() >= RANGES_IR_COUNT) {
+            world_.range_readings(ranges_.data());
+            std::uint16_t mm[RANGES_IR_COUNT];
+            bool valid[RANGES_IR_COUNT];
+            for (unsigned i = 0; i < RANGES_IR_COUNT; i++) {
+                valid[i] = ranges_[i] < sc_.ranger.max_range;  // max range: nothing in view
+                mm[i] = to_mm(ranges_[i], RANGES_IR_MAX_MM);
+            }
+            if (ranges_encode_ir(&ir_ctr_, mm, valid, &f) == FW_OK) frames->push_back(f);
         }
-        if (ranges_encode_ir(&ir_ctr_, mm, valid, &f) == FW_OK) frames->push_back(f);
-    }
-    if (!ir && t % DeviceCycles::kSonar == 0 && ranges_.size() >= RANGES_SONAR_COUNT) {
-        world_.range_readings(ranges_.data());
-        std::uint16_t mm[RANGES_SONAR_COUNT];
-        for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
-            mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
+        if (!ir && ranges_.size() >= RANGES_SONAR_COUNT) {
+            world_.range_readings(ranges_.data());
+            std::uint16_t mm[RANGES_SONAR_COUNT];
+            for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
+                mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
+            }
+            hal_can_frame_t scan[RANGES_SONAR_PARTS];
+            if (ranges_encode_sonar(&sonar_ctr_, mm, scan) == FW_OK) {
+                frames->insert(frames->end(), scan, scan + RANGES_SONAR_PARTS);
+            }
         }
-        hal_can_frame_t scan[RANGES_SONAR_PARTS];
-        if (ranges_encode_sonar(&sonar_ctr_, mm, scan) == FW_OK) frames->insert(frames->end(), scan, scan + RANGES_SONAR_PARTS);
     }
-    if (sc_.gps.enabled && t % DeviceCycles::kGps == 0) {
+    while (sc_.gps.enabled && take_due(&gps_due_, DeviceCycles::kGps, t)) {
         const world::Pose p = world_.gps_pose();
         gps_pose_t gp{};
         gp.x_mm = static_cast<std::int16_t>(std::lround(std::clamp(p.x * 1000.0, -32000.0, 32000.0)));

@@ -29,15 +29,22 @@ struct DeviceCycles {
     static constexpr std::uint64_t kGps = 96000;
 };
 
-/// The devices of one simulated robot. Time is the world's, in µs on the physics step grid.
+/// The devices of one simulated robot. Time is the world's, in µs.
 class Devices {
 public:
     Devices(world::World &world, std::uint32_t seed);
     ~Devices();
 
-    /// Frames due at `t_us` (every device whose cycle divides t), from the world's state now,
-    /// appended to `frames`; Cricket listener lines heard up to t appended to `serial`.
+    /// Frames due by `t_us`, from the world's state now, appended to `frames`: each device sends
+    /// at 0, one cycle, two cycles, ... of its own (DeviceCycles), whether or not a physics step
+    /// falls there, one frame per cycle that has come (a caller that asks only at physics steps
+    /// longer than a cycle gets the cycles it stepped over at once). Cricket listener lines heard
+    /// up to t appended to `serial`.
     void emit(std::uint64_t t_us, std::vector<hal_can_frame_t> *frames, std::string *serial);
+
+    /// When the next periodic frame is due (after the last emit()), µs: the lock-step runner
+    /// delivers it then, between physics steps when a step does not fall on it.
+    std::uint64_t next_due_us() const;
 
     /// A frame on the bus: the motor controller takes MOTOR_CMD and drives the wheels.
     void receive(const hal_can_frame_t &frame, std::uint64_t t_us);
@@ -51,11 +58,15 @@ public:
     std::uint32_t motor_cmds_rejected() const { return motor_rejected_; }
 
 private:
+    std::uint64_t ranges_cycle() const;  // the range board's: IR's or the sonar ring's
+
     world::World &world_;
     const world::Scenario &sc_;
     std::unique_ptr<world::CricketListener> cricket_;
     std::uint8_t motor_ctr_ = 0, gyro_ctr_ = 0, ir_ctr_ = 0, gps_ctr_ = 0;
     std::uint8_t sonar_ctr_ = 0;  // one rolling counter per scan (SONAR_RANGES_A, _B and _C carry it)
+    // When each device's next frame is due (MOTOR_STATUS, GYRO_RATE, the range board, GPS), µs.
+    std::uint64_t motor_due_ = 0, gyro_due_ = 0, ranges_due_ = 0, gps_due_ = 0;
     std::uint64_t last_cmd_us_ = 0;
     bool driving_ = false;
     bool bump_since_status_ = false;

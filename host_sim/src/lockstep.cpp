@@ -2,10 +2,11 @@
 // dynaqpc-sim: the lock-step runner.
 //
 // Time advances in physics steps (16 ms). At each step: the devices put their due frames on the
-// in-process bus and the Cricket listener its serial lines; the firmware runs (sched_step) until
-// it waits; what it sent is taken off the bus (the motor controller obeys MOTOR_CMD, the
-// supervisor watches TLM_EPISODE); then the world moves one step. The firmware sees exactly the
-// frames and bytes a robot's controller would.
+// in-process bus and the Cricket listener its serial lines (a frame due between two steps at its
+// own time, the firmware's clock set to it); the firmware runs (sched_step) until it waits; what
+// it sent is taken off the bus (the motor controller obeys MOTOR_CMD, the supervisor watches
+// TLM_EPISODE); then the world moves one step. The firmware sees exactly the frames and bytes a
+// robot's controller would.
 #include "lockstep.h"
 
 #include <algorithm>
@@ -132,37 +133,48 @@ struct Lockstep::Impl {
         }
     }
 
-    // One physics step of the whole system.
-    void tick()
+    // The firmware runs until it waits for a time after now, or until its clock reaches `until`.
+    // Idle planning never runs out of work while it has time, and on a robot the next sensor
+    // frame interrupts it; here that frame is delivered when the firmware stops, so it must not
+    // plan past it: a firmware clock ahead of the world stamps the next frames late and compresses
+    // their spacing (the gyro's integration broke when idle planning ran up to 350 ms ahead). A
+    // pass is bounded (at most FW_CFG_SCHED_IDLE_STEPS_PER_PASS planning steps), so the lead stays
+    // under one pass; the largest past a physics step is counted in max_lead_us. The pass bound
+    // only guards against a firmware bug spinning the simulator.
+    void run_firmware(std::uint64_t until_us)
     {
-        frames.clear();
-        serial.clear();
-        devices.emit(t_us, &frames, &serial);
-        if (t_us > hal_time_us()) {
-            (void)hal_host_time_set_us(t_us);
-        }
-        for (const hal_can_frame_t &f : frames) {
-            deliver(f);
-        }
-        if (!serial.empty()) {
-            (void)hal_host_uart_feed(reinterpret_cast<const std::uint8_t *>(serial.data()), serial.size());
-        }
-        // The firmware runs until it waits for a time after now, or until its clock reaches the
-        // next physics step. Idle planning never runs out of work while it has time, and on a
-        // robot the next sensor frame interrupts it; here that frame is delivered by the next
-        // tick, so the firmware must not plan past it: a firmware clock ahead of the world stamps
-        // the next frames late and compresses their spacing (the gyro's integration broke
-        // when idle planning ran up to 350 ms ahead). A pass is bounded (at most
-        // FW_CFG_SCHED_IDLE_STEPS_PER_PASS planning steps), so the lead stays under one pass;
-        // the largest is counted in max_lead_us. The pass bound only guards against a firmware
-        // bug spinning the simulator.
-        const std::uint64_t next_tick_us = t_us + dt_us;
         for (int pass = 0; pass < 100000; pass++) {
             robot_app_step();
             take_tx();
-            if (hal_host_wait_deadline() > hal_time_us() || hal_time_us() >= next_tick_us) {
+            if (hal_host_wait_deadline() > hal_time_us() || hal_time_us() >= until_us) {
                 break;
             }
+        }
+    }
+
+    // One physics step of the whole system. The devices' frames come at their own cycles (16 ms,
+    // 48 ms, ...): one due between this step and the next is delivered at its time, the world as
+    // it stands at this step (a physics step that divides every cycle, such as 16 ms, has none).
+    void tick()
+    {
+        const std::uint64_t next_tick_us = t_us + dt_us;
+        for (std::uint64_t at = t_us;;) {
+            frames.clear();
+            serial.clear();
+            devices.emit(at, &frames, &serial);
+            if (at > hal_time_us()) {
+                (void)hal_host_time_set_us(at);
+            }
+            for (const hal_can_frame_t &f : frames) {
+                deliver(f);
+            }
+            if (!serial.empty()) {
+                (void)hal_host_uart_feed(reinterpret_cast<const std::uint8_t *>(serial.data()), serial.size());
+            }
+            const std::uint64_t until = std::min(devices.next_due_us(), next_tick_us);
+            run_firmware(until);
+            if (until == next_tick_us) break;
+            at = until;
         }
         if (hal_time_us() > next_tick_us) {
             max_lead_us = std::max<std::uint64_t>(max_lead_us, hal_time_us() - next_tick_us);
