@@ -54,6 +54,8 @@ struct Lockstep::Impl {
     std::string serial;
     // The episode in progress, as the supervisor sees it on the bus.
     bool episode_over = false;
+    std::uint32_t episode_steps = 0;        // TLM_LEARN frames (steps taken) in the episode
+    std::uint32_t episode_fixes[4] = {0};  // TLM_POSE frames in the episode, by tlm_fix_state
     tlm_episode_t episode{};
     std::uint64_t episode_start_us = 0, episode_end_us = 0;
     TrajectoryPoint point;
@@ -116,6 +118,11 @@ struct Lockstep::Impl {
         while (hal_host_can_take_tx(&f)) {
             devices.receive(f, t_us);
             pose_check.on_frame(f, world.pose());
+            tlm_pose_t pose;
+            if (f.id == DYNAQPC_CAN_TLM_POSE_FRAME_ID && tlm_decode_pose(&f, &pose) == 0) {
+                episode_fixes[std::min<unsigned>(pose.fix_state, TLM_FIX_LOST)]++;
+            }
+            if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID) episode_steps++;
             if (f.id == DYNAQPC_CAN_TLM_EPISODE_FRAME_ID) {
                 if (tlm_decode_episode(&f, &episode) == 0) {
                     episode_over = true;
@@ -208,11 +215,27 @@ struct Lockstep::Impl {
         if (t_us > hal_time_us()) (void)hal_host_time_set_us(t_us);
         deliver(f);
         episode_over = false;
+        episode_steps = 0;
+        std::fill(std::begin(episode_fixes), std::end(episode_fixes), 0u);
         episode_start_us = t_us;
         const std::uint64_t limit_us = episode_limit_us(cfg);
         while (!episode_over) {
             tick();
             if (t_us - episode_start_us > limit_us) {
+                // A robot without a fresh position fix waits for one and takes no step: the step
+                // cap is not what failed (rooms --check refuses beacons in a line).
+                if (episode_steps == 0) {
+                    throw std::runtime_error(
+                        "the firmware took no step in the episode's " +
+                        std::to_string((t_us - episode_start_us) / 1000000u) +
+                        " s of robot time: it waits for a fresh position fix (of its control periods' fixes " +
+                        std::to_string(episode_fixes[TLM_FIX_FRESH]) + " fresh, " +
+                        std::to_string(episode_fixes[TLM_FIX_STALE]) + " stale, " +
+                        std::to_string(episode_fixes[TLM_FIX_MOVING]) + " moving, " +
+                        std::to_string(episode_fixes[TLM_FIX_LOST]) +
+                        " none); check the pose source: dynaqpc-sim rooms --check, docs/scenarios.md (" + counters() +
+                        ")");
+                }
                 throw std::runtime_error("the firmware did not end the episode within its step cap (" +
                                          counters() + ")");
             }

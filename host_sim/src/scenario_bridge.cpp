@@ -10,6 +10,7 @@
 
 #include "drivers/cricket.h"
 #include "drivers/gyro.h"
+#include "drivers/trilat.h"
 #include "options.h"
 #include "world/scenario.h"
 #include "fw/fw_util.h"
@@ -17,6 +18,15 @@
 namespace dynaqpc {
 
 namespace {
+
+// A length in mm as "10 m" or "0.30 m".
+std::string fmt_m(float mm)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, mm >= 1000.0f && std::fmod(mm, 1000.0f) == 0.0f ? "%.0f m" : "%.2f m",
+                  static_cast<double>(mm) / 1000.0);
+    return text;
+}
 
 // The firmware's limits (robot_config.h) are narrower than the world's: say which one is hit.
 void check_firmware_limits(const world::Scenario &sc, const std::string &path)
@@ -34,6 +44,92 @@ void check_firmware_limits(const world::Scenario &sc, const std::string &path)
     if (!sc.gps.enabled && sc.cricket.beacons.size() < 3) {
         fail("no pose source: a gps line, or at least 3 Cricket beacons");
     }
+}
+
+// What the firmware's trilateration makes of the beacons from one point of the floor.
+struct BeaconView {
+    std::size_t in_range = 0;  // beacons within the listener's max_range_mm
+    float spread_mm = 0.0f;    // their RMS distance off the line that fits them best
+    bool fix = false;          // trilat_geometry_ok(): a fix is possible
+};
+
+BeaconView beacon_view(const world::Scenario &sc, const cricket_config &cc, double x, double y)
+{
+    const float listener_z_mm = static_cast<float>(sc.cricket.listener_height) * 1000.0f;
+    trilat_anchor_t in_range[ROBOT_MAX_BEACONS];
+    BeaconView v;
+    for (const world::Beacon &bc : sc.cricket.beacons) {
+        // As the firmware holds them: robot_config_t's float metres, times 1000.
+        const trilat_anchor_t a = {static_cast<float>(bc.x) * 1000.0f, static_cast<float>(bc.y) * 1000.0f,
+                                   static_cast<float>(bc.z) * 1000.0f, 0.0f};
+        const float dx = a.x - static_cast<float>(x * 1000.0), dy = a.y - static_cast<float>(y * 1000.0);
+        const float dz = a.z - listener_z_mm;
+        if (std::sqrt(dx * dx + dy * dy + dz * dz) <= cc.max_range_mm) in_range[v.in_range++] = a;
+    }
+    v.fix = trilat_geometry_ok(in_range, v.in_range, cc.min_spread_mm, &v.spread_mm);
+    return v;
+}
+
+// Where on the floor the firmware can fix the robot's position from the Cricket beacons, by its
+// own rule: the ranges it takes (cricket.c: up to max_range_mm from the listener) must come from
+// 3 beacons or more whose x, y spread at least min_spread_mm across their narrowest direction
+// (trilat_geometry_ok(), the test trilat_solve() refuses a fix by). A layout that fails it, such
+// as beacons along a corridor's middle, gives no fix there: a robot started there waits for one
+// and never takes a step. Checked at the centres of a 5 cm grid over the whole arena.
+void check_beacon_fix(const world::Scenario &sc, const std::string &path)
+{
+    if (sc.gps.enabled || sc.cricket.beacons.size() < 3 || sc.cricket.beacons.size() > ROBOT_MAX_BEACONS) {
+        return;
+    }
+    cricket_config cc;
+    cricket_default_config(&cc);
+    constexpr double kGrid = 0.05;
+    const long nx = std::max(1L, std::lround(std::ceil(sc.arena_w / kGrid)));
+    const long ny = std::max(1L, std::lround(std::ceil(sc.arena_h / kGrid)));
+    long bad = 0;
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0, at_x = 0, at_y = 0;
+    BeaconView first;  // at the first point without a fix
+    for (long j = 0; j < ny; j++) {
+        for (long i = 0; i < nx; i++) {
+            const double x = std::min((i + 0.5) * kGrid, sc.arena_w), y = std::min((j + 0.5) * kGrid, sc.arena_h);
+            const BeaconView v = beacon_view(sc, cc, x, y);
+            if (v.fix) continue;
+            if (bad++ == 0) {
+                x0 = x1 = at_x = x;
+                y0 = y1 = at_y = y;
+                first = v;
+            }
+            x0 = std::min(x0, x);
+            x1 = std::max(x1, x);
+            y0 = std::min(y0, y);
+            y1 = std::max(y1, y);
+        }
+    }
+    if (bad == 0) return;
+    char text[240];
+    std::string msg = path + ": the Cricket beacons give the firmware no position fix ";
+    if (bad == nx * ny) {
+        msg += "anywhere on the floor: ";
+    } else {
+        const double share = std::max(1.0, std::floor(100.0 * static_cast<double>(bad) / static_cast<double>(nx * ny)));
+        std::snprintf(text, sizeof text, "on %.0f %% of the floor (within x %.2f-%.2f m, y %.2f-%.2f m): at (%.2f, %.2f) ",
+                      share, x0 - kGrid / 2, x1 + kGrid / 2, y0 - kGrid / 2, y1 + kGrid / 2, at_x, at_y);
+        msg += text;
+    }
+    const std::string range = fmt_m(cc.max_range_mm);
+    if (first.in_range < 3) {
+        std::snprintf(text, sizeof text, "only %zu beacon(s) lie within the listener's %s", first.in_range,
+                      range.c_str());
+    } else {
+        std::snprintf(text, sizeof text, "the %zu beacons within the listener's %s lie along a line (%.2f m RMS off it)",
+                      first.in_range, range.c_str(), static_cast<double>(first.spread_mm) / 1000.0);
+    }
+    msg += text;
+    msg += ", and its trilateration needs 3 or more within " + range + " spread at least " + fmt_m(cc.min_spread_mm) +
+           " RMS off any line: ";
+    msg += first.in_range < 3 ? "place 3 beacons or more within " + range + " of every point, not in a line"
+                              : std::string("place the beacons not in a line, e.g. one over each corner region");
+    throw UsageError(msg + " (docs/scenarios.md, \"beacon\")");
 }
 
 // "1:5e:3c:3c:a:0:0:b1" (the listener's ID field) as the Cricket driver reads it.
@@ -157,6 +253,7 @@ ScenarioBundle load_scenario(const std::string &arg)
     b.path = sc->path;
     b.name = sc->name;
     check_firmware_limits(*sc, b.path.empty() ? arg : b.path);
+    check_beacon_fix(*sc, b.path.empty() ? arg : b.path);
 
     robot_config_t &r = b.robot;
     robot_config_defaults(&r);  // what the scenario does not say

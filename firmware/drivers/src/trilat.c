@@ -16,6 +16,7 @@
 #include "drivers/trilat.h"
 
 #include <math.h>
+#include <stdbool.h>
 
 #include "fw/fw_base.h"
 
@@ -35,18 +36,16 @@ static float residual_rms(const trilat_anchor_t *a, size_t n, float h, float x, 
     return sqrtf(sum / (float)n);
 }
 
-int trilat_solve(const trilat_anchor_t *a, size_t n, const struct trilat_params *p,
-                 trilat_result_t *out)
+// The beacons' mean and the covariance of their x, y; whether that geometry can fix x and y
+// (trilat_geometry_ok).
+struct spread {
+    float mx, my, sxx, syy, sxy, det, lambda_min;
+};
+
+static bool spread_of(const trilat_anchor_t *a, size_t n, float min_spread, struct spread *s)
 {
-    if (n < 3u) {
-        return FW_ERR_INVAL;
-    }
     float mx = 0.0f, my = 0.0f;
     for (size_t i = 0; i < n; i++) {
-        if (!is_finite(a[i].x) || !is_finite(a[i].y) || !is_finite(a[i].z) ||
-            !is_finite(a[i].range) || a[i].range < 0.0f) {
-            return FW_ERR_INVAL;
-        }
         mx += a[i].x;
         my += a[i].y;
     }
@@ -68,9 +67,37 @@ int trilat_solve(const trilat_anchor_t *a, size_t n, const struct trilat_params 
     float det = sxx * syy - sxy * sxy;
     float disc = sqrtf(fmaxf(tr * tr * 0.25f - det, 0.0f));
     float lambda_min = tr * 0.5f - disc;
-    if (!(lambda_min >= p->min_spread * p->min_spread) || det <= 0.0f) {
+    *s = (struct spread){mx, my, sxx, syy, sxy, det, lambda_min};
+    return lambda_min >= min_spread * min_spread && det > 0.0f;
+}
+
+bool trilat_geometry_ok(const trilat_anchor_t *a, size_t n, float min_spread, float *spread_out)
+{
+    struct spread s = {0};
+    const bool ok = n >= 3u && spread_of(a, n, min_spread, &s);
+    if (spread_out != NULL) {
+        *spread_out = n >= 3u ? sqrtf(fmaxf(s.lambda_min, 0.0f)) : 0.0f;
+    }
+    return ok;
+}
+
+int trilat_solve(const trilat_anchor_t *a, size_t n, const struct trilat_params *p,
+                 trilat_result_t *out)
+{
+    if (n < 3u) {
         return FW_ERR_INVAL;
     }
+    for (size_t i = 0; i < n; i++) {
+        if (!is_finite(a[i].x) || !is_finite(a[i].y) || !is_finite(a[i].z) ||
+            !is_finite(a[i].range) || a[i].range < 0.0f) {
+            return FW_ERR_INVAL;
+        }
+    }
+    struct spread s;
+    if (!spread_of(a, n, p->min_spread, &s)) {
+        return FW_ERR_INVAL;
+    }
+    const float mx = s.mx, my = s.my, sxx = s.sxx, syy = s.syy, sxy = s.sxy, det = s.det;
 
     // Linear least squares in centred coordinates (u, v) = (x - mx, y - my):
     //   2 u_i u + 2 v_i v = (u_i^2 + v_i^2 - d_i^2) - mean(...)

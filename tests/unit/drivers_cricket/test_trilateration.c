@@ -141,6 +141,41 @@ static void test_collinear_beacons_are_refused(void **state)
     assert_int_equal(trilat_solve(a, 3, &params, &r), FW_ERR_INVAL);
 }
 
+// trilat_geometry_ok() is the rule trilat_solve() refuses geometry by (what dynaqpc-sim's loader
+// asks of a scenario's beacons): five beacons along a 9 m corridor, staggered either side of its
+// middle by a little less and a little more than min_spread, and in one line.
+static void test_geometry_check_is_the_solver_rule(void **state)
+{
+    (void)state;
+    const float offsets[] = {0.0f, 290.0f, 300.0f, 310.0f, 600.0f};
+    for (size_t k = 0; k < sizeof offsets / sizeof offsets[0]; k++) {
+        trilat_anchor_t a[5];
+        for (unsigned i = 0; i < 5u; i++) {
+            a[i].x = 900.0f + 1800.0f * (float)i;
+            a[i].y = 800.0f + ((i & 1u) ? offsets[k] : -offsets[k]);
+            a[i].z = 2500.0f;
+            float dx = 4000.0f - a[i].x, dy = 800.0f - a[i].y, dz = LISTENER_Z - a[i].z;
+            a[i].range = sqrtf(dx * dx + dy * dy + dz * dz);
+        }
+        float spread = -1.0f;
+        const bool ok = trilat_geometry_ok(a, 5, params.min_spread, &spread);
+        trilat_result_t r;
+        const int err = trilat_solve(a, 5, &params, &r);
+        assert_int_equal(ok, err != FW_ERR_INVAL);
+        // Alternate sides, 3 one way and 2 the other: the spread is 0.98 of the offset.
+        assert_true(fabsf(spread - offsets[k] * sqrtf(24.0f) / 5.0f) < 1.0f);
+        assert_int_equal(ok, offsets[k] * sqrtf(24.0f) / 5.0f >= params.min_spread);
+    }
+    trilat_anchor_t a[4];
+    make_anchors(a, 4, 1000.0f, 1000.0f);
+    float spread = -1.0f;
+    assert_true(trilat_geometry_ok(a, 4, params.min_spread, &spread));
+    assert_true(spread > 1000.0f);
+    assert_false(trilat_geometry_ok(a, 2, params.min_spread, &spread));  // two beacons fix nothing
+    assert_true(spread == 0.0f);
+    assert_true(trilat_geometry_ok(a, 3, params.min_spread, NULL));
+}
+
 static void test_bad_inputs_are_refused(void **state)
 {
     (void)state;
@@ -165,6 +200,7 @@ int main(void)
         cmocka_unit_test(test_exact_ranges_give_the_position),
         cmocka_unit_test(test_one_cm_noise_stays_within_bound),
         cmocka_unit_test(test_collinear_beacons_are_refused),
+        cmocka_unit_test(test_geometry_check_is_the_solver_rule),
         cmocka_unit_test(test_bad_inputs_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -11,6 +11,7 @@
 #ifndef DRIVERS_TRILAT_H
 #define DRIVERS_TRILAT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -34,6 +35,13 @@ typedef struct trilat_result {
     float x, y;
     float residual_rms;  ///< RMS of (distance to beacon - measured range) at the solution
 } trilat_result_t;
+
+/// Whether beacons at these places can fix x and y, by the rule trilat_solve() refuses geometry
+/// with (FW_ERR_INVAL): n >= 3 and the beacons' spread along their narrowest direction (the
+/// standard deviation of their x, y across it) at least `min_spread`. The ranges are not read,
+/// so a tool can ask it of a layout before any range is measured. `*spread` (may be NULL): that
+/// spread.
+bool trilat_geometry_ok(const trilat_anchor_t *anchors, size_t n, float min_spread, float *spread);
 
 /// Returns FW_OK with the solution in *out, FW_ERR_INVAL (n < 3, a negative or non-finite
 /// range, or geometry below min_spread) or FW_ERR_CORRUPT (ranges inconsistent: residual above
