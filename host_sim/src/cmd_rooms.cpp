@@ -133,14 +133,14 @@ robot_config_t load_checked(const std::string &file, world::Scenario &s)
 // against the steps within which train counts an episode toward learning (the robot's default).
 void check_one(const world::Scenario &s, const robot_config_t &robot)
 {
-    for (const world::ConstantCodeBit &c : world::constant_code_bits(s)) {
-        std::printf("%s:%d: warning: %s\n", s.path.c_str(), c.line, world::constant_code_bit_warning(s, c).c_str());
-    }
     const world::PassageReport r = world::check_passages(s);
-    if (!r.ok) throw UsageError(s.path + ": " + r.problem);
+    if (!r.ok) throw UsageError(s.path + ": " + r.problem);  // a refusal is its one line
     std::printf("%s: passages ok: all %ld start points reach the goal (%ld free points in it) through "
                 "passages at least the robot's diagonal (%.3f m) wide\n",
                 s.path.c_str(), r.start_points, r.goal_points, 2.0 * world::robot_radius(s.robot));
+    for (const world::ConstantCodeBit &c : world::constant_code_bits(s)) {
+        std::printf("%s:%d: warning: %s\n", s.path.c_str(), c.line, world::constant_code_bit_warning(s, c).c_str());
+    }
     if (const int faces = world::faces_inside_cells(s)) {
         std::printf("%s: warning: %d wall face(s) lie inside state cells of the equal grid (encode x/y): "
                     "a step beside them passes or bumps by where in its cell the robot stands, which the "
