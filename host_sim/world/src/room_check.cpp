@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <queue>
 #include <string>
@@ -259,6 +260,30 @@ void count_starts(const std::vector<long> &dist, const std::vector<unsigned char
     rep->longest = rep->stranded > 0 || rep->start_states == 0 ? -1 : longest;
 }
 
+// Where a cut-off start's widest way narrows, as check_passages() says it. The grid measures a
+// width up to about a step under the true one (its points miss a doorway's middle by up to half a
+// step), so a door a little wider than the diagonal may be refused: the width is given with as
+// many decimals as tell it from the diagonal, and what width the check is sure to pass.
+std::string pinch_text(const FreeGrid &g, const Pinch &p, double diag)
+{
+    if (p.at < 0) return "; walls close it off from the goal";
+    const double width = 2.0 * p.clearance;  // below diag: a free point clears the robot's radius
+    int digits = 3;
+    char w[32], d[32];
+    for (;; digits++) {
+        std::snprintf(w, sizeof w, "%.*f", digits, width);
+        std::snprintf(d, sizeof d, "%.*f", digits, diag);
+        if (std::strcmp(w, d) != 0 || digits == 6) break;
+    }
+    const std::string under = digits > 3 ? std::string(" (under the diagonal's ") + d + " m)" : "";
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "; the widest way from there narrows to %s m%s at (%.3f, %.3f) on that grid, which reads a "
+                  "width up to a step short: leave about %.3f m (the diagonal and a step) or more",
+                  w, under.c_str(), g.x(p.at % g.nx), g.y(p.at / g.nx), std::ceil((diag + g.step) * 1000.0) / 1000.0);
+    return buf;
+}
+
 }  // namespace
 
 PassageReport check_passages(const Scenario &s)
@@ -305,17 +330,9 @@ PassageReport check_passages(const Scenario &s)
     if (first >= 0) {
         std::snprintf(buf, sizeof buf,
                       "%ld of %ld start points cannot reach the goal, the first at (%.3f, %.3f): "
-                      "no passage at least the robot's diagonal (%.3f m) wide",
-                      rep.stranded_points, rep.start_points, g.x(first % nx), g.y(first / nx), diag);
-        rep.problem = buf;
-        const Pinch p = widest_way_pinch(g, first);
-        if (p.at >= 0) {
-            std::snprintf(buf, sizeof buf, "; the widest way from there narrows to about %.3f m at (%.3f, %.3f)",
-                          2.0 * p.clearance, g.x(p.at % nx), g.y(p.at / nx));
-        } else {
-            std::snprintf(buf, sizeof buf, "; walls close it off from the goal");
-        }
-        rep.problem += buf;
+                      "no passage the check's %.3f m grid finds at least the robot's diagonal (%.3f m) wide",
+                      rep.stranded_points, rep.start_points, g.x(first % nx), g.y(first / nx), g.step, diag);
+        rep.problem = buf + pinch_text(g, widest_way_pinch(g, first), diag);
         return rep;
     }
     rep.ok = true;
