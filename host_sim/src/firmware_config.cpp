@@ -127,6 +127,7 @@ std::string robot_config_c(const robot_config_t &c, const std::string &var)
     }
     if (n_listed > 0) o << "},\n";
     o << "    .listener_z = " << f(c.listener_z) << ",\n";
+    if (c.speed_of_sound != 0.0f) o << "    .speed_of_sound = " << f(c.speed_of_sound) << ",\n";
     o << "    .pose_timeout_us = " << u(c.pose_timeout_us) << ", .bus_timeout_us = " << u(c.bus_timeout_us) << ",\n";
     o << "};\n";
     return o.str();

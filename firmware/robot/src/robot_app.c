@@ -880,6 +880,9 @@ static int init_cricket_(const robot_config_t *cfg)
     cc.beacons = app_.beacons;
     cc.n_beacons = cfg->n_beacons;
     cc.listener_z_mm = cfg->listener_z * 1000.0f;
+    if (cfg->speed_of_sound > 0.0f) {
+        cc.speed_of_sound_m_s = cfg->speed_of_sound;  // else the driver's 343 m/s
+    }
     return cricket_init(&app_.cricket, &cc);
 }
 

@@ -107,6 +107,9 @@ int robot_config_check(const robot_config_t *c)
     if (c->pose_source == ROBOT_POSE_CRICKET && (c->n_beacons < 3u || c->n_beacons > ROBOT_MAX_BEACONS)) {
         return FW_ERR_INVAL;
     }
+    if (!(c->speed_of_sound == 0.0f || (c->speed_of_sound >= 300.0f && c->speed_of_sound <= 400.0f))) {
+        return FW_ERR_INVAL;  // 0: the driver's 343 m/s; else a room's, as the scenario allows
+    }
     if (c->pose_source != ROBOT_POSE_GPS && c->pose_source != ROBOT_POSE_CRICKET) {
         return FW_ERR_INVAL;
     }

@@ -62,5 +62,6 @@ const robot_config_t robot_config_paper_lab = {
                 {0x015E3C3C0A0000B4u, 3.8f, 2.7f, 2.5f},
                 {0x015E3C3C0A0000B5u, 2.15f, 1.6f, 2.5f}},
     .listener_z = 0.15f,
+    .speed_of_sound = 343.0f,
     .pose_timeout_us = 5000000u, .bus_timeout_us = 500000u,
 };

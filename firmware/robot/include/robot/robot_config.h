@@ -184,6 +184,9 @@ typedef struct robot_config {
     uint8_t n_beacons;
     robot_beacon_t beacons[ROBOT_MAX_BEACONS];
     float listener_z;      ///< height of the robot's Cricket listener
+    /// m/s at which the Cricket's time of flight (DR) becomes a range: the room's speed of sound,
+    /// 331.3 + 0.606 per degree C; 0: the driver's 343 (20 degrees C). A Cricket robot only.
+    float speed_of_sound;
 
     // Safety: stop the wheels when the pose or the bus has been silent this long.
     uint32_t pose_timeout_us;
