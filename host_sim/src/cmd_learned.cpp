@@ -143,19 +143,29 @@ std::string values_json(const robot_config_t &cfg)
     return o.str();
 }
 
+// The side of every cell along `axis` when they are all the same (the equal grid's), else null (a
+// grid fitted to the room: its edges give each cell).
+std::string common_side(const robot_config_t &cfg, std::uint32_t axis)
+{
+    float lo, first;
+    robot_grid_span(&cfg, axis, 0, &lo, &first);
+    for (std::uint32_t k = 1; k < robot_grid_cells(&cfg, axis); k++) {
+        float side;
+        robot_grid_span(&cfg, axis, k, &lo, &side);
+        if (std::fabs(side - first) > 1e-6f * first) return "null";
+    }
+    return num(first);
+}
+
 // The state grid: cells, their edges (a grid fitted to the room has cells of different sizes) and
 // the goal's cells.
 void write_grid(std::ostringstream &o, const robot_config_t &cfg)
 {
     const std::uint32_t nx = robot_grid_cells(&cfg, ROBOT_AXIS_X), ny = robot_grid_cells(&cfg, ROBOT_AXIS_Y);
-    float x0, cw, y0, ch;
-    robot_grid_span(&cfg, ROBOT_AXIS_X, 0, &x0, &cw);
-    robot_grid_span(&cfg, ROBOT_AXIS_Y, 0, &y0, &ch);
     o << "\"grid\":{\"cells_x\":" << nx << ",\"cells_y\":" << ny
       << ",\"headings\":" << (1u << cfg.bits_heading) << ",\"codes\":" << (1u << cfg.bits_code)
-      << ",\"cell_w\":" << num(cw) << ",\"cell_h\":" << num(ch);
-    // The edges of every cell, from 0 to the arena's side (a grid fitted to the room has
-    // cells of different sizes; cell_w and cell_h are then the first cells').
+      << ",\"cell_w\":" << common_side(cfg, ROBOT_AXIS_X) << ",\"cell_h\":" << common_side(cfg, ROBOT_AXIS_Y);
+    // The edges of every cell, from 0 to the arena's side.
     for (std::uint32_t axis = 0; axis < 2u; axis++) {
         o << (axis == 0 ? ",\"x_edges\":[" : "],\"y_edges\":[");
         const std::uint32_t n = axis == 0 ? nx : ny;
