@@ -64,7 +64,10 @@ void declare_options(Options &o, RunArgs &a)
                            "told; default: never). To start in the changed room, give it as --scenario",
                            &a.change_at, 1000000, &a.changed_arg);
     o.add_string("--trajectory", "OUT",
-                 "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal", &a.trajectory);
+                 "CSV of every control period: start,step,time_s,x,y,heading,action,reward,bump,in_goal; each "
+                 "row carries the real step it belongs to, that step's action and the reward it earned, so a "
+                 "bump's rows name the action that bumped (docs/tools.md)",
+                 &a.trajectory);
     o.add_string("--arena", "OUT", "the arena as JSON, for plots (docs/tools.md)", &a.arena);
 }
 
@@ -84,6 +87,54 @@ std::FILE *open_outputs(const RunArgs &a, const ScenarioBundle &sb)
     }
     return traj;
 }
+
+// --trajectory's rows: one per control period, each with the real step it belongs to. The firmware
+// reports a step when it ends (TLM_LEARN: its number, its reward, and the action chosen next), so
+// the rows of a step are held until then and written with its number, action and reward: the rows
+// where the robot touched something (bump 1) name the action that did and what it earned. Rows
+// before the first action, and those of an action a safe stop cut short (a step 0 report follows
+// it: not learned from), are step 0, reward 0; the first with action -1.
+class TrajectoryRows {
+public:
+    explicit TrajectoryRows(std::FILE *out) : out_(out) {}
+
+    void add(std::uint32_t start, const TrajectoryPoint &p)
+    {
+        if (start != start_) {
+            flush(-1, step_, 0.0);
+            start_ = start;
+            doing_ = -1;
+            step_ = 0;
+        }
+        held_.push_back(p);
+        if (p.action < 0) return;  // no step ended in this period
+        if (p.step == 0) {
+            flush(doing_, 0, 0.0);  // the first state, or a resumption after a safe stop
+        } else {
+            flush(doing_, p.step, p.reward);
+            step_ = p.step;
+        }
+        doing_ = p.action;
+    }
+
+    // The rows still held at the end of the run (none, when the episode ended on a step).
+    void finish() { flush(-1, step_, 0.0); }
+
+private:
+    void flush(int action, std::uint32_t step, double reward)
+    {
+        for (const TrajectoryPoint &p : held_) {
+            std::fprintf(out_, "%u,%u,%.3f,%.4f,%.4f,%.4f,%d,%.0f,%d,%d\n", start_, step, p.time_s, p.x, p.y, p.heading,
+                         action, reward, p.bump ? 1 : 0, p.in_goal ? 1 : 0);
+        }
+        held_.clear();
+    }
+
+    std::FILE *out_;
+    std::vector<TrajectoryPoint> held_;
+    std::uint32_t start_ = 0, step_ = 0;
+    int doing_ = -1;
+};
 
 // The simulated robot booted from --load's flash image, which must hold a record it restores.
 std::unique_ptr<Lockstep> boot_from_load(const std::string &program, const RunArgs &a, const ScenarioBundle &sb,
@@ -145,11 +196,9 @@ void replay(const std::string &program, const Options &o, RunArgs &a)
     const std::unique_ptr<Lockstep> sim_ptr = boot_from_load(program, a, sb, cfg);
     Lockstep &sim = *sim_ptr;
     std::uint32_t current = 0;
+    TrajectoryRows rows(traj);
     if (traj != nullptr) {
-        sim.set_trajectory_sink([&](const TrajectoryPoint &p) {
-            std::fprintf(traj, "%u,%u,%.3f,%.4f,%.4f,%.4f,%d,%.0f,%d,%d\n", current, p.step, p.time_s, p.x, p.y,
-                         p.heading, p.action, p.reward, p.bump ? 1 : 0, p.in_goal ? 1 : 0);
-        });
+        sim.set_trajectory_sink([&](const TrajectoryPoint &p) { rows.add(current, p); });
     }
     std::vector<std::uint32_t> steps;
     std::uint32_t reached = 0;
@@ -167,6 +216,7 @@ void replay(const std::string &program, const Options &o, RunArgs &a)
             steps.push_back(r.steps);
         }
     }
+    if (traj != nullptr) rows.finish();
     if (traj != nullptr && traj != stdout) std::fclose(traj);
     std::sort(steps.begin(), steps.end());
     std::string room = sb.name;

@@ -1,0 +1,46 @@
+# SPDX-License-Identifier: MIT
+# cmake -DSIM=<dynaqpc-sim> -DWORK=<scratch dir> -P check_run_trajectory.cmake
+# run --trajectory: each control period's row carries the real step it belongs to, that step's
+# action and its reward, so the rows where the robot touched a wall name the action that bumped
+# and its -100 (a new user had to match the bump's rows, action -1 and reward 0, to a later row
+# holding the reward and the next action). Rows before the first action are step 0, action -1.
+cmake_minimum_required(VERSION 3.25)
+include(${CMAKE_CURRENT_LIST_DIR}/sim_common.cmake)
+set(image "${WORK}/lab.flash")
+set(traj "${WORK}/traj.csv")
+
+sim(train --scenario paper-lab --agent dyna-qpc --sets 1 --episodes 5 --seed 3 --quiet --save "${image}")
+sim(run --scenario paper-lab --load "${image}" --starts 3 --seed 5 --trajectory "${traj}")
+file(STRINGS "${traj}" rows)
+list(POP_FRONT rows header)
+if(NOT header STREQUAL "start,step,time_s,x,y,heading,action,reward,bump,in_goal")
+    message(FATAL_ERROR "trajectory header: ${header}")
+endif()
+set(bumped 0)
+set(step_rewards "")
+foreach(row IN LISTS rows)
+    string(REPLACE "," ";" f "${row}")
+    list(GET f 0 start)
+    list(GET f 1 step)
+    list(GET f 6 action)
+    list(GET f 7 reward)
+    list(GET f 8 bump)
+    if(step EQUAL 0 AND NOT reward EQUAL 0)
+        message(FATAL_ERROR "a row of no step with a reward: ${row}")
+    endif()
+    if(step GREATER 0 AND (action LESS 0 OR action GREATER 3))
+        message(FATAL_ERROR "a row of step ${step} without its action: ${row}")
+    endif()
+    if(bump EQUAL 1 AND step GREATER 0 AND reward EQUAL -100)
+        math(EXPR bumped "${bumped} + 1")
+    endif()
+    # Every row of a step carries the same action and reward.
+    if(DEFINED seen_${start}_${step} AND NOT seen_${start}_${step} STREQUAL "${action},${reward}")
+        message(FATAL_ERROR "start ${start} step ${step}: rows disagree (${seen_${start}_${step}} and ${row})")
+    endif()
+    set(seen_${start}_${step} "${action},${reward}")
+endforeach()
+if(bumped EQUAL 0)
+    message(FATAL_ERROR "no row with bump 1 names its step's -100:\n${rows}")
+endif()
+message(STATUS "${bumped} bump rows name their action and its -100")
