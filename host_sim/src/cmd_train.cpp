@@ -148,7 +148,8 @@ void declare_outputs(Options &o, TrainSettings &s)
                            &s.change_at, 10000000, &s.changed);
     o.add_flag("--no-wall-time", "write wall_s as 0, so one seed gives byte-identical CSVs",
                &s.no_wall_time);
-    o.add_flag("--quiet", "no progress bar and no summary", &s.quiet);
+    o.add_flag("--quiet", "no progress bar, no summary and no warnings about a scenario file (rooms --check gives them)",
+               &s.quiet);
     o.add_flag("--counters", "print the firmware's counters after each set (table fill, drops, bus)",
                &s.counters);
 }
