@@ -269,11 +269,12 @@ struct TrainTally {
     std::uint64_t done = 0;
 };
 
-// A user's room (a file, not a shipped name) on equal cells that its walls cut, fitted at another
-// cell side than the robot's (rule 7), with stops that reach no goal stop, with starts behind a
-// slot beside angled or round furniture, or with starts that no passage as wide as the robot's
-// diagonal joins to the goal (rooms --check refuses such a room; train runs it, and the sets that
-// start there cannot learn).
+// A user's room (a file, not a shipped name) with a code bit no reading changes, on equal cells
+// that its walls cut, fitted at another cell side than the robot's (rule 7), with stops that reach
+// no goal stop, with starts behind a slot beside angled or round furniture, with starts farther
+// from the goal at best than the learned threshold, or with starts that no passage as wide as the
+// robot's diagonal joins to the goal (rooms --check refuses such a room; train runs it, and the
+// sets that start there cannot learn).
 void warn_room(const std::string &program, const TrainSettings &s, const ScenarioBundle &sb)
 {
     if (s.quiet || world::resolve_scenario_path(s.scenario) != s.scenario) return;  // a shipped name
