@@ -141,6 +141,9 @@ void check_one(const world::Scenario &s, const robot_config_t &robot)
     for (const world::ConstantCodeBit &c : world::constant_code_bits(s)) {
         std::printf("%s:%d: warning: %s\n", s.path.c_str(), c.line, world::constant_code_bit_warning(s, c).c_str());
     }
+    if (const std::string w = beacon_rate_warning(s); !w.empty()) {
+        std::printf("%s: warning: %s\n", s.path.c_str(), w.c_str());
+    }
     if (const int faces = world::faces_inside_cells(s)) {
         std::printf("%s: warning: %d wall face(s) lie inside state cells of the equal grid (encode x/y): "
                     "a step beside them passes or bumps by where in its cell the robot stands, which the "

@@ -269,7 +269,8 @@ struct TrainTally {
     std::uint64_t done = 0;
 };
 
-// A user's room (a file, not a shipped name) with a code bit no reading changes, on equal cells
+// A user's room (a file, not a shipped name) with a code bit no reading changes, with beacons that
+// transmit too seldom for a fix, on equal cells
 // that its walls cut, fitted at another cell side than the robot's (rule 7), with stops that reach
 // no goal stop, with starts behind a slot beside angled or round furniture, with starts farther
 // from the goal at best than the learned threshold, or with starts that no passage as wide as the
@@ -281,6 +282,9 @@ void warn_room(const std::string &program, const TrainSettings &s, const Scenari
     for (const world::ConstantCodeBit &c : world::constant_code_bits(*sb.world)) {
         std::fprintf(stderr, "%s train: warning: %s:%d: %s\n", program.c_str(), s.scenario.c_str(), c.line,
                      world::constant_code_bit_warning(*sb.world, c).c_str());
+    }
+    if (const std::string w = beacon_rate_warning(*sb.world); !w.empty()) {
+        std::fprintf(stderr, "%s train: warning: %s: %s\n", program.c_str(), s.scenario.c_str(), w.c_str());
     }
     if (const int faces = world::faces_inside_cells(*sb.world)) {
         std::fprintf(stderr,

@@ -132,6 +132,32 @@ void check_beacon_fix(const world::Scenario &sc, const std::string &path)
     throw UsageError(msg + " (docs/scenarios.md, \"beacon\")");
 }
 
+}  // namespace
+
+std::string beacon_rate_warning(const world::Scenario &sc)
+{
+    if (sc.gps.enabled || sc.cricket.beacons.empty()) return "";
+    cricket_config cc;
+    cricket_default_config(&cc);
+    const double age_s = static_cast<double>(cc.max_age_us) * 1e-6;
+    const double mean_s = 0.5 * (sc.cricket.min_interval + sc.cricket.max_interval);  // s
+    // Each beacon's chance of a range no older than age_s, over the beacons: the fresh ranges a
+    // fix can take at a time, on average (every beacon counted, in range or not).
+    const double fresh = static_cast<double>(sc.cricket.beacons.size()) * std::min(1.0, age_s / mean_s);
+    if (fresh >= 3.0) return "";
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "the beacons transmit every %.3g s on average, and the firmware takes a fix from 3 ranges at "
+                  "most %.3g s old: about %.2g of the %zu beacons' ranges are that fresh at a time, so fixes come "
+                  "seldom or never and the robot waits for one before each step; give min_interval_ms and "
+                  "max_interval_ms that average under %.3g s (the Cricket's default: 668-1332 ms)",
+                  mean_s, age_s, fresh, sc.cricket.beacons.size(),
+                  age_s * static_cast<double>(sc.cricket.beacons.size()) / 3.0);
+    return text;
+}
+
+namespace {
+
 // "1:5e:3c:3c:a:0:0:b1" (the listener's ID field) as the Cricket driver reads it.
 std::uint64_t beacon_id(const std::string &text, const std::string &path)
 {

@@ -31,6 +31,11 @@ struct ScenarioBundle {
 /// Loads `--scenario NAME|FILE`. A bad file throws UsageError "FILE:LINE: problem".
 ScenarioBundle load_scenario(const std::string &arg);
 
+/// A warning (empty: none) for Cricket beacons that transmit too seldom for the firmware's fixes:
+/// a fix takes ranges from 3 beacons at most the driver's max_age_us old (3 s), and at the
+/// scenario's intervals fewer than 3 beacons' ranges are that fresh on average.
+std::string beacon_rate_warning(const world::Scenario &sc);
+
 /// Loads `--changed FILE`, the room `base` becomes during a run (`--change-at K`): a scenario
 /// whose obstacles alone differ from base's (world::layout_change_problem()). Anything else
 /// throws UsageError "--changed: FILE is not a change of BASE: the goal ... differs (only
