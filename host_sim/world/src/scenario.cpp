@@ -268,6 +268,23 @@ bool valid_beacon_id(std::string_view id)
     return groups == 8;
 }
 
+// A valid id's 8 bytes as one number, so that "1:5e:..." and "01:5E:..." are the same beacon (the
+// firmware's Cricket driver compares bytes).
+std::uint64_t beacon_id_value(std::string_view id)
+{
+    std::uint64_t v = 0, byte = 0;
+    for (char c : id) {
+        if (c == ':') {
+            v = (v << 8) | byte;
+            byte = 0;
+        } else {
+            const int d = std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(c) - 'a' + 10;
+            byte = byte * 16 + static_cast<std::uint64_t>(d);
+        }
+    }
+    return (v << 8) | byte;
+}
+
 bool Parser::line(const Tokens &t, Scenario *s)
 {
     // One row a key: whether it may appear once only, which member remembers its line (for the
@@ -529,7 +546,9 @@ bool Parser::key_beacon(const Tokens &t, Scenario *s)
     }
     b.id = std::string(t[1]);
     for (const Beacon &o : s->cricket.beacons) {
-        if (o.id == b.id) return fail("duplicate beacon id '" + b.id + "'");
+        if (beacon_id_value(o.id) == beacon_id_value(b.id)) {
+            return fail("duplicate beacon id '" + b.id + "'" + (o.id == b.id ? "" : " (the same 8 bytes as '" + o.id + "')"));
+        }
     }
     if (!number(t[2], "beacon x", -kBig, kBig, &b.x) ||
         !number(t[3], "beacon y", -kBig, kBig, &b.y) ||
@@ -1050,15 +1069,19 @@ bool Parser::run(std::string_view text, Scenario *s)
         line_ = ++number_of_line;
         last_line_ = line_;
         if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-        if (raw.size() > kMaxLineBytes) {
-            return fail("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
-        }
-        for (unsigned char c : raw) {
+        for (unsigned char c : raw) {  // before the length: a file of CR-ended lines is one long line
             if ((c < 0x20 && c != '\t') || c >= 0x7f) {
-                char buf[64];
-                std::snprintf(buf, sizeof buf, "not a text file (byte 0x%02x)", c);
+                char buf[128];
+                std::snprintf(buf, sizeof buf,
+                              c == '\r' ? "a carriage return inside the line: lines that end in CR alone; save the "
+                                          "file with LF (or CR LF) line endings"
+                                        : "not a text file (byte 0x%02x)",
+                              c);
                 return fail(buf);
             }
+        }
+        if (raw.size() > kMaxLineBytes) {
+            return fail("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
         }
         std::size_t hash = raw.find('#');
         if (hash != std::string_view::npos) raw = raw.substr(0, hash);

@@ -672,6 +672,14 @@ void test_text_rules(void **state)
     assert_false(world::parse_scenario(base + "beacon 1:2:3:4:5:6:7:8 1 1 0.05\n", "t.scn", &s,
                                        &err));
     assert_true(starts_with(err, "t.scn:6: beacon not above the listener"));
+    // Lines that end in CR alone (an old Mac's) are named, not taken for one long line.
+    assert_false(world::parse_scenario("arena 4 3\rgoal 1 1 0.3\r", "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:1: a carriage return inside the line: lines that end in CR alone"));
+    // One beacon's id spelled two ways is one beacon: the firmware compares the 8 bytes.
+    assert_false(world::parse_scenario(base + "beacon 1:5e:3c:3c:a:0:0:b1 1 1 2.5\nbeacon 01:5E:3c:3c:0a:00:00:b1 2 1 2.5\n",
+                                       "t.scn", &s, &err));
+    assert_true(starts_with(err, "t.scn:7: duplicate beacon id '01:5E:3c:3c:0a:00:00:b1' (the same 8 bytes as "
+                                 "'1:5e:3c:3c:a:0:0:b1')"));
     // A huge arena that is all obstacle: refused after a bounded search (at most 10^6 points).
     assert_false(world::parse_scenario("arena 1000 1000\ngoal 1 0.15 0.1\nobstacle box 500 500.15 1000 999.7\n"
                                        "robot length 0.3 width 0.2 track 0.18\n"
