@@ -176,8 +176,8 @@ def int_in(lo: Optional[int] = None, hi: Optional[int] = None):
     return conv
 
 
-def float_in(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bool = False):
-    """An argparse type: a finite number in [lo, hi] (or (lo, hi] with lo_open)."""
+def float_in(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bool = False, hi_open: bool = False):
+    """An argparse type: a finite number in [lo, hi] (open at lo with lo_open, at hi with hi_open)."""
 
     def conv(text: str) -> float:
         try:
@@ -185,21 +185,23 @@ def float_in(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bo
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
         bad = (
-            not math.isfinite(v) or (lo is not None and (v <= lo if lo_open else v < lo)) or (hi is not None and v > hi)
+            not math.isfinite(v)
+            or (lo is not None and (v <= lo if lo_open else v < lo))
+            or (hi is not None and (v >= hi if hi_open else v > hi))
         )
         if bad:
-            raise argparse.ArgumentTypeError(f"{text} is outside {_range_text(lo, hi, lo_open)}")
+            raise argparse.ArgumentTypeError(f"{text} is outside {_range_text(lo, hi, lo_open, hi_open)}")
         return v
 
     return conv
 
 
-def _range_text(lo, hi, lo_open: bool = False) -> str:
+def _range_text(lo, hi, lo_open: bool = False, hi_open: bool = False) -> str:
     if hi is None:
         return f"{'>' if lo_open else '>='} {lo:g}" if lo is not None else "the range"
     if lo is None:
-        return f"<= {hi:g}"
-    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
+        return f"{'<' if hi_open else '<='} {hi:g}"
+    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
 
 
 def crc8_sae_j1850(data: bytes) -> int:

@@ -423,7 +423,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("start", help="start an episode", parents=[common, timed, cmd])
     s.add_argument(
         "--heading",
-        type=float_in(0, 360),
+        type=float_in(0, 360, hi_open=True),
         default=None,
         metavar="DEG",
         help="the robot's heading at the start, 0 <= DEG < 360 (default: keep the firmware's)",
@@ -456,9 +456,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    if getattr(args, "heading", None) is not None and args.heading >= 360:
-        print("dynaqpc-operator: error: --heading: 360 is outside [0, 360)", file=sys.stderr)
-        return 2
     return run_main(lambda: run(args))
 
 

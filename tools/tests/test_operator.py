@@ -98,6 +98,14 @@ def test_bad_arguments_are_one_line_and_status_2(argv, capsys):
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize("value", ["360", "nan", "-0.5"])
+def test_heading_range_reads_half_open(value, capsys):
+    # 360 is a full turn (0), so the range is [0, 360), and every refusal says so.
+    with pytest.raises(SystemExit):
+        operator.main(["start", "--heading", value])
+    assert "[0, 360)" in capsys.readouterr().err
+
+
 @pytest.mark.skipif(
     not c_binary("dynaqpc-fw").exists() or not c_binary("dynaqpc-sim").exists(),
     reason="build dynaqpc-fw and dynaqpc-sim first or set DYNAQPC_BUILD_DIR",
