@@ -45,6 +45,14 @@ SPEED_OF_SOUND_M_S = 343.0
 KNOWN_KEYS = ("VR", "ID", "SP", "DB", "DR", "TM", "TS")
 #: Characters kept of a space id (FW_CFG_CRICKET_SPACE_MAX).
 SPACE_MAX = 16
+#: Longest line the firmware keeps, in printable characters without the line end
+#: (FW_CFG_CRICKET_LINE_MAX, firmware/drivers/include/drivers/drivers_config.h; cricket_feed
+#: discards a longer line as overlong). tools/tests/test_cricket.py holds both to the header.
+LINE_MAX = 128
+#: Bytes without a line end after which read_lines gives up on the line (it is overlong).
+RUNAWAY_BYTES = 4096
+#: Characters of a line's text quoted in a reason; the rest is elided.
+QUOTE_MAX = 40
 #: Ranges beyond are refused (struct cricket_config max_range_mm default).
 MAX_RANGE_M = 10.0
 XON, XOFF = 0x11, 0x13
@@ -56,16 +64,24 @@ class CricketLineError(ValueError):
     """A line that is not a listener report."""
 
 
+def _quote(text: str) -> str:
+    """repr(text), elided past QUOTE_MAX characters: a reason stays one short line however long
+    the garbage it quotes."""
+    if len(text) <= QUOTE_MAX:
+        return repr(text)
+    return f"{text[:QUOTE_MAX]!r}... ({len(text)} characters)"
+
+
 def parse_id(text: str) -> int:
     """A beacon ID as the listener prints it: eight hex bytes separated by ':', one or two digits
     each ("1:5e:3c:3c:a:0:0:b3"), first byte most significant (cricket_parse_id)."""
     parts = text.split(":")
     if len(parts) != 8:
-        raise CricketLineError(f"ID={text!r} is not eight ':'-separated hex bytes")
+        raise CricketLineError(f"ID={_quote(text)} is not eight ':'-separated hex bytes")
     value = 0
     for p in parts:
         if not 1 <= len(p) <= 2 or any(c not in "0123456789abcdefABCDEF" for c in p):
-            raise CricketLineError(f"ID={text!r}: byte {p!r} is not one or two hex digits")
+            raise CricketLineError(f"ID={_quote(text)}: byte {_quote(p)} is not one or two hex digits")
         value = (value << 8) | int(p, 16)
     return value
 
@@ -76,7 +92,7 @@ def id_text(value: int) -> str:
 
 def _u32(key: str, text: str) -> int:
     if not 1 <= len(text) <= 10 or not all("0" <= c <= "9" for c in text) or int(text) > 0xFFFFFFFF:
-        raise CricketLineError(f"{key}={text!r} is not an unsigned 32-bit integer")
+        raise CricketLineError(f"{key}={_quote(text)} is not an unsigned 32-bit integer")
     return int(text)
 
 
@@ -87,9 +103,9 @@ def _decimal(key: str, text: str) -> float:
         w = _u32(key, whole)
         f = _u32(key, frac) if dot else 0
     except CricketLineError:
-        raise CricketLineError(f"{key}={text!r} is not an unsigned decimal") from None
+        raise CricketLineError(f"{key}={_quote(text)} is not an unsigned decimal") from None
     if dot and len(frac) > 6:
-        raise CricketLineError(f"{key}={text!r} has more than 6 decimals")
+        raise CricketLineError(f"{key}={_quote(text)} has more than 6 decimals")
     return w + (f / 10 ** len(frac) if dot else 0.0)
 
 
@@ -153,7 +169,7 @@ def parse_line(line: str) -> CricketReading:
     for part in text.split(","):
         key, eq, value = part.partition("=")
         if not eq or not key:
-            raise CricketLineError(f"{part!r} is not KEY=VALUE")
+            raise CricketLineError(f"{_quote(part)} is not KEY=VALUE")
         raw.setdefault(key, value)
         if key not in KNOWN_KEYS:
             continue
@@ -167,7 +183,7 @@ def parse_line(line: str) -> CricketReading:
             values[key] = parse_id(value)
         elif key == "SP":
             if len(value) > SPACE_MAX:
-                raise CricketLineError(f"SP={value!r} is longer than {SPACE_MAX}")
+                raise CricketLineError(f"SP={_quote(value)} is longer than {SPACE_MAX}")
             values[key] = value
         elif key == "DB":
             values[key] = _decimal(key, value)
@@ -376,7 +392,8 @@ class Console:
     ranges: Dict[int, Tuple[float, float]] = field(default_factory=dict)  # beacon -> (range, t)
     lines: int = 0
     readings: int = 0
-    garbage: int = 0
+    garbage: int = 0  # skipped lines, the overlong ones among them
+    overlong: int = 0  # lines over LINE_MAX, which the firmware discards
     fixes: int = 0
     #: beacons heard with a range, and fixes trilat_solve refused by kind (3+ known beacons fresh)
     heard: set = field(default_factory=set)
@@ -418,6 +435,12 @@ class Console:
     def feed(self, line: str, now: float) -> List[str]:
         """Returns what to print for this line; a garbage line raises CricketLineError."""
         self.lines += 1
+        text = line.rstrip("\r\n")
+        kept = sum(1 for c in text if 0x20 <= ord(c) <= 0x7E)  # what cricket_feed would store
+        if kept > LINE_MAX:
+            self.garbage += 1
+            self.overlong += 1
+            raise CricketLineError(f"overlong: {kept} characters, the firmware discards a line over {LINE_MAX}")
         try:
             r = parse_line(line)
         except CricketLineError:
@@ -462,6 +485,7 @@ def read_lines(port) -> Iterable[Optional[bytes]]:
     import serial
 
     pending = b""
+    runaway = False  # the rest of a line already given as overlong: dropped up to its end
     while True:
         try:
             chunk = port.readline()
@@ -469,10 +493,26 @@ def read_lines(port) -> Iterable[Optional[bytes]]:
             if pending:
                 yield pending
             return
+        if runaway:
+            ends = [i for i in (chunk.find(b"\r"), chunk.find(b"\n")) if i >= 0]
+            if not ends:
+                yield None
+                continue
+            runaway, chunk = False, chunk[min(ends) :]
         pending += chunk
-        if pending.endswith(b"\n") or len(pending) > 4096:  # a runaway line is garbage, not a hang
+        if pending.endswith(b"\n"):
             yield pending
             pending = b""
+        elif len(pending) > RUNAWAY_BYTES:  # no line end for long: not a hang
+            cut = max(pending.rfind(b"\r"), pending.rfind(b"\n"))
+            if len(pending) - cut - 1 > LINE_MAX:
+                # The unfinished line is already overlong: given once, its rest dropped up to
+                # its end rather than reported again piece by piece.
+                yield pending
+                runaway, pending = True, b""
+            else:  # lines ended by CR alone: those are given, the unfinished one kept
+                yield pending[: cut + 1]
+                pending = pending[cut + 1 :]
         else:
             yield None
 

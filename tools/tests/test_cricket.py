@@ -4,6 +4,7 @@
 import io
 import math
 import os
+import re
 import threading
 
 import pytest
@@ -83,6 +84,61 @@ def test_garbage_is_rejected_with_a_reason(line):
     with pytest.raises(CricketLineError) as e:
         parse_line(line)
     assert str(e.value)
+
+
+def test_line_max_is_the_firmwares():
+    header = REPO / "firmware" / "drivers" / "include" / "drivers" / "drivers_config.h"
+    m = re.search(r"#define FW_CFG_CRICKET_LINE_MAX (\d+)", header.read_text(encoding="utf-8"))
+    assert m and int(m.group(1)) == cricket.LINE_MAX
+
+
+def _padded(n: int) -> str:
+    """The default line with an unknown key padding it to n characters (line end not counted)."""
+    base = LINE.rstrip("\r\n") + ",XX="
+    return base + "A" * (n - len(base)) + "\r\n"
+
+
+def test_a_line_over_the_firmwares_limit_is_skipped_as_overlong():
+    c = cricket.Console()
+    assert c.feed(_padded(cricket.LINE_MAX), 0.0)  # the longest line the firmware keeps
+    assert c.readings == 1
+    with pytest.raises(CricketLineError, match=f"overlong: {cricket.LINE_MAX + 1} characters"):
+        c.feed(_padded(cricket.LINE_MAX + 1), 0.0)
+    with pytest.raises(CricketLineError, match="overlong: 165 characters"):  # the audit's 167-byte line
+        c.feed(_padded(165), 0.0)
+    assert (c.lines, c.readings, c.garbage, c.overlong) == (3, 1, 2, 2)
+
+
+def test_a_reason_quotes_only_the_start_of_a_long_value():
+    with pytest.raises(CricketLineError) as e:
+        parse_line("VR=2.0," + "B" * 5000)
+    assert len(str(e.value)) < 100 and "(5000 characters)" in str(e.value)
+
+
+class _Port:
+    """pyserial's readline over a byte string: up to a LF, at most `size` bytes at a time."""
+
+    def __init__(self, data: bytes, size: int = 1000):
+        self.data, self.size = data, size
+
+    def readline(self):
+        if not self.data:
+            raise OSError("end of stream")
+        n = self.data.find(b"\n")
+        n = self.size if n < 0 else min(n + 1, self.size)
+        chunk, self.data = self.data[:n], self.data[n:]
+        return chunk
+
+
+def test_a_runaway_line_is_given_once_and_its_rest_dropped():
+    good = LINE.encode()
+    data = good + b"VR=2.0," + b"A" * 100_000 + b"\r\n" + good + b"ID=1:2:3:4:5:6:7:8\r" * 300 + good
+    got = [x for x in cricket.read_lines(_Port(data)) if x is not None]
+    lines = [p for x in got for p in x.replace(b"\r", b"\n").split(b"\n") if p]
+    assert lines[0] + b"\r\n" == good and lines[-1] + b"\r\n" == good
+    assert len(lines[1]) > cricket.LINE_MAX and lines[1].startswith(b"VR=2.0,AAA")
+    assert lines[2:-1] == [good.rstrip()] + [b"ID=1:2:3:4:5:6:7:8"] * 300  # CR-ended lines kept whole
+    assert sum(len(x) for x in got) < len(data) - 90_000  # not the 100 KB
 
 
 def test_the_shared_fix_vectors_are_solved_as_the_firmware_solves_them():
