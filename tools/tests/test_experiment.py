@@ -9,7 +9,7 @@ from conftest import c_binary
 
 from dynaqpc_tools import experiment
 from dynaqpc_tools.common import ToolError
-from dynaqpc_tools.experiment import LearnSettings
+from dynaqpc_tools.experiment import LearnSettings, runs
 
 HEADER = "agent,set,episode,steps,reward,reached_goal,bumps,robot_time_s,updates,wall_s\n"
 # Set 1 stays <= 1.5 x its final-10 mean (170 -> 255) from episode 5 on.
@@ -323,6 +323,18 @@ def test_bad_csvs_are_refused_with_the_line(tmp_path):
     p.write_text(HEADER)
     with pytest.raises(ToolError, match="no rows"):
         experiment.read_runs(str(p))
+    # The row's own field count (DictReader's len(row) said 10 for 4 fields, 11 for 12).
+    for row, n in (("q,1,1,5", 4), ("q,1,1,5,0,1,0,1.0,0,0,7,8", 12), ("q,1,1,5,0,1,0,1.0,0", 9)):
+        p.write_text(HEADER + "q,1,1,5,0,1,0,1.0,0,0\n" + row + "\n")
+        with pytest.raises(ToolError, match=f"bad.csv:3: {n} fields, want 10$"):
+            experiment.read_runs(str(p))
+    p.write_text(HEADER + "q,1,1,5,0,2,0,1.0,0,0\n")
+    with pytest.raises(ToolError, match="bad.csv:2: reached_goal 2, want 0 or 1"):
+        experiment.read_runs(str(p))
+    t = tmp_path / "traj.csv"
+    t.write_text(",".join(runs.TRAJECTORY_COLUMNS) + "\n1,2,3\n")
+    with pytest.raises(ToolError, match="traj.csv:2: 3 fields, want"):
+        runs.read_trajectory(str(t))
 
 
 def _is_png(path):

@@ -68,14 +68,19 @@ def _open_text(path: str):
 
 def _csv_rows(path: str, kind: str, columns: Sequence[str]) -> Iterator[Tuple[int, Dict[str, str]]]:
     """The rows of a `kind` CSV ("training", "trajectory") whose header must be `columns`, each with
-    its line number; a file that cannot be read, another header, text that is not UTF-8 or not CSV
-    is a ToolError."""
+    its line number; a file that cannot be read, another header, a row with more or fewer fields
+    than the header, text that is not UTF-8 or not CSV is a ToolError."""
     try:
         with _open_text(path) as f:
             reader = csv.DictReader(f)
             if reader.fieldnames is None or [c.strip() for c in reader.fieldnames] != list(columns):
                 raise ToolError(f"{path}: not a {kind} CSV (columns {reader.fieldnames}, want {','.join(columns)})")
             for row in reader:
+                # DictReader pads a short row with None and puts a long row's extra fields in a
+                # list under None: the row's own field count, not len(row).
+                n = sum(v is not None for k, v in row.items() if k is not None) + len(row.get(None) or ())
+                if n != len(columns):
+                    raise ToolError(f"{path}:{reader.line_num}: {n} fields, want {len(columns)}")
                 yield reader.line_num, row
     except UnicodeDecodeError:
         raise ToolError(f"{path}: not a {kind} CSV (not UTF-8 text)") from None
@@ -115,15 +120,15 @@ def read_runs(path: str, extra_columns: Sequence[str] = ()) -> Dict[str, AgentRu
     wall: Dict[str, float] = {}
     extra: Dict[str, Dict[str, str]] = {}
     for line, row in _csv_rows(path, "training", want):
-        if None in row or any(v is None for v in row.values()):
-            raise ToolError(f"{path}:{line}: {len(row)} fields, want {len(want)}")
         agent, s, e, steps, rt, w, u, goal = _parse_row(row, path, line)
         if steps < 0 or rt < 0 or u < 0 or e < 1:
             raise ToolError(f"{path}:{line}: negative steps/time/updates or episode < 1")
+        if goal not in (0, 1):
+            raise ToolError(f"{path}:{line}: reached_goal {goal}, want 0 or 1")
         per = cells.setdefault(agent, {})
         if (s, e) in per:
             raise ToolError(f"{path}:{line}: agent {agent} set {s} episode {e} twice")
-        per[(s, e)] = (steps, rt, u, 1 if goal else 0)
+        per[(s, e)] = (steps, rt, u, goal)
         wall[agent] = wall.get(agent, 0.0) + w
         extra.setdefault(agent, {c: row[c] for c in extra_columns})
     if not cells:
