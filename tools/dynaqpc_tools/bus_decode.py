@@ -35,6 +35,20 @@ class Pose:
 NO_POSE = ("LOST", "NONE")
 
 
+class WrongLength(ValueError):
+    """A frame whose data is not its DBC length, longer or shorter: the firmware refuses it."""
+
+
+def decode_frame(message, data, decode_choices: bool = False):
+    """message.decode(data) for a frame of exactly the DBC's length; other lengths raise
+    WrongLength (cantools reads only the first bytes of a longer frame, which would let a frame
+    the firmware refuses pass as valid). cantools' own errors pass through."""
+    data = bytes(data)
+    if len(data) != message.length:
+        raise WrongLength(f"wrong length: {len(data)} bytes, {message.name} has {message.length}")
+    return message.decode(data, decode_choices=decode_choices)
+
+
 def _crc8(frame_id: int, data: bytes) -> int:
     """CRC-8/SAE-J1850 over the id's two bytes (low first) and `data` (firmware can_link_crc8)."""
     return crc8_sae_j1850(bytes([frame_id & 0xFF, (frame_id >> 8) & 0xFF]) + bytes(data))
@@ -56,15 +70,18 @@ def _expected_crc(message, data: bytes):
 
 
 def e2e_ok(message, data) -> bool:
-    """True unless `message` carries a Crc (the end-to-end check, docs/can-protocol.md) that its
+    """True unless the data is not the message's DBC length (longer or shorter: the firmware
+    refuses it), or `message` carries a Crc (the end-to-end check, docs/can-protocol.md) that its
     data fails, or a Reserved signal (the sonar frames' unused bits, sent as 0) that is not 0:
     such a frame is noise, and no view draws it."""
+    if len(bytes(data)) != message.length:
+        return False
     got = _expected_crc(message, data)
     if got is not None and got[0] != got[1]:
         return False
     if got is not None and any(s.name == "Reserved" for s in message.signals):
         try:
-            return message.decode(bytes(data), decode_choices=False)["Reserved"] == 0
+            return decode_frame(message, data)["Reserved"] == 0
         except Exception:
             return False
     return True
@@ -145,7 +162,7 @@ class PoseDecoder:
         if not e2e_ok(m, msg.data):
             return None  # noise: its Crc fails
         try:
-            v = m.decode(bytes(msg.data), decode_choices=False)
+            v = decode_frame(m, msg.data)
         except Exception:
             return None  # the monitor reports undecodable frames; the viewer just skips them
         heading = float(v[self.heading.name]) * self._hs if self.heading else 0.0
@@ -230,7 +247,7 @@ class BusState:
         if m is None or msg.is_remote_frame or msg.is_error_frame or not e2e_ok(m, msg.data):
             return ""
         try:
-            v = m.decode(bytes(msg.data), decode_choices=False)
+            v = decode_frame(m, msg.data)
         except Exception:
             return ""
         if m is self.learn:

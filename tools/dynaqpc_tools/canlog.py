@@ -19,7 +19,8 @@ An MCAP recording holds:
 The foxglove.* topics are protobuf with the schemas Foxglove publishes, as foxglove-sdk encodes
 them (the same messages `dynaqpc-monitor --foxglove` serves live); every channel's messages carry
 a sequence number counted from 1. It is MCAP as Foxglove reads it, not a ROS 2 bag: `ros2 bag
-play` reads only ROS 2 (CDR) messages. `--replay run.mcap` reads /can/raw.
+play` reads only ROS 2 (CDR) messages. `--replay run.mcap` reads /can/raw; a recording that was
+never finished (its recorder killed with SIGKILL, or a power cut) up to the cut, with a warning.
 
 Time: a recording of a simulation run X times faster than real time (`--speed X`) is stamped
 in robot time, t0 + (t - t0) * X, so its rates are the DBC's; the same holds for ASC and BLF.
@@ -29,9 +30,10 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from typing import Iterator, Optional
 
-from .bus_decode import PoseDecoder
+from .bus_decode import PoseDecoder, decode_frame
 from .common import ToolError
 
 RAW_TOPIC = "/can/raw"
@@ -159,9 +161,9 @@ class McapLog:
             return
         m, channel = entry
         try:
-            values = m.decode(data, decode_choices=False)
+            values = decode_frame(m, data)
         except Exception:
-            return  # undecodable: the raw frame is kept, the monitor counts it
+            return  # undecodable (a wrong length too): the raw frame is kept, the monitor counts it
         out = {k: (float(v) if isinstance(v, float) else int(v)) for k, v in values.items()}
         for s in m.signals:
             if s.choices and s.name in values:
@@ -214,7 +216,8 @@ def open_log(path: str, db, arena: Optional[dict] = None, speed: float = 1.0):
 
 def read_log(path: str) -> Iterator:
     """The frames of a recording as python-can messages: MCAP (its /can/raw channel) or any log
-    python-can reads. A missing, unreadable or garbage file is a ToolError naming it."""
+    python-can reads. A missing, unreadable or garbage file is a ToolError naming it. An MCAP
+    recording that was cut (never finished) is read up to the cut, with a warning on stderr."""
     import can
 
     if not os.path.isfile(path):
@@ -232,25 +235,86 @@ def read_log(path: str) -> Iterator:
         raise ToolError(f"cannot read {path}: not a readable CAN log ({type(e).__name__}: {e})") from None
 
 
-def _read_mcap(path: str) -> Iterator:
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def _frame(log_time: int, data: bytes):
+    """A /can/raw message as a python-can message."""
     import can
+
+    d = json.loads(data)
+    return can.Message(
+        timestamp=log_time * 1e-9,
+        arbitration_id=int(d["id"]),
+        is_extended_id=bool(d["extended"]),
+        is_remote_frame=bool(d.get("remote")),
+        is_error_frame=bool(d.get("error")),
+        dlc=int(d["dlc"]),
+        data=bytes.fromhex(d["data_hex"]),
+    )
+
+
+def _read_mcap(path: str) -> Iterator:
+    try:
+        with open(path, "rb") as f:
+            head = f.read(len(MCAP_MAGIC))
+            f.seek(max(0, os.path.getsize(path) - len(MCAP_MAGIC)))
+            tail = f.read()
+    except OSError as e:
+        raise ToolError(f"cannot read {path}: {e.strerror or e}") from None
+    if head == MCAP_MAGIC and tail != MCAP_MAGIC:
+        yield from _read_cut_mcap(path)
+        return
     from mcap.reader import make_reader
 
     try:
         with open(path, "rb") as f:
             reader = make_reader(f)
-            for _schema, channel, message in reader.iter_messages(topics=[RAW_TOPIC]):
-                d = json.loads(message.data)
-                yield can.Message(
-                    timestamp=message.log_time * 1e-9,
-                    arbitration_id=int(d["id"]),
-                    is_extended_id=bool(d["extended"]),
-                    is_remote_frame=bool(d.get("remote")),
-                    is_error_frame=bool(d.get("error")),
-                    dlc=int(d["dlc"]),
-                    data=bytes.fromhex(d["data_hex"]),
-                )
+            for _schema, _channel, message in reader.iter_messages(topics=[RAW_TOPIC]):
+                yield _frame(message.log_time, message.data)
     except ToolError:
         raise
     except Exception as e:
         raise ToolError(f"cannot read {path}: not a dynaqpc MCAP recording ({type(e).__name__}: {e})") from None
+
+
+def _read_cut_mcap(path: str) -> Iterator:
+    """A recording whose writer never finished it (killed with SIGKILL, a power cut): it has no
+    summary or end, so its records are read in order (mcap's StreamReader) up to the cut, and a
+    warning on stderr says so. What the writer had not yet written out (the last chunk) is lost."""
+    from mcap.records import Channel, Header, Message
+    from mcap.stream_reader import StreamReader
+
+    raw_ids = set()
+    frames, last_t, first = 0, None, True
+    with open(path, "rb") as f:
+        records = StreamReader(f, record_size_limit=os.path.getsize(path)).records
+        while True:
+            try:
+                rec = next(records)
+                if first and not isinstance(rec, Header):
+                    raise ValueError(f"starts with {type(rec).__name__}, not a Header")
+                first = False
+                if isinstance(rec, Channel) and rec.topic == RAW_TOPIC:
+                    raw_ids.add(rec.id)
+                if not isinstance(rec, Message) or rec.channel_id not in raw_ids:
+                    continue
+                msg = _frame(rec.log_time, rec.data)
+            except StopIteration:
+                break  # whole after all
+            except Exception as e:
+                if first:
+                    raise ToolError(
+                        f"cannot read {path}: not a dynaqpc MCAP recording ({type(e).__name__}: {e})"
+                    ) from None
+                break  # the cut
+            frames += 1
+            last_t = msg.timestamp
+            yield msg
+    upto = f", the last at {last_t:.6f}" if last_t is not None else ""
+    print(
+        f"warning: {path} was cut short (its recorder was killed or lost power, so it was never "
+        f"finished): {frames} frames read up to the cut{upto}; what came after is lost",
+        file=sys.stderr,
+        flush=True,
+    )

@@ -38,7 +38,7 @@ import time
 from typing import Dict, Optional
 
 from .agents import default_sim
-from .bus_decode import NO_POSE, BusState, PoseDecoder
+from .bus_decode import NO_POSE, BusState, PoseDecoder, decode_frame
 from .common import ToolError
 
 #: The fixed topics (besides /can/<MESSAGE>, one per DBC message).
@@ -437,7 +437,7 @@ class LiveFoxglove(Build):
         if vm is None or self.grid is None or msg.arbitration_id != vm.frame_id or msg.is_extended_id:
             return
         try:
-            v = vm.decode(bytes(msg.data), decode_choices=False)
+            v = decode_frame(vm, msg.data)
         except Exception:
             return
         x, y, h, code = state_cell(self.grid, int(v["State"]))
@@ -462,7 +462,7 @@ class LiveFoxglove(Build):
         if dm is None:
             return
         try:
-            v = dm.decode(bytes(msg.data), decode_choices=False)
+            v = decode_frame(dm, msg.data)
         except Exception:
             return
         out = {}

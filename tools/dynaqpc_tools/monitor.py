@@ -4,7 +4,10 @@
 Decodes every frame with the DBC (values with a value table by name: Mode=SAFE_STOP), keeps
 per-frame rates, counts gaps in the rolling counters (signals named ``Counter`` or
 ``*_COUNTER``), shows the last decoded values, optionally records (MCAP for Foxglove, with
-decoded signals and the pose; or python-can's ASC/BLF), and prints a summary at the end.
+decoded signals and the pose; or python-can's ASC/BLF), and prints a summary at the end, be it
+reached by the source's end, --count, --duration, Ctrl-C, SIGTERM or SIGHUP (the recording is
+finished in every case). A frame of the wrong length, a failed Crc or Reserved bits not 0 is
+undecodable: counted, named on stderr, and --print shows no values for it.
 ``--speed X`` stamps a recording of a simulation run X times faster in robot time.
 ``--foxglove [PORT]`` serves the bus live to Foxglove over WebSocket (foxglove-sdk, loopback by
 default; dynaqpc_tools/foxglove_live.py lists the topics; docs/foxglove-layout.json lays them out).
@@ -14,14 +17,17 @@ from __future__ import annotations
 
 import argparse
 import collections
+import contextlib
 import math
 import os
+import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
-from .bus_decode import e2e_ok
+from .bus_decode import decode_frame, e2e_ok
 from .bus_listen import frames, listener_parser
 from .common import (
     ToolError,
@@ -137,6 +143,7 @@ class Monitor:
         self.error_frames = 0
         self.remote_frames = 0
         self.total = 0
+        self.decoded = False  # the last frame fed decoded (a DBC frame that passed its checks)
         self._messages = {}
         for m in db.messages:
             self._messages[(m.frame_id, bool(m.is_extended_frame))] = m
@@ -157,8 +164,10 @@ class Monitor:
         return st
 
     def feed(self, msg) -> List[str]:
-        """Accounts one message; returns the events it caused (counter gaps, decode errors)."""
+        """Accounts one message; returns the events it caused (counter gaps, decode errors).
+        `decoded` says afterwards whether it was a DBC frame that decoded and passed its checks."""
         events = []
+        self.decoded = False
         self.total += 1
         if msg.is_error_frame:
             self.error_frames += 1
@@ -178,14 +187,15 @@ class Monitor:
         if m is None:
             return events
         try:
-            values = m.decode(bytes(msg.data), decode_choices=True)  # value tables by name
-        except Exception as e:
+            values = decode_frame(m, msg.data, decode_choices=True)  # value tables by name
+        except Exception as e:  # a wrong length (longer or shorter than the DBC's) too
             st.decode_errors += 1
             return [f"{m.name}: cannot decode {bytes(msg.data).hex()}: {e}"]
         if not e2e_ok(m, msg.data):
             st.decode_errors += 1  # noise that decodes: its end-to-end Crc fails
             return [f"{m.name}: Crc fails on {bytes(msg.data).hex()}"]
         st.values = values
+        self.decoded = True
         events += self.status.feed(m, values, t)
         if st.counter_signal is not None and st.counter_signal in values:
             c = int(values[st.counter_signal])
@@ -245,6 +255,23 @@ class Monitor:
         return lines
 
 
+def print_frame(mon: Monitor, msg, out) -> None:
+    """--print's line for the frame just fed: its decoded values; for an unknown id, remote or
+    error frame, its bytes; for one that did not decode or failed its checks, no line (the event
+    on stderr says why), never the values of an earlier frame."""
+    key = (msg.arbitration_id, bool(msg.is_extended_id))
+    st = mon.stats.get(key)
+    if st is None:  # an error frame
+        return
+    if key in mon._messages and not msg.is_remote_frame:
+        if not mon.decoded:
+            return
+        vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items())
+    else:
+        vals = ("remote " if msg.is_remote_frame else "") + bytes(msg.data).hex(" ")
+    print(f"{msg.timestamp:.6f} {mon._id_text(st)} {st.name} {vals}", file=out)
+
+
 def _fmt(v) -> str:
     if hasattr(v, "name") and hasattr(v, "value"):  # cantools' NamedSignalValue: the DBC's name
         return str(v.name)
@@ -253,6 +280,29 @@ def _fmt(v) -> str:
             return "-"
         return f"{v:.1f}" if abs(v) >= 100 else f"{v:.3g}"
     return str(v)
+
+
+@contextlib.contextmanager
+def stop_on_signals():
+    """Yields a list that SIGTERM and SIGHUP (`kill`, `timeout`, the terminal closed) append their
+    name to, for the loop to stop at its next frame or read timeout as on Ctrl-C: the recording
+    finished and the summary printed. A flag, not an exception, so that no recording is cut in
+    the middle of writing a message. In the main thread only (elsewhere, a test's thread,
+    signals are left as they are)."""
+    stopped: List[str] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield stopped
+        return
+
+    def handler(signum, _frame):
+        stopped.append(signal.Signals(signum).name)
+
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
+    try:
+        yield stopped
+    finally:
+        for sig, h in previous.items():
+            signal.signal(sig, h)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -344,12 +394,25 @@ def run(args, out=None) -> Monitor:
         # had to guess how long the imports take) misses none of them.
         print(f"dynaqpc-monitor: listening on {args.interface}:{args.channel}", file=sys.stderr, flush=True)
 
+    source = frames(args, 0.2, listening)
+    with stop_on_signals() as stopped:
+        _loop(args, mon, source, logger, live_fg, out, stopped)
+    print("\n".join(mon.summary_lines()), file=out)
+    return mon
+
+
+def _loop(args, mon: Monitor, source, logger, live_fg, out, stopped: List[str]) -> None:
+    """Reads until the source ends, --count or --duration, Ctrl-C, or a signal in `stopped`
+    (SIGTERM, SIGHUP); then finishes the recording and closes the bus and the Foxglove server,
+    whatever ended it."""
     live = args.refresh > 0 and out.isatty() and not args.print_frames
     start = time.monotonic()
     next_refresh = start + args.refresh
-    source = frames(args, 0.2, listening)
     try:
         for msg in source:
+            if stopped:
+                print(f"dynaqpc-monitor: {stopped[0]}: stopping", file=sys.stderr, flush=True)
+                break
             now = time.monotonic()
             if args.duration is not None and now - start >= args.duration:
                 break
@@ -361,9 +424,7 @@ def run(args, out=None) -> Monitor:
                 for ev in mon.feed(msg):
                     print(f"{msg.timestamp:.6f} {ev}", file=sys.stderr)
                 if args.print_frames:
-                    st = mon.stats.get((msg.arbitration_id, bool(msg.is_extended_id)))
-                    vals = " ".join(f"{k}={_fmt(v)}" for k, v in st.values.items()) if st else ""
-                    print(f"{msg.timestamp:.6f} {msg.arbitration_id:03X} {st.name if st else '?'} {vals}", file=out)
+                    print_frame(mon, msg, out)
                 if args.count is not None and mon.total >= args.count:
                     break
             if live and now >= next_refresh:
@@ -378,8 +439,6 @@ def run(args, out=None) -> Monitor:
         if live_fg is not None:
             live_fg.stop()
         source.close()  # a bus it opened is shut down
-    print("\n".join(mon.summary_lines()), file=out)
-    return mon
 
 
 def main(argv=None) -> int:

@@ -48,6 +48,7 @@ import sys
 import time
 from typing import Dict, Optional
 
+from .bus_decode import decode_frame
 from .common import (
     ToolArgumentParser,
     ToolError,
@@ -121,7 +122,7 @@ def tool_cmd_frames(db, command: str, argument: int = 0, counter: Optional[int] 
 def decode_status(db, data: bytes) -> Dict[str, object]:
     """FW_STATUS with names: {'mode': 'RUNNING', 'uptime_s': 12, 'errors': {'MotorSilent': 0, ...}}."""
     m = db.get_message_by_name("FW_STATUS")
-    v = m.decode(data, decode_choices=True)
+    v = decode_frame(m, data, decode_choices=True)
     errors = {k[3:]: int(val) for k, val in v.items() if k.startswith("Err")}
     return {
         "mode": str(v["Mode"]),
@@ -137,7 +138,7 @@ def decode_status(db, data: bytes) -> Dict[str, object]:
 def decode_ack(db, data: bytes) -> Dict[str, object]:
     """TOOL_ACK with names: {'command': 'SAVE_LEARNED', 'counter': 5, 'result': 'DONE', ...}."""
     m = db.get_message_by_name("TOOL_ACK")
-    v = m.decode(data, decode_choices=True)
+    v = decode_frame(m, data, decode_choices=True)
     return {
         "command": str(v["Command"]),
         "counter": int(v["Counter"]),
@@ -150,7 +151,7 @@ def decode_ack(db, data: bytes) -> Dict[str, object]:
 
 def decode_cmd(db, data: bytes) -> Dict[str, object]:
     m = db.get_message_by_name("TOOL_CMD")
-    v = m.decode(data, decode_choices=True)
+    v = decode_frame(m, data, decode_choices=True)
     return {"command": str(v["Command"]), "counter": int(v["Counter"]), "argument": int(v["Argument"])}
 
 

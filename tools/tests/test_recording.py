@@ -3,7 +3,11 @@
 poses without a fix, garbage logs; and a real recording of paper-sim in a private namespace."""
 
 import json
+import os
+import signal
 import subprocess
+import threading
+import time
 
 import can
 import cantools
@@ -12,7 +16,8 @@ from conftest import REPO, c_binary, in_netns, netns_available
 from mcap.reader import make_reader
 
 from dynaqpc_tools import monitor, viewer
-from dynaqpc_tools.bus_decode import e2e_seal
+from dynaqpc_tools.bus_decode import PoseDecoder, WrongLength, decode_frame, e2e_ok, e2e_seal
+from dynaqpc_tools.canlog import McapLog
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
 ARENA = {
@@ -274,3 +279,113 @@ def test_fail_on_status_notices_safe_stop_errors_and_silence(tmp_path, capsys):
     gap = fine[:2] + [_msg(db, "FW_STATUS", 1010.0, Mode=2, Counter=2, Uptime=10)]
     rc, why = run(gap)  # 9 s without FW_STATUS (3 cycles: 3 s)
     assert rc == 1 and any("silent 1 time(s)" in w for w in why)
+
+
+def _gyro(db, i, t0=1000.0):
+    return _msg(db, "GYRO_RATE", t0 + 0.01 * i, YawRate=(i % 100) * 0.5, Counter=i % 16)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+def test_sigterm_and_sighup_finish_the_recording(tmp_path, capsys, monkeypatch, sig):
+    """`kill` or `timeout` (SIGTERM), or the terminal closing (SIGHUP), end the monitor as Ctrl-C
+    does: the MCAP is finished (it has its summary) and the summary is printed."""
+    db = cantools.database.load_file(DBC)
+    rec, channel = tmp_path / "run.mcap", f"monitor-{sig.name}"
+    opened, original = threading.Event(), monitor.frames
+
+    def frames(args, timeout, on_open=None):
+        return original(args, timeout, lambda: (on_open and on_open(), opened.set()))
+
+    monkeypatch.setattr(monitor, "frames", frames)
+
+    def bus_then_signal():
+        assert opened.wait(20)
+        with can.Bus(interface="virtual", channel=channel) as bus:
+            for i in range(10):
+                bus.send(_gyro(db, i))
+        time.sleep(0.5)
+        os.kill(os.getpid(), sig)
+
+    t = threading.Thread(target=bus_then_signal)
+    t.start()
+    rc = monitor.main(["--dbc", DBC, "--interface", "virtual", "--channel", channel, "--log", str(rec)])
+    t.join()
+    out, err = capsys.readouterr()
+    assert rc == 0 and f"{sig.name}: stopping" in err and "10 frames" in out
+    with open(rec, "rb") as f:
+        assert make_reader(f).get_summary().statistics.message_count > 10  # finished: it has a summary
+    assert monitor.main(["--dbc", DBC, "--replay", str(rec), "--print"]) == 0
+    out, err = capsys.readouterr()
+    assert "10 frames" in out and "warning" not in err
+
+
+def test_a_cut_recording_is_replayed_up_to_the_cut(tmp_path, capsys):
+    """A recorder killed with SIGKILL or a power cut leaves an MCAP without its end: the monitor
+    and the viewer read its frames up to the cut and warn that it was cut."""
+    db = cantools.database.load_file(DBC)
+    rec, cut = tmp_path / "run.mcap", tmp_path / "cut.mcap"
+    log = McapLog(str(rec), db)
+    n = 12000
+    for i in range(n):
+        log(_gyro(db, i))
+        if i == n // 2:
+            log._file.flush()
+            killed = rec.read_bytes()  # what the disk holds when the recorder dies here
+    log.stop()
+    whole = rec.read_bytes()
+    cut.write_bytes(killed)
+    assert monitor.main(["--dbc", DBC, "--replay", str(cut), "--print"]) == 0
+    out, err = capsys.readouterr()
+    got = int(out.splitlines()[-3].split()[0])  # "N frames, 1 ids, ..."
+    assert 0 < got <= n // 2 and f"{got} frames read up to the cut" in err and "was cut short" in err
+    lines = [ln for ln in out.splitlines() if "GYRO_RATE" in ln and "YawRate" in ln]
+    assert len(lines) == got  # in order, from the first
+    assert lines[0].startswith("1000.000000 ") and "Counter=0" in lines[0]
+    # Cut anywhere, even inside the first chunk or its end: read up to there, never an error.
+    for size in (len(whole) // 3, 2 * len(whole) // 3, len(whole) - 1, 200):
+        cut.write_bytes(whole[:size])
+        assert monitor.main(["--dbc", DBC, "--replay", str(cut)]) == 0
+        assert "was cut short" in capsys.readouterr().err
+    cut.write_bytes(whole[:-1])
+    assert viewer.main(["--dbc", DBC, "--replay", str(cut), "--headless-png", str(tmp_path / "v.png")]) == 0
+    assert "was cut short" in capsys.readouterr().err
+    cut.write_bytes(b"\x89MCAP0\r\n" + bytes(range(256)))  # not a recording, however cut: an error
+    assert monitor.main(["--dbc", DBC, "--replay", str(cut)]) == 2
+    assert "not a dynaqpc MCAP recording" in capsys.readouterr().err
+
+
+def test_frames_longer_than_the_dbc_are_undecodable(tmp_path, capsys):
+    """The firmware refuses a frame of the wrong length, longer or shorter: so do the tools (a
+    longer one used to decode from its first bytes and pass its Crc check)."""
+    db = cantools.database.load_file(DBC)
+    gyro = db.get_message_by_name("GYRO_RATE")
+    good = e2e_seal(gyro, gyro.encode({"YawRate": 1.5, "Temperature": 20, "Status": 0, "Counter": 3, "Crc": 0}))
+    assert e2e_ok(gyro, good)
+    assert not e2e_ok(gyro, good + b"\x00\x00\x00") and not e2e_ok(gyro, good[:4])
+    with pytest.raises(WrongLength):
+        decode_frame(gyro, good + b"\x00")
+    log = tmp_path / "x.log"
+    log.write_text(
+        f"(1.0) can0 0A0#0102030405060708\n(2.0) can0 0A0#0102030405\n(3.0) can0 0A0#{good.hex()}\n"
+        f"(4.0) can0 0A0#{good.hex()}00\n(5.0) can0 7AA#0102\n"
+    )
+    assert monitor.main(["--dbc", DBC, "--replay", str(log), "--print"]) == 0
+    out, err = capsys.readouterr()
+    assert "1.000000 GYRO_RATE: cannot decode 0102030405060708: wrong length: 8 bytes, GYRO_RATE has 5" in err
+    assert "4.000000 GYRO_RATE: cannot decode" in err and "wrong length: 6 bytes" in err
+    assert "2.000000 GYRO_RATE: Crc fails" in err
+    # --print: a line for the good frame and the unknown id (raw), none for the three bad ones,
+    # never one repeating the last good frame's values.
+    printed = [ln for ln in out.splitlines() if ln[:1].isdigit() and "." in ln.split()[0]]
+    assert printed == [
+        "3.000000 0A0 GYRO_RATE YawRate=1.5 Temperature=20 Status=OK Counter=3 Crc=" + str(good[-1]),
+        "5.000000 7AA ? 01 02",
+    ]
+    gyro_row = [ln for ln in out.splitlines() if " GYRO_RATE " in ln and "frames" not in ln][-1]
+    assert gyro_row.split()[-1] == "3"  # undecodable: 2 wrong lengths, 1 Crc
+    # The views skip it too: a BusState or a pose decoder never takes a longer frame.
+    pose = db.get_message_by_name("TLM_POSE")
+    data = pose.encode({s.name: 0 for s in pose.signals} | {"X": 1000, "Y": 800})
+    dec = PoseDecoder(db, "TLM_POSE")
+    assert dec.decode(can.Message(arbitration_id=pose.frame_id, is_extended_id=False, data=data)) is not None
+    assert dec.decode(can.Message(arbitration_id=pose.frame_id, is_extended_id=False, data=data + b"\x00")) is None
