@@ -248,6 +248,13 @@ void print_ready(const ScenarioBundle &sb, const robot_config_t &cfg, const Sett
         std::printf("dynaqpc-fw: the flash held %u damaged or refused record(s); %s\n", st0.records_refused,
                     st0.restore_result == 0 ? "restored an older good one" : "starting fresh");
     }
+    if (st0.records_foreign > 0) {
+        // Another scenario's, agent's or build's learning: not restored here, and this firmware's
+        // saves go over it (the first into a free slot if there is one). Back the image up to keep it.
+        std::printf("dynaqpc-fw: the flash held %u record(s) of another scenario, agent or build: not restored; "
+                    "this firmware's saves overwrite them (copy %s first to keep them)\n",
+                    st0.records_foreign, s.flash.c_str());
+    }
     std::fflush(stdout);
 }
 
@@ -309,10 +316,10 @@ void print_final(const FinalCounts &f, const agent_t *agent, double wall_s, doub
     hal_can_get_stats(&cs);
     std::printf("dynaqpc-fw: stopped after %.1f s wall, %.1f s firmware time\n", wall_s,
                 static_cast<double>(hal_time_us()) * 1e-6);
-    std::printf("episodes=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
+    std::printf("episodes=%u episodes_empty=%u saves=%u save_errors=%u frames_rx=%u frames_bad=%u tx_dropped=%u "
                 "control_runs=%u misses=%u skipped=%u worst_lateness_us=%u events_dropped=%u q_rows=%u/%u uart_rx_bytes=%u "
                 "uart_overruns=%u uart_discarded=%u uart_stall_lost=%u uart_stalls=%u\n",
-                st.episodes, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
+                st.episodes, st.episodes_empty, st.saves, st.save_errors, st.frames_rx, st.frames_bad, st.frames_tx_dropped,
                 ss.task[0].runs, ss.task[0].misses, ss.task[0].skipped, ss.task[0].worst_lateness_us, static_cast<unsigned>(ss.events_dropped),
                 f.q_rows.value, f.q_rows.capacity, us.rx_bytes, us.rx_overruns,
                 f.uart_discarded, f.uart_stall_lost, f.uart_stalls);
@@ -327,11 +334,12 @@ void print_final(const FinalCounts &f, const agent_t *agent, double wall_s, doub
                     as.planning_updates / steps, static_cast<double>(ss.idle_steps) / steps);
     }
     // Faults and how the firmware met them (docs/realtime.md "Faults").
-    std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u restore_fell_back=%d "
+    std::printf("faults: safe_stops=%u status_errors=0x%02x restore=%d records_refused=%u records_foreign=%u "
+                "restore_fell_back=%d "
                 "tool_refused=%u tool_answers=%u tool_malformed=%u resets=%u restores=%u uart_errors=%u "
                 "uart_posts_failed=%u can_tx_dropped=%u can_rx_overruns=%u can_bus_errors=%u can_stall_lost=%u\n",
                 st.safe_stops, st.status_errors, static_cast<int>(st.restore_result), st.records_refused,
-                st.restore_fell_back ? 1 : 0, st.tool_refused, st.tool_answers, st.tool_malformed, st.resets,
+                st.records_foreign, st.restore_fell_back ? 1 : 0, st.tool_refused, st.tool_answers, st.tool_malformed, st.resets,
                 st.restores, us.rx_errors, st.uart_posts_failed, cs.tx_dropped,
                 cs.rx_overruns, cs.bus_errors, hal_host_can_stall_lost());
     std::printf("boot: count=%u cut_episode=%u cut_steps=%u\n", st.boot_count, st.boot_cut_episode, st.boot_cut_steps);

@@ -309,6 +309,7 @@ int learned_store_load(learned_store_t *st, agent_t *ag, uint32_t *episodes)
         state[i] = learned_store_slot_state(st, ag, i, &seq[i]);
         st->corrupt_records += state[i] == LEARNED_SLOT_DAMAGED ? 1u : 0u;
         st->refused_records += state[i] == LEARNED_SLOT_REFUSED ? 1u : 0u;
+        st->foreign_records += state[i] == LEARNED_SLOT_FOREIGN && st->foreign_records < 255u ? 1u : 0u;
     }
     st->fell_back = false;
     int32_t best = -1;

@@ -166,14 +166,31 @@ static void send_episode_(const robot_episode_report_t *ep)
     send_(&f);
 }
 
+// An episode that ended before its first real step (cut by a lost heading, a START or a STOP)
+// learned nothing: it is reported (TLM_EPISODE, 0 steps) but not counted, so its number goes back
+// and the next episode takes it again, and it is not saved. Counted, empty episodes would add to a
+// record's episodes with nothing learned, and after a RESET_LEARNING a silent gyro's START after
+// START would pass the kept copy of the wiped learning and overwrite it (learned_store.h). Returns
+// whether the episode learned.
+static bool episode_learned_(void)
+{
+    if (app_.ctrl.last_episode.steps > 0u) {
+        return true;
+    }
+    app_.stats.episodes_empty++;
+    app_.ctrl.episode = app_.ctrl.episode > 0u ? app_.ctrl.episode - 1u : 0u;
+    return false;
+}
+
 // A command ends the running episode (START_EPISODE, STOP): it is reported as interrupted, with
 // the steps it had; its last step is not learned from.
 static void interrupt_episode_(void)
 {
     if (robot_ctrl_interrupt(&app_.ctrl, hal_time_us())) {
         app_.stats.episodes_interrupted++;
-        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_episode.steps, false);
         send_episode_(&app_.ctrl.last_episode);
+        (void)episode_learned_();
+        (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_episode.steps, false);
         app_.ctrl.episode_done = false;  // reported here, not again by the control task
     }
 }
@@ -720,12 +737,14 @@ static void control_task_(void *ctx)
     }
     gyro_set_rate_limit(&app_.dev.gyro, gyro_limit_(motor_cmd_peak_mm_s(&app_.dev.motor)));
     telemetry_(&in, fix_state);
-    if (app_.ctrl.episode_done) {
+    if (app_.ctrl.episode_done && episode_learned_()) {
         app_.stats.episodes++;
         // The robot stands still at an episode's end: the time to erase and program flash.
         if (app_.opt.persist && app_.store_ok && !app_.opt.evaluate) {
             note_save_(learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode));
         }
+    }
+    if (app_.ctrl.episode_done) {
         (void)boot_journal_append(&app_.journal, app_.ctrl.episode, app_.ctrl.last_episode.steps, false);
         if (app_.opt.auto_start && app_.trust.trusted) {
             start_episode_();
@@ -831,6 +850,9 @@ static void restore_learning_(const robot_app_options_t *opt)
                 learned_store_load(&app_.store, opt->agent, &app_.stats.restored_episodes);
             // Refused or damaged records, a fallback to an older one: reported, not silent.
             app_.stats.records_refused = app_.store.refused_records + app_.store.corrupt_records;
+            // Another layout's record (another scenario, agent or build) is not this firmware's to
+            // restore, and its saves go over it (learned_store.h): counted, and reported too.
+            app_.stats.records_foreign = app_.store.foreign_records;
             app_.stats.restore_fell_back = app_.store.fell_back;
             app_.flash_fault = app_.stats.restore_result == FW_ERR_CORRUPT || app_.store.fell_back;
         }
@@ -854,8 +876,11 @@ static void open_journal_(void)
             app_.stats.boot_cut_episode = last.episode;
             app_.stats.boot_cut_steps = last.steps;
         }
-        // Numbers go on after the cut episode's (the record holds only the finished ones).
-        app_.ctrl.episode = last.episode > app_.ctrl.episode ? last.episode : app_.ctrl.episode;
+        // Numbers go on after the cut episode's (the record holds only the finished ones); one cut
+        // before its first real step learned nothing and is not counted (episode_learned_()).
+        const uint32_t counted = last.running && last.steps == 0u && last.episode > 0u ? last.episode - 1u
+                                                                                      : last.episode;
+        app_.ctrl.episode = counted > app_.ctrl.episode ? counted : app_.ctrl.episode;
     }
     if (app_.opt.evaluate) {
         // Evaluate mode is a lock on the flash: it reads what the last boot journaled and writes

@@ -605,7 +605,61 @@ static void test_pose_trust_gates_episodes(void **state)
     ASSERT_ANSWER(command_(TLM_CMD_STOP, 0u), TLM_ACK_DONE, TLM_WHY_NONE);
     assert_int_equal(n_episodes_, 2);
     assert_true(last_episode_.interrupted);
-    assert_int_equal(last_episode_.episode, robot_app_ctrl()->episode);
+    // (No Cricket fix here: neither episode took a real step, so neither counts.)
+    assert_int_equal(last_episode_.steps, 0);
+    assert_int_equal(last_episode_.episode, 1);
+    assert_int_equal(robot_app_ctrl()->episode, 0);
+}
+
+// An episode cut before its first real step learned nothing: reported (TLM_EPISODE, 0 steps,
+// Interrupted), but not counted and not saved, so it neither wears the flash nor adds episodes to a
+// record. (The bug: after a RESET_LEARNING a silent gyro made every START such an episode, each
+// saved with one more episode, until the empty learning passed the kept copy of the wiped one and
+// overwrote it.) A reboot after them numbers on from the last episode that learned.
+static void test_empty_episodes_are_not_counted_or_saved(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab);
+    cmd_counter_ = 1;
+    live_for_(500);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_DONE, TLM_WHY_NONE);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.saves, 1);
+    gyro_on_ = false;  // every START's heading is lost again within the bus timeout
+    for (uint32_t i = 1; i <= 5u; i++) {
+        ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
+        live_for_(1500);
+        assert_int_equal(n_episodes_, i);
+        assert_true(last_episode_.interrupted);
+        assert_int_equal(last_episode_.steps, 0);
+        assert_int_equal(last_episode_.episode, 1);  // the number goes back: the next takes it again
+        assert_int_equal(robot_app_ctrl()->episode, 0);
+    }
+    robot_app_get_stats(&st);
+    assert_int_equal(st.saves, 1);  // none at the empty episodes' ends
+    assert_int_equal(st.episodes, 0);
+    assert_int_equal(st.episodes_empty, 5);
+    assert_int_equal(st.episodes_interrupted, 5);
+    // A STOP cuts one the same way; a reboot cuts one that had not stepped yet: not counted either.
+    gyro_on_ = true;
+    live_for_(200);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(300);
+    ASSERT_ANSWER(command_(TLM_CMD_STOP, 0u), TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(last_episode_.steps, 0);
+    assert_int_equal(robot_app_ctrl()->episode, 0);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(300);
+    assert_int_equal(robot_app_ctrl()->episode, 1);
+    boot_opt_(&robot_config_paper_lab, &agent_paper_lab, &agent_storage_paper_lab, false, true, true);
+    live_for_(200);
+    assert_int_equal(n_episodes_, 1);  // the cut one, reported
+    assert_int_equal(last_episode_.episode, 1);
+    assert_int_equal(last_episode_.steps, 0);
+    assert_int_equal(robot_app_ctrl()->episode, 0);
+    robot_app_get_stats(&st);
+    assert_int_equal(st.restored_episodes, 0);
 }
 
 // A reboot mid-episode (power cut: the same flash image, RAM lost): the next boot counts one more
@@ -728,6 +782,7 @@ int main(void)
         cmocka_unit_test(test_every_command_is_answered),
         cmocka_unit_test(test_value_frames_follow_the_steps),
         cmocka_unit_test(test_pose_trust_gates_episodes),
+        cmocka_unit_test(test_empty_episodes_are_not_counted_or_saved),
         cmocka_unit_test(test_reboot_reports_the_cut_episode),
         cmocka_unit_test(test_reboot_before_any_save_reports_the_cut_episode),
         cmocka_unit_test(test_reboot_takes_no_heading_while_the_wheels_turn),

@@ -464,6 +464,8 @@ static void test_save_keeps_own_copy_beside_a_foreign_record(void **state)
     assert_int_equal(s2.newest, 1);
     assert_int_equal(learned_store_load(&s2, &agent_, NULL), FW_OK);
     assert_int_equal(s2.restored_slot, 0);
+    assert_int_equal(s2.foreign_records, 1);  // passed over, counted: the boot reports it
+    assert_int_equal(s2.refused_records + s2.corrupt_records, 0);
     learn_(10, 1);
     assert_int_equal(learned_store_save(&s2, &agent_, 2), FW_OK);
     assert_int_equal(s2.newest, 1);  // over the foreign record, not over our copy

@@ -71,6 +71,7 @@ typedef struct learned_store {
     uint32_t fallbacks;          ///< loads that restored a record with a damaged one beside it
     uint32_t foreign_overwritten;///< saves that overwrote another layout's record
     bool fell_back;              ///< the last load passed over a damaged or refused record
+    uint8_t foreign_records;     ///< whole records of another layout the loads passed over (saturating)
     int32_t restored_slot;       ///< the slot the last successful load restored, -1 if none
 } learned_store_t;
 

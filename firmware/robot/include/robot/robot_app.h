@@ -65,6 +65,7 @@ typedef struct robot_app_options {
 typedef struct robot_app_stats {
     uint32_t frames_rx, frames_bad, frames_tx_dropped;
     uint32_t episodes, saves, save_errors;
+    uint32_t episodes_empty;     ///< episodes ended before their first real step: not counted, not saved
     uint32_t uart_posts_failed;  ///< Cricket wake-ups the full event queue refused (retried)
     uint32_t tool_refused;       ///< TOOL_CMDs answered REFUSED (can-protocol.md "Answers")
     uint32_t tool_answers;       ///< TOOL_ACKs sent (a repeat's resent answer not counted)
@@ -75,6 +76,7 @@ typedef struct robot_app_stats {
     uint32_t records_refused;   ///< records the boot's restore found damaged or refused
     bool restore_fell_back;     ///< the boot restored an older record past a damaged one
     uint8_t status_errors;      ///< the TLM_ERR_* flags of the last FW_STATUS
+    uint8_t records_foreign;    ///< whole records of another layout (scenario, agent, build) at boot
     uint32_t safe_stops;        ///< safe stops entered (the controller's count)
     uint32_t episodes_interrupted;  ///< episodes cut: the heading lost, or a START or STOP mid-episode
     uint32_t trust_losses;      ///< times the heading stopped being trusted (robot/pose_trust.h)
