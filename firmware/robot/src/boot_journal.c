@@ -100,7 +100,7 @@ static bool scan_(boot_journal_t *j, uint32_t start, uint32_t end, boot_journal_
             j->damaged++;  // a write a power cut interrupted: the next entry goes after it
             continue;
         }
-        *last = (boot_journal_entry_t){w[0], w[1], w[2] & 0xFFFFFFu, (w[2] >> 24) != 0u};
+        *last = (boot_journal_entry_t){w[0], w[1], w[2] & 0xFFFFFFu, (w[2] >> 24) != 0u, false};
         *max_boot = w[0] > *max_boot ? w[0] : *max_boot;
         found = true;
     }
@@ -125,6 +125,7 @@ bool boot_journal_open(boot_journal_t *j, const learned_store_t *st, boot_journa
         // The newest record's slot holds the newest entry; the other's only when it has none.
         if (any && ((int32_t)slot == st->newest || !found)) {
             *last = e;
+            last->before_newest = st->newest >= 0 && (int32_t)slot != st->newest;
             found = true;
         }
         if ((int32_t)slot == st->newest) {

@@ -265,11 +265,15 @@ static void cmd_save_learned_(tlm_ack_t *ack)
         // stands mid-episode, the simulated robot, saves at once.)
         refuse_(ack, TLM_WHY_BUSY);
     } else {
-        const int err = app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, app_.ctrl.episode)
-                                      : FW_ERR_NOSYS;
+        // The record counts the finished episodes: the running one's steps are in its tables but
+        // the episode is not (a reboot reports it cut, numbered after them: open_journal_()).
+        const bool running = app_.ctrl.mode != ROBOT_MODE_IDLE && app_.ctrl.episode > 0u;
+        const uint32_t episodes = running ? app_.ctrl.episode - 1u : app_.ctrl.episode;
+        const int err = app_.store_ok ? learned_store_save(&app_.store, app_.opt.agent, episodes) : FW_ERR_NOSYS;
         note_save_(err);
         if (err == FW_OK) {
             ack->sequence = app_.store.newest_sequence;
+            ack->episodes = episodes;
         } else {
             ack->result = TLM_ACK_FAILED;
             ack->reason = save_reason_(err);
@@ -867,7 +871,16 @@ static void open_journal_(void)
         return;
     }
     boot_journal_entry_t last;
+    uint32_t sequence, saved = 0u;
     if (boot_journal_open(&app_.journal, &app_.store, &last)) {
+        // An entry from before the newest record's save (that record's journal lost its first
+        // entry to a cut or damage) naming a running episode the record counts: the episode
+        // ended and was saved before the cut (a save counts only finished episodes: at an
+        // episode's end, or SAVE_LEARNED's). Not cut by this boot.
+        if (last.running && last.before_newest && learned_store_newest(&app_.store, &sequence, &saved) &&
+            last.episode <= saved) {
+            last.running = false;
+        }
         if (last.running) {
             app_.boot_report = true;
             // The previous boot's last command may still drive the wheels: no heading till they stand.

@@ -15,9 +15,11 @@
 #include "drivers/ranges.h"
 #include "drivers/telemetry.h"
 #include "dynaqpc_can.h"
+#include "hal/hal_flash.h"
 #include "hal/hal_time.h"
 #include "hal/hal_uart.h"
 #include "hal_host/hal_host.h"
+#include "robot/learned_store.h"
 #include "robot/robot_app.h"
 #include "sched/sched.h"
 
@@ -703,6 +705,53 @@ static void test_reboot_reports_the_cut_episode(void **state)
     assert_int_equal(last_status_.boot_count, 3);
 }
 
+// An episode that ended and was saved, whose end entry (the first of the new record's journal) a
+// power cut damaged: the boot reads the running entry from the other slot's journal, from before
+// that save, and the record counts the episode, so it is not reported as cut. (The bug: "restored
+// 110 episodes" and "cut_episode=110 cut_steps=20" at once.)
+static void test_reboot_after_a_saved_end_reports_no_cut(void **state)
+{
+    (void)state;
+    static robot_config_t cfg;
+    cfg = robot_config_paper_sim;
+    cfg.step_cap = 3u;  // the episode ends by itself, saved at its end
+    boot_(&cfg, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 1;
+    live_for_(500);
+    ASSERT_ANSWER(command_(TLM_CMD_SAVE_LEARNED, 0), TLM_ACK_DONE, TLM_WHY_NONE);  // slot 0
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(15000);
+    assert_int_equal(n_episodes_, 1);
+    assert_int_equal(last_episode_.steps, 3);
+    assert_false(last_episode_.interrupted);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.saves, 2);  // the end's save: slot 1, its journal's first entry the end
+    // The end entry, damaged (programming 0s over its boot count: its CRC fails).
+    const uint32_t slot = 2u * 128u * 1024u;
+    const uint32_t used = 32u + (learned_store_record_size(&agent_paper_sim) - 32u + 3u) / 4u * 4u;
+    const uint32_t zero = 0u;
+    assert_int_equal(hal_flash_write(slot + (used + 15u) / 16u * 16u, &zero, 4u), FW_OK);
+    cfg.step_cap = 1000u;  // (the next episode runs on: the same layout, the record restores)
+    boot_opt_(&cfg, &agent_paper_sim, &agent_storage_paper_sim, false, true, true);
+    live_for_(1500);
+    assert_int_equal(n_episodes_, 0);  // nothing cut
+    robot_app_get_stats(&st);
+    assert_int_equal(st.restored_episodes, 1);
+    assert_int_equal(st.boot_cut_episode, 0);
+    assert_int_equal(robot_app_ctrl()->episode, 1);
+    // A SAVE_LEARNED mid-episode counts the finished episodes only: a cut after it is reported.
+    cmd_counter_ = 1;
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(2500);
+    assert_int_equal(robot_app_ctrl()->episode, 2);
+    assert_true(robot_app_ctrl()->step >= 1u);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    const tlm_ack_t saved = command_(TLM_CMD_SAVE_LEARNED, 0);
+    ASSERT_ANSWER(saved, TLM_ACK_DONE, TLM_WHY_NONE);
+    assert_int_equal(saved.episodes, 1);
+}
+
 // A reboot before any save (a fresh robot: no record in flash) is journaled too (the early
 // journal, robot/boot_journal.h): every boot counts one more and reports the episode it cut.
 static void test_reboot_before_any_save_reports_the_cut_episode(void **state)
@@ -785,6 +834,7 @@ int main(void)
         cmocka_unit_test(test_empty_episodes_are_not_counted_or_saved),
         cmocka_unit_test(test_reboot_reports_the_cut_episode),
         cmocka_unit_test(test_reboot_before_any_save_reports_the_cut_episode),
+        cmocka_unit_test(test_reboot_after_a_saved_end_reports_no_cut),
         cmocka_unit_test(test_reboot_takes_no_heading_while_the_wheels_turn),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -21,7 +21,9 @@
 // beyond the saves' own erases.
 //
 // At boot the newest entry says whether an episode was running and how many steps it had: it is
-// reported as interrupted (TLM_EPISODE Interrupted). A journal holds BOOT_JOURNAL_BYTES / 16
+// reported as interrupted (TLM_EPISODE Interrupted). One read from the other slot's journal (the
+// newest record's lost its first entry) is older than the newest record: the application does
+// not report a running episode that record counts (it ended and was saved). A journal holds BOOT_JOURNAL_BYTES / 16
 // entries per slot (the early one BOOT_JOURNAL_EARLY_BYTES / 16); its last BOOT_JOURNAL_KEEP_BYTES
 // (an eighth of that) take no step entries, only boots, starts and ends (an episode cut after that is reported with the steps of
 // its last entry), and a full one takes none; every save makes a new one. Programming 16 bytes
@@ -50,6 +52,10 @@ typedef struct boot_journal_entry {
     uint32_t episode;   ///< the episode running, or the last one
     uint32_t steps;     ///< its real steps so far (24 bits)
     bool running;       ///< an episode was running
+    /// Read from the other slot's journal: written before the newest record was saved, whose own
+    /// journal holds no whole entry (its first was cut mid-write or damaged). What the record
+    /// counts happened after it (boot_journal_open()).
+    bool before_newest;
 } boot_journal_entry_t;
 
 typedef struct boot_journal {
@@ -62,8 +68,9 @@ typedef struct boot_journal {
 } boot_journal_t;
 
 /// Finds the journal after the newest record of `st` (without one, the early journal), reads the
-/// newest entry into *last (false when there is none) and sets j->boot to the largest boot count
-/// in flash plus one (1 if none).
+/// newest entry into *last (false when there is none; last->before_newest when it is the other
+/// slot's, older than the newest record) and sets j->boot to the largest boot count in flash plus
+/// one (1 if none).
 bool boot_journal_open(boot_journal_t *j, const learned_store_t *st, boot_journal_entry_t *last);
 
 /// After a save: the journal goes on in the newest record's slot (its space is erased).
