@@ -13,8 +13,10 @@
 //
 // It lives in host_sim/ (not firmware/) because it is C++ and reads scenario files through the
 // simulator's scenario_bridge; the firmware itself is untouched C99.
+#include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 #include <sys/prctl.h>
 
 #include <atomic>
@@ -212,6 +214,15 @@ void start_host(const Settings &s)
     hal_host_can_set_transport(&kTransport);
 }
 
+// Whether `path` opens as a terminal (hal_host_uart_open_path()'s test), without keeping it open.
+bool is_serial_line(const std::string &path)
+{
+    const int fd = open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
+    const bool tty = fd >= 0 && isatty(fd) != 0;
+    if (fd >= 0) close(fd);
+    return tty;
+}
+
 // robot_app_init() with the scenario's agent profile; returns the agent.
 agent_t *boot_firmware(const robot_config_t &cfg, const Settings &s)
 {
@@ -369,6 +380,10 @@ void run_firmware(const std::string &, const Options &o, Settings &s)
     apply_overrides(o, {&s.agent, &s.planning, &s.step_cap, nullptr, nullptr, nullptr}, &cfg);
     if (cfg.pose_source == ROBOT_POSE_CRICKET && s.cricket_tty.empty()) {
         throw UsageError("--cricket-tty: required, " + sb.name + " finds its pose with Cricket beacons");
+    }
+    // Every argument is checked before the flash is touched: the boot appends to its journal.
+    if (!s.cricket_tty.empty() && !is_serial_line(s.cricket_tty)) {
+        throw UsageError("--cricket-tty: cannot open " + s.cricket_tty + " as a serial line");
     }
     start_host(s);
     agent_t *agent = boot_firmware(cfg, s);
