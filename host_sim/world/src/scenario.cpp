@@ -250,39 +250,30 @@ bool Parser::single(std::string_view key)
     return true;
 }
 
-bool valid_beacon_id(std::string_view id)
+// A beacon id, "1:5e:3c:3c:a:0:0:b1": 8 groups of 1-2 hex digits separated by ':'. *value gets its
+// 8 bytes as one number, so that "1:5e:..." and "01:5E:..." are the same beacon (the firmware's
+// Cricket driver compares bytes).
+bool parse_beacon_id(std::string_view id, std::uint64_t *value)
 {
     int groups = 0;
+    std::uint64_t v = 0;
     std::size_t i = 0;
     while (i <= id.size()) {
         std::size_t j = id.find(':', i);
         if (j == std::string_view::npos) j = id.size();
-        std::size_t n = j - i;
-        if (n < 1 || n > 2) return false;
+        if (j - i < 1 || j - i > 2) return false;
+        std::uint64_t byte = 0;
         for (std::size_t k = i; k < j; ++k) {
-            if (std::isxdigit(static_cast<unsigned char>(id[k])) == 0) return false;
+            const unsigned char c = static_cast<unsigned char>(id[k]);
+            if (std::isxdigit(c) == 0) return false;
+            byte = byte * 16 + static_cast<std::uint64_t>(std::isdigit(c) ? c - '0' : std::tolower(c) - 'a' + 10);
         }
+        v = (v << 8) | byte;
         ++groups;
         i = j + 1;
     }
+    *value = v;
     return groups == 8;
-}
-
-// A valid id's 8 bytes as one number, so that "1:5e:..." and "01:5E:..." are the same beacon (the
-// firmware's Cricket driver compares bytes).
-std::uint64_t beacon_id_value(std::string_view id)
-{
-    std::uint64_t v = 0, byte = 0;
-    for (char c : id) {
-        if (c == ':') {
-            v = (v << 8) | byte;
-            byte = 0;
-        } else {
-            const int d = std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : std::tolower(c) - 'a' + 10;
-            byte = byte * 16 + static_cast<std::uint64_t>(d);
-        }
-    }
-    return (v << 8) | byte;
 }
 
 bool Parser::line(const Tokens &t, Scenario *s)
@@ -540,13 +531,15 @@ bool Parser::key_beacon(const Tokens &t, Scenario *s)
         return fail("too many beacons (at most " + std::to_string(kMaxBeacons) + ")");
     }
     Beacon b;
-    if (!valid_beacon_id(t[1])) {
+    std::uint64_t value = 0;
+    if (!parse_beacon_id(t[1], &value)) {
         return fail("beacon id '" + std::string(t[1]) +
                     "': expected 8 hex bytes separated by ':' (e.g. 1:5e:3c:3c:a:0:0:ba)");
     }
     b.id = std::string(t[1]);
     for (const Beacon &o : s->cricket.beacons) {
-        if (beacon_id_value(o.id) == beacon_id_value(b.id)) {
+        std::uint64_t other = 0;
+        if (parse_beacon_id(o.id, &other) && other == value) {
             return fail("duplicate beacon id '" + b.id + "'" + (o.id == b.id ? "" : " (the same 8 bytes as '" + o.id + "')"));
         }
     }
@@ -1071,13 +1064,11 @@ bool Parser::run(std::string_view text, Scenario *s)
         if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
         for (unsigned char c : raw) {  // before the length: a file of CR-ended lines is one long line
             if ((c < 0x20 && c != '\t') || c >= 0x7f) {
-                char buf[128];
-                std::snprintf(buf, sizeof buf,
-                              c == '\r' ? "a carriage return inside the line: lines that end in CR alone; save the "
-                                          "file with LF (or CR LF) line endings"
-                                        : "not a text file (byte 0x%02x)",
-                              c);
-                return fail(buf);
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "not a text file (byte 0x%02x)", c);
+                return fail(c == '\r' ? "a carriage return inside the line: lines that end in CR alone; save the "
+                                        "file with LF (or CR LF) line endings"
+                                      : buf);
             }
         }
         if (raw.size() > kMaxLineBytes) {
