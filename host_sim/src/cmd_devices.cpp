@@ -123,6 +123,7 @@ public:
                     std::printf("supervisor: the firmware is heard again\n");
                     silent_ = false;
                 }
+                last_errors_ = st.errors;
                 const bool safe = st.mode == TLM_MODE_SAFE_STOP;
                 if (safe && !fw_safe_) {
                     safe_stops_++;
@@ -136,7 +137,16 @@ public:
             tlm_ack_t a;
             if (tlm_decode_ack(&f, &a) == 0 && a.command == TLM_CMD_START_EPISODE) {
                 awaiting_ack_ = false;
-                busy_ = a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_BUSY;
+                // Refused until the wheels stand (BUSY) or a silent device is back (DEVICE_SILENT;
+                // FW_STATUS's errors say which): sent again.
+                const bool silent = a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_DEVICE_SILENT;
+                if (silent && !device_silent_) {
+                    std::printf("supervisor: the firmware refused the start: a device is silent (errors 0x%02x)\n",
+                                last_errors_);
+                    std::fflush(stdout);
+                }
+                device_silent_ = silent;
+                busy_ = silent || (a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_BUSY);
                 if (busy_) busy_us_ = t_us;
             }
         } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID) {
@@ -244,7 +254,10 @@ private:
     bool have_boot_ = false;
     bool first_after_boot_ = false;  // a reboot seen, no step learned since
     bool awaiting_ack_ = false;  // a START_EPISODE sent and not answered yet
-    bool busy_ = false;          // the last START was refused as BUSY: sent again at busy_us_ + kStartBusyRetryUs
+    bool busy_ = false;          // the last START was refused as BUSY or DEVICE_SILENT: sent again at
+                                 // busy_us_ + kStartBusyRetryUs
+    bool device_silent_ = false; // the last START was refused as DEVICE_SILENT (said once)
+    std::uint8_t last_errors_ = 0;  // FW_STATUS's last errors
     std::uint64_t busy_us_ = 0;
     std::uint32_t busy_retries_ = 0;
     std::uint32_t cut_ = 0;      // firmware episodes our starts cut

@@ -214,7 +214,7 @@ OUT_OF_RANGE = [
     ("MOTOR_STATUS", "SpeedLeft", 2001), ("GYRO_RATE", "YawRate", -30001),
     ("GYRO_RATE", "Status", 3), ("IR_RANGES", "RangeFront", 2001),
     ("GPS_POSE", "Heading", 36000), ("GPS_POSE", "Fix", 3), ("TOOL_CMD", "Command", 7),
-    ("TOOL_ACK", "Result", 3), ("TOOL_ACK", "Reason", 11),
+    ("TOOL_ACK", "Result", 3), ("TOOL_ACK", "Reason", 12),
     ("TLM_POSE", "Heading", 36000), ("TLM_SCHED", "IdlePercent", 201), ("FW_STATUS", "Mode", 5),
     ("SONAR_RANGES_A", "Reserved", 1), ("SONAR_RANGES_B", "Reserved", 4), ("SONAR_RANGES_C", "Reserved", 32),
 ]

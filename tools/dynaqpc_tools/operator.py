@@ -21,11 +21,12 @@
                           they happen (until Ctrl-C or --duration)
 
 The firmware answers every command with TOOL_ACK (docs/can-protocol.md "Answers"): done,
-refused (evaluate mode, not idle, busy, needs --yes, no previous record) or failed (no flash,
-flash error), with the record's sequence number for save and restore-previous. The tool prints
-the answer, then, for a command that changes the mode, waits (--timeout) for the FW_STATUS that
-shows it. A command refused as busy (a robot that stands between actions saves only while
-standing) is sent again until it is taken or --timeout passes; a command not answered within
+refused (evaluate mode, not idle, busy, needs --yes, no previous record, a device silent) or
+failed (no flash, flash error), with the record's sequence number for save and restore-previous.
+The tool prints the answer, then, for a command that changes the mode, waits (--timeout) for the
+FW_STATUS that shows it. A command refused as busy (a robot that stands between actions saves
+only while standing) or for a silent device (a start while the gyro, the range sensors or the
+motor controller is not heard) is sent again until it is taken or --timeout passes; a command not answered within
 1 s is sent again with the same counter (the firmware answers a repeat with its last answer and
 never acts on it twice).
 
@@ -100,7 +101,11 @@ REASONS = {
     "NO_PREVIOUS": "the flash holds no previous record of this agent's layout",
     "MALFORMED": "the firmware read a bad Crc or an unknown command",
     "RECORD_DAMAGED": "the previous record is damaged or fails its checks; nothing was changed",
+    "DEVICE_SILENT": "a device the robot drives on is silent: the motor controller, the range sensors or the gyro"
+    " (`dynaqpc-operator status` names it under errors); nothing was changed",
 }
+#: Refusals that pass by themselves: the command is sent again until --timeout.
+RETRY_REASONS = ("BUSY", "DEVICE_SILENT")
 
 
 def tool_cmd_frame(db, command: str, argument: int, counter: int):
@@ -311,7 +316,7 @@ def command(bus, db, args, out) -> int:
                 _send(bus, *tool_cmd_frame(db, name, argument, counter))
                 resent += 1
             continue
-        if ack["reason"] != "BUSY" or time.monotonic() >= deadline:
+        if ack["reason"] not in RETRY_REASONS or time.monotonic() >= deadline:
             break
         time.sleep(0.1)  # a robot standing between actions: the next control period or so
         counter = (counter + 1) % 16  # the last counter the firmware took + 1: accepted

@@ -133,7 +133,7 @@ void tlm_encode_ack(const tlm_ack_t *ack, hal_can_frame_t *out)
     m.command = ack->command;
     m.counter = (uint8_t)(ack->counter & 0x0Fu);
     m.result = (uint8_t)min_u32(ack->result, TLM_ACK_FAILED);
-    m.reason = (uint8_t)min_u32(ack->reason, TLM_WHY_RECORD_DAMAGED);
+    m.reason = (uint8_t)min_u32(ack->reason, TLM_WHY_DEVICE_SILENT);
     m.sequence = min_u32(ack->sequence, 0xFFFFFFu);
     m.episodes = (uint16_t)min_u32(ack->episodes, 0xFFFFu);
     can_link_frame_prepare(out, DYNAQPC_CAN_TOOL_ACK_FRAME_ID, DYNAQPC_CAN_TOOL_ACK_LENGTH);

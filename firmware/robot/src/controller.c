@@ -134,9 +134,11 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
             c->episode_start_us = in->now_us;
         }
         // Safety first: without the bus or a recent pose the robot does not know where it is
-        // going. A pose can be missing for a while when waiting for a fix; not when driving.
+        // going, and without its ranges what is ahead (the last ranges would still encode the
+        // state, and a step drive on them). A pose can be missing for a while when waiting for a
+        // fix; not when driving.
         const bool pose_lost = !in->pose_ok && in->now_us - in->pose_time_us > c->cfg->pose_timeout_us;
-        if (!in->bus_ok || pose_lost) {
+        if (!in->bus_ok || in->ranges_silent || pose_lost) {
             if (c->mode != ROBOT_MODE_SAFE_STOP) {
                 c->safe_stops++;
                 c->resume_mode = c->mode;

@@ -200,6 +200,36 @@ static bool heading_absolute_(void)
     return app_.opt.cfg->pose_source != ROBOT_POSE_CRICKET;
 }
 
+// The range sensors' link (IR_RANGES, or the sonar scans); NULL for a robot without ranges.
+static const can_link_rx_t *ranges_rx_(void)
+{
+    const robot_config_t *cfg = app_.opt.cfg;
+    if (cfg->n_ranges == 0u) {
+        return NULL;
+    }
+    return cfg->n_ranges == RANGES_IR_COUNT ? &app_.dev.ranges.ir_rx : &app_.dev.ranges.sonar_rx;
+}
+
+// Whether a device the robot drives on has fallen silent: heard, then not for the bus timeout; or
+// not heard since boot for as long (a device's first frame may come a little after the boot).
+static bool device_silent_(const can_link_rx_t *rx, uint64_t now)
+{
+    const uint64_t timeout = app_.opt.cfg->bus_timeout_us;
+    return rx->seen ? can_link_rx_silent(rx, now, timeout) : now - app_.boot_us > timeout;
+}
+
+// Whether the robot lacks a device it needs to drive an episode: the motor controller, the range
+// sensors, or the gyro that gives a Cricket robot its heading (silent or flagging a fault). An
+// episode started now would only safe-stop, or lose its heading again at once.
+static bool devices_missing_(uint64_t now)
+{
+    const can_link_rx_t *ranges = ranges_rx_();
+    const gyro_t *g = &app_.dev.gyro;
+    const bool gyro_needed = !heading_absolute_();
+    return device_silent_(&app_.dev.motor.rx, now) || (ranges != NULL && device_silent_(ranges, now)) ||
+           (gyro_needed && (device_silent_(&g->rx, now) || (g->rx.seen && g->status != GYRO_STATUS_OK)));
+}
+
 // Starts an episode and notes it in flash: a reboot before its end reports it as interrupted.
 static void start_episode_(void)
 {
@@ -231,6 +261,11 @@ static void cmd_start_episode_(const tlm_tool_cmd_t *cmd, tlm_ack_t *ack)
         // refuses the new boot's first as a counter jump), so a heading read now may be stale by
         // the time it is taken. Nothing changes; send it again (BUSY), measured once it stands.
         refuse_(ack, TLM_WHY_BUSY);
+        return;
+    }
+    if (devices_missing_(hal_time_us())) {
+        // Nothing changes: FW_STATUS's Errors name the silent device; send it again once it is back.
+        refuse_(ack, TLM_WHY_DEVICE_SILENT);
         return;
     }
     if (cmd->argument <= 35999u) {
@@ -558,6 +593,8 @@ static uint8_t sense_(robot_sense_t *in, uint64_t now)
         in->pose.heading = gyro_heading_deg(&app_.dev.gyro) * RAD_PER_DEG;
     }
     in->n_ranges = cfg->n_ranges;
+    const can_link_rx_t *ranges = ranges_rx_();
+    in->ranges_silent = ranges != NULL && device_silent_(ranges, now);
     const ranges_t *rg = &app_.dev.ranges;
     for (uint32_t i = 0; i < cfg->n_ranges && i < ROBOT_MAX_RANGES; i++) {
         if (cfg->n_ranges == RANGES_IR_COUNT) {
@@ -680,8 +717,9 @@ static void watch_trust_(uint64_t now)
 // While an episode waits for the heading: the straight leg that finds it (pose_trust.h).
 static void find_heading_(const robot_sense_t *in, float *vl, float *vr)
 {
-    if (!in->bus_ok) {
-        pose_trust_cancel(&app_.trust);  // no motor controller: stand, and start the leg again
+    if (!in->bus_ok || in->ranges_silent) {
+        // No motor controller, or no ranges to see a wall ahead: stand, and start the leg again.
+        pose_trust_cancel(&app_.trust);
         return;
     }
     gyro_t *g = &app_.dev.gyro;
@@ -771,12 +809,9 @@ static uint8_t health_(uint64_t now)
     if (cfg->pose_source == ROBOT_POSE_CRICKET) {  // the gyro gives the heading
         errors |= can_link_rx_silent(&app_.dev.gyro.rx, now, cfg->bus_timeout_us) ? TLM_ERR_GYRO_SILENT : 0u;
     }
-    if (cfg->n_ranges > 0u) {
-        const ranges_t *rg = &app_.dev.ranges;
-        const bool silent = cfg->n_ranges == RANGES_IR_COUNT
-                                ? can_link_rx_silent(&rg->ir_rx, now, cfg->bus_timeout_us)
-                                : can_link_rx_silent(&rg->sonar_rx, now, cfg->bus_timeout_us);
-        errors |= silent ? TLM_ERR_RANGE_SILENT : 0u;
+    const can_link_rx_t *ranges = ranges_rx_();
+    if (ranges != NULL) {
+        errors |= can_link_rx_silent(ranges, now, cfg->bus_timeout_us) ? TLM_ERR_RANGE_SILENT : 0u;
     }
     // No usable pose for the pose timeout: the controller safe-stops on the same rule.
     const bool pose_lost =

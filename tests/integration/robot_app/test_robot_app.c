@@ -613,6 +613,44 @@ static void test_pose_trust_gates_episodes(void **state)
     assert_int_equal(robot_app_ctrl()->episode, 0);
 }
 
+// A range board that falls silent mid-episode: the robot safe-stops (its last ranges no longer say
+// what is ahead) and drives on once the ranges return; a START while they are silent is refused.
+static void test_silent_ranges_stop_the_robot(void **state)
+{
+    (void)state;
+    boot_(&robot_config_paper_sim, &agent_paper_sim, &agent_storage_paper_sim);
+    cmd_counter_ = 1;
+    live_for_(1500);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+    live_for_(2000);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_SAFE_STOP);
+    ranges_on_ = false;
+    live_for_(400);  // within the bus timeout: drives on
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_SAFE_STOP);
+    live_for_(1100);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_SAFE_STOP);
+    assert_int_equal(last_status_.mode, TLM_MODE_SAFE_STOP);
+    assert_int_equal(last_status_.errors & TLM_ERR_RANGE_SILENT, TLM_ERR_RANGE_SILENT);
+    const uint32_t steps = robot_app_ctrl()->step;
+    live_for_(2000);
+    assert_int_equal(robot_app_ctrl()->step, steps);  // no step while stopped
+    ranges_on_ = true;
+    live_for_(4000);
+    assert_int_not_equal(robot_app_ctrl()->mode, ROBOT_MODE_SAFE_STOP);
+    assert_true(robot_app_ctrl()->step > steps);
+    robot_app_stats_t st;
+    robot_app_get_stats(&st);
+    assert_int_equal(st.safe_stops, 1);
+    ASSERT_ANSWER(command_(TLM_CMD_STOP, 0u), TLM_ACK_DONE, TLM_WHY_NONE);
+    ranges_on_ = false;
+    live_for_(1000);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_REFUSED, TLM_WHY_DEVICE_SILENT);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
+    ranges_on_ = true;
+    live_for_(200);
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 0xFFFFFFFFu), TLM_ACK_DONE, TLM_WHY_NONE);
+}
+
 // An episode cut before its first real step learned nothing: reported (TLM_EPISODE, 0 steps,
 // Interrupted), but not counted and not saved, so it neither wears the flash nor adds episodes to a
 // record. (The bug: after a RESET_LEARNING a silent gyro made every START such an episode, each
@@ -628,8 +666,10 @@ static void test_empty_episodes_are_not_counted_or_saved(void **state)
     robot_app_stats_t st;
     robot_app_get_stats(&st);
     assert_int_equal(st.saves, 1);
-    gyro_on_ = false;  // every START's heading is lost again within the bus timeout
     for (uint32_t i = 1; i <= 5u; i++) {
+        gyro_on_ = true;
+        live_for_(200);
+        gyro_on_ = false;  // the START's heading is lost again within the bus timeout
         ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_DONE, TLM_WHY_NONE);
         live_for_(1500);
         assert_int_equal(n_episodes_, i);
@@ -643,6 +683,11 @@ static void test_empty_episodes_are_not_counted_or_saved(void **state)
     assert_int_equal(st.episodes, 0);
     assert_int_equal(st.episodes_empty, 5);
     assert_int_equal(st.episodes_interrupted, 5);
+    // A START while the gyro stays silent is refused: it would only lose its heading at once.
+    ASSERT_ANSWER(command_(TLM_CMD_START_EPISODE, 9000u), TLM_ACK_REFUSED, TLM_WHY_DEVICE_SILENT);
+    live_for_(300);
+    assert_int_equal(n_episodes_, 5);
+    assert_int_equal(robot_app_ctrl()->mode, ROBOT_MODE_IDLE);
     // A STOP cuts one the same way; a reboot cuts one that had not stepped yet: not counted either.
     gyro_on_ = true;
     live_for_(200);
@@ -825,6 +870,7 @@ int main(void)
         cmocka_unit_test_setup(test_uart_resumes_after_full_queue_and_full_ring, setup_),
         cmocka_unit_test_setup(test_uart_drained_when_the_line_falls_silent, setup_),
         cmocka_unit_test(test_silences_raise_and_clear_their_flags),
+        cmocka_unit_test(test_silent_ranges_stop_the_robot),
         cmocka_unit_test(test_paper_sim_large_boots_on_its_profile),
         cmocka_unit_test(test_counting_faults_raise_for_a_period),
         cmocka_unit_test(test_tool_cmd_authority),

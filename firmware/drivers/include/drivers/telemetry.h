@@ -65,6 +65,7 @@ enum tlm_ack_reason {
     TLM_WHY_NO_PREVIOUS = 8,     ///< refused: no previous record of this agent's layout
     TLM_WHY_MALFORMED = 9,       ///< refused: bad Crc or unknown Command
     TLM_WHY_RECORD_DAMAGED = 10, ///< failed: the record to restore failed its checks
+    TLM_WHY_DEVICE_SILENT = 11,  ///< refused: a device the robot drives on is silent (FW_STATUS Errors says which); try again
 };
 
 typedef struct tlm_pose {

@@ -315,12 +315,12 @@ bool dynaqpc_can_tool_ack_result_is_in_phys_range(double value)
 
 bool dynaqpc_can_tool_ack_reason_is_in_range(uint8_t value)
 {
-    return (value <= 10u);
+    return (value <= 11u);
 }
 
 bool dynaqpc_can_tool_ack_reason_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 10.0));
+    return ((value >= 0.0) && (value <= 11.0));
 }
 
 bool dynaqpc_can_tool_ack_sequence_is_in_range(uint32_t value)

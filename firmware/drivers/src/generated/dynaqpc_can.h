@@ -143,6 +143,7 @@ extern "C" {
 #define DYNAQPC_CAN_TOOL_ACK_REASON_NO_PREVIOUS_CHOICE (8u)
 #define DYNAQPC_CAN_TOOL_ACK_REASON_MALFORMED_CHOICE (9u)
 #define DYNAQPC_CAN_TOOL_ACK_REASON_RECORD_DAMAGED_CHOICE (10u)
+#define DYNAQPC_CAN_TOOL_ACK_REASON_DEVICE_SILENT_CHOICE (11u)
 
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_OK_CHOICE (0u)
 #define DYNAQPC_CAN_GYRO_RATE_STATUS_INIT_CHOICE (1u)
@@ -420,7 +421,7 @@ struct dynaqpc_can_tool_ack_t {
     /**
      * Why a command was refused or failed; NONE when done.
      *
-     * Range: 0..10 (0..10 -)
+     * Range: 0..11 (0..11 -)
      * Scale: 1
      * Offset: 0
      */

@@ -38,7 +38,8 @@ typedef enum robot_mode {
     ROBOT_MODE_IDLE = 0,       ///< stopped, waiting for the start of an episode
     ROBOT_MODE_ACTING = 1,     ///< driving the current action
     ROBOT_MODE_WAIT_FIX = 2,   ///< stopped after an action (or at the start), waiting for a pose fix
-    ROBOT_MODE_SAFE_STOP = 3,  ///< stopped: the pose or the bus went silent (resumes when back), or
+    ROBOT_MODE_SAFE_STOP = 3,  ///< stopped: the pose, the motor controller or the range sensors went
+                               ///< silent (resumes when back), or
                                ///< the operator's safe stop (held until the next start or stop)
 } robot_mode_t;
 

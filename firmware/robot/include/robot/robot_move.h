@@ -42,6 +42,9 @@ typedef struct robot_sense {
     uint8_t n_ranges;
     bool bump;    ///< a bumper touched something during the last period
     bool bus_ok;  ///< the motor controller has been heard within cfg->bus_timeout_us
+    /// The range sensors have not been heard for cfg->bus_timeout_us: range_m holds their last
+    /// ranges, which no longer say what is ahead (false for a robot without ranges).
+    bool ranges_silent;
     /// The wheels' odometer: metres the axle's midpoint travelled along the body (signed, summed).
     float odom_m;
     bool odom_ok;  ///< the odometer counts (the motor controller reports its wheel speeds)
