@@ -17,7 +17,7 @@ from mcap.reader import make_reader
 
 from dynaqpc_tools import monitor, viewer
 from dynaqpc_tools.bus_decode import PoseDecoder, WrongLength, decode_frame, e2e_ok, e2e_seal
-from dynaqpc_tools.canlog import McapLog
+from dynaqpc_tools.canlog import CHUNK_BYTES, McapLog, read_log
 
 DBC = str(REPO / "docs" / "dynaqpc.dbc")
 ARENA = {
@@ -389,3 +389,37 @@ def test_frames_longer_than_the_dbc_are_undecodable(tmp_path, capsys):
     dec = PoseDecoder(db, "TLM_POSE")
     assert dec.decode(can.Message(arbitration_id=pose.frame_id, is_extended_id=False, data=data)) is not None
     assert dec.decode(can.Message(arbitration_id=pose.frame_id, is_extended_id=False, data=data + b"\x00")) is None
+
+
+def test_mcap_keeps_no_values_of_a_frame_whose_crc_fails(tmp_path):
+    """Noise that decodes but fails its Crc: the raw channel keeps its bytes, the decoded channel
+    and the pose get nothing from it (the monitor counts it undecodable)."""
+    db = cantools.database.load_file(DBC)
+    good, bad = _gyro(db, 1), _gyro(db, 2)
+    bad.data = bytearray(bad.data)
+    bad.data[-1] ^= 0x5A  # the Crc byte
+    assert not e2e_ok(db.get_message_by_name("GYRO_RATE"), bad.data)
+    rec = tmp_path / "run.mcap"
+    log = McapLog(str(rec), db)
+    for m in (good, bad):
+        log(m)
+    log.stop()
+    _, _, msgs = read_mcap(rec)
+    assert [t for t, _, _ in msgs] == ["/can/raw", "/can/GYRO_RATE", "/can/raw"]
+    assert msgs[2][2]["data_hex"] == bytes(bad.data).hex()
+
+
+def test_a_sigkill_loses_at_most_one_small_chunk(tmp_path):
+    """What the disk holds while the recorder runs trails it by at most one chunk of records."""
+    db = cantools.database.load_file(DBC)
+    rec = tmp_path / "run.mcap"
+    log = McapLog(str(rec), db)
+    for i in range(3000):
+        log(_gyro(db, i))
+    log._file.flush()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(rec.read_bytes())
+    log.stop()
+    frames = list(read_log(str(cut)))
+    per_frame = CHUNK_BYTES / 60  # a GYRO_RATE's two records take well over 60 bytes
+    assert 3000 - per_frame <= len(frames) < 3000
