@@ -23,6 +23,8 @@ void robot_ctrl_start_episode(robot_ctrl_t *c)
     c->episode_start_us = UINT64_MAX;  // set at the first period
     c->safe_stop_held = false;
     c->mode = ROBOT_MODE_WAIT_FIX;
+    c->recent_n = 0;
+    c->recent_head = 0;
     robot_move_episode(&c->move);
 }
 
@@ -44,12 +46,47 @@ void robot_ctrl_safe_stop(robot_ctrl_t *c)
     robot_move_stop(&c->move);  // the step is dropped
 }
 
+// A replayed policy's action: greedy, unless `s` came twice already within the last real steps.
+// A frozen table cannot unlearn a loop (turning left and right on one spot, stepping back and
+// forth between two cells: values planned through an outcome the state does not show), so the
+// third visit takes the best-valued action taken least often from `s` within them.
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 4 && FW_CFG_REPLAY_LOOP_WINDOW <= 32, replay_ring_packs_actions_in_2_bits);
+static uint8_t replay_action_(robot_ctrl_t *c, agent_state_t s)
+{
+    uint32_t visits = 0;
+    uint32_t taken[FW_CFG_MAX_ACTIONS] = {0};
+    for (uint32_t i = 0; i < c->recent_n; i++) {
+        if (c->recent_s[i] == s) {
+            visits++;
+            taken[(c->recent_a >> (2u * i)) & 3u]++;
+        }
+    }
+    uint8_t a = agent_act_greedy(c->agent, s);
+    if (visits >= 2u) {
+        uint8_t best = a;
+        for (uint8_t b = 0; b < c->agent->space->n_actions; b++) {
+            const bool fewer = taken[b] < taken[best];
+            if (fewer || (taken[b] == taken[best] && agent_q(c->agent, s, b) > agent_q(c->agent, s, best))) {
+                best = b;
+            }
+        }
+        c->loop_escapes += best != a ? 1u : 0u;
+        a = best;
+    }
+    c->recent_s[c->recent_head] = s;
+    const uint32_t shift = 2u * c->recent_head;
+    c->recent_a = (c->recent_a & ~((uint64_t)3u << shift)) | ((uint64_t)a << shift);
+    c->recent_head = (uint8_t)((c->recent_head + 1u) % FW_CFG_REPLAY_LOOP_WINDOW);
+    c->recent_n = c->recent_n < FW_CFG_REPLAY_LOOP_WINDOW ? (uint8_t)(c->recent_n + 1u) : c->recent_n;
+    return a;
+}
+
 // Picks the action in state `s` and starts its step from `at`.
 static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_pose_t *at,
                           const robot_sense_t *in)
 {
     c->s = s;
-    c->a = c->learning ? agent_act(c->agent, s) : agent_act_greedy(c->agent, s);
+    c->a = c->learning ? agent_act(c->agent, s) : replay_action_(c, s);
     robot_move_step(&c->move, c->cfg, c->a, at, in);
 }
 

@@ -43,42 +43,43 @@ typedef struct robot_health {
 
 typedef struct robot_app {
     robot_app_options_t opt;
+    uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
     sched_t sched;
     candev_t dev;
     cricket_t cricket;
     cricket_beacon_t beacons[ROBOT_MAX_BEACONS];
     robot_ctrl_t ctrl;
     learned_store_t store;
-    bool store_ok;
-    bool flash_fault;         // FW_STATUS Flash: the last save failed, or the restore refused a record
     robot_health_t health;    // counters at the last status period
-    bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
-    bool moved_last_period;   // the wheels were commanded to move in the last period
-    uint8_t still_periods;    // control periods since the wheels were last commanded to move (saturating)
-    bool odom_ok;             // a MOTOR_STATUS has come: the odometer counts
     float odom_m;             // the wheels' odometer (robot_sense_t.odom_m), from MOTOR_STATUS speeds
     float odom_speed;         // the mean wheel speed of the last MOTOR_STATUS, m/s
     uint64_t odom_us;         // when it came
     uint64_t last_fix_us;     // when the ranges of the last solvable Cricket fix were taken
-    uint8_t status_counter;
     hal_can_frame_t last_ack; // the last TOOL_ACK, sent again for a repeated command
-    bool have_ack;
-    bool wiped_unsaved;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
     agent_state_t prev_state; // the last TLM_LEARN's state: the next real step updates its Q row
-    bool have_prev_state;
+    uint32_t tlm_planning_updates;  ///< the agent's planning updates at the last TLM_SCHED
     robot_app_stats_t stats;
     uint64_t boot_us;
     uint64_t period_start_idle_us;
-    uint32_t tlm_planning_updates;  ///< the agent's planning updates at the last TLM_SCHED
     // Pose trust (robot/pose_trust.h): whether the heading may be used, and what watches it.
     pose_trust_t trust;
     uint64_t last_control_us;  ///< the last control period's start (0: none yet)
     uint64_t fix_after_us;     ///< fixes whose ranges are all older were taken before the operator's START
     uint64_t trusted_at_us;    ///< when the heading was last given (operator, leg)
     fix_gate_t gate;           ///< which fresh Cricket fixes are believed (robot/fix_gate.h)
-    uint32_t gyro_gaps;        ///< the gyro's gaps at the last control period
     // Across reboots (robot/boot_journal.h).
     boot_journal_t journal;
+    // The flags, together (the 192 KiB paper-sim image has no byte to spare for padding).
+    bool store_ok;
+    bool flash_fault;         // FW_STATUS Flash: the last save failed, or the restore refused a record
+    bool bump_latch;          // a MOTOR_STATUS since the last control period reported a contact
+    bool moved_last_period;   // the wheels were commanded to move in the last period
+    uint8_t still_periods;    // control periods since the wheels were last commanded to move (saturating)
+    bool odom_ok;             // a MOTOR_STATUS has come: the odometer counts
+    uint8_t status_counter;
+    bool have_ack;
+    bool wiped_unsaved;       // RESET_LEARNING done and nothing saved since: flash's newest is the undo
+    bool have_prev_state;
     bool start_pending;        ///< an episode is to start once the heading is trusted
     bool boot_report;          ///< report the episode a reboot cut (stats.boot_cut_*), at the first control period
     bool settle_pending;       ///< booted after a cut mid-episode: no heading until the wheels report still

@@ -633,6 +633,44 @@ static void test_step_cap_ends_the_episode(void **state)
     assert_float_equal(bench_.ctrl.last_episode.reward, -7.0f, 1e-6);
 }
 
+// A replayed (frozen) table cannot unlearn a loop: a state met for the third time within the last
+// FW_CFG_REPLAY_LOOP_WINDOW steps takes its best action not taken there yet. Held on one spot, the
+// greedy action (2) comes twice, then the others, best first.
+static void test_replay_leaves_a_loop(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    bench_.cfg.step_cap = 8;
+    const robot_pose_t spot = {0.5f, 0.5f, 0.0f};
+    bench_.sense.pose = spot;
+    bench_.ctrl.learning = false;
+    robot_ctrl_start_episode(&bench_.ctrl);
+    // The spot's state: its values make action 2 greedy, then 3, 0 and 1.
+    const agent_state_t s =
+        robot_encode_state(&bench_.cfg, &spot, robot_range_code(&bench_.cfg, bench_.sense.range_m, bench_.sense.n_ranges));
+    const qstore_row_t row = qstore_row_for_update(&agent_paper_sim.q, s);
+    const float q[4] = {-3.0f, -4.0f, -1.0f, -2.0f};
+    for (uint8_t a = 0; a < 4u; a++) {
+        qstore_set(&agent_paper_sim.q, row, a, q[a]);
+    }
+    uint8_t taken[8];
+    uint32_t n = 0;
+    for (int i = 0; i < 100 && !bench_.ctrl.episode_done; i++) {
+        bench_.sense.pose = spot;
+        bench_period_();
+        if (bench_.ctrl.step_done && !bench_.ctrl.episode_done && n < 8u) {
+            assert_int_equal(bench_.ctrl.s, s);
+            taken[n++] = bench_.ctrl.a;
+        }
+    }
+    assert_true(bench_.ctrl.episode_done);
+    // Twice greedy; then each action not taken yet, best first; then the least taken, best first.
+    const uint8_t want[8] = {2, 2, 3, 0, 1, 3, 0, 1};
+    assert_int_equal(n, 8);
+    assert_memory_equal(taken, want, 8);
+    assert_int_equal(bench_.ctrl.loop_escapes, 6);
+}
+
 static void test_bump_costs_and_is_counted(void **state)
 {
     (void)state;
@@ -1126,6 +1164,7 @@ int main(void)
         cmocka_unit_test(test_settling_ends_on_the_grid_of_aligned_stops),
         cmocka_unit_test(test_episode_reaches_goal_with_reward_and_report),
         cmocka_unit_test(test_step_cap_ends_the_episode),
+        cmocka_unit_test(test_replay_leaves_a_loop),
         cmocka_unit_test(test_bump_costs_and_is_counted),
         cmocka_unit_test(test_bumped_step_backs_off_then_is_observed),
         cmocka_unit_test(test_episode_starts_after_settling),

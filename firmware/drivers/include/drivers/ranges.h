@@ -27,9 +27,8 @@ extern "C" {
 
 enum ranges_ir { RANGES_IR_LEFT = 0, RANGES_IR_FRONT = 1, RANGES_IR_RIGHT = 2 };
 
+// (The links first: the 192 KiB paper-sim image has no byte to spare for padding.)
 typedef struct ranges {
-    uint16_t ir_mm[RANGES_IR_COUNT];         ///< last IR ranges
-    bool ir_valid[RANGES_IR_COUNT];          ///< false: nothing in view (ir_mm meaningless)
     can_link_rx_t ir_rx;
     uint16_t sonar_mm[RANGES_SONAR_COUNT];   ///< the last scan taken, RANGES_NO_ECHO if none
     /// The scans: `frames` scans taken, `counter` the last one's, `lost` scans missed by counter
@@ -42,6 +41,8 @@ typedef struct ranges {
     uint8_t sonar_counter;                   ///< the Counter of the scan being assembled
     uint16_t sonar_dropped;                  ///< scans never taken: a part missing, or two different
                                              ///< copies of one part (sonar_mm held); saturated
+    uint16_t ir_mm[RANGES_IR_COUNT];         ///< last IR ranges
+    bool ir_valid[RANGES_IR_COUNT];          ///< false: nothing in view (ir_mm meaningless)
 } ranges_t;
 
 /// Clears the state: no IR valid, every sonar RANGES_NO_ECHO.

@@ -45,12 +45,12 @@ typedef enum robot_mode {
 
 /// One finished episode.
 typedef struct robot_episode_report {
+    uint64_t start_us, end_us;
     uint32_t episode;       ///< counting from 1
     uint32_t steps;         ///< real steps
     float reward;           ///< total
-    bool reached_goal;
     uint32_t bumps;
-    uint64_t start_us, end_us;
+    bool reached_goal;
     bool interrupted;       ///< ended by robot_ctrl_interrupt(): neither the goal nor the step cap
 } robot_episode_report_t;
 
@@ -83,6 +83,13 @@ typedef struct robot_ctrl {
     bool episode_done;         ///< an episode ended in the last period (see last_episode)
     robot_step_report_t last_step;
     robot_episode_report_t last_episode;
+    /// Replay only: the episode's last real steps, a ring of `recent_n` (state, action) pairs
+    /// whose actions take 2 bits each of `recent_a`, and how often a loop was left
+    /// (replay_action_() in controller.c).
+    uint64_t recent_a;
+    agent_state_t recent_s[FW_CFG_REPLAY_LOOP_WINDOW];
+    uint32_t loop_escapes;
+    uint8_t recent_n, recent_head;
 } robot_ctrl_t;
 
 /// Prepares the controller, idle. The agent must be initialised for cfg's space.

@@ -149,22 +149,23 @@ typedef struct sched_handler {
     void *ctx;
 } sched_handler_t;
 
+// (Members ordered so the struct has little padding: the 192 KiB paper-sim image has none to spare.)
 typedef struct sched {
-    sched_config_t cfg;
     uint64_t epoch_us;
+    uint64_t idle_steps_at_period_start;
+    uint64_t idle_since_us;    // end of the last busy stretch (tasks, handlers)
+    sched_stats_t stats;
     sched_task_t tasks[FW_CFG_SCHED_MAX_TASKS];
+    sched_config_t cfg;
     uint32_t task_count;
     sched_handler_t handlers[FW_CFG_SCHED_EVENT_TYPES];
     // The event ring: written by interrupt handlers, read by the main loop, both under
     // hal_irq_save(). head and tail run freely and are masked on use.
-    sched_event_t events[FW_CFG_SCHED_EVENT_CAPACITY];
     volatile uint32_t ev_head; // next to take
     volatile uint32_t ev_tail; // next free
-    sched_stats_t stats;
+    sched_event_t events[FW_CFG_SCHED_EVENT_CAPACITY];
     sched_task_id_t period_task;
-    uint64_t idle_steps_at_period_start;
     bool period_started;
-    uint64_t idle_since_us;    // end of the last busy stretch (tasks, handlers)
     bool busy;                 // dispatching events or running tasks
 } sched_t;
 
