@@ -115,10 +115,14 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
         if (gyro_encode_rate(&gyro_ctr_, static_cast<std::int16_t>(std::lround(cdeg)), 25, GYRO_STATUS_OK, &f) == FW_OK)
             frames->push_back(f);
     }
-    const bool ir = sc_.ranger.kind == world::RangerSpec::Kind::Ir;
+    // The frames by the firmware's rule (ranges_in_ir_frame()), the cycle by the sensors' kind: a
+    // base with five ToF rangers sends sonar scans every 48 ms. (Only 3 IR or 16 sonars once
+    // reached the firmware: other robots drove with no ranges at all.)
+    const std::size_t n = ranges_.size();
+    const bool ir = ranges_in_ir_frame(static_cast<std::uint32_t>(n));
     while (take_due(&ranges_due_, ranges_cycle(), t)) {
-        if (ir && ranges_.size() >= RANGES_IR_COUNT) {
-            world_.range_readings(ranges_.data());
+        world_.range_readings(ranges_.data());
+        if (ir) {
             std::uint16_t mm[RANGES_IR_COUNT];
             bool valid[RANGES_IR_COUNT];
             for (unsigned i = 0; i < RANGES_IR_COUNT; i++) {
@@ -126,12 +130,11 @@ void Devices::emit(std::uint64_t t, std::vector<hal_can_frame_t> *frames, std::s
                 mm[i] = to_mm(ranges_[i], RANGES_IR_MAX_MM);
             }
             if (ranges_encode_ir(&ir_ctr_, mm, valid, &f) == FW_OK) frames->push_back(f);
-        }
-        if (!ir && ranges_.size() >= RANGES_SONAR_COUNT) {
-            world_.range_readings(ranges_.data());
+        } else {
             std::uint16_t mm[RANGES_SONAR_COUNT];
             for (unsigned i = 0; i < RANGES_SONAR_COUNT; i++) {
-                mm[i] = ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
+                mm[i] = i >= n || ranges_[i] >= sc_.ranger.max_range ? RANGES_NO_ECHO
+                                                                      : to_mm(ranges_[i], RANGES_SONAR_MAX_MM);
             }
             hal_can_frame_t scan[RANGES_SONAR_PARTS];
             if (ranges_encode_sonar(&sonar_ctr_, mm, scan) == FW_OK) {

@@ -208,7 +208,7 @@ static const can_link_rx_t *ranges_rx_(void)
     if (cfg->n_ranges == 0u) {
         return NULL;
     }
-    return cfg->n_ranges == RANGES_IR_COUNT ? &app_.dev.ranges.ir_rx : &app_.dev.ranges.sonar_rx;
+    return ranges_in_ir_frame(cfg->n_ranges) ? &app_.dev.ranges.ir_rx : &app_.dev.ranges.sonar_rx;
 }
 
 // Whether a device the robot drives on has fallen silent: heard, then not for the bus timeout; or
@@ -598,7 +598,7 @@ static uint8_t sense_(robot_sense_t *in, uint64_t now)
     in->ranges_silent = ranges != NULL && device_silent_(ranges, now);
     const ranges_t *rg = &app_.dev.ranges;
     for (uint32_t i = 0; i < cfg->n_ranges && i < ROBOT_MAX_RANGES; i++) {
-        if (cfg->n_ranges == RANGES_IR_COUNT) {
+        if (ranges_in_ir_frame(cfg->n_ranges)) {
             in->range_m[i] = rg->ir_valid[i] ? (float)rg->ir_mm[i] * 0.001f : RANGE_NOTHING_M;
         } else {
             in->range_m[i] = rg->sonar_mm[i] == RANGES_NO_ECHO ? RANGE_NOTHING_M

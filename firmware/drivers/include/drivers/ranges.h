@@ -27,6 +27,14 @@ extern "C" {
 
 enum ranges_ir { RANGES_IR_LEFT = 0, RANGES_IR_FRONT = 1, RANGES_IR_RIGHT = 2 };
 
+/// Which frames carry a robot's `n` range sensors: IR_RANGES for exactly three, the sonar scans
+/// (SONAR_RANGES_A/B/C, up to RANGES_SONAR_COUNT, the rest sent as no echo) for any other number,
+/// whatever the sensors' kind. The firmware reads, and a range board sends, by this rule.
+static inline bool ranges_in_ir_frame(uint32_t n)
+{
+    return n == RANGES_IR_COUNT;
+}
+
 // (The links first: the 192 KiB paper-sim image has no byte to spare for padding.)
 typedef struct ranges {
     can_link_rx_t ir_rx;
