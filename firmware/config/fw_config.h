@@ -32,12 +32,13 @@
 #define FW_CFG_MAX_PROBE 16
 #endif
 
-/// A replayed (frozen) policy's memory of its last real steps (5 bytes each in robot_ctrl_t): a
-/// state met for the third time within them takes the best action taken least often there
-/// (controller.c). Chosen on paper-lab's tuning seeds: windows of 6, 12, 20 and 32 steps left
-/// 11, 9, 5 and 0 of 1,440 frozen replays short of the goal (docs/agent.md, departure 14).
-#ifndef FW_CFG_REPLAY_LOOP_WINDOW
-#define FW_CFG_REPLAY_LOOP_WINDOW 32
+/// The episode's last real steps the controller remembers (5 bytes each in robot_ctrl_t): a state
+/// met for the third time within them takes the best action taken least often there
+/// (controller.c, leave_loop_()). Chosen on paper-lab's tuning seeds, replaying frozen tables:
+/// windows of 6, 12, 20 and 32 steps left 11, 9, 5 and 0 of 1,440 replays short of the goal
+/// (docs/agent.md, departure 14).
+#ifndef FW_CFG_LOOP_WINDOW
+#define FW_CFG_LOOP_WINDOW 32
 #endif
 
 // ---- The host's extras ---------------------------------------------------------------------------

@@ -4,6 +4,11 @@
 
 #include <stddef.h>
 
+// 0: the agent's action always (the controller before loops were left; docs/agent.md, 14.).
+#ifndef ROBOT_LEAVE_LOOPS
+#define ROBOT_LEAVE_LOOPS 1
+#endif
+
 void robot_ctrl_init(robot_ctrl_t *c, const robot_config_t *cfg, agent_t *agent)
 {
     *c = (robot_ctrl_t){0};
@@ -46,12 +51,14 @@ void robot_ctrl_safe_stop(robot_ctrl_t *c)
     robot_move_stop(&c->move);  // the step is dropped
 }
 
-// A replayed policy's action: greedy, unless `s` came twice already within the last real steps.
-// A frozen table cannot unlearn a loop (turning left and right on one spot, stepping back and
-// forth between two cells: values planned through an outcome the state does not show), so the
-// third visit takes the best-valued action taken least often from `s` within them.
-FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 4 && FW_CFG_REPLAY_LOOP_WINDOW <= 32, replay_ring_packs_actions_in_2_bits);
-static uint8_t replay_action_(robot_ctrl_t *c, agent_state_t s)
+// The action in `s`: the agent's (ε-greedy learning, greedy replaying), unless `s` came twice
+// already within the episode's last real steps. Then the best-valued action taken least often from
+// `s` within them: a loop (turning left and right on one spot, stepping back and forth between two
+// cells, values planned through an outcome the state does not show) is left at its third visit. A
+// frozen table cannot unlearn such a loop; a learning robot can, but only slowly, and a set that
+// had learned relapsed into long episodes while it did (docs/agent.md, departure 14).
+FW_STATIC_ASSERT(FW_CFG_MAX_ACTIONS <= 4 && FW_CFG_LOOP_WINDOW <= 32, loop_ring_packs_actions_in_2_bits);
+static uint8_t leave_loop_(robot_ctrl_t *c, agent_state_t s, uint8_t a)
 {
     uint32_t visits = 0;
     uint32_t taken[FW_CFG_MAX_ACTIONS] = {0};
@@ -61,8 +68,7 @@ static uint8_t replay_action_(robot_ctrl_t *c, agent_state_t s)
             taken[(c->recent_a >> (2u * i)) & 3u]++;
         }
     }
-    uint8_t a = agent_act_greedy(c->agent, s);
-    if (visits >= 2u) {
+    if (ROBOT_LEAVE_LOOPS && visits >= 2u) {
         uint8_t best = a;
         for (uint8_t b = 0; b < c->agent->space->n_actions; b++) {
             const bool fewer = taken[b] < taken[best];
@@ -76,8 +82,8 @@ static uint8_t replay_action_(robot_ctrl_t *c, agent_state_t s)
     c->recent_s[c->recent_head] = s;
     const uint32_t shift = 2u * c->recent_head;
     c->recent_a = (c->recent_a & ~((uint64_t)3u << shift)) | ((uint64_t)a << shift);
-    c->recent_head = (uint8_t)((c->recent_head + 1u) % FW_CFG_REPLAY_LOOP_WINDOW);
-    c->recent_n = c->recent_n < FW_CFG_REPLAY_LOOP_WINDOW ? (uint8_t)(c->recent_n + 1u) : c->recent_n;
+    c->recent_head = (uint8_t)((c->recent_head + 1u) % FW_CFG_LOOP_WINDOW);
+    c->recent_n = c->recent_n < FW_CFG_LOOP_WINDOW ? (uint8_t)(c->recent_n + 1u) : c->recent_n;
     return a;
 }
 
@@ -86,7 +92,7 @@ static void start_action_(robot_ctrl_t *c, agent_state_t s, const robot_pose_t *
                           const robot_sense_t *in)
 {
     c->s = s;
-    c->a = c->learning ? agent_act(c->agent, s) : replay_action_(c, s);
+    c->a = leave_loop_(c, s, c->learning ? agent_act(c->agent, s) : agent_act_greedy(c->agent, s));
     robot_move_step(&c->move, c->cfg, c->a, at, in);
 }
 

@@ -634,7 +634,7 @@ static void test_step_cap_ends_the_episode(void **state)
 }
 
 // A replayed (frozen) table cannot unlearn a loop: a state met for the third time within the last
-// FW_CFG_REPLAY_LOOP_WINDOW steps takes its best action not taken there yet. Held on one spot, the
+// FW_CFG_LOOP_WINDOW steps takes the best action taken least often there. Held on one spot, the
 // greedy action (2) comes twice, then the others, best first.
 static void test_replay_leaves_a_loop(void **state)
 {
@@ -669,6 +669,20 @@ static void test_replay_leaves_a_loop(void **state)
     assert_int_equal(n, 8);
     assert_memory_equal(taken, want, 8);
     assert_int_equal(bench_.ctrl.loop_escapes, 6);
+    // A learning robot leaves it too (its ε-greedy action overruled), though it also unlearns it.
+    agent_paper_sim.params.epsilon = 0.0f;
+    bench_.ctrl.learning = true;
+    bench_.ctrl.loop_escapes = 0;
+    robot_ctrl_start_episode(&bench_.ctrl);
+    uint32_t seen = 0;
+    for (int i = 0; i < 100 && (i == 0 || !bench_.ctrl.episode_done); i++) {  // (done: the last one's)
+        bench_.sense.pose = spot;
+        bench_period_();
+        seen |= bench_.ctrl.step_done ? 1u << bench_.ctrl.a : 0u;
+    }
+    assert_true(bench_.ctrl.episode_done);
+    assert_int_equal(seen, 0xFu);
+    assert_true(bench_.ctrl.loop_escapes > 0u);
 }
 
 static void test_bump_costs_and_is_counted(void **state)

@@ -83,11 +83,11 @@ typedef struct robot_ctrl {
     bool episode_done;         ///< an episode ended in the last period (see last_episode)
     robot_step_report_t last_step;
     robot_episode_report_t last_episode;
-    /// Replay only: the episode's last real steps, a ring of `recent_n` (state, action) pairs
-    /// whose actions take 2 bits each of `recent_a`, and how often a loop was left
-    /// (replay_action_() in controller.c).
+    /// The episode's last real steps, a ring of `recent_n` (state, action) pairs whose actions
+    /// take 2 bits each of `recent_a`, and how often a loop was left: the agent's action
+    /// overruled at a state's third visit within them (leave_loop_() in controller.c).
     uint64_t recent_a;
-    agent_state_t recent_s[FW_CFG_REPLAY_LOOP_WINDOW];
+    agent_state_t recent_s[FW_CFG_LOOP_WINDOW];
     uint32_t loop_escapes;
     uint8_t recent_n, recent_head;
 } robot_ctrl_t;
