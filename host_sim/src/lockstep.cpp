@@ -277,6 +277,7 @@ struct Lockstep::Impl {
           << " fix_jumps_refused=" << robot_app_fix_gate()->refused_jump
           << " fix_drifts=" << robot_app_fix_gate()->drifts
           << " events_dropped=" << ss.events_dropped << " safe_stops=" << robot_app_ctrl()->safe_stops
+          << " loops_left=" << robot_app_ctrl()->loop_escapes
           << " clock_lead_max_us=" << max_lead_us << " " << pose_check.summary() << aliasing_cells();
         return o.str();
     }
