@@ -139,14 +139,15 @@ public:
                 awaiting_ack_ = false;
                 // Refused until the wheels stand (BUSY) or a silent device is back (DEVICE_SILENT;
                 // FW_STATUS's errors say which): sent again.
-                const bool silent = a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_DEVICE_SILENT;
+                const bool refused = a.result == TLM_ACK_REFUSED;
+                const bool silent = refused && a.reason == TLM_WHY_DEVICE_SILENT;
                 if (silent && !device_silent_) {
                     std::printf("supervisor: the firmware refused the start: a device is silent (errors 0x%02x)\n",
                                 last_errors_);
                     std::fflush(stdout);
                 }
                 device_silent_ = silent;
-                busy_ = silent || (a.result == TLM_ACK_REFUSED && a.reason == TLM_WHY_BUSY);
+                busy_ = silent || (refused && a.reason == TLM_WHY_BUSY);
                 if (busy_) busy_us_ = t_us;
             }
         } else if (f.id == DYNAQPC_CAN_TLM_LEARN_FRAME_ID) {

@@ -227,8 +227,8 @@ void replay(const std::string &program, const Options &o, RunArgs &a)
         std::fprintf(stderr, "; steps to the goal: median %u, max %u", steps[steps.size() / 2], steps.back());
     }
     if (!a.learn) {
-        // A state met for the third time within the last steps took its best action not yet
-        // taken there (controller.c, replay_action_()): how often that changed the greedy one.
+        // A state met for the third time within the last steps took the best action taken least
+        // often there (controller.c, leave_loop_()): how often that overruled the greedy one.
         std::fprintf(stderr, "; loops left %u", robot_app_ctrl()->loop_escapes);
     }
     std::fprintf(stderr, "; Q updates %llu\n", static_cast<unsigned long long>(updates));

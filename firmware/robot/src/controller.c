@@ -70,10 +70,12 @@ static uint8_t leave_loop_(robot_ctrl_t *c, agent_state_t s, uint8_t a)
     }
     if (ROBOT_LEAVE_LOOPS && visits >= 2u) {
         uint8_t best = a;
+        float best_q = agent_q(c->agent, s, a);
         for (uint8_t b = 0; b < c->agent->space->n_actions; b++) {
-            const bool fewer = taken[b] < taken[best];
-            if (fewer || (taken[b] == taken[best] && agent_q(c->agent, s, b) > agent_q(c->agent, s, best))) {
+            const float q = agent_q(c->agent, s, b);
+            if (taken[b] < taken[best] || (taken[b] == taken[best] && q > best_q)) {
                 best = b;
+                best_q = q;
             }
         }
         c->loop_escapes += best != a ? 1u : 0u;
