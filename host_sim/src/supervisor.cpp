@@ -67,14 +67,15 @@ void PoseCheck::on_frame(const hal_can_frame_t &f, const world::Pose &truth)
         if (e > 180.0) e -= 360.0;
         if (e < -180.0) e += 360.0;
         e = std::fabs(e);
+        tlm_learn_t l;
+        const bool decoded = tlm_decode_learn(&f, &l) == 0;
         if (std::getenv("DYNAQPC_POSE_TRACE") != nullptr) {
-            std::printf("posecheck fw=%.3f,%.3f,%.1f world=%.3f,%.3f,%.1f\n", fw_x_, fw_y_, fw_heading_deg_, truth.x,
-                        truth.y, truth.heading * kDegPerRad);
+            std::printf("posecheck fw=%.3f,%.3f,%.1f world=%.3f,%.3f,%.1f step=%u\n", fw_x_, fw_y_, fw_heading_deg_,
+                        truth.x, truth.y, truth.heading * kDegPerRad, decoded ? (unsigned)l.step : 0u);
         }
         heading_sum_ += e;
         heading_max_ = std::max(heading_max_, e);
-        tlm_learn_t l;
-        last_learned_ = tlm_decode_learn(&f, &l) == 0 && l.step >= 1u;  // a step learned from
+        last_learned_ = decoded && l.step >= 1u;  // a step learned from
         last_err_deg_ = e;
         if (e > 20.0 && last_learned_) over20_++;
         position_sum_ += std::hypot(fw_x_ - truth.x, fw_y_ - truth.y);

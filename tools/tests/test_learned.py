@@ -204,8 +204,9 @@ def test_closed_regions_edge_cases():
 
 
 def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
-    """A realistic tuning room whose set relapsed in 9 of 17 episodes, 8 of them in a row (13 of 17
-    before the controller left loops; docs/agent.md): after 18 episodes most visited states read
+    """A realistic tuning room whose set learned at episode 10 and relapsed in 3 of the 6 episodes
+    after (seed 101, set 3; the set of seed 105 this test named before no longer relapses since the
+    first state waits for a fix taken since the start): after 18 episodes most visited states read
     the value of wandering, and the least certain bump that closed them is listed first."""
     rooms = tmp_path / "rooms"
     subprocess.run(
@@ -232,7 +233,7 @@ def test_a_relapsing_set_shows_its_closed_region(sim, tmp_path):
         timeout=120,
     )
     room = next(rooms.glob("*culdesac*.scn"))
-    img = train_image(sim, room, tmp_path / "cd.flash", 18, 105, "--first-set", 3)
+    img = train_image(sim, room, tmp_path / "cd.flash", 18, 101, "--first-set", 3)
     p = learned(img, "--scenario", room, "--sim", sim, "--json", "-")
     assert p.returncode == 0, p.stderr
     c = json.loads(p.stdout)["closed"]

@@ -187,6 +187,7 @@ void robot_ctrl_period(robot_ctrl_t *c, const robot_sense_t *in, float *v_left, 
     if (c->mode != ROBOT_MODE_IDLE) {
         if (c->episode_start_us == UINT64_MAX) {
             c->episode_start_us = in->now_us;
+            robot_move_placed(&c->move, in->now_us);
         }
         // Safety first: without the bus or a recent pose the robot does not know where it is
         // going, and without its ranges what is ahead (the last ranges would still encode the

@@ -717,6 +717,35 @@ static void test_fixed_steps_through_a_cell_are_no_loop(void **state)
     assert_int_equal(bench_.ctrl.loop_escapes, 0);
 }
 
+// A robot put at its start by hand (or by the simulator) has not turned its wheels, so a fix
+// whose ranges were taken before the episode started is of where it stood before: the first
+// state waits for a pose taken since.
+static void test_first_state_waits_for_a_pose_taken_since_the_start(void **state)
+{
+    (void)state;
+    bench_init_(sim_, AGENT_Q_LEARNING);
+    const robot_pose_t before = {3.0f, 4.0f, 0.0f};  // where the last episode ended
+    const robot_pose_t start = {0.5f, 0.5f, 0.0f};   // where the robot was put
+    robot_ctrl_start_episode(&bench_.ctrl);
+    float vl, vr;
+    robot_sense_t *in = &bench_.sense;
+    in->now_us = bench_.now;
+    in->pose = before;
+    in->pose_time_us = bench_.now - 200000u;  // taken before the start, and still usable
+    robot_ctrl_period(&bench_.ctrl, in, &vl, &vr);
+    assert_false(bench_.ctrl.step_done);
+    assert_int_equal(bench_.ctrl.mode, ROBOT_MODE_WAIT_FIX);
+    bench_.now += bench_.cfg.period_us;
+    in->now_us = bench_.now;
+    in->pose = start;
+    in->pose_time_us = bench_.now;
+    robot_ctrl_period(&bench_.ctrl, in, &vl, &vr);
+    assert_true(bench_.ctrl.step_done);
+    const agent_state_t s =
+        robot_encode_state(&bench_.cfg, &start, robot_range_code(&bench_.cfg, in->range_m, in->n_ranges));
+    assert_int_equal(bench_.ctrl.last_step.state, s);
+}
+
 static void test_bump_costs_and_is_counted(void **state)
 {
     (void)state;
@@ -1212,6 +1241,7 @@ int main(void)
         cmocka_unit_test(test_step_cap_ends_the_episode),
         cmocka_unit_test(test_replay_leaves_a_loop),
         cmocka_unit_test(test_fixed_steps_through_a_cell_are_no_loop),
+        cmocka_unit_test(test_first_state_waits_for_a_pose_taken_since_the_start),
         cmocka_unit_test(test_bump_costs_and_is_counted),
         cmocka_unit_test(test_bumped_step_backs_off_then_is_observed),
         cmocka_unit_test(test_episode_starts_after_settling),

@@ -100,6 +100,10 @@ void robot_move_init(robot_move_t *mv);
 /// closed loop learnt of the wheels is kept.
 void robot_move_episode(robot_move_t *mv);
 
+/// The robot was put where it stands at `now_us` (an episode's start: by hand, or by the
+/// simulator) without its wheels turning: the first state waits for a pose taken since.
+void robot_move_placed(robot_move_t *mv, uint64_t now_us);
+
 /// Ends whatever motion: no step pending, wheels stopped, idle.
 void robot_move_stop(robot_move_t *mv);
 
