@@ -633,6 +633,18 @@ static void test_step_cap_ends_the_episode(void **state)
     assert_float_equal(bench_.ctrl.last_episode.reward, -7.0f, 1e-6);
 }
 
+// The state of `spot` with the bench's ranges, its Q values set to q[0..3].
+static agent_state_t spot_with_values_(const robot_pose_t *spot, const float q[4])
+{
+    const agent_state_t s =
+        robot_encode_state(&bench_.cfg, spot, robot_range_code(&bench_.cfg, bench_.sense.range_m, bench_.sense.n_ranges));
+    const qstore_row_t row = qstore_row_for_update(&agent_paper_sim.q, s);
+    for (uint8_t a = 0; a < 4u; a++) {
+        qstore_set(&agent_paper_sim.q, row, a, q[a]);
+    }
+    return s;
+}
+
 // A replayed (frozen) table cannot unlearn a loop: a state met for the third time within the last
 // FW_CFG_LOOP_WINDOW steps takes the best action taken least often there. Stepping back and forth
 // between two spots, the greedy action (2) comes twice in the first, then the others, best first.
@@ -647,13 +659,8 @@ static void test_replay_leaves_a_loop(void **state)
     bench_.ctrl.learning = false;
     robot_ctrl_start_episode(&bench_.ctrl);
     // The spot's state: its values make action 2 greedy, then 3, 0 and 1.
-    const agent_state_t s =
-        robot_encode_state(&bench_.cfg, &spot, robot_range_code(&bench_.cfg, bench_.sense.range_m, bench_.sense.n_ranges));
-    const qstore_row_t row = qstore_row_for_update(&agent_paper_sim.q, s);
     const float q[4] = {-3.0f, -4.0f, -1.0f, -2.0f};
-    for (uint8_t a = 0; a < 4u; a++) {
-        qstore_set(&agent_paper_sim.q, row, a, q[a]);
-    }
+    const agent_state_t s = spot_with_values_(&spot, q);
     uint8_t taken[8];
     uint32_t n = 0;
     for (int i = 0; i < 100 && !bench_.ctrl.episode_done; i++) {
@@ -696,12 +703,8 @@ static void test_fixed_steps_through_a_cell_are_no_loop(void **state)
     bench_.sense.pose = spot;
     bench_.ctrl.learning = false;
     robot_ctrl_start_episode(&bench_.ctrl);
-    const agent_state_t s =
-        robot_encode_state(&bench_.cfg, &spot, robot_range_code(&bench_.cfg, bench_.sense.range_m, bench_.sense.n_ranges));
-    const qstore_row_t row = qstore_row_for_update(&agent_paper_sim.q, s);
-    for (uint8_t a = 0; a < 4u; a++) {
-        qstore_set(&agent_paper_sim.q, row, a, a == 0 ? -1.0f : -5.0f);
-    }
+    const float q[4] = {-1.0f, -5.0f, -5.0f, -5.0f};  // action 0 greedy
+    const agent_state_t s = spot_with_values_(&spot, q);
     uint32_t steps = 0;
     for (int i = 0; i < 100 && !bench_.ctrl.episode_done; i++) {
         bench_.sense.pose = spot;
